@@ -1,0 +1,9 @@
+"""rockcal: identify bonded-particle DEM micro-parameters of rock from lab tests."""
+
+from rockcal.dem.specimen import Specimen, hexagonal, random_packing
+from rockcal.labtests.ucs import UCSResult, simulate_ucs
+from rockcal.params import MicroParams, make_params
+
+__version__ = "0.1.0"
+__all__ = ["MicroParams", "Specimen", "UCSResult", "hexagonal", "make_params", "random_packing",
+           "simulate_ucs"]

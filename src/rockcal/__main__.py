@@ -1,0 +1,3 @@
+from rockcal.cli.app import main
+
+main()

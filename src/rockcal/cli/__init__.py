@@ -1,0 +1,1 @@
+"""The `rockcal` command line: a thin layer over the Python API."""

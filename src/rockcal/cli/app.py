@@ -1,0 +1,39 @@
+"""Entry point of the `rockcal` command; every user mistake ends as one line on stderr and exit 2."""
+
+import sys
+
+import typer
+
+from rockcal.errors import InputError
+
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  help="Calibrate bonded-particle DEM micro-parameters of rock from lab tests.")
+
+
+def _register() -> None:
+    from rockcal.cli import simulate
+
+    app.add_typer(simulate.app, name="simulate")
+
+
+def _fail(message: str) -> None:
+    print("rockcal: error: " + " ".join(message.split()), file=sys.stderr)
+    sys.exit(2)
+
+
+def main() -> None:
+    _register()
+    try:
+        code = app(standalone_mode=False)
+    except InputError as exc:
+        _fail(str(exc))
+    except typer.TyperException as exc:
+        if type(exc).__name__ == "NoArgsIsHelpError":  # a bare group: show its help
+            print(exc.ctx.get_help())
+            sys.exit(0)
+        _fail(exc.format_message())
+    except typer.Abort:
+        print("rockcal: aborted", file=sys.stderr)
+        sys.exit(130)
+    sys.exit(code if isinstance(code, int) else 0)

@@ -1,0 +1,221 @@
+"""Stepping in time: the state of a bonded-particle model and the explicit integrator.
+
+The state is a structure of plain arrays. `advance` runs many steps inside one compiled
+loop (force laws, walls, PFC local damping, central-difference motion) and hands back to
+Python only to rebuild the neighbour list, so the per-step cost is the arithmetic alone.
+Everything is SI; disks have unit thickness (PFC2D convention).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+
+from rockcal.dem import laws, neighbours
+from rockcal.params import GPa, MPa, MicroParams
+
+THICKNESS_M = 1.0
+TIME_STEP_SAFETY = 0.5
+LEFT, RIGHT, BOTTOM, TOP = range(4)
+
+
+@dataclass
+class State:
+    """Particles, pairs (bonds first, then near unbonded pairs), walls and their forces."""
+
+    pos: np.ndarray
+    vel: np.ndarray
+    spin: np.ndarray
+    radius: np.ndarray
+    inv_mass: np.ndarray  # 0 for driven particles, whose velocity is prescribed
+    inv_inertia: np.ndarray
+    pi: np.ndarray
+    pj: np.ndarray
+    n_bonds: int
+    contact_shear: np.ndarray
+    bond_state: np.ndarray
+    bond_fn: np.ndarray
+    bond_fs: np.ndarray
+    bond_m: np.ndarray
+    bond_break_xy: np.ndarray
+    walls: np.ndarray  # x_left, x_right, y_bottom, y_top
+    wall_active: np.ndarray
+    wall_vel: np.ndarray
+    wall_force: np.ndarray  # (n, 4): force of each particle on each wall
+    force: np.ndarray
+    moment: np.ndarray
+    laws: tuple  # E_c, kn_ks, mu, Ebar_c, knbar_ksbar, lambda, sigma_c, tau_c (SI)
+    damping: float
+    k_wall: float
+    skin: float
+    dt: float
+    step: int = 0
+    pos_at_build: np.ndarray | None = None
+    table: tuple | None = None
+
+    @property
+    def n_particles(self) -> int:
+        return self.pos.shape[0]
+
+    def total_wall_force(self) -> np.ndarray:
+        """Force on each wall (left, right, bottom, top), compression positive, N per m."""
+        return self.wall_force.sum(axis=0)
+
+    def n_broken(self, mode: int) -> int:
+        return int(np.count_nonzero(self.bond_state == mode))
+
+
+def law_constants(params: MicroParams) -> tuple:
+    return (params.E_c * GPa, params.kn_ks, params.mu, params.Ebar_c * GPa, params.knbar_ksbar,
+            params.lambda_, params.sigma_c * MPa, params.tau_c * MPa)
+
+
+def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 0.0),
+              wall_active=(False,) * 4, driven=None, skin=None, laws_si=None) -> State:
+    """A state at rest with the given bonds (pairs i < j) installed at zero force."""
+    n = pos.shape[0]
+    radius = np.array(radius, float)
+    mass = params.density * np.pi * radius**2 * THICKNESS_M
+    inv_mass = 1.0 / mass
+    inv_inertia = 1.0 / (0.5 * mass * radius**2)
+    if driven is not None:
+        inv_mass[driven] = 0.0
+        inv_inertia[driven] = 0.0
+    bonds = np.asarray(bonds, np.int64).reshape(-1, 2)
+    order = np.argsort(bonds[:, 0] * n + bonds[:, 1])
+    bonds = bonds[order]
+    laws_si = laws_si or law_constants(params)
+    E_c, Ebar_c = laws_si[0], laws_si[3]
+    state = State(
+        pos=np.ascontiguousarray(pos, float).copy(), vel=np.zeros((n, 2)), spin=np.zeros(n),
+        radius=radius, inv_mass=inv_mass, inv_inertia=inv_inertia,
+        pi=bonds[:, 0].copy(), pj=bonds[:, 1].copy(), n_bonds=len(bonds),
+        contact_shear=np.zeros(len(bonds)), bond_state=np.zeros(len(bonds), np.int64),
+        bond_fn=np.zeros(len(bonds)), bond_fs=np.zeros(len(bonds)), bond_m=np.zeros(len(bonds)),
+        bond_break_xy=np.full((len(bonds), 2), np.nan),
+        walls=np.array(walls, float), wall_active=np.array(wall_active, np.bool_),
+        wall_vel=np.zeros(4), wall_force=np.zeros((n, 4)), force=np.zeros((n, 2)),
+        moment=np.zeros(n), laws=laws_si, damping=params.damping,
+        k_wall=2.0 * THICKNESS_M * (E_c if E_c > 0 else Ebar_c),
+        skin=skin if skin is not None else 0.5 * radius.min(), dt=0.0,
+    )
+    rebuild_neighbours(state)
+    state.dt = stable_time_step(state)
+    return state
+
+
+def rebuild_neighbours(state: State) -> None:
+    """New list of unbonded near pairs, keeping the shear force of pairs already listed."""
+    n, nb = state.n_particles, state.n_bonds
+    bond_keys = state.pi[:nb] * n + state.pj[:nb]
+    old_keys = state.pi[nb:] * n + state.pj[nb:]
+    order = np.argsort(old_keys)
+    ci, cj, shear = neighbours.contact_pairs(state.pos, state.radius, state.skin, bond_keys,
+                                             old_keys[order], state.contact_shear[nb:][order])
+    state.pi = np.concatenate([state.pi[:nb], ci])
+    state.pj = np.concatenate([state.pj[:nb], cj])
+    state.contact_shear = np.concatenate([state.contact_shear[:nb], shear])
+    state.table = neighbours.pair_table(n, state.pi, state.pj) + (
+        np.zeros((len(state.pi), 2)), np.zeros(len(state.pi)), np.zeros(len(state.pi)))
+    state.pos_at_build = state.pos.copy()
+
+
+def stable_time_step(state: State) -> float:
+    """Safety x the smallest sqrt(m / k_translational) and sqrt(I / k_rotational) of any particle.
+
+    Stiffness sums count every listed pair (as if touching) and the walls, as PFC does.
+    """
+    E_c, kn_ks, _, Ebar_c, knbar_ksbar, lam = state.laws[:6]
+    ri, rj = state.radius[state.pi], state.radius[state.pj]
+    length = ri + rj
+    rmin = np.minimum(ri, rj)
+    kn = 2 * rmin * THICKNESS_M * E_c / length
+    ks = kn / kn_ks
+    bonded = np.zeros(len(ri), bool)
+    bonded[:state.n_bonds] = True
+    rb = lam * rmin
+    kbn = np.where(bonded, Ebar_c / length * 2 * rb * THICKNESS_M, 0.0)
+    kbs = kbn / knbar_ksbar
+    kbr = np.where(bonded, Ebar_c / length * 2 / 3 * rb**3 * THICKNESS_M, 0.0)
+    n = state.n_particles
+    k_trans = np.full(n, state.k_wall)
+    k_rot = np.zeros(n)
+    for idx, r in ((state.pi, ri), (state.pj, rj)):
+        np.add.at(k_trans, idx, np.maximum(kn, ks) + np.maximum(kbn, kbs))
+        np.add.at(k_rot, idx, (ks + kbs) * r**2 + kbr)
+    free = state.inv_mass > 0
+    with np.errstate(divide="ignore"):
+        dt_t = np.sqrt(1.0 / (state.inv_mass[free] * k_trans[free]))
+        dt_r = np.sqrt(1.0 / (state.inv_inertia[free] * np.maximum(k_rot[free], 1e-300)))
+    return TIME_STEP_SAFETY * float(min(dt_t.min(), dt_r.min()))
+
+
+@njit(parallel=True, cache=True)
+def _move(pos, vel, spin, force, moment, inv_mass, inv_inertia, damping, dt, pos_at_build):
+    """PFC local damping (force reduced by damping*|F| against the velocity), then leapfrog.
+
+    Returns the largest squared displacement since the neighbour list was built.
+    """
+    n = pos.shape[0]
+    moved = np.empty(n)
+    for k in prange(n):
+        if inv_mass[k] > 0.0:
+            for a in range(2):
+                f = force[k, a]
+                f -= damping * abs(f) * np.sign(vel[k, a])
+                vel[k, a] += f * inv_mass[k] * dt
+            m = moment[k] - damping * abs(moment[k]) * np.sign(spin[k])
+            spin[k] += m * inv_inertia[k] * dt
+        pos[k, 0] += vel[k, 0] * dt
+        pos[k, 1] += vel[k, 1] * dt
+        dx = pos[k, 0] - pos_at_build[k, 0]
+        dy = pos[k, 1] - pos_at_build[k, 1]
+        moved[k] = dx * dx + dy * dy
+    return moved.max()
+
+
+@njit(cache=True)
+def _advance(n_steps, pos, vel, spin, radius, inv_mass, inv_inertia, pi, pj, n_bonds,
+             contact_shear, bond_state, bond_fn, bond_fs, bond_m, bond_break_xy, start, pair,
+             side, force_on_i, moment_on_i, moment_on_j, force, moment, walls, wall_active,
+             wall_vel, wall_force, k_wall, pos_at_build, half_skin_sq, E_c, kn_ks, mu, Ebar_c,
+             knbar_ksbar, lam, sigma_c, tau_c, damping, dt):
+    """Run up to n_steps; stop early (returning the steps done) when the list must be rebuilt."""
+    for s in range(n_steps):
+        laws.pair_forces(pos, vel, spin, radius, pi, pj, contact_shear, bond_state, bond_fn,
+                         bond_fs, bond_m, bond_break_xy, n_bonds, E_c, kn_ks, mu, Ebar_c,
+                         knbar_ksbar, lam, sigma_c, tau_c, 1.0, dt, force_on_i, moment_on_i,
+                         moment_on_j)
+        laws.gather_forces(start, pair, side, force_on_i, moment_on_i, moment_on_j, force, moment)
+        laws.wall_forces(pos, radius, walls, wall_active, k_wall, force, wall_force)
+        moved = _move(pos, vel, spin, force, moment, inv_mass, inv_inertia, damping, dt,
+                      pos_at_build)
+        for w in range(4):
+            walls[w] += wall_vel[w] * dt
+        if moved > half_skin_sq:
+            return s + 1
+    return n_steps
+
+
+def advance(state: State, n_steps: int) -> None:
+    """Run n_steps time steps, rebuilding the neighbour list whenever particles moved enough."""
+    done = 0
+    while done < n_steps:
+        start, pair, side, f_i, m_i, m_j = state.table
+        done_now = _advance(
+            n_steps - done, state.pos, state.vel, state.spin, state.radius, state.inv_mass,
+            state.inv_inertia, state.pi, state.pj, state.n_bonds, state.contact_shear,
+            state.bond_state, state.bond_fn, state.bond_fs, state.bond_m, state.bond_break_xy,
+            start, pair, side, f_i, m_i, m_j, state.force, state.moment, state.walls,
+            state.wall_active, state.wall_vel, state.wall_force, state.k_wall,
+            state.pos_at_build, (0.5 * state.skin) ** 2, *state.laws, state.damping, state.dt)
+        done += done_now
+        state.step += done_now
+        if done < n_steps or _needs_rebuild(state):
+            rebuild_neighbours(state)
+
+
+def _needs_rebuild(state: State) -> bool:
+    return float(((state.pos - state.pos_at_build) ** 2).sum(axis=1).max()) > (0.5 * state.skin) ** 2

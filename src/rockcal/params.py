@@ -1,0 +1,81 @@
+"""Micro-parameters of the bonded-particle model, in the units rock engineers quote them.
+
+Names follow PFC2D's linear + linear parallel bond model (Potyondy & Cundall 2004): E_c and
+kn_ks for the linear contact; Ebar_c, knbar_ksbar, lambda, sigma_c, tau_c for the parallel bond.
+Defaults are the source study's identified granite values (E_c 21.65 GPa, kn/ks 1.9,
+sigma_c 36.55 MPa) and its fixed ones (tau_c 90 MPa, mu 0.5, lambda 1).
+"""
+
+from __future__ import annotations
+
+import math
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from rockcal.errors import InputError, from_validation_error
+
+GPa = 1e9
+MPa = 1e6
+
+
+class MicroParams(BaseModel):
+    """BPM micro-parameters (GPa, MPa, kg/m³; others dimensionless)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
+
+    E_c: float = Field(21.65, ge=0, le=1e4, description="contact effective modulus, GPa (0 = bonds only)")
+    Ebar_c: float | None = Field(None, ge=0, le=1e4, description="bond effective modulus, GPa (default E_c)")
+    kn_ks: float = Field(1.9, gt=0, le=1e3, description="contact normal-to-shear stiffness ratio")
+    knbar_ksbar: float | None = Field(None, gt=0, le=1e3, description="bond stiffness ratio (default kn_ks)")
+    sigma_c: float = Field(36.55, gt=0, le=1e5, description="bond tensile strength, MPa")
+    tau_c: float = Field(90.0, gt=0, le=1e5, description="bond shear strength, MPa")
+    mu: float = Field(0.5, ge=0, le=10, description="contact friction coefficient")
+    lambda_: float = Field(1.0, gt=0, le=1, alias="lambda", description="bond radius multiplier")
+    density: float = Field(2622.0, gt=0, le=1e5, description="particle density, kg/m³")
+    damping: float = Field(0.7, ge=0, lt=1, description="local damping coefficient")
+
+    @model_validator(mode="after")
+    def _fill_bond_defaults(self):
+        if self.Ebar_c is None:
+            object.__setattr__(self, "Ebar_c", self.E_c)
+        if self.knbar_ksbar is None:
+            object.__setattr__(self, "knbar_ksbar", self.kn_ks)
+        if self.E_c == 0 and self.Ebar_c == 0:
+            raise ValueError("E_c and Ebar_c cannot both be 0")
+        return self
+
+    def key(self) -> dict[str, float]:
+        """All values by their user names (for storage and reports)."""
+        return self.model_dump(by_alias=True)
+
+
+NAMES = tuple(MicroParams.model_fields[f].alias or f for f in MicroParams.model_fields)
+
+
+def make_params(values: dict[str, float]) -> MicroParams:
+    """Validate a mapping of user names to values; any mistake raises InputError naming the field."""
+    unknown = sorted(set(values) - set(NAMES))
+    if unknown:
+        raise InputError(unknown[0], f"unknown parameter; known: {', '.join(NAMES)}")
+    for name, value in values.items():
+        if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
+            raise InputError(name, f"must be a finite number, got {value!r}")
+    try:
+        return MicroParams(**values)
+    except ValidationError as exc:
+        raise from_validation_error(exc) from None
+
+
+def parse_assignments(items: list[str]) -> dict[str, float]:
+    """Parse CLI `NAME=VALUE` strings into numbers."""
+    values: dict[str, float] = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise InputError("--set", f"expected NAME=VALUE, got {item!r}")
+        try:
+            values[name] = float(text)
+        except ValueError:
+            raise InputError(name, f"not a number: {text.strip()!r}") from None
+    return values

@@ -1,0 +1,45 @@
+"""The command line: JSON output, files, and one-line errors with exit code 2."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+SMALL = ["--width-mm", "10", "--height-mm", "20"]
+
+
+def rockcal(*args):
+    return subprocess.run([sys.executable, "-m", "rockcal", *args], capture_output=True, text=True)
+
+
+def test_simulate_ucs_json_and_outputs(tmp_path):
+    run = rockcal("simulate", "ucs", *SMALL, "--set", "sigma_c=30", "--json", "--out", str(tmp_path))
+    assert run.returncode == 0, run.stderr
+    summary = json.loads(run.stdout)
+    for key in ("E_GPa", "nu", "ucs_MPa", "peak_axial_strain", "n_particles", "n_bonds",
+                "n_broken_tension", "n_broken_shear", "steps", "wall_s"):
+        assert key in summary
+    assert summary["params"]["sigma_c"] == 30
+    assert {p.name for p in tmp_path.iterdir()} >= {"ucs_curve.csv", "ucs_summary.json", "ucs_cracks.png"}
+
+
+@pytest.mark.parametrize("args, field", [
+    (["--set", "E_c=-5"], "E_c"),
+    (["--set", "kn_ks=0"], "kn_ks"),
+    (["--set", "colour=3"], "colour"),
+    (["--set", "sigma_c=abc"], "sigma_c"),
+    (["--set", "E_c"], "--set"),
+    (["--rmin-mm", "0"], "--rmin-mm"),
+    (["--rmin-mm", "-1"], "--rmin-mm"),
+    (["--radius-ratio", "0.8"], "--radius-ratio"),
+    (["--width-mm", "1"], "width_mm"),
+    (["--max-axial-strain", "nan"], "--max-axial-strain"),
+    (["--packing", "cubic"], "--packing"),
+])
+def test_bad_input_is_one_line_and_exit_2(args, field):
+    run = rockcal("simulate", "ucs", *SMALL, *args)
+    assert run.returncode == 2
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and field in lines[0], run.stderr
+    assert "Traceback" not in run.stderr
