@@ -40,8 +40,22 @@ def stress_strain(curve, path: Path, title: str) -> None:
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.plot(100 * curve[:, 0], curve[:, 2], label="axial")
     ax.plot(-100 * curve[:, 1], curve[:, 2], label="lateral")
-    ax.set_xlabel("strain (%)  (lateral shown negative)")
-    ax.set_ylabel("axial stress (MPa)")
+    _finish(fig, ax, "strain (%)  (lateral shown negative)", "axial stress (MPa)", title, path)
+
+
+def load_displacement(curve, path: Path, title: str) -> None:
+    """Load (kN per m of thickness) against displacement (mm), peak marked."""
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    ax.plot(curve[:, 0], curve[:, 1])
+    k = curve[:, 1].argmax()
+    ax.plot(curve[k, 0], curve[k, 1], "o", color="tab:red", label=f"peak {curve[k, 1]:.2f} kN/m")
+    _finish(fig, ax, "displacement (mm)", "load (kN per m of thickness)", title, path)
+
+
+def _finish(fig, ax, xlabel: str, ylabel: str, title: str, path: Path) -> None:
+    """Labels, grid and legend of a curve plot; save it and free the figure."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend()

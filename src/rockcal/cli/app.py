@@ -12,9 +12,10 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
 
 
 def _register() -> None:
-    from rockcal.cli import simulate
+    from rockcal.cli import kic, simulate
 
     app.add_typer(simulate.app, name="simulate")
+    app.command("kic")(kic.kic)
 
 
 def _fail(message: str) -> None:

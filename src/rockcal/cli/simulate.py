@@ -55,46 +55,29 @@ def ucs(
     from rockcal.labtests.ucs import simulate_ucs
 
     params = make_params(parse_assignments(set_))
-    for name, value in (("--rmin-mm", rmin_mm), ("--width-mm", width_mm), ("--height-mm", height_mm)):
-        finite(name, value)
-    finite("--radius-ratio", radius_ratio, 0.0)
-    if radius_ratio < 1:
-        raise InputError("--radius-ratio", f"must be >= 1, got {radius_ratio}")
+    _check_packing_options(rmin_mm, radius_ratio)
+    finite("--width-mm", width_mm)
+    finite("--height-mm", height_mm)
     finite("--max-axial-strain", max_axial_strain)
-    console = Console(stderr=True)
-    with console.status("making the specimen", spinner="dots") if not as_json else nullcontext():
+    with _status(as_json):
         if packing is Packing.hexagonal:
             specimen = hexagonal(width_mm, height_mm, rmin_mm)
         else:
             specimen = random_packing(width_mm, height_mm, rmin_mm, radius_ratio, seed)
-
-    with Progress(TextColumn("UCS test"), BarColumn(), TextColumn("{task.description}"),
-                  TimeElapsedColumn(), console=console, disable=as_json, transient=True) as bar:
-        task = bar.add_task("", total=max_axial_strain)
-
-        def progress(axial_strain: float, stress_MPa: float) -> None:
-            bar.update(task, completed=axial_strain,
-                       description=f"strain {100 * axial_strain:.3f} %  stress {stress_MPa:.1f} MPa")
-
-        result = simulate_ucs(params, specimen, max_axial_strain=max_axial_strain, progress=progress)
-
+    result = _run_with_progress(
+        "UCS test", max_axial_strain, as_json,
+        lambda strain, stress: f"strain {100 * strain:.3f} %  stress {stress:.1f} MPa",
+        lambda progress: simulate_ucs(params, specimen, max_axial_strain=max_axial_strain,
+                                      progress=progress))
     summary = result.summary() | {"params": params.key(), "specimen": specimen.label,
                                   "porosity": specimen.porosity}
     if out is not None:
         _write_outputs(out, result, summary)
-    if as_json:
-        typer.echo(json.dumps(summary))
-        return
-    table = Table(title=f"UCS test — {specimen.label}", show_header=False)
-    for label, value in (("E", f"{result.E_GPa:.2f} GPa"), ("Poisson's ratio", f"{result.nu:.3f}"),
-                         ("UCS", f"{result.ucs_MPa:.1f} MPa"),
-                         ("axial strain at peak", f"{100 * result.peak_axial_strain:.3f} %"),
-                         ("particles / bonds", f"{result.n_particles} / {result.n_bonds}"),
-                         ("broken bonds tension / shear",
-                          f"{result.n_broken_tension} / {result.n_broken_shear}"),
-                         ("steps, wall time", f"{result.steps}, {result.wall_s:.1f} s")):
-        table.add_row(label, value)
-    Console().print(table)
+    _report(f"UCS test — {specimen.label}", (
+        ("E", f"{result.E_GPa:.2f} GPa"), ("Poisson's ratio", f"{result.nu:.3f}"),
+        ("UCS", f"{result.ucs_MPa:.1f} MPa"),
+        ("axial strain at peak", f"{100 * result.peak_axial_strain:.3f} %"),
+        *_common_rows(result)), summary, as_json)
 
 
 def _write_outputs(out: Path, result, summary: dict) -> None:
@@ -107,3 +90,127 @@ def _write_outputs(out: Path, result, summary: dict) -> None:
     plots.crack_pattern(result.positions, result.radius, result.cracks, out / "ucs_cracks.png",
                         f"UCS {result.ucs_MPa:.1f} MPa — broken bonds")
     plots.stress_strain(result.curve, out / "ucs_curve.png", "UCS test")
+
+
+def _check_packing_options(rmin_mm: float, radius_ratio: float) -> None:
+    finite("--rmin-mm", rmin_mm)
+    finite("--radius-ratio", radius_ratio)
+    if radius_ratio < 1:
+        raise InputError("--radius-ratio", f"must be >= 1, got {radius_ratio}")
+
+
+def _status(as_json: bool):
+    """A spinner on stderr while the specimen is made (nothing with --json)."""
+    return nullcontext() if as_json else Console(stderr=True).status("making the specimen")
+
+
+def _run_with_progress(label: str, total: float, as_json: bool, describe, run):
+    """Run `run(progress)` under a rich progress bar on stderr (none with --json);
+    progress(x, y) advances the bar to x and shows describe(x, y)."""
+    with Progress(TextColumn(label), BarColumn(), TextColumn("{task.description}"),
+                  TimeElapsedColumn(), console=Console(stderr=True), disable=as_json,
+                  transient=True) as bar:
+        task = bar.add_task("", total=total)
+        return run(lambda x, y: bar.update(task, completed=x, description=describe(x, y)))
+
+
+def _load_description(unit: str):
+    return lambda mm, kN: f"{unit} {mm:.4f} mm  load {kN:.2f} kN/m"
+
+
+def _common_rows(result):
+    return (("particles / bonds", f"{result.n_particles} / {result.n_bonds}"),
+            ("broken bonds tension / shear", f"{result.n_broken_tension} / {result.n_broken_shear}"),
+            ("steps, wall time", f"{result.steps}, {result.wall_s:.1f} s"))
+
+
+def _report(title: str, rows, summary: dict, as_json: bool) -> None:
+    if as_json:
+        typer.echo(json.dumps(summary))
+        return
+    table = Table(title=title, show_header=False)
+    for label, value in rows:
+        table.add_row(label, value)
+    Console().print(table)
+
+
+def _write_load_curve(out: Path, name: str, result, summary: dict, crack_title: str) -> None:
+    from rockcal import plots
+
+    out.mkdir(parents=True, exist_ok=True)
+    np.savetxt(out / f"{name}_curve.csv", result.curve, delimiter=",", fmt="%.8g",
+               header="displacement_mm,load_kN_per_m", comments="")
+    (out / f"{name}_summary.json").write_text(json.dumps(summary, indent=2))
+    plots.crack_pattern(result.positions, result.radius, result.cracks, out / f"{name}_cracks.png",
+                        crack_title)
+    plots.load_displacement(result.curve, out / f"{name}_curve.png", f"{name} test")
+
+
+@app.command()
+def bending(
+    set_: list[str] = typer.Option([], "--set", help=SET_HELP),
+    rmin_mm: float = typer.Option(0.25, help="Smallest radius, mm."),
+    radius_ratio: float = typer.Option(1.65, help="Largest / smallest radius."),
+    length_mm: float = typer.Option(220.0, help="Beam length, mm."),
+    height_mm: float = typer.Option(50.0, help="Beam depth W, mm."),
+    notch_mm: float = typer.Option(18.0, help="Notch depth a, mm (bottom edge, mid-span)."),
+    notch_width_mm: float = typer.Option(2.0, help="Notch width, mm."),
+    span_mm: float = typer.Option(160.0, help="Distance S between the supports, mm."),
+    seed: int = typer.Option(1, help="Packing seed."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    out: Optional[Path] = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here."),
+) -> None:
+    """Three-point bending of a notched beam: peak load, load-displacement curve, K_IC."""
+    from rockcal.labtests.bending import DEFAULT_MAX_DISPLACEMENT_MM, Beam, notched_beam, simulate_bending
+
+    params = make_params(parse_assignments(set_))
+    _check_packing_options(rmin_mm, radius_ratio)
+    beam = Beam(length_mm, height_mm, notch_mm, notch_width_mm, span_mm)
+    beam.check()
+    with _status(as_json):
+        specimen = notched_beam(beam, rmin_mm, radius_ratio, seed)
+    result = _run_with_progress(
+        "bending test", DEFAULT_MAX_DISPLACEMENT_MM, as_json, _load_description("pin"),
+        lambda progress: simulate_bending(params, specimen, beam, progress=progress))
+    summary = result.summary() | {"params": params.key(), "specimen": specimen.label}
+    if out is not None:
+        _write_load_curve(out, "bending", result, summary,
+                          f"K_IC {result.K_IC_MPa_sqrt_m:.3f} MPa·m^0.5 — broken bonds")
+    _report(f"Three-point bending — {specimen.label}", (
+        ("K_IC (notched beam, S/W = %.2f)" % (span_mm / height_mm),
+         f"{result.K_IC_MPa_sqrt_m:.3f} MPa·m^0.5"),
+        ("peak load", f"{result.P_max_kN_per_m:.2f} kN per m of thickness"),
+        ("pin displacement at peak", f"{result.displacement_at_peak_mm:.4f} mm"),
+        *_common_rows(result)), summary, as_json)
+
+
+@app.command()
+def brazilian(
+    set_: list[str] = typer.Option([], "--set", help=SET_HELP),
+    rmin_mm: float = typer.Option(0.25, help="Smallest radius, mm."),
+    radius_ratio: float = typer.Option(1.65, help="Largest / smallest radius."),
+    diameter_mm: float = typer.Option(50.0, help="Disk diameter D, mm."),
+    seed: int = typer.Option(1, help="Packing seed."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    out: Optional[Path] = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here."),
+) -> None:
+    """Brazilian test of a disk between platens: sigma_t = 2P/(pi D t), load-closure curve."""
+    from rockcal.labtests.brazilian import DEFAULT_MAX_STRAIN, brazilian_disk, simulate_brazilian
+
+    params = make_params(parse_assignments(set_))
+    _check_packing_options(rmin_mm, radius_ratio)
+    finite("--diameter-mm", diameter_mm)
+    with _status(as_json):
+        specimen = brazilian_disk(diameter_mm, rmin_mm, radius_ratio, seed)
+    result = _run_with_progress(
+        "Brazilian test", DEFAULT_MAX_STRAIN * diameter_mm, as_json, _load_description("closure"),
+        lambda progress: simulate_brazilian(params, specimen, progress=progress))
+    summary = result.summary() | {"params": params.key(), "specimen": specimen.label}
+    if out is not None:
+        _write_load_curve(out, "brazilian", result, summary,
+                          f"sigma_t {result.sigma_t_MPa:.2f} MPa — broken bonds")
+    _report(f"Brazilian test — {specimen.label}", (
+        ("tensile strength sigma_t", f"{result.sigma_t_MPa:.2f} MPa"),
+        ("peak load", f"{result.P_max_kN_per_m:.2f} kN per m of thickness"),
+        ("platen closure at peak", f"{result.displacement_at_peak_mm:.4f} mm"),
+        *_common_rows(result)), summary, as_json)

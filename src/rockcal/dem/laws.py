@@ -17,11 +17,13 @@ from numba import njit, prange
 INTACT, BROKEN_TENSION, BROKEN_SHEAR = 0, 1, 2
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, cache=True, error_model="numpy")
 def pair_forces(pos, vel, spin, radius, pi, pj, contact_shear, bond_state, bond_fn, bond_fs,
                 bond_m, bond_break_xy, n_bonds, E_c, kn_ks, mu, Ebar_c, knbar_ksbar, lam,
                 sigma_c, tau_c, thickness, dt, force_on_i, moment_on_i, moment_on_j):
     """Forces of every listed pair for one time step; bonds that exceed a strength break."""
+    ks_per_kn = 1.0 / kn_ks
+    ksbar_per_knbar = 1.0 / knbar_ksbar
     for p in prange(pi.shape[0]):
         i = pi[p]
         j = pj[p]
@@ -36,6 +38,7 @@ def pair_forces(pos, vel, spin, radius, pi, pj, contact_shear, bond_state, bond_
         rj = radius[j]
         rmin = min(ri, rj)
         length = ri + rj
+        inv_length = 1.0 / length
         rvx = vel[j, 0] - vel[i, 0] - (spin[i] * ri + spin[j] * rj) * tx
         rvy = vel[j, 1] - vel[i, 1] - (spin[i] * ri + spin[j] * rj) * ty
         vn = rvx * nx + rvy * ny
@@ -45,8 +48,8 @@ def pair_forces(pos, vel, spin, radius, pi, pj, contact_shear, bond_state, bond_
         fs = 0.0  # along t on i
         overlap = length - dist
         if overlap > 0.0 and E_c > 0.0:
-            kn = 2.0 * rmin * thickness * E_c / length
-            shear = contact_shear[p] + kn / kn_ks * vs * dt
+            kn = 2.0 * rmin * thickness * E_c * inv_length
+            shear = contact_shear[p] + kn * ks_per_kn * vs * dt
             cap = mu * kn * overlap
             if shear > cap:
                 shear = cap
@@ -64,14 +67,15 @@ def pair_forces(pos, vel, spin, radius, pi, pj, contact_shear, bond_state, bond_
             rb = lam * rmin
             area = 2.0 * rb * thickness
             inertia = 2.0 / 3.0 * rb * rb * rb * thickness
-            kbn = Ebar_c / length
+            kbn = Ebar_c * inv_length
             bfn = bond_fn[p] + kbn * area * vn * dt
-            bfs = bond_fs[p] + kbn / knbar_ksbar * area * vs * dt
+            bfs = bond_fs[p] + kbn * ksbar_per_knbar * area * vs * dt
             bm = bond_m[p] + kbn * inertia * (spin[j] - spin[i]) * dt
-            sigma = bfn / area + abs(bm) * rb / inertia
-            tau = abs(bfs) / area
+            inv_area = 1.0 / area
+            sigma = (bfn + 3.0 * abs(bm) / rb) * inv_area  # |M| Rb / I = 3 |M| / (Rb A)
+            tau = abs(bfs) * inv_area
             if sigma > sigma_c or tau > tau_c:
-                bond_state[p] = BROKEN_TENSION if sigma / sigma_c >= tau / tau_c else BROKEN_SHEAR
+                bond_state[p] = BROKEN_TENSION if sigma * tau_c >= tau * sigma_c else BROKEN_SHEAR
                 bond_break_xy[p, 0] = pos[i, 0] + nx * (ri - 0.5 * overlap)
                 bond_break_xy[p, 1] = pos[i, 1] + ny * (ri - 0.5 * overlap)
                 bond_fn[p] = 0.0
@@ -92,7 +96,7 @@ def pair_forces(pos, vel, spin, radius, pi, pj, contact_shear, bond_state, bond_
         moment_on_j[p] = mj
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, cache=True, error_model="numpy")
 def gather_forces(start, pair, side, force_on_i, moment_on_i, moment_on_j, force, moment):
     """Sum the pair forces on each particle in a fixed order (deterministic, race-free)."""
     for k in prange(start.shape[0] - 1):
@@ -114,7 +118,7 @@ def gather_forces(start, pair, side, force_on_i, moment_on_i, moment_on_j, force
         moment[k] = m
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, cache=True, error_model="numpy")
 def wall_forces(pos, radius, walls, wall_active, k_wall, force, wall_force):
     """Frictionless axis-aligned walls (left, right, bottom, top): normal force k_wall * overlap.
 

@@ -23,10 +23,11 @@ def gauge_lengths(pos: np.ndarray, sets: dict[str, np.ndarray]) -> tuple[float, 
     """Distance between the mean centres of opposite boundary sets: (horizontal, vertical), m.
 
     Strains taken from these are those of the specimen itself, like strain gauges on a lab
-    sample: the compliance of the platen contacts does not enter.
+    sample: the compliance of the platen contacts does not enter. Medians, not means: a flake
+    spalling off a free side must not read as lateral strain of the whole specimen.
     """
-    width = pos[sets["right"], 0].mean() - pos[sets["left"], 0].mean()
-    height = pos[sets["top"], 1].mean() - pos[sets["bottom"], 1].mean()
+    width = np.median(pos[sets["right"], 0]) - np.median(pos[sets["left"], 0])
+    height = np.median(pos[sets["top"], 1]) - np.median(pos[sets["bottom"], 1])
     return float(width), float(height)
 
 

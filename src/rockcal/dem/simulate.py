@@ -17,7 +17,7 @@ from rockcal.dem import laws, neighbours
 from rockcal.params import GPa, MPa, MicroParams
 
 THICKNESS_M = 1.0
-TIME_STEP_SAFETY = 0.5
+TIME_STEP_SAFETY = 0.8
 LEFT, RIGHT, BOTTOM, TOP = range(4)
 
 
@@ -152,7 +152,7 @@ def stable_time_step(state: State) -> float:
     return TIME_STEP_SAFETY * float(min(dt_t.min(), dt_r.min()))
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, cache=True, error_model="numpy")
 def _move(pos, vel, spin, force, moment, inv_mass, inv_inertia, damping, dt, pos_at_build):
     """PFC local damping (force reduced by damping*|F| against the velocity), then leapfrog.
 

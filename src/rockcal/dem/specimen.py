@@ -17,7 +17,7 @@ import numpy as np
 
 from rockcal.errors import InputError
 
-GENERATOR_VERSION = 1
+GENERATOR_VERSION = 3
 PACKING_MODULUS_GPA = 1.0  # frictionless contacts used only to make the packing
 ISOTROPIC_STRESS_MPA = 0.1  # installed before bonding (Potyondy & Cundall 2004): overlaps ~1e-4 R
 BOND_GAP = 0.02  # pairs nearer than this fraction of R_min count as touching, and are bonded
@@ -106,6 +106,7 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
     pos, radius = pack_box(width_mm * 1e-3, height_mm * 1e-3, rmin_mm * 1e-3, radius_ratio, seed)
     gap = BOND_GAP * rmin_mm * 1e-3
     pos, radius = remove_floaters(pos, radius, width_mm * 1e-3, height_mm * 1e-3, gap)
+    pos, radius = in_memory_order(pos, radius, 4 * radius_ratio * rmin_mm * 1e-3)
     spec = Specimen(pos, radius, touching_pairs(pos, radius, gap), width_mm * 1e-3,
                     height_mm * 1e-3, label)
     if cache:
@@ -124,6 +125,13 @@ def remove_floaters(pos: np.ndarray, radius: np.ndarray, width: float, height: f
     count += (pos[:, 1] - radius < gap).astype(int) + (pos[:, 1] + radius > height - gap)
     keep = count >= min_contacts
     return pos[keep], radius[keep]
+
+
+def in_memory_order(pos: np.ndarray, radius: np.ndarray, strip: float):
+    """Number particles strip by strip (strips of height `strip`, then by x) so that
+    neighbours sit close in memory: the pair loops then run from cache, not from RAM."""
+    order = np.lexsort((pos[:, 0], np.floor(pos[:, 1] / strip)))
+    return pos[order], radius[order]
 
 
 def cache_dir() -> Path:

@@ -1,0 +1,40 @@
+"""Cutting specimens out of a packing: a notch, a disk. Removed particles take their bonds along.
+
+Carving keeps the packing's contact forces and fabric (as when a lab specimen is cut from a
+block); particles left with no bond at all would float, so they are removed as well.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rockcal.dem.specimen import Specimen
+
+
+def keep_particles(spec: Specimen, keep: np.ndarray, label: str,
+                   width_m: float | None = None, height_m: float | None = None) -> Specimen:
+    """The specimen made of the kept particles (re-indexed, bonds between kept ones only)."""
+    for _ in range(2):  # once for the cut, once for particles it left without any bond
+        bonds = spec.bonds[keep[spec.bonds[:, 0]] & keep[spec.bonds[:, 1]]]
+        bonded = np.zeros(spec.n_particles, bool)
+        bonded[bonds.ravel()] = True
+        keep = keep & bonded
+    index = np.full(spec.n_particles, -1)
+    index[keep] = np.arange(np.count_nonzero(keep))
+    bonds = index[spec.bonds[keep[spec.bonds[:, 0]] & keep[spec.bonds[:, 1]]]]
+    return Specimen(spec.pos[keep].copy(), spec.radius[keep].copy(), bonds,
+                    width_m if width_m is not None else spec.width_m,
+                    height_m if height_m is not None else spec.height_m, label)
+
+
+def outside_rectangle(pos: np.ndarray, radius: np.ndarray, x0: float, x1: float, y0: float,
+                      y1: float) -> np.ndarray:
+    """True for the disks that do not overlap the rectangle [x0, x1] x [y0, y1] (m)."""
+    dx = np.maximum.reduce([x0 - pos[:, 0], np.zeros(len(pos)), pos[:, 0] - x1])
+    dy = np.maximum.reduce([y0 - pos[:, 1], np.zeros(len(pos)), pos[:, 1] - y1])
+    return dx**2 + dy**2 >= radius**2
+
+
+def inside_circle(pos: np.ndarray, radius: np.ndarray, centre, circle_radius: float) -> np.ndarray:
+    """True for the disks lying wholly inside the circle."""
+    return np.hypot(pos[:, 0] - centre[0], pos[:, 1] - centre[1]) + radius <= circle_radius

@@ -1,0 +1,44 @@
+"""Latin hypercube designs over search bounds, in physical units."""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial.distance import pdist
+from scipy.stats import qmc
+
+from rockcal.errors import InputError
+from rockcal.inverse.bounds import check_bounds
+
+OPTIMIZATIONS = ("random-cd", "maximin", "none")
+
+
+def latin_hypercube(bounds, n: int, *, seed=None, optimization: str = "random-cd",
+                    candidates: int = 50) -> np.ndarray:
+    """n points (rows) over `bounds`, one point in each of the n strata of every parameter.
+
+    optimization: "random-cd" (scipy's centred-discrepancy improvement), "maximin" (the
+    design with the largest smallest pairwise distance among `candidates` seeded random
+    Latin hypercubes, in scaled units) or "none". The same seed gives the same design.
+    """
+    lower, upper = check_bounds(bounds)
+    if int(n) != n or n < 2:
+        raise InputError("n", f"a Latin hypercube needs at least 2 points, got {n}")
+    if optimization not in OPTIMIZATIONS:
+        raise InputError("optimization", f"must be one of {', '.join(OPTIMIZATIONS)}, got {optimization!r}")
+    rng = np.random.default_rng(seed)
+    d = len(lower)
+    if optimization == "maximin":
+        if candidates < 1:
+            raise InputError("candidates", f"must be at least 1, got {candidates}")
+        sampler = qmc.LatinHypercube(d, seed=rng)
+        best, best_gap = None, -np.inf
+        for _ in range(candidates):
+            unit = sampler.random(int(n))
+            gap = pdist(unit).min()
+            if gap > best_gap:
+                best, best_gap = unit, gap
+        unit = best
+    else:
+        opt = None if optimization == "none" or d < 2 else optimization
+        unit = qmc.LatinHypercube(d, optimization=opt, seed=rng).random(int(n))
+    return qmc.scale(unit, lower, upper)

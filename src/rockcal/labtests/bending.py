@@ -1,0 +1,218 @@
+"""Virtual three-point bending of a notched beam (single edge notch at mid-span of the bottom
+edge) and its fracture toughness K_IC from the peak load.
+
+Supports and loading pin are rigid cylinders (radius PIN_RADIUS_MM at full size) built from
+small driven disks on their surface, so that the engine's ordinary linear contacts (with the
+rock's friction) carry the load and the neighbour grid stays fine. The supports stay put; the
+pin moves down at a quasi-static speed. Loads are per metre of thickness (PFC2D convention).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from rockcal.dem import measure
+from rockcal.dem.carving import keep_particles, outside_rectangle
+from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
+from rockcal.dem.simulate import advance, new_state
+from rockcal.dem.specimen import Specimen, random_packing
+from rockcal.errors import InputError
+from rockcal.labtests.kic import senb_kic
+from rockcal.labtests.ucs import DAMAGE_SLOWDOWN
+from rockcal.params import MicroParams, make_params
+
+PIN_RADIUS_MM = 5.0
+# Quasi-static loading: the pin moves PIN_STEP_PER_RADIUS mean particle radii per time step.
+# Peak deflection and the beam's flexural period both scale as S^2/W, so a pin step
+# proportional to the particle size (whose time step sets the clock) keeps the same number of
+# flexural periods to the peak for any beam size. Ramped in over RAMP_STEPS_PER_ROW x rows.
+PIN_STEP_PER_RADIUS = 2e-6
+RAMP_STEPS_PER_ROW = 10
+DEFAULT_MAX_DISPLACEMENT_MM = 1.0
+# The crack runs unstably from the peak on; the test goes on until the load has fallen below
+# this fraction of the peak, so that the crack path is there to be seen.
+POST_PEAK_FRACTION = 0.3
+# Once the load has fallen below PAST_PEAK_FRACTION of the peak, the peak is known and the pin
+# goes back to full speed (the slow-down after the first broken bond serves the peak only).
+PAST_PEAK_FRACTION = 0.8
+
+
+@dataclass(frozen=True)
+class Beam:
+    """Geometry of the notched beam and its supports (mm)."""
+
+    length_mm: float = 220.0
+    height_mm: float = 50.0
+    notch_mm: float = 18.0
+    notch_width_mm: float = 2.0
+    span_mm: float = 160.0
+    pin_radius_mm: float | None = None  # None: PIN_RADIUS_MM scaled with the depth (5 mm at 50 mm)
+
+    def __post_init__(self):
+        if self.pin_radius_mm is None:
+            object.__setattr__(self, "pin_radius_mm", PIN_RADIUS_MM * self.height_mm / 50.0)
+
+    def check(self) -> None:
+        """Reject geometry no test can be run on, naming the CLI option."""
+        for name in ("length_mm", "height_mm", "notch_mm", "notch_width_mm", "span_mm",
+                     "pin_radius_mm"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise InputError("--" + name.replace("_", "-"), f"must be a finite number > 0, got {value}")
+        if self.notch_mm >= self.height_mm:
+            raise InputError("--notch-mm", f"the notch ({self.notch_mm:g} mm) must be shallower "
+                             f"than the beam ({self.height_mm:g} mm)")
+        if self.span_mm >= self.length_mm:
+            raise InputError("--span-mm", f"the span ({self.span_mm:g} mm) must be shorter than "
+                             f"the beam ({self.length_mm:g} mm)")
+        if self.span_mm / 2 + self.pin_radius_mm > self.length_mm / 2:
+            raise InputError("--span-mm", f"supports of radius {self.pin_radius_mm:g} mm at "
+                             f"+-{self.span_mm / 2:g} mm stick out of a {self.length_mm:g} mm beam")
+        if self.notch_width_mm >= self.span_mm - 2 * self.pin_radius_mm:
+            raise InputError("--notch-width-mm", f"must be narrower than the span between the "
+                             f"supports, got {self.notch_width_mm:g} mm")
+
+
+@dataclass
+class BendingResult:
+    """Responses of a notched-beam three-point bending test, the curve and the cracked beam."""
+
+    K_IC_MPa_sqrt_m: float
+    P_max_kN_per_m: float
+    displacement_at_peak_mm: float
+    n_particles: int
+    n_bonds: int
+    n_broken_tension: int
+    n_broken_shear: int
+    steps: int
+    wall_s: float
+    beam: Beam
+    curve: np.ndarray = field(repr=False)  # columns: pin displacement mm, load kN per m
+    positions: np.ndarray = field(repr=False)
+    radius: np.ndarray = field(repr=False)
+    cracks: dict = field(repr=False)
+    first_break_xy: np.ndarray = field(repr=False)  # where the first bonds broke (m)
+
+    def summary(self) -> dict:
+        """The scalar responses, as JSON-ready numbers."""
+        keys = ("K_IC_MPa_sqrt_m", "P_max_kN_per_m", "displacement_at_peak_mm", "n_particles",
+                "n_bonds", "n_broken_tension", "n_broken_shear", "steps", "wall_s")
+        return {k: getattr(self, k) for k in keys} | {"beam": vars(self.beam)}
+
+    @property
+    def notch_tip_m(self) -> tuple[float, float]:
+        return 0.5e-3 * self.beam.length_mm, 1e-3 * self.beam.notch_mm
+
+
+def notched_beam(beam: Beam = Beam(), rmin_mm: float = 0.25, radius_ratio: float = 1.65,
+                 seed: int = 1) -> Specimen:
+    """The beam packing with the notch carved out of the middle of its bottom edge."""
+    beam.check()
+    spec = random_packing(beam.length_mm, beam.height_mm, rmin_mm, radius_ratio, seed)
+    half = 0.5e-3 * beam.notch_width_mm
+    middle = 0.5e-3 * beam.length_mm
+    keep = outside_rectangle(spec.pos, spec.radius, middle - half, middle + half, -1.0,
+                             1e-3 * beam.notch_mm)
+    return keep_particles(spec, keep, f"{spec.label}, notch {beam.notch_mm:g} x "
+                          f"{beam.notch_width_mm:g} mm")
+
+
+def pin_disks(centre, pin_radius: float, disk_radius: float, facing_up: bool) -> np.ndarray:
+    """Centres of small disks whose envelope is the half of a cylinder facing the beam."""
+    arc = pin_radius - disk_radius
+    count = int(np.ceil(np.pi * arc / (0.5 * disk_radius))) + 1
+    angle = np.linspace(0.0, np.pi, count) if facing_up else np.linspace(np.pi, 2 * np.pi, count)
+    return np.column_stack([centre[0] + arc * np.cos(angle), centre[1] + arc * np.sin(angle)])
+
+
+def touching_centre_y(pos, radius, x: float, pin_radius: float, above: bool) -> float:
+    """Height of a cylinder's centre at `x` such that it just touches the specimen from above
+    (or below): every disk is then at a distance >= pin_radius + its radius."""
+    reach = pin_radius + radius
+    near = np.abs(pos[:, 0] - x) < reach
+    rise = np.sqrt(reach[near] ** 2 - (pos[near, 0] - x) ** 2)
+    return float((pos[near, 1] + rise).max() if above else (pos[near, 1] - rise).min())
+
+
+def simulate_bending(params: MicroParams | dict | None = None, specimen: Specimen | None = None,
+                     beam: Beam = Beam(), *, rate_factor: float = 1.0,
+                     max_displacement_mm: float = DEFAULT_MAX_DISPLACEMENT_MM,
+                     progress: Callable[[float, float], None] | None = None) -> BendingResult:
+    """Run the notched-beam test; defaults: granite parameters, the source's 220 x 50 mm beam.
+
+    `specimen` must be `notched_beam(beam, ...)`; rate_factor scales the pin speed;
+    progress(displacement_mm, load_kN_per_m) is called as the test goes.
+    """
+    started = time.perf_counter()
+    if not isinstance(params, MicroParams):
+        params = make_params(params or {})
+    beam.check()
+    if params.E_c <= 0:
+        raise InputError("E_c", "must be > 0 in the bending test: the pins push through contacts")
+    if not 0 < max_displacement_mm <= beam.height_mm:
+        raise InputError("max_displacement_mm", f"must be in (0, {beam.height_mm:g}], got "
+                         f"{max_displacement_mm}")
+    specimen = specimen or notched_beam(beam)
+    pos, radius = specimen.pos, specimen.radius
+    n = specimen.n_particles
+    disk = radius.min()
+    pin_r = 1e-3 * beam.pin_radius_mm
+    middle = 0.5e-3 * beam.length_mm
+    pin = pin_disks((middle, touching_centre_y(pos, radius, middle, pin_r, above=True)), pin_r,
+                    disk, facing_up=False)
+    supports = [pin_disks((x, touching_centre_y(pos, radius, x, pin_r, above=False)), pin_r, disk,
+                          facing_up=True)
+                for x in (middle - 0.5e-3 * beam.span_mm, middle + 0.5e-3 * beam.span_mm)]
+    rigid = np.vstack([pin, *supports])
+    is_pin = np.zeros(n + len(rigid), bool)
+    is_pin[n:n + len(pin)] = True
+    is_support = np.zeros(n + len(rigid), bool)
+    is_support[n + len(pin):] = True
+    state = new_state(np.vstack([pos, rigid]), np.concatenate([radius, np.full(len(rigid), disk)]),
+                      specimen.bonds, params, driven=is_pin | is_support)
+
+    rows = specimen.height_m / (2 * radius.mean())
+    step = rate_factor * PIN_STEP_PER_RADIUS * radius.mean()
+    chunk = max(10, int(rows / 4))
+    ramp_steps = RAMP_STEPS_PER_ROW * rows
+    pin_y0 = state.pos[is_pin, 1].mean()
+
+    rows_out = [(0.0, 0.0)]
+    peak = 0.0
+    first_break = np.empty((0, 2))
+    past_peak = False
+    while True:
+        ramp = min(1.0, (state.step + chunk) / ramp_steps)
+        if state.bond_state.any() and not past_peak:
+            ramp = 1.0 / DAMAGE_SLOWDOWN
+        state.vel[is_pin, 1] = -step * ramp / state.dt
+        advance(state, chunk)
+        if not len(first_break) and state.bond_state.any():
+            first_break = state.bond_break_xy[state.bond_state > 0]
+        displacement = pin_y0 - state.pos[is_pin, 1].mean()
+        load = 0.5 * (state.force[is_pin, 1].sum() + -state.force[is_support, 1].sum())
+        rows_out.append((1e3 * displacement, load / 1e3))
+        peak = max(peak, load)
+        past_peak = past_peak or (load < PAST_PEAK_FRACTION * peak and state.bond_state.any())
+        if progress:
+            progress(1e3 * displacement, load / 1e3)
+        if (load < POST_PEAK_FRACTION * peak and state.bond_state.any()) or \
+                displacement >= 1e-3 * max_displacement_mm:
+            break
+
+    curve = np.array(rows_out)
+    k = int(np.argmax(curve[:, 1]))
+    P_max = 1e3 * curve[k, 1]
+    K_IC = senb_kic(P_max, 1e-3 * beam.span_mm, 1e-3 * beam.height_mm, 1e-3 * beam.notch_mm)
+    bond_state, bond_xy = state.bond_state, state.bond_break_xy
+    return BendingResult(
+        K_IC_MPa_sqrt_m=K_IC / 1e6, P_max_kN_per_m=P_max / 1e3,
+        displacement_at_peak_mm=float(curve[k, 0]), n_particles=n, n_bonds=len(specimen.bonds),
+        n_broken_tension=state.n_broken(BROKEN_TENSION), n_broken_shear=state.n_broken(BROKEN_SHEAR),
+        steps=state.step, wall_s=time.perf_counter() - started, beam=beam, curve=curve,
+        positions=state.pos[:n].copy(), radius=radius, cracks=measure.cracks(bond_state, bond_xy),
+        first_break_xy=first_break)

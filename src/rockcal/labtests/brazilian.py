@@ -1,0 +1,126 @@
+"""Virtual Brazilian (splitting tensile) test: a disk between two frictionless platens.
+
+The disk is carved from a square packing; the platens are the UCS test's walls, closing at the
+same quasi-static speed (slower once bonds break, full speed again past the peak; the test stops
+when the load has fallen below POST_PEAK_FRACTION of the peak, as in the bending test: a bond
+breaking under a platen drops the load for a while without splitting the disk). Tensile strength sigma_t = 2 P / (pi D t) (ISRM 1978; ASTM D3967)
+with P the peak load per metre of thickness.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from rockcal.dem import measure
+from rockcal.dem.carving import inside_circle, keep_particles
+from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
+from rockcal.dem.simulate import BOTTOM, THICKNESS_M, TOP, advance, new_state
+from rockcal.dem.specimen import Specimen, random_packing
+from rockcal.errors import InputError
+from rockcal.labtests.bending import PAST_PEAK_FRACTION, POST_PEAK_FRACTION
+from rockcal.labtests.ucs import DAMAGE_SLOWDOWN, STRAIN_PER_STEP_PER_ROW
+from rockcal.params import MicroParams, make_params
+
+DEFAULT_MAX_STRAIN = 0.02  # platen closure / diameter at which the test stops at the latest
+# A platen first bears on one or two particles; when their bonds break the load drops and comes
+# back. The disk counts as split only when the load stays below POST_PEAK_FRACTION of the peak
+# while the platens close by one more mean particle radius.
+
+
+@dataclass
+class BrazilianResult:
+    """Responses of a Brazilian test, the load-displacement curve and the split disk."""
+
+    sigma_t_MPa: float
+    P_max_kN_per_m: float
+    displacement_at_peak_mm: float
+    diameter_mm: float
+    n_particles: int
+    n_bonds: int
+    n_broken_tension: int
+    n_broken_shear: int
+    steps: int
+    wall_s: float
+    curve: np.ndarray = field(repr=False)  # columns: platen closure mm, load kN per m
+    positions: np.ndarray = field(repr=False)
+    radius: np.ndarray = field(repr=False)
+    cracks: dict = field(repr=False)
+
+    def summary(self) -> dict:
+        """The scalar responses, as JSON-ready numbers."""
+        keys = ("sigma_t_MPa", "P_max_kN_per_m", "displacement_at_peak_mm", "diameter_mm",
+                "n_particles", "n_bonds", "n_broken_tension", "n_broken_shear", "steps", "wall_s")
+        return {k: getattr(self, k) for k in keys}
+
+
+def brazilian_disk(diameter_mm: float = 50.0, rmin_mm: float = 0.25, radius_ratio: float = 1.65,
+                   seed: int = 1) -> Specimen:
+    """A disk of the given diameter carved from a square packing of the same size."""
+    if not (np.isfinite(diameter_mm) and diameter_mm > 0):
+        raise InputError("--diameter-mm", f"must be a finite number > 0, got {diameter_mm}")
+    spec = random_packing(diameter_mm, diameter_mm, rmin_mm, radius_ratio, seed)
+    r = 0.5e-3 * diameter_mm
+    keep = inside_circle(spec.pos, spec.radius, (r, r), r)
+    return keep_particles(spec, keep, f"{spec.label}, disk D {diameter_mm:g} mm")
+
+
+def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Specimen | None = None,
+                       *, rate_factor: float = 1.0, max_strain: float = DEFAULT_MAX_STRAIN,
+                       progress: Callable[[float, float], None] | None = None) -> BrazilianResult:
+    """Run the Brazilian test; defaults: granite parameters on a 50 mm disk.
+
+    progress(closure_mm, load_kN_per_m) is called as the test goes.
+    """
+    started = time.perf_counter()
+    if not isinstance(params, MicroParams):
+        params = make_params(params or {})
+    if not 0 < max_strain <= 0.5:
+        raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
+    specimen = specimen or brazilian_disk()
+    pos, radius = specimen.pos, specimen.radius
+    bottom, top = (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()
+    diameter = top - bottom
+    state = new_state(pos, radius, specimen.bonds, params, walls=(0.0, 0.0, bottom, top),
+                      wall_active=(False, False, True, True))
+    rows = diameter / (2 * radius.mean())
+    speed = 0.5 * rate_factor * STRAIN_PER_STEP_PER_ROW / rows * diameter / state.dt
+    chunk = max(5, int(rows / 8))
+    ramp_steps = int(10 * rows)
+
+    rows_out = [(0.0, 0.0)]
+    peak = closure_at_peak = 0.0
+    past_peak = False
+    while True:
+        ramp = min(1.0, (state.step + chunk) / ramp_steps)
+        if state.bond_state.any() and not past_peak:
+            ramp = 1.0 / DAMAGE_SLOWDOWN
+        state.wall_vel[BOTTOM], state.wall_vel[TOP] = speed * ramp, -speed * ramp
+        advance(state, chunk)
+        closure = (state.walls[BOTTOM] - bottom) + (top - state.walls[TOP])
+        f = state.total_wall_force()
+        load = 0.5 * (f[BOTTOM] + f[TOP])
+        rows_out.append((1e3 * closure, load / 1e3))
+        if load > peak:
+            peak, closure_at_peak = load, closure
+        past_peak = past_peak or (load < PAST_PEAK_FRACTION * peak and state.bond_state.any())
+        if progress:
+            progress(1e3 * closure, load / 1e3)
+        split = load < POST_PEAK_FRACTION * peak and closure > closure_at_peak + radius.mean()
+        if (split and state.bond_state.any()) or closure >= max_strain * diameter:
+            break
+
+    curve = np.array(rows_out)
+    k = int(np.argmax(curve[:, 1]))
+    P_max = 1e3 * curve[k, 1]
+    return BrazilianResult(
+        sigma_t_MPa=2 * P_max / (np.pi * diameter * THICKNESS_M) / 1e6, P_max_kN_per_m=P_max / 1e3,
+        displacement_at_peak_mm=float(curve[k, 0]), diameter_mm=1e3 * diameter,
+        n_particles=specimen.n_particles, n_bonds=len(specimen.bonds),
+        n_broken_tension=state.n_broken(BROKEN_TENSION), n_broken_shear=state.n_broken(BROKEN_SHEAR),
+        steps=state.step, wall_s=time.perf_counter() - started, curve=curve,
+        positions=state.pos.copy(), radius=radius,
+        cracks=measure.cracks(state.bond_state, state.bond_break_xy))

@@ -1,0 +1,85 @@
+"""Virtual notched-beam bending on a small beam (the source's beam at 0.3 scale)."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from rockcal import make_params
+from rockcal.labtests.bending import Beam, notched_beam, simulate_bending
+from rockcal.labtests.kic import senb_kic
+
+SMALL = Beam(66.0, 15.0, 5.4, 1.0, 48.0)  # S/W = 3.2, a/W = 0.36 as at full size
+
+
+def rockcal(*args):
+    return subprocess.run([sys.executable, "-m", "rockcal", *args], capture_output=True, text=True)
+
+
+@pytest.fixture(scope="module")
+def specimen():
+    return notched_beam(SMALL, 0.25, 1.65, seed=1)
+
+
+@pytest.fixture(scope="module")
+def result(specimen):
+    return simulate_bending(make_params({}), specimen, SMALL)
+
+
+def test_notch_is_carved_and_bonds_reindexed(specimen):
+    x, y, r = specimen.pos[:, 0], specimen.pos[:, 1], specimen.radius
+    in_notch = (np.abs(x - 0.033) < 0.0005 + r) & (y - r < 0.0054)
+    near = np.abs(x - 0.033) < 0.0005
+    assert not (near & (y < 0.0054)).any()
+    assert in_notch.sum() < 0.01 * specimen.n_particles
+    assert specimen.bonds.max() < specimen.n_particles and (specimen.bonds[:, 0] < specimen.bonds[:, 1]).all()
+
+
+def test_crack_starts_at_the_notch_tip(result):
+    """A centred notch: the first broken bonds lie within a few particle diameters of its tip."""
+    tip = np.array(result.notch_tip_m)
+    diameter = 2 * result.radius.mean()
+    distance = np.hypot(*(result.first_break_xy - tip).T)
+    assert len(distance) > 0 and distance.max() < 4 * diameter
+    assert result.n_broken_tension > result.n_broken_shear
+
+
+def test_peak_load_gives_k_ic(result):
+    assert result.P_max_kN_per_m > 0 and result.displacement_at_peak_mm > 0
+    assert result.K_IC_MPa_sqrt_m * 1e6 == pytest.approx(
+        senb_kic(1e3 * result.P_max_kN_per_m, 0.048, 0.015, 0.0054))
+    assert result.curve[-1, 1] < 0.3 * result.P_max_kN_per_m  # run on past the peak: cracked
+
+
+def test_halving_the_loading_speed_changes_k_ic_little(specimen, result):
+    slow = simulate_bending(make_params({}), specimen, SMALL, rate_factor=0.5)
+    assert slow.K_IC_MPa_sqrt_m == pytest.approx(result.K_IC_MPa_sqrt_m, rel=0.03)
+
+
+def test_bending_command_json_and_outputs(tmp_path):
+    run = rockcal("simulate", "bending", "--length-mm", "44", "--height-mm", "10", "--notch-mm", "3.6",
+                  "--notch-width-mm", "1", "--span-mm", "32", "--json", "--out", str(tmp_path))
+    assert run.returncode == 0, run.stderr
+    summary = json.loads(run.stdout)
+    for key in ("K_IC_MPa_sqrt_m", "P_max_kN_per_m", "displacement_at_peak_mm", "n_particles",
+                "n_bonds", "n_broken_tension", "n_broken_shear", "steps", "wall_s"):
+        assert key in summary
+    assert {p.name for p in tmp_path.iterdir()} >= {"bending_curve.csv", "bending_summary.json",
+                                                    "bending_cracks.png", "bending_curve.png"}
+
+
+@pytest.mark.parametrize("args, field", [
+    (["--notch-mm", "60"], "--notch-mm"),
+    (["--span-mm", "230"], "--span-mm"),
+    (["--span-mm", "215"], "--span-mm"),  # the supports stick out of the beam
+    (["--height-mm", "-5"], "--height-mm"),
+    (["--notch-width-mm", "0"], "--notch-width-mm"),
+    (["--rmin-mm", "0"], "--rmin-mm"),
+])
+def test_bad_geometry_is_one_line_and_exit_2(args, field):
+    run = rockcal("simulate", "bending", *args)
+    assert run.returncode == 2
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and field in lines[0], run.stderr

@@ -1,0 +1,49 @@
+"""Virtual Brazilian test on a small disk: quasi-static, splits along the loaded diameter."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from rockcal import make_params
+from rockcal.labtests.brazilian import brazilian_disk, simulate_brazilian
+
+
+@pytest.fixture(scope="module")
+def disk():
+    return brazilian_disk(25.0, 0.25, 1.65, seed=1)
+
+
+@pytest.fixture(scope="module")
+def result(disk):
+    return simulate_brazilian(make_params({}), disk)
+
+
+def test_disk_is_round(disk):
+    centre = (0.0125, 0.0125)  # the square packing's centre
+    reach = np.hypot(disk.pos[:, 0] - centre[0], disk.pos[:, 1] - centre[1]) + disk.radius
+    assert reach.max() <= 0.0125 + 1e-9 and np.quantile(reach, 0.99) > 0.0125 - 2 * disk.radius.max()
+
+
+def test_splits_in_tension_along_the_loaded_diameter(disk, result):
+    assert result.sigma_t_MPa == pytest.approx(
+        2 * 1e3 * result.P_max_kN_per_m / (np.pi * 1e-3 * result.diameter_mm) / 1e6)
+    assert result.n_broken_tension > 5 * max(1, result.n_broken_shear)
+    x = result.cracks["tension"][:, 0] - disk.pos[:, 0].mean()
+    assert np.median(np.abs(x)) < 0.1 * 1e-3 * result.diameter_mm
+
+
+def test_halving_the_loading_speed_changes_sigma_t_little(disk, result):
+    slow = simulate_brazilian(make_params({}), disk, rate_factor=0.5)
+    assert slow.sigma_t_MPa == pytest.approx(result.sigma_t_MPa, rel=0.03)
+
+
+def test_brazilian_command_json_and_outputs(tmp_path):
+    run = subprocess.run([sys.executable, "-m", "rockcal", "simulate", "brazilian", "--diameter-mm",
+                          "20", "--json", "--out", str(tmp_path)], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert json.loads(run.stdout)["sigma_t_MPa"] > 0
+    assert {p.name for p in tmp_path.iterdir()} >= {"brazilian_curve.csv", "brazilian_summary.json",
+                                                    "brazilian_cracks.png", "brazilian_curve.png"}
