@@ -24,7 +24,7 @@ source's fixed grid.
 by objective, with weights ω_l ∝ exp(−(l − 1)² / (2 q² k²)); each ant picks a guide l with
 probability ∝ ω_l and samples every parameter from a Gaussian centred on the guide with
 σ_i = ξ Σ_e |s_e,i − s_l,i| / (k − 1); samples leaving the bounds are reflected back. The
-archive keeps the k best of itself and the new ants. Defaults k = 30, q = 0.2, ξ = 0.85 and
+archive keeps the k best of itself and the new ants. Defaults k = 30, q = 0.05, ξ = 0.85 and
 10 ants per iteration were chosen on benchmarks/aco_comparison.py.
 """
 
@@ -42,7 +42,7 @@ METHODS = ("ant-system", "acor")
 DEFAULT_METHOD = "acor"
 
 _AS_DEFAULTS = {"ants": 50, "alpha": 1.0, "beta": 5.0, "rho": 0.5}
-_ACOR_DEFAULTS = {"ants": 10, "archive": 30, "q": 0.2, "xi": 0.85}
+_ACOR_DEFAULTS = {"ants": 10, "archive": 30, "q": 0.05, "xi": 0.85}
 
 
 class _Evaluator:
@@ -106,8 +106,8 @@ def _ant_system(evaluate, lower, upper, rng, *, ants, iterations, alpha, beta, r
         for j in range(d):
             np.minimum.at(f_node[j], pick[:, j], f)
         i = int(np.argmin(f))
-        if f[i] < f_best:
-            improved = f_best - f[i] > 1e-12 * max(1.0, abs(f_best)) if np.isfinite(f_best) else True
+        if f[i] < f_best or x_best is None:
+            improved = not np.isfinite(f_best) or f_best - f[i] > 1e-12 * max(1.0, abs(f_best))
             x_best, f_best, best_pick = X[i].copy(), float(f[i]), pick[i].copy()
             stall = 0 if improved else stall + 1
         else:
@@ -175,7 +175,7 @@ def ant_colony(fun: Callable, bounds, *, method: str = DEFAULT_METHOD, ants: int
     fun(x, *args) -> float with x of shape (d,); with vectorized=True, fun(X, *args) takes
     X of shape (n, d) and returns n values. Ant System options: ants (50), alpha (1), beta (5),
     rho (0.5), nodes (50 per parameter), elite (ants // 10), patience (3), shrink (0.5).
-    ACO_R options: ants (10 per iteration), archive (30), q (0.2), xi (0.85); alpha, beta and
+    ACO_R options: ants (10 per iteration), archive (30), q (0.05), xi (0.85); alpha, beta and
     rho do not exist in ACO_R and are refused. callback(intermediate_result) is called after
     each iteration; returning True (or raising StopIteration) stops the search, as does the
     best objective reaching `target`. The same seed gives the same result.
