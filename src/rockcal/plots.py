@@ -12,10 +12,10 @@ from matplotlib.collections import EllipseCollection  # noqa: E402
 
 
 def crack_pattern(positions, radius, cracks: dict, path: Path, title: str) -> None:
-    """The deformed specimen in grey with broken bonds: tension red, shear blue."""
+    """The specimen's disks in grey with broken bonds: tension red, shear blue."""
     width_m = positions[:, 0].max() - positions[:, 0].min()
     height_m = positions[:, 1].max() - positions[:, 1].min()
-    fig, ax = plt.subplots(figsize=(4 + 4 * width_m / max(height_m, width_m), 8 * height_m / max(height_m, width_m)))
+    fig, ax = plt.subplots(figsize=_specimen_figsize(width_m, height_m))
     mm = positions * 1e3
     disks = EllipseCollection(2e3 * radius, 2e3 * radius, 0, units="xy", offsets=mm,
                               offset_transform=ax.transData, facecolors="0.85", edgecolors="0.6",
@@ -29,10 +29,15 @@ def crack_pattern(positions, radius, cracks: dict, path: Path, title: str) -> No
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     ax.set_title(title)
-    ax.legend(loc="upper right", fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
+    _save(fig, path)
+
+
+def _specimen_figsize(width_m: float, height_m: float) -> tuple[float, float]:
+    """Figure size (inches) of a specimen drawing: 8 high when tall, 10 wide when wide."""
+    if height_m >= width_m:
+        return 4 + 4 * width_m / height_m, 8
+    return 10, 2 + 8 * height_m / width_m
 
 
 def stress_strain(curve, path: Path, title: str) -> None:
@@ -59,6 +64,109 @@ def _finish(fig, ax, xlabel: str, ylabel: str, title: str, path: Path) -> None:
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend()
+    _save(fig, path)
+
+
+RESPONSE_LABELS = {"E_GPa": "E (GPa)", "nu": "Poisson's ratio ν (–)", "ucs_MPa": "UCS (MPa)"}
+PARAMETER_LABELS = {"E_c": "E_c (GPa)", "Ebar_c": "Ē_c (GPa)", "kn_ks": "kn/ks (–)",
+                    "knbar_ksbar": "k̄n/k̄s (–)", "sigma_c": "σ_c (MPa)", "tau_c": "τ_c (MPa)",
+                    "mu": "μ (–)", "lambda": "λ (–)", "density": "density (kg/m³)",
+                    "damping": "damping (–)"}
+
+
+def _label(name: str, labels: dict) -> str:
+    """The axis label of a response or parameter, with its unit when known."""
+    return labels.get(name, name)
+
+
+def range_bars(R: dict[str, dict[str, float]], chosen: list[str], path: Path) -> None:
+    """Range R of each factor per response (R[response][factor]); chosen factors in colour."""
+    fig, axes = plt.subplots(1, len(R), figsize=(3.6 * len(R), 3.8), squeeze=False)
+    for ax, (response, by_factor) in zip(axes[0], R.items()):
+        factors = list(by_factor)
+        top = max(factors, key=by_factor.get)
+        colours = ["tab:orange" if f in chosen else "0.7" for f in factors]
+        bars = ax.bar([_label(f, PARAMETER_LABELS) for f in factors], list(by_factor.values()),
+                      color=colours, edgecolor=["black" if f == top else "none" for f in factors])
+        ax.bar_label(bars, fmt="%.3g", fontsize=7)
+        ax.set_title(f"{_label(response, RESPONSE_LABELS)}: largest R {top}", fontsize=9)
+        ax.set_ylabel(f"range R of {_label(response, RESPONSE_LABELS)}", fontsize=8)
+        ax.tick_params(axis="x", labelrotation=45, labelsize=7)
+        ax.grid(axis="y", alpha=0.3)
+    fig.suptitle("Range analysis (orange: parameters inverted; outlined: largest R)")
+    _save(fig, path)
+
+
+def parity(points: dict[str, dict[str, tuple[list, list]]], tolerance: float, path: Path) -> None:
+    """Surrogate prediction against DEM value per response (points[response][label] = (dem,
+    predicted)), with the 1:1 line and the ±tolerance band."""
+    fig, axes = plt.subplots(1, len(points), figsize=(3.8 * len(points), 3.9), squeeze=False)
+    for ax, (response, series) in zip(axes[0], points.items()):
+        values = [v for dem, pred in series.values() for v in (*dem, *pred)]
+        low, high = min(values), max(values)
+        pad = 0.1 * (high - low) + 1e-9 * max(abs(low), abs(high), 1.0)
+        line = [low - pad, high + pad]
+        ax.plot(line, line, color="black", lw=0.8, label="1:1")
+        ax.fill_between(line, [(1 - tolerance) * v for v in line], [(1 + tolerance) * v for v in line],
+                        color="tab:green", alpha=0.15, label=f"±{100 * tolerance:g} %")
+        for (label, (dem, pred)), marker in zip(series.items(), "os^"):
+            ax.plot(dem, pred, marker, ls="none", label=label)
+        ax.set_xlabel(f"DEM {_label(response, RESPONSE_LABELS)}", fontsize=8)
+        ax.set_ylabel(f"surrogate {_label(response, RESPONSE_LABELS)}", fontsize=8)
+        ax.set_title(_label(response, RESPONSE_LABELS), fontsize=9)
+        ax.set_xlim(line)
+        ax.set_ylim(line)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle("Surrogate against DEM")
+    _save(fig, path)
+
+
+def aco_convergence(history_fun, history_x, names: list[str], path: Path, title: str) -> None:
+    """Best objective (log scale) and best value of each parameter per ACO iteration."""
+    fig, axes = plt.subplots(1 + len(names), 1, figsize=(6, 2 + 1.6 * len(names)), sharex=True)
+    generation = range(1, len(history_fun) + 1)
+    axes[0].semilogy(generation, history_fun)
+    axes[0].set_ylabel("best objective F")
+    axes[0].set_title(title)
+    for j, (ax, name) in enumerate(zip(axes[1:], names)):
+        ax.plot(generation, [x[j] for x in history_x], color=f"C{j + 1}")
+        ax.set_ylabel(_label(name, PARAMETER_LABELS), fontsize=8)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("ACO iteration")
+    _save(fig, path)
+
+
+def loop_errors(errors: dict[str, list], tolerance: float, path: Path) -> None:
+    """Relative error (%) of the verified DEM responses per loop iteration (None: run failed),
+    with the ±tolerance band."""
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    n = max(len(v) for v in errors.values())
+    ax.axhspan(-100 * tolerance, 100 * tolerance, color="tab:green", alpha=0.15,
+               label=f"±{100 * tolerance:g} %")
+    ax.axhline(0, color="black", lw=0.8)
+    for response, values in errors.items():
+        y = [float("nan") if v is None else 100 * v for v in values]
+        ax.plot(range(1, n + 1), y, "o-", label=_label(response, RESPONSE_LABELS))
+    ax.set_xticks(range(1, n + 1))
+    _finish(fig, ax, "loop iteration (DEM verification)", "(simulated − target) / target (%)",
+            "Verified responses against the targets", path)
+
+
+def calibrated_curve(curve, measured, path: Path, title: str) -> None:
+    """Simulated axial and lateral stress–strain curves (curve columns: axial strain, lateral
+    strain, stress MPa) and the measured axial curve (strain, stress MPa) when given."""
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    ax.plot(100 * curve[:, 0], curve[:, 2], label="simulated, axial")
+    ax.plot(-100 * curve[:, 1], curve[:, 2], ls="--", label="simulated, lateral")
+    if measured is not None:
+        ax.plot(100 * measured[:, 0], measured[:, 1], "k.", ms=3, label="measured, axial")
+    _finish(fig, ax, "strain (%)  (lateral shown negative)", "axial stress (MPa)", title, path)
+
+
+def _save(fig, path: Path) -> None:
+    """Lay out, save and free a figure."""
     fig.tight_layout()
     fig.savefig(path, dpi=150)
     plt.close(fig)

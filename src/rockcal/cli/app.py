@@ -12,11 +12,13 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
 
 
 def _register() -> None:
-    from rockcal.cli import kic, sensitivity, simulate
+    from rockcal.cli import calibrate, kic, sensitivity, simulate
 
     app.add_typer(simulate.app, name="simulate")
     app.add_typer(sensitivity.app, name="sensitivity")
     app.command("kic")(kic.kic)
+    app.command("calibrate")(calibrate.calibrate)
+    app.command("report")(calibrate.report)
 
 
 def _fail(message: str) -> None:

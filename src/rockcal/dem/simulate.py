@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import numba
 from numba import njit, prange
 
 from rockcal.dem import laws, neighbours
@@ -18,6 +19,7 @@ from rockcal.params import GPa, MPa, MicroParams
 
 THICKNESS_M = 1.0
 TIME_STEP_SAFETY = 0.8
+PARTICLES_PER_THREAD = 1000  # smaller specimens run on fewer threads (see advance)
 LEFT, RIGHT, BOTTOM, TOP = range(4)
 
 
@@ -200,7 +202,21 @@ def _advance(n_steps, pos, vel, spin, radius, inv_mass, inv_inertia, pi, pj, n_b
 
 
 def advance(state: State, n_steps: int) -> None:
-    """Run n_steps time steps, rebuilding the neighbour list whenever particles moved enough."""
+    """Run n_steps time steps, rebuilding the neighbour list whenever particles moved enough.
+
+    Small specimens run on fewer threads (one per PARTICLES_PER_THREAD particles): below that,
+    a parallel loop costs more in synchronisation than it saves, and much more when the cores
+    are shared with other processes.
+    """
+    cap = numba.get_num_threads()
+    numba.set_num_threads(max(1, min(cap, state.n_particles // PARTICLES_PER_THREAD)))
+    try:
+        _advance_all(state, n_steps)
+    finally:
+        numba.set_num_threads(cap)
+
+
+def _advance_all(state: State, n_steps: int) -> None:
     done = 0
     while done < n_steps:
         start, pair, side, f_i, m_i, m_j = state.table

@@ -1,0 +1,224 @@
+"""The campaign file (TOML): a rock's lab targets and how to calibrate against them.
+
+Validated with pydantic; unknown keys, missing targets and inverted bounds are errors that name
+the key. With no file, the embedded granite default (`granite.toml`, the lab data of the
+source study) is used.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from importlib import resources
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+from rockcal.errors import InputError, from_validation_error
+from rockcal.params import NAMES, make_params
+
+RESPONSES = ("E_GPa", "nu", "ucs_MPa")  # what a UCS run gives and the calibration can fit
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Rock(_Strict):
+    name: str = "rock"
+    density_kg_m3: float = Field(2622.0, gt=0)
+
+
+class UCSTargets(_Strict):
+    """Lab results of the uniaxial compression test (at least one response)."""
+
+    E_GPa: float | None = Field(None, gt=0)
+    nu: float | None = Field(None, gt=0, lt=0.5)
+    ucs_MPa: float | None = Field(None, gt=0)
+    curve: Path | None = None  # CSV: axial strain, axial stress (MPa)
+
+    def scalars(self) -> dict[str, float]:
+        return {k: getattr(self, k) for k in RESPONSES if getattr(self, k) is not None}
+
+
+class BendingTargets(_Strict):
+    """Lab results of the notched three-point bending test (the validation)."""
+
+    K_IC_MPa_sqrt_m: float = Field(gt=0)
+    P_max_kN: float | None = Field(None, gt=0)  # of the lab's round bar, to cross-check K_IC
+    diameter_mm: float = Field(50.0, gt=0)
+    notch_mm: float = Field(18.0, gt=0)
+    span_mm: float = Field(160.0, gt=0)
+
+
+class Targets(_Strict):
+    ucs: UCSTargets
+    bending: BendingTargets | None = None
+
+
+class SpecimenSettings(_Strict):
+    """Resolution and size of the virtual specimens (defaults: the source's)."""
+
+    rmin_mm: float = Field(0.25, gt=0)
+    radius_ratio: float = Field(1.65, ge=1, le=10)
+    seed: int = 1
+    width_mm: float = Field(50.0, gt=0)
+    height_mm: float = Field(100.0, gt=0)
+    beam_length_mm: float = Field(220.0, gt=0)
+    beam_height_mm: float = Field(50.0, gt=0)
+    notch_mm: float = Field(18.0, gt=0)
+    notch_width_mm: float = Field(2.0, gt=0)
+    span_mm: float = Field(160.0, gt=0)
+
+
+def _check_names(values: dict, where: str) -> None:
+    for name in values:
+        if name not in NAMES:
+            raise ValueError(f"{where}: unknown parameter {name!r}; known: {', '.join(NAMES)}")
+
+
+class Sensitivity(_Strict):
+    array: str = "L16(4^5)"
+    levels: dict[str, list[float]]
+    threshold: float | None = Field(None, gt=0, le=1)  # also invert factors with R >= threshold x max R
+
+    @field_validator("levels")
+    @classmethod
+    def _levels(cls, levels):
+        _check_names(levels, "levels")
+        for name, values in levels.items():
+            if len(values) < 2 or len(set(values)) != len(values):
+                raise ValueError(f"levels.{name}: needs at least 2 distinct values")
+        return levels
+
+
+class Search(_Strict):
+    bounds: dict[str, tuple[float, float]] = {}
+    fixed: dict[str, float] = {}
+
+    @field_validator("bounds")
+    @classmethod
+    def _bounds(cls, bounds):
+        _check_names(bounds, "bounds")
+        for name, (low, high) in bounds.items():
+            if not (math.isfinite(low) and math.isfinite(high) and low < high):
+                raise ValueError(f"bounds.{name}: lower bound must be below the upper, got [{low}, {high}]")
+        return bounds
+
+    @field_validator("fixed")
+    @classmethod
+    def _fixed(cls, fixed):
+        _check_names(fixed, "fixed")
+        return fixed
+
+
+class Surrogate(_Strict):
+    samples: int = Field(30, ge=4)
+    checks: int = Field(3, ge=1)
+    tolerance: float = Field(0.05, gt=0)  # the surrogate is trusted within this relative error
+    seed: int = 1
+
+
+class Optimizer(_Strict):
+    method: Literal["aco", "ant-system", "acor"] = "aco"
+    ants: int = Field(50, ge=2)
+    iterations: int = Field(200, ge=1)
+    alpha: float = Field(1.0, ge=0)
+    beta: float = Field(5.0, ge=0)
+    rho: float = Field(0.5, gt=0, le=1)
+    seed: int = 1
+
+
+class Acceptance(_Strict):
+    tolerance: float = Field(0.05, gt=0, lt=1)
+    max_dem_runs: int = Field(80, ge=1)
+
+
+class Campaign(_Strict):
+    """A whole calibration campaign, as read from its TOML file."""
+
+    rock: Rock = Rock()
+    targets: Targets
+    specimen: SpecimenSettings = SpecimenSettings()
+    sensitivity: Sensitivity | None = None
+    search: Search = Search()
+    surrogate: Surrogate = Surrogate()
+    optimizer: Optimizer = Optimizer()
+    acceptance: Acceptance = Acceptance()
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        if not self.targets.ucs.scalars():
+            raise ValueError("targets.ucs: give at least one of E_GPa, nu, ucs_MPa")
+        if self.sensitivity is None and not self.search.bounds:
+            raise ValueError("search.bounds: name the parameters to invert (or add [sensitivity])")
+        both = set(self.search.bounds) & set(self.search.fixed)
+        if both:
+            raise ValueError(f"search.fixed: {sorted(both)[0]!r} is also in search.bounds")
+        return self
+
+    def fixed_params(self) -> dict[str, float]:
+        """Parameters held constant: the density of the rock, then [search].fixed."""
+        return {"density": self.rock.density_kg_m3} | dict(self.search.fixed)
+
+
+def default_text() -> str:
+    """The embedded granite campaign (TOML)."""
+    return resources.files("rockcal.campaign").joinpath("granite.toml").read_text()
+
+
+def load_campaign(path: Path | None) -> tuple[Campaign, str]:
+    """The campaign and its TOML text; InputError naming the key for anything wrong."""
+    if path is None:
+        text, base = default_text(), Path.cwd()
+    else:
+        try:
+            text = Path(path).read_text()
+        except OSError as exc:
+            raise InputError("CONFIG", f"cannot read {path}: {exc.strerror}") from None
+        base = Path(path).resolve().parent
+    return parse_campaign(text, base), text
+
+
+def parse_campaign(text: str, base: Path) -> Campaign:
+    """Validate campaign TOML text; relative curve paths are taken from `base`."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError("CONFIG", f"not valid TOML: {exc}") from None
+    try:
+        campaign = Campaign.model_validate(data)
+    except ValidationError as exc:
+        raise from_validation_error(exc) from None
+    fixed = campaign.fixed_params()
+    for name, (low, high) in campaign.search.bounds.items():  # each bound must be a valid value
+        make_params(fixed | {name: low})
+        make_params(fixed | {name: high})
+    curve = campaign.targets.ucs.curve
+    if curve is not None and not curve.is_absolute():
+        ucs = campaign.targets.ucs.model_copy(update={"curve": base / curve})
+        campaign = campaign.model_copy(update={"targets": campaign.targets.model_copy(update={"ucs": ucs})})
+    return campaign
+
+
+def read_curve(path: Path) -> np.ndarray:
+    """A measured stress-strain curve: rows of (axial strain, axial stress MPa), strain rising."""
+    field = "targets.ucs.curve"
+    try:
+        rows = np.genfromtxt(path, delimiter=",", dtype=float, invalid_raise=True)
+    except (OSError, ValueError) as exc:
+        raise InputError(field, f"cannot read {path}: {exc}") from None
+    if rows.ndim == 2 and rows.shape[1] >= 2 and np.isnan(rows[0]).all():
+        rows = rows[1:]  # a header line
+    if rows.ndim != 2 or rows.shape[1] < 2 or len(rows) < 3:
+        raise InputError(field, f"{path}: need at least 3 rows of 'strain, stress_MPa'")
+    rows = rows[:, :2]
+    if not np.isfinite(rows).all():
+        bad = int(np.flatnonzero(~np.isfinite(rows).all(axis=1))[0]) + 1
+        raise InputError(field, f"{path}: data row {bad} is not two numbers")
+    if np.any(np.diff(rows[:, 0]) <= 0):
+        bad = int(np.flatnonzero(np.diff(rows[:, 0]) <= 0)[0]) + 2
+        raise InputError(field, f"{path}: strain must increase, it does not at data row {bad}")
+    return rows

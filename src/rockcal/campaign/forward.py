@@ -1,0 +1,173 @@
+"""Forward runs of a campaign: the virtual UCS or bending test for one parameter set, on many
+cores, through the run store (a run in the store is never run again).
+
+Workers are separate processes (spawned, so numba's threads are never forked); each sets its
+numba threads to its share of the cores and loads the specimen from the on-disk specimen cache
+once, not per run.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from functools import lru_cache
+from multiprocessing import get_context
+from typing import Callable, Iterable
+
+import numpy as np
+
+from rockcal import __version__
+from rockcal.campaign.store import RunResult, RunSpec, RunStore
+from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
+from rockcal.dem.specimen import GENERATOR_VERSION
+from rockcal.params import make_params
+
+ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
+UCS_GEOMETRY = ("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed")
+BEAM_GEOMETRY = ("beam_length_mm", "beam_height_mm", "notch_mm", "notch_width_mm", "span_mm",
+                 "rmin_mm", "radius_ratio", "seed")
+
+
+def run_spec(kind: str, specimen_settings, params: dict) -> RunSpec:
+    """The spec of a run; `params` are completed with the defaults so the key is total."""
+    names = UCS_GEOMETRY if kind == "ucs" else BEAM_GEOMETRY
+    specimen = tuple((n, getattr(specimen_settings, n)) for n in names)
+    full = make_params(params).key()
+    return RunSpec(kind, specimen, tuple(sorted(full.items())), ENGINE)
+
+
+@lru_cache(maxsize=4)
+def _specimen(kind: str, specimen: tuple):
+    from rockcal.dem.specimen import random_packing
+    from rockcal.labtests.bending import Beam, notched_beam
+
+    s = dict(specimen)
+    if kind == "ucs":
+        return random_packing(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"]), None
+    beam = Beam(s["beam_length_mm"], s["beam_height_mm"], s["notch_mm"], s["notch_width_mm"], s["span_mm"])
+    return notched_beam(beam, s["rmin_mm"], s["radius_ratio"], s["seed"]), beam
+
+
+def prepare(spec: RunSpec) -> None:
+    """Make (and cache on disk) the specimen of a run before workers need it."""
+    _specimen(spec.kind, spec.specimen)
+
+
+class RunTimedOut(Exception):
+    """A forward run went past its wall-time limit."""
+
+
+def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
+    """Run one forward test; a run that raises is a failed result, not an exception, and a run
+    past `time_limit_s` is stopped and recorded as timed out."""
+    from rockcal.labtests.bending import simulate_bending
+    from rockcal.labtests.ucs import simulate_ucs
+
+    started = time.perf_counter()
+
+    def watch(*_):
+        if time_limit_s is not None and time.perf_counter() - started > time_limit_s:
+            raise RunTimedOut(f"stopped after the run's wall-time limit of {time_limit_s:g} s")
+
+    try:
+        specimen, beam = _specimen(spec.kind, spec.specimen)
+        params = make_params(dict(spec.params))
+        if spec.kind == "ucs":
+            r = simulate_ucs(params, specimen, progress=watch)
+            responses = {"E_GPa": r.E_GPa, "nu": r.nu, "ucs_MPa": r.ucs_MPa,
+                         "peak_axial_strain": r.peak_axial_strain}
+        else:
+            r = simulate_bending(params, specimen, beam, progress=watch)
+            responses = {"K_IC_MPa_sqrt_m": r.K_IC_MPa_sqrt_m, "P_max_kN_per_m": r.P_max_kN_per_m,
+                         "displacement_at_peak_mm": r.displacement_at_peak_mm}
+        responses |= {"n_broken_tension": r.n_broken_tension, "n_broken_shear": r.n_broken_shear,
+                      "steps": r.steps}
+        bad = [k for k, v in responses.items() if v != v]  # NaN: no usable reading
+        if bad:
+            raise ValueError(f"no reading of {bad[0]} (the specimen did not load up)")
+        return RunResult("ok", responses, r.curve, time.perf_counter() - started,
+                         cracks=crack_rows(r.cracks))
+    except RunTimedOut as exc:
+        return RunResult("timed out", {}, None, time.perf_counter() - started, str(exc))
+    except Exception as exc:  # a run that raises is recorded as failed, the campaign goes on
+        return RunResult("failed", {}, None, time.perf_counter() - started,
+                         f"{type(exc).__name__}: {exc}")
+
+
+def crack_rows(cracks: dict[str, np.ndarray]) -> np.ndarray:
+    """Broken bonds as rows (x m, y m, mode): 1 tension, 2 shear."""
+    return np.vstack([np.column_stack([cracks[mode], np.full(len(cracks[mode]), code)])
+                      for code, mode in ((BROKEN_TENSION, "tension"), (BROKEN_SHEAR, "shear"))])
+
+
+def _init_worker(threads: int) -> None:
+    import numba
+
+    numba.set_num_threads(threads)
+
+
+class Executor:
+    """Runs specs through the store: serially (workers=1) or on a process pool."""
+
+    def __init__(self, store: RunStore, workers: int = 0, time_limit_s: float | None = None):
+        self.store = store
+        self.workers = workers if workers > 0 else (os.cpu_count() or 1)
+        self.time_limit_s = time_limit_s
+        self._pool = None
+        self.executed = 0  # runs done by this executor (not found in the store)
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(cancel_futures=True)
+
+    def _get_pool(self) -> ProcessPoolExecutor:
+        if self._pool is None:
+            threads = max(1, (os.cpu_count() or 1) // self.workers)
+            self._pool = ProcessPoolExecutor(self.workers, mp_context=get_context("spawn"),
+                                             initializer=_init_worker, initargs=(threads,))
+        return self._pool
+
+    def run(self, specs: Iterable[RunSpec],
+            progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
+        """Results in the order of `specs`; each new one is stored as soon as it is done."""
+        specs = list(specs)
+        results: dict[str, RunResult] = {}
+        todo = []
+        for spec in specs:
+            found = self.store.get(spec)
+            if found is not None:
+                results[spec.key] = found
+            elif spec.key not in {s.key for s in todo}:
+                todo.append(spec)
+        total = len({s.key for s in specs})
+        if progress:
+            progress(len(results), total)
+        for spec in {s.kind + repr(s.specimen): s for s in todo}.values():
+            prepare(spec)  # the specimen is made once, here, and read from the cache by workers
+        if self.workers == 1 or len(todo) <= 1:
+            for spec in todo:
+                self._finish(spec, execute(spec, self.time_limit_s), results, progress, total)
+        else:
+            pool = self._get_pool()
+            futures = {pool.submit(execute, spec, self.time_limit_s): spec for spec in todo}
+            for future in as_completed(futures):
+                self._finish(futures[future], future.result(), results, progress, total)
+        return [results[s.key] for s in specs]
+
+    def _finish(self, spec, result, results, progress, total) -> None:
+        self.store.put(spec, result)
+        self.executed += 1
+        results[spec.key] = result
+        if progress:
+            progress(len(results), total)
+
+
+def make_executor(store: RunStore, *, workers: int = 0, scheduler: str | None = None,
+                  time_limit_s: float | None = None):
+    """The executor of a campaign: a local process pool, or a Dask cluster with `scheduler`."""
+    if scheduler is None:
+        return Executor(store, workers, time_limit_s)
+    from rockcal.campaign.dask_executor import DaskExecutor
+
+    return DaskExecutor(store, scheduler, time_limit_s)

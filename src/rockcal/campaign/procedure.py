@@ -1,0 +1,233 @@
+"""The inverse procedure end to end (SPEC steps 1-8): sensitivity runs and range analysis,
+Latin hypercube runs, Gaussian RBF surrogate and its check, ant colony search on the
+surrogate, DEM verification and the adaptive loop, then the bending validation.
+
+Every forward run goes through the executor and its store, and every other step is seeded,
+so running a campaign again (after a kill, or to rebuild a report) gives the same answer and
+runs only what the store does not hold.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from rockcal.campaign.config import Campaign, read_curve
+from rockcal.campaign.forward import Executor, run_spec
+from rockcal.inverse import (RBFSurrogate, Objective, ant_colony, curve_fit, design, latin_hypercube,
+                             range_analysis)
+from rockcal.labtests.kic import pmax_kic_disagreement
+from rockcal.dem.measure import secant_at_half_peak
+from rockcal.params import make_params
+
+SIGNIFICANT_DIGITS = 4  # parameters of verification runs are rounded to this (stable store keys)
+
+Stage = Callable[[str, int, int], None]  # progress(stage, done, total)
+
+
+class CalibrationFailed(Exception):
+    """The campaign cannot go on (e.g. every forward run of a stage failed)."""
+
+
+def ucs_targets(campaign: Campaign) -> tuple[dict[str, float], np.ndarray | None]:
+    """Scalar targets, completed from the measured curve when one is given (E secant at half
+    the peak, UCS = peak), and the curve itself."""
+    targets = campaign.targets.ucs.scalars()
+    curve = None
+    if campaign.targets.ucs.curve is not None:
+        curve = read_curve(campaign.targets.ucs.curve)
+        E_MPa, _, peak = secant_at_half_peak(curve[:, 0], np.zeros(len(curve)), curve[:, 1])
+        targets.setdefault("E_GPa", E_MPa / 1e3)
+        targets.setdefault("ucs_MPa", float(curve[peak, 1]))
+    return targets, curve
+
+
+def _round(x: np.ndarray) -> np.ndarray:
+    return np.array([float(f"{v:.{SIGNIFICANT_DIGITS}g}") for v in x])
+
+
+class Calibration:
+    """One campaign's run: call `run()`; the record it returns is what reports are made of."""
+
+    def __init__(self, campaign: Campaign, executor: Executor, progress: Stage | None = None):
+        self.campaign = campaign
+        self.executor = executor
+        self.progress = progress or (lambda stage, done, total: None)
+        self.targets, self.curve = ucs_targets(campaign)
+        self.fixed = campaign.fixed_params()
+        self.dem_runs: list[str] = []  # keys of the distinct UCS runs the procedure used
+        self.record: dict = {"rock": campaign.rock.name, "targets": self.targets,
+                             "specimen": campaign.specimen.model_dump()}
+        if self.curve is not None:
+            self.record["measured_curve"] = self.curve.tolist()
+
+    # -- forward runs ---------------------------------------------------------------------
+    def _ucs(self, stage: str, rows: list[dict]) -> list[dict | None]:
+        """UCS responses of each parameter set (None for a failed run)."""
+        specs = [run_spec("ucs", self.campaign.specimen, self.fixed | row) for row in rows]
+        results = self.executor.run(specs, lambda done, total: self.progress(stage, done, total))
+        for spec in specs:
+            if spec.key not in self.dem_runs:
+                self.dem_runs.append(spec.key)
+        failed = [r.message for r in results if r.status != "ok"]
+        self.record.setdefault("failed_runs", []).extend(
+            {"stage": stage, "message": m} for m in failed)
+        if failed and len(failed) == len(results):
+            raise CalibrationFailed(f"every forward run of stage '{stage}' failed; first: {failed[0]}")
+        return [r.responses if r.status == "ok" else None for r in results]
+
+    # -- the steps ------------------------------------------------------------------------
+    def sensitivity(self) -> dict[str, tuple[float, float]]:
+        """Step 2: orthogonal-array runs, range analysis; returns the search bounds."""
+        settings = self.campaign.sensitivity
+        bounds = dict(self.campaign.search.bounds)
+        if settings is None:
+            return bounds
+        runs = design(settings.array, settings.levels)
+        n = len(next(iter(runs.values())))
+        rows = [{f: float(v[i]) for f, v in runs.items()} for i in range(n)]
+        responses = self._ucs("sensitivity", rows)  # the array's values override [search].fixed
+        if any(r is None for r in responses):
+            raise CalibrationFailed("a sensitivity run failed; range analysis needs every run "
+                                    "of the array (see the failed runs in the report)")
+        names = list(self.targets)
+        analysis = range_analysis({f: np.array(v) for f, v in runs.items()},
+                                  {r: np.array([resp[r] for resp in responses]) for r in names})
+        chosen = analysis.chosen(settings.threshold)
+        self.record["sensitivity"] = {"array": settings.array, "runs": rows,
+                                      "responses": responses, **analysis.to_dict(settings.threshold)}
+        if not bounds:
+            bounds = {f: (min(settings.levels[f]), max(settings.levels[f])) for f in chosen}
+        for f, levels in settings.levels.items():  # factors neither inverted nor fixed: middle
+            if f not in bounds and f not in self.fixed:
+                self.fixed[f] = float(np.mean(levels))
+        return bounds
+
+    def run(self) -> dict:
+        """Steps 2-8; returns the campaign record (JSON-ready)."""
+        bounds = self.sensitivity()
+        names = list(bounds)
+        box = np.array([bounds[n] for n in names], dtype=float)
+        self.record |= {"parameters": names, "bounds": {n: list(bounds[n]) for n in names},
+                        "fixed": dict(self.fixed)}
+        s = self.campaign.surrogate
+
+        # step 3: Latin hypercube runs, surrogate, check on fresh random points
+        x = _round_rows(latin_hypercube(box, s.samples, seed=s.seed))
+        y = self._ucs("samples", [dict(zip(names, row)) for row in x])
+        rng = np.random.default_rng(s.seed + 1)
+        checks = _round_rows(box[:, 0] + rng.random((s.checks, len(names))) * (box[:, 1] - box[:, 0]))
+        y_checks = self._ucs("surrogate check", [dict(zip(names, row)) for row in checks])
+        train_x, train_y = _usable(x, y)
+        surrogate = self._fit(train_x, train_y, box)
+        check_x, check_y = _usable(checks, y_checks)
+        validation = surrogate.validate(check_x, {r: np.array([v[r] for v in check_y]) for r in self.targets},
+                                        s.tolerance) if len(check_x) else None
+        self.record["samples"] = {"x": x.tolist(), "responses": y}
+        self.record["surrogate_check"] = {
+            "x": checks.tolist(), "dem": y_checks,
+            "predicted": [surrogate.predict(row) for row in checks],
+            "max_relative_error": None if validation is None else validation.max_relative_error,
+            "trusted": None if validation is None else validation.trusted,
+            "tolerance": s.tolerance, "epsilon": surrogate.epsilon}
+        train_x = np.vstack([train_x, check_x])
+        train_y = train_y + check_y
+
+        # steps 4-6: search on the surrogate, verify with the DEM, refit, until accepted
+        tolerance = self.campaign.acceptance.tolerance
+        iterations, accepted = [], None
+        while True:
+            surrogate = self._fit(train_x, train_y, box)
+            objective = Objective(surrogate.predict, self.targets)
+            opt = self._optimise(objective, box)
+            x_best = _round(opt.x)
+            verified = self._ucs("verification", [dict(zip(names, x_best))])[0]
+            errors = None if verified is None else {
+                r: verified[r] / t - 1 for r, t in self.targets.items()}
+            iterations.append({
+                "x": x_best.tolist(), "objective_surrogate": float(opt.fun),
+                "predicted": surrogate.predict(x_best), "verified": verified, "errors": errors,
+                "history_fun": list(map(float, opt.history_fun)),
+                "history_x": [list(map(float, h)) for h in opt.history_x], "nfev": int(opt.nfev)})
+            if errors is not None and all(abs(e) <= tolerance for e in errors.values()):
+                accepted = len(iterations) - 1
+                break
+            repeated = any(np.allclose(x_best, row) for row in train_x)
+            if verified is not None and not repeated:
+                train_x = np.vstack([train_x, x_best])
+                train_y = train_y + [verified]
+            if len(self.dem_runs) >= self.campaign.acceptance.max_dem_runs or repeated:
+                break
+        best = accepted if accepted is not None else _closest(iterations)
+        identified = dict(zip(names, iterations[best]["x"]))
+        self.record |= {"iterations": iterations, "accepted": accepted is not None,
+                        "identified": identified, "identified_params": make_params(self.fixed | identified).key(),
+                        "verified": iterations[best]["verified"], "errors": iterations[best]["errors"],
+                        "tolerance": tolerance, "objective": objective.describe(),
+                        "dem_runs": len(self.dem_runs), "best_iteration": best}
+        self.record["dem_run_keys"] = list(self.dem_runs)
+        self._curve_fit(identified)
+        self._validate(identified)
+        return self.record
+
+    def _fit(self, x, y, box) -> RBFSurrogate:
+        return RBFSurrogate(x, {r: np.array([v[r] for v in y]) for r in self.targets}, box)
+
+    def _optimise(self, objective, box):
+        o = self.campaign.optimizer
+        if o.method == "acor":
+            return ant_colony(objective, box, method="acor", ants=o.ants, iterations=o.iterations,
+                              seed=o.seed, vectorized=True)
+        return ant_colony(objective, box, method="ant-system", ants=o.ants, iterations=o.iterations,
+                          alpha=o.alpha, beta=o.beta, rho=o.rho, seed=o.seed, vectorized=True)
+
+    def _curve_fit(self, identified: dict) -> None:
+        """Step 7: RE and CC of the stress-strain curve at the identified parameters (the
+        simulated strain may dither at the start: only the points that advance it are kept)."""
+        spec = run_spec("ucs", self.campaign.specimen, self.fixed | identified)
+        self.record["final_ucs_run_key"] = spec.key
+        result = self.executor.store.get(spec)
+        if self.curve is None or result is None or result.curve is None:
+            return
+        strain, stress = result.curve[:, 0], result.curve[:, 2]
+        ahead = strain > np.maximum.accumulate(np.concatenate([[-np.inf], strain[:-1]]))
+        fit = curve_fit(strain[ahead], stress[ahead], self.curve[:, 0], self.curve[:, 1])
+        self.record["curve_fit"] = {"RE": fit.RE, "CC": fit.CC}
+
+    def _validate(self, identified: dict) -> None:
+        """Step 8: the notched-beam bending test with the identified parameters."""
+        bending = self.campaign.targets.bending
+        if bending is None:
+            return
+        spec = run_spec("bending", self.campaign.specimen, self.fixed | identified)
+        result = self.executor.run([spec], lambda d, t: self.progress("validation (bending)", d, t))[0]
+        record = {"lab_K_IC_MPa_sqrt_m": bending.K_IC_MPa_sqrt_m, "run_key": spec.key,
+                  "status": result.status, "message": result.message}
+        if result.status == "ok":
+            k = result.responses["K_IC_MPa_sqrt_m"]
+            record |= result.responses | {"K_IC_error": k / bending.K_IC_MPa_sqrt_m - 1}
+        if bending.P_max_kN is not None:
+            record["warning"] = pmax_kic_disagreement(
+                1e3 * bending.P_max_kN, 1e6 * bending.K_IC_MPa_sqrt_m, 1e-3 * bending.diameter_mm,
+                1e-3 * bending.notch_mm, 1e-3 * bending.span_mm)
+        self.record["validation"] = record
+
+
+def _round_rows(x: np.ndarray) -> np.ndarray:
+    return np.array([_round(row) for row in x])
+
+
+def _usable(x: np.ndarray, y: list) -> tuple[np.ndarray, list]:
+    keep = [i for i, v in enumerate(y) if v is not None]
+    return x[keep].reshape(len(keep), x.shape[1]), [y[i] for i in keep]
+
+
+def _closest(iterations: list[dict]) -> int:
+    """The verified iteration with the smallest largest error (when none was accepted)."""
+    scored = [(max(abs(e) for e in it["errors"].values()), i)
+              for i, it in enumerate(iterations) if it["errors"] is not None]
+    if not scored:
+        raise CalibrationFailed("no verification run succeeded")
+    return min(scored)[1]
+

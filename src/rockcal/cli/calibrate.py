@@ -1,0 +1,150 @@
+"""`rockcal calibrate` and `rockcal report`: the whole inverse procedure, and its report."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+from rich.table import Table
+
+from rockcal.errors import InputError
+
+DEFAULT_OUT = Path("runs")
+
+
+def calibrate(
+    config: Optional[Path] = typer.Argument(None, help="Campaign file (TOML); none: the embedded granite."),
+    out: Optional[Path] = typer.Option(None, help="Output folder (run store, report); default runs/<rock name>."),
+    workers: int = typer.Option(0, help="Parallel forward runs on this machine (0: one per core)."),
+    scheduler: Optional[str] = typer.Option(None, help="Dask scheduler: tcp://HOST:PORT, or local:N for N local workers."),
+    time_limit_s: Optional[float] = typer.Option(None, help="Wall-time limit of one forward run, s; a run past it is recorded as timed out."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    resume: bool = typer.Option(False, "--resume", help="Go on with the campaign already in --out."),
+) -> None:
+    """Identify BPM micro-parameters from lab results (SPEC steps 1-8), with a report."""
+    from rockcal.campaign.config import load_campaign
+    from rockcal.campaign.forward import make_executor
+    from rockcal.campaign.procedure import Calibration, CalibrationFailed
+    from rockcal.campaign.store import STORE_NAME, RunStore
+
+    campaign, text = load_campaign(config)
+    out = out if out is not None else DEFAULT_OUT / campaign.rock.name
+    if workers < 0:
+        raise InputError("--workers", f"must be >= 0, got {workers}")
+    if time_limit_s is not None and not time_limit_s > 0:
+        raise InputError("--time-limit-s", f"must be > 0, got {time_limit_s}")
+    if (out / STORE_NAME).exists() and not resume:
+        raise InputError("--out", f"{out} already holds a campaign's runs; add --resume to go on "
+                                  "with it, or choose another folder")
+    if out.exists() and not out.is_dir():
+        raise InputError("--out", f"{out} is a file, not a folder")
+    store = RunStore(out)
+    try:
+        executor = make_executor(store, workers=workers, scheduler=scheduler, time_limit_s=time_limit_s)
+        try:
+            store.save_document("campaign.toml", text)
+            with _stage_progress(as_json) as progress:
+                record = Calibration(campaign, executor, progress).run()
+        except CalibrationFailed as exc:
+            print(f"rockcal: calibration failed: {exc}", file=sys.stderr)
+            raise typer.Exit(1)
+        finally:
+            executor.close()
+        record["executed_runs"] = executor.executed
+        store.save_document("record.json", json.dumps(record))
+        html = _write_report(record, store, out)
+    finally:
+        store.close()
+    _print_summary(record, html, as_json)
+
+
+def report(out: Path = typer.Argument(..., help="Output folder of a campaign.")) -> None:
+    """Rebuild OUT/report.html and its figures from the campaign's run store."""
+    from rockcal.campaign.store import RunStore
+
+    store = RunStore(out, create=False)
+    try:
+        text = store.document("record.json")
+        if text is None:
+            raise InputError("OUT", f"the campaign in {out} has not finished; run "
+                                    f"`rockcal calibrate --resume --out {out}`")
+        html = _write_report(json.loads(text), store, out)
+    finally:
+        store.close()
+    Console(stderr=True).print(f"report: {html}")
+
+
+def _write_report(record: dict, store, out: Path) -> Path:
+    from rockcal.campaign.report import write_report
+
+    (out / "record.json").write_text(json.dumps(record, indent=1))
+    return write_report(record, store, out)
+
+
+class _stage_progress:
+    """A rich progress bar per stage of the campaign (runs done / to do, ETA), on stderr."""
+
+    def __init__(self, quiet: bool):
+        self.bar = Progress(TextColumn("{task.description:<24}"), BarColumn(), MofNCompleteColumn(),
+                            TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
+                            console=Console(stderr=True), disable=quiet)
+        self.tasks: dict[str, int] = {}
+
+    def __enter__(self):
+        self.bar.start()
+        return self
+
+    def __exit__(self, *exc):
+        self.bar.stop()
+
+    def __call__(self, stage: str, done: int, total: int) -> None:
+        if stage not in self.tasks:
+            self.tasks[stage] = self.bar.add_task(stage, total=total)
+        self.bar.update(self.tasks[stage], completed=done, total=total)
+
+
+def summary(record: dict) -> dict:
+    """What `--json` prints: identified parameters, verified responses and errors, K_IC, runs."""
+    validation = record.get("validation", {})
+    return {
+        "rock": record["rock"], "accepted": record["accepted"], "identified": record["identified"],
+        "identified_params": record["identified_params"], "targets": record["targets"],
+        "verified": {r: record["verified"][r] for r in record["targets"]} if record["verified"] else None,
+        "relative_errors": record["errors"], "tolerance": record["tolerance"],
+        "objective": record["objective"], "curve_fit": record.get("curve_fit"),
+        "K_IC_MPa_sqrt_m": validation.get("K_IC_MPa_sqrt_m"),
+        "lab_K_IC_MPa_sqrt_m": validation.get("lab_K_IC_MPa_sqrt_m"),
+        "K_IC_error": validation.get("K_IC_error"), "warning": validation.get("warning"),
+        "dem_runs": record["dem_runs"], "executed_runs": record.get("executed_runs"),
+        "failed_runs": len(record.get("failed_runs", [])),
+    }
+
+
+def _print_summary(record: dict, html: Path, as_json: bool) -> None:
+    s = summary(record)
+    if as_json:
+        typer.echo(json.dumps(s | {"report": str(html)}))
+        return
+    console = Console()
+    verdict = "accepted" if s["accepted"] else "NOT accepted (closest shown)"
+    table = Table(title=f"Calibration of {s['rock']}: {verdict}, {s['dem_runs']} DEM runs")
+    for column in ("", "value", "target", "error"):
+        table.add_column(column)
+    for name, value in s["identified"].items():
+        table.add_row(name, f"{value:.4g}", "", "")
+    for name, target in s["targets"].items():
+        value, error = (s["verified"] or {}).get(name), (s["relative_errors"] or {}).get(name)
+        table.add_row(name, "–" if value is None else f"{value:.4g}", f"{target:.4g}",
+                      "–" if error is None else f"{100 * error:+.1f} %")
+    if s["K_IC_MPa_sqrt_m"] is not None:
+        table.add_row("K_IC (validation)", f"{s['K_IC_MPa_sqrt_m']:.3f}",
+                      f"{s['lab_K_IC_MPa_sqrt_m']:.3f}", f"{100 * s['K_IC_error']:+.1f} %")
+    console.print(table)
+    if s["warning"]:
+        console.print(f"[yellow]warning:[/] {s['warning']}")
+    console.print(f"objective: {s['objective']}\nreport: {html}")

@@ -1,0 +1,108 @@
+"""`rockcal calibrate` end to end on a small specimen: a twin experiment (targets made by the
+engine at known parameters are recovered), and a campaign killed mid-way that resumes."""
+
+import json
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+
+import pytest
+
+import rockcal
+
+TRUE = {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 40.0}
+FIXED = {"tau_c": 200.0, "mu": 0.5}
+SPECIMEN = {"rmin_mm": 0.4, "width_mm": 10.0, "height_mm": 20.0}
+
+
+def campaign_text(targets: dict) -> str:
+    return f"""
+[targets.ucs]
+E_GPa = {targets["E_GPa"]!r}
+nu = {targets["nu"]!r}
+ucs_MPa = {targets["ucs_MPa"]!r}
+[specimen]
+rmin_mm = {SPECIMEN["rmin_mm"]}
+width_mm = {SPECIMEN["width_mm"]}
+height_mm = {SPECIMEN["height_mm"]}
+[search]
+bounds = {{ E_c = [10, 30], kn_ks = [1, 3], sigma_c = [20, 60] }}
+fixed = {{ tau_c = {FIXED["tau_c"]}, mu = {FIXED["mu"]} }}
+[surrogate]
+samples = 12
+checks = 2
+[optimizer]
+iterations = 50
+[acceptance]
+tolerance = 0.02
+max_dem_runs = 24
+"""
+
+
+def calibrate(*args, **kwargs):
+    return subprocess.Popen([sys.executable, "-m", "rockcal", "calibrate", *map(str, args)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kwargs)
+
+
+@pytest.fixture(scope="module")
+def twin(tmp_path_factory):
+    """Targets made by the engine at TRUE, and the uninterrupted campaign's --json output."""
+    folder = tmp_path_factory.mktemp("twin")
+    specimen = rockcal.random_packing(SPECIMEN["width_mm"], SPECIMEN["height_mm"], SPECIMEN["rmin_mm"])
+    made = rockcal.simulate_ucs(TRUE | FIXED, specimen)
+    targets = {"E_GPa": made.E_GPa, "nu": made.nu, "ucs_MPa": made.ucs_MPa}
+    config = folder / "twin.toml"
+    config.write_text(campaign_text(targets))
+    run = calibrate(config, "--out", folder / "out", "--workers", "1", "--json")
+    stdout, stderr = run.communicate(timeout=600)
+    assert run.returncode == 0, stderr
+    return config, json.loads(stdout)
+
+
+def test_twin_experiment_recovers_the_parameters(twin):
+    _, result = twin
+    found = result["identified"]
+    assert result["accepted"]
+    assert found["E_c"] == pytest.approx(TRUE["E_c"], rel=0.05)
+    assert found["sigma_c"] == pytest.approx(TRUE["sigma_c"], rel=0.05)
+    assert found["kn_ks"] == pytest.approx(TRUE["kn_ks"], rel=0.10)
+    assert all(abs(e) <= result["tolerance"] for e in result["relative_errors"].values())
+    assert result["dem_runs"] <= 24
+
+
+def test_killed_campaign_resumes_to_the_same_result_running_nothing_twice(twin, tmp_path):
+    config, uninterrupted = twin
+    out = tmp_path / "out"
+    store = out / "runs.sqlite"
+    run = calibrate(config, "--out", out, "--workers", "1")
+    deadline = time.time() + 300
+    while time.time() < deadline and run.poll() is None:
+        if store.exists() and _count(store, "SELECT COUNT(*) FROM runs") >= 6:
+            break
+        time.sleep(0.05)
+    assert run.poll() is None, "the campaign ended before it could be killed"
+    run.send_signal(signal.SIGKILL)
+    run.wait()
+    done_before = _count(store, "SELECT COUNT(*) FROM runs")
+
+    again = calibrate(config, "--out", out, "--workers", "1")
+    assert again.wait(timeout=600) == 2  # an OUT that holds runs needs --resume
+    resumed = calibrate(config, "--out", out, "--workers", "2", "--resume", "--json")
+    stdout, stderr = resumed.communicate(timeout=600)
+    assert resumed.returncode == 0, stderr
+    result = json.loads(stdout)
+    assert result["identified"] == uninterrupted["identified"]
+    assert result["verified"] == uninterrupted["verified"]
+    assert result["executed_runs"] == result["dem_runs"] - done_before
+    assert _count(store, "SELECT MAX(n) FROM (SELECT COUNT(*) AS n FROM executions GROUP BY run_key)") == 1
+    assert (out / "report.html").exists()
+
+
+def _count(store, query: str) -> int:
+    db = sqlite3.connect(store, timeout=30)
+    try:
+        return db.execute(query).fetchone()[0]
+    finally:
+        db.close()

@@ -1,0 +1,136 @@
+"""The calibration report, made from a real (tiny) campaign: self-contained HTML, every figure
+written, the identified parameters shown, and missing pieces noted instead of failing."""
+
+import base64
+import copy
+import re
+from pathlib import Path
+
+import matplotlib.image
+import numpy as np
+import pytest
+
+from rockcal.campaign.config import parse_campaign
+from rockcal.campaign.forward import Executor
+from rockcal.campaign.procedure import Calibration
+from rockcal.campaign.report import FIGURES, stored_run, write_report
+from rockcal.campaign.store import RunStore
+
+TOML = '''
+[targets.ucs]
+nu = 0.2
+curve = "measured.csv"
+[targets.bending]
+K_IC_MPa_sqrt_m = 0.5
+P_max_kN = 1.453
+[specimen]
+rmin_mm = 0.4
+width_mm = 8
+height_mm = 16
+beam_length_mm = 44
+beam_height_mm = 10
+notch_mm = 3.6
+notch_width_mm = 1.0
+span_mm = 32
+[sensitivity]
+array = "L4(2^3)"
+levels = { E_c = [10, 30], sigma_c = [20, 60], kn_ks = [1.0, 3.0] }
+[search]
+bounds = { E_c = [10, 30], sigma_c = [20, 60] }
+[surrogate]
+samples = 8
+checks = 2
+[optimizer]
+iterations = 30
+[acceptance]
+max_dem_runs = 14
+'''
+
+ALL_PNGS = {name for _, name, _, _ in FIGURES}
+
+
+@pytest.fixture(scope="module")
+def campaign(tmp_path_factory):
+    """A tiny calibration against a measured curve (E 20 GPa, peak 40 MPa), run once:
+    (record, store, folder)."""
+    folder = tmp_path_factory.mktemp("campaign")
+    strain = np.linspace(0, 0.0025, 26)
+    stress = 2e4 * strain * (1 - strain / 0.005)  # peak 25 MPa at 0.25 %
+    np.savetxt(folder / "measured.csv", np.column_stack([strain, stress]), delimiter=",",
+               header="axial_strain,axial_stress_MPa", comments="")
+    store = RunStore(folder)
+    record = Calibration(parse_campaign(TOML, folder), Executor(store, workers=1)).run()
+    yield record, store, folder
+    store.close()
+
+
+def _images(page: str) -> list[bytes]:
+    return [base64.b64decode(m) for m in re.findall(r"data:image/png;base64,([A-Za-z0-9+/=]+)", page)]
+
+
+def test_full_report_is_self_contained_and_has_every_figure(campaign):
+    record, store, folder = campaign
+    path = write_report(record, store, folder / "report")
+    assert path == folder / "report" / "report.html"
+    page = path.read_text(encoding="utf-8")
+    assert {p.name for p in path.parent.glob("*.png")} == ALL_PNGS
+    for name in ALL_PNGS:
+        image = matplotlib.image.imread(path.parent / name)  # a readable PNG with content
+        assert image.shape[0] > 100 and image.shape[1] > 100 and image.std() > 0
+    embedded = _images(page)
+    assert sorted(embedded) == sorted((path.parent / n).read_bytes() for n in ALL_PNGS)
+    assert re.findall(r"src=['\"](?!data:)", page) == []
+    assert "<script" not in page and "href=" not in page
+
+
+def test_summary_shows_the_identified_parameters_and_the_validation(campaign):
+    record, store, folder = campaign
+    page = write_report(record, store, folder / "summary").read_text(encoding="utf-8")
+    for name, value in record["identified"].items():
+        assert re.search(rf"<td>{name}</td><td>{value:.4g}</td>", page)
+    for response, error in record["errors"].items():
+        assert f"{100 * error:+.1f} %" in page
+    v = record["validation"]
+    assert f"{v['K_IC_MPa_sqrt_m']:.4g}" in page and f"{100 * v['K_IC_error']:+.1f} %" in page
+    assert "Ouchterlony" in page  # the lab's P_max and K_IC disagree: the warning is shown
+    assert f"RE {record['curve_fit']['RE']:.3f}, CC {record['curve_fit']['CC']:.3f}" in page
+    assert f"{record['dem_runs']}</td>" in page
+
+
+def test_stored_run_reads_the_final_ucs_run(campaign):
+    record, store, _ = campaign
+    run = stored_run(store, record["final_ucs_run_key"])
+    assert run.kind == "ucs" and run.status == "ok"
+    assert run.params == record["identified_params"]
+    assert run.responses["ucs_MPa"] == pytest.approx(np.max(run.curve[:, 2]), rel=1e-12)
+    assert len(run.cracks) == run.responses["n_broken_tension"] + run.responses["n_broken_shear"]
+    assert stored_run(store, "no such key") is None
+
+
+def test_missing_pieces_are_noted_not_raised(campaign):
+    record, store, folder = campaign
+    bare = copy.deepcopy(record)
+    for key in ("sensitivity", "validation", "curve_fit", "measured_curve", "specimen"):
+        bare.pop(key, None)
+    bare["failed_runs"] = [{"stage": "samples", "message": "RunTimedOut: stopped after 5 s"}]
+    path = write_report(bare, store, folder / "bare")
+    page = path.read_text(encoding="utf-8")
+    written = {p.name for p in path.parent.glob("*.png")}
+    assert written == ALL_PNGS - {"range_analysis.png", "cracks_bending.png", "bending_curve.png"}
+    assert len(_images(page)) == len(written)
+    assert "No sensitivity study" in page and "No bending validation" in page
+    assert "<td>samples</td><td>RunTimedOut: stopped after 5 s</td>" in page
+
+
+def test_failed_validation_and_unknown_runs_leave_figures_out(campaign):
+    record, store, folder = campaign
+    broken = copy.deepcopy(record)
+    broken["validation"] = {"lab_K_IC_MPa_sqrt_m": 0.5, "run_key": "gone", "status": "timed out",
+                            "message": "stopped after the run's wall-time limit of 60 s", "warning": None}
+    broken["final_ucs_run_key"] = "gone too"
+    broken["iterations"] = []
+    path = write_report(broken, store, folder / "broken")
+    page = path.read_text(encoding="utf-8")
+    assert {p.name for p in path.parent.glob("*.png")} == {"range_analysis.png", "surrogate_parity.png"}
+    assert "wall-time limit of 60 s" in page
+    assert page.count("class='note'") == len(ALL_PNGS) - 2 + 1  # 6 figures left out, 1 validation note
