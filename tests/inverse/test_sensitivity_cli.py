@@ -44,7 +44,7 @@ def test_json_output_and_bar_chart(tmp_path):
     summary = json.loads(run.stdout)
     assert summary["chosen"] == ["E_c", "kn_ks", "sigma_c"]
     assert summary["ranking"]["UCS"][:2] == ["sigma_c", "tau_c"]
-    ucs = summary["responses"]["UCS"]["sigma_c"]
+    ucs = summary["UCS"]["sigma_c"]
     assert ucs["R"] == pytest.approx(90) and ucs["k"] == pytest.approx([68, 98, 128, 158])
     assert ucs["K"] == pytest.approx([272, 392, 512, 632])
     assert (tmp_path / "out" / "range_analysis.png").stat().st_size > 1000

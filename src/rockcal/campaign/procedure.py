@@ -96,7 +96,7 @@ class Calibration:
                                   {r: np.array([resp[r] for resp in responses]) for r in names})
         chosen = analysis.chosen(settings.threshold)
         self.record["sensitivity"] = {"array": settings.array, "runs": rows,
-                                      "responses": responses, **analysis.to_dict(settings.threshold)}
+                                      "run_responses": responses, **analysis.to_dict(settings.threshold)}
         if not bounds:
             bounds = {f: (min(settings.levels[f]), max(settings.levels[f])) for f in chosen}
         for f, levels in settings.levels.items():  # factors neither inverted nor fixed: middle

@@ -82,17 +82,20 @@ def analyze(
 
     Levels of a factor are the sorted unique values of its column. The factors to invert
     are the most influential one of each response (and, with --threshold, any close to it).
-    JSON: {"responses": {response: {factor: {"levels", "K", "k", "R"}}},
-    "ranking": {response: [factors by decreasing R]}, "chosen": [factors]}.
+    JSON: {response: {factor: {"levels", "K", "k", "R"}}, ..., "ranking": {response:
+    [factors by decreasing R]}, "chosen": [factors]}.
     """
     from rockcal.inverse.range_analysis import range_analysis, read_results
 
-    factor_cols, response_cols = read_results(results, _names("--factors", factors),
-                                              _names("--responses", responses))
+    response_names = _names("--responses", responses)
+    if {"ranking", "chosen"} & set(response_names):
+        raise InputError("--responses", "'ranking' and 'chosen' are reserved names; rename the column")
+    factor_cols, response_cols = read_results(results, _names("--factors", factors), response_names)
     if threshold is not None and not (0 < threshold <= 1):
         raise InputError("--threshold", f"must be in (0, 1], got {threshold}")
     analysis = range_analysis(factor_cols, response_cols)
     summary = analysis.to_dict(threshold)
+    summary = summary.pop("responses") | summary
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
         _bar_chart(analysis, out / "range_analysis.png")
