@@ -1,5 +1,7 @@
 """The one exception type for a user's mistake; the CLI prints it in one line and exits 2."""
 
+import re
+
 
 class InputError(ValueError):
     """Bad input from a user: the message names the field and what is allowed."""
@@ -11,7 +13,16 @@ class InputError(ValueError):
 
 
 def from_validation_error(exc) -> InputError:
-    """Turn a pydantic ValidationError into an InputError naming the first bad field."""
+    """Turn a pydantic ValidationError into an InputError naming the first bad field; a
+    validator's message "key: problem" names a key below the field it validated."""
     err = exc.errors()[0]
-    field = ".".join(str(p) for p in err.get("loc", ())) or "input"
-    return InputError(field, err.get("msg", str(exc)))
+    path = [str(p) for p in err.get("loc", ())]
+    problem = err.get("msg", str(exc))
+    cause = (err.get("ctx") or {}).get("error")
+    if isinstance(cause, Exception):  # a validator's own message, without pydantic's prefix
+        key, sep, rest = str(cause).partition(": ")
+        if sep and re.fullmatch(r"[\w.]+", key):
+            path, problem = path + [key], rest
+        else:
+            problem = str(cause)
+    return InputError(".".join(path) or "input", problem)

@@ -11,6 +11,7 @@ import time
 import pytest
 
 import rockcal
+from rockcal.campaign.store import RunStore
 
 TRUE = {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 40.0}
 FIXED = {"tau_c": 200.0, "mu": 0.5}
@@ -96,7 +97,7 @@ def test_killed_campaign_resumes_to_the_same_result_running_nothing_twice(twin, 
     assert result["identified"] == uninterrupted["identified"]
     assert result["verified"] == uninterrupted["verified"]
     assert result["executed_runs"] == result["dem_runs"] - done_before
-    assert _count(store, "SELECT MAX(n) FROM (SELECT COUNT(*) AS n FROM executions GROUP BY run_key)") == 1
+    assert set(RunStore(out).executions().values()) == {1}
     assert (out / "report.html").exists()
 
 

@@ -73,10 +73,10 @@ class SpecimenSettings(_Strict):
     span_mm: float = Field(160.0, gt=0)
 
 
-def _check_names(values: dict, where: str) -> None:
+def _check_names(values: dict) -> None:
     for name in values:
         if name not in NAMES:
-            raise ValueError(f"{where}: unknown parameter {name!r}; known: {', '.join(NAMES)}")
+            raise ValueError(f"{name}: unknown parameter; known: {', '.join(NAMES)}")
 
 
 class Sensitivity(_Strict):
@@ -87,10 +87,10 @@ class Sensitivity(_Strict):
     @field_validator("levels")
     @classmethod
     def _levels(cls, levels):
-        _check_names(levels, "levels")
+        _check_names(levels)
         for name, values in levels.items():
             if len(values) < 2 or len(set(values)) != len(values):
-                raise ValueError(f"levels.{name}: needs at least 2 distinct values")
+                raise ValueError(f"{name}: needs at least 2 distinct values")
         return levels
 
 
@@ -101,16 +101,16 @@ class Search(_Strict):
     @field_validator("bounds")
     @classmethod
     def _bounds(cls, bounds):
-        _check_names(bounds, "bounds")
+        _check_names(bounds)
         for name, (low, high) in bounds.items():
             if not (math.isfinite(low) and math.isfinite(high) and low < high):
-                raise ValueError(f"bounds.{name}: lower bound must be below the upper, got [{low}, {high}]")
+                raise ValueError(f"{name}: lower bound must be below the upper, got [{low}, {high}]")
         return bounds
 
     @field_validator("fixed")
     @classmethod
     def _fixed(cls, fixed):
-        _check_names(fixed, "fixed")
+        _check_names(fixed)
         return fixed
 
 
@@ -183,7 +183,8 @@ def load_campaign(path: Path | None) -> tuple[Campaign, str]:
 
 
 def parse_campaign(text: str, base: Path) -> Campaign:
-    """Validate campaign TOML text; relative curve paths are taken from `base`."""
+    """Validate campaign TOML text, values, specimens and curve file, so that bad input fails
+    before any store or run is touched; relative curve paths are taken from `base`."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -192,15 +193,57 @@ def parse_campaign(text: str, base: Path) -> Campaign:
         campaign = Campaign.model_validate(data)
     except ValidationError as exc:
         raise from_validation_error(exc) from None
-    fixed = campaign.fixed_params()
-    for name, (low, high) in campaign.search.bounds.items():  # each bound must be a valid value
-        make_params(fixed | {name: low})
-        make_params(fixed | {name: high})
+    _check_values(campaign)
+    _check_specimens(campaign)
     curve = campaign.targets.ucs.curve
-    if curve is not None and not curve.is_absolute():
-        ucs = campaign.targets.ucs.model_copy(update={"curve": base / curve})
-        campaign = campaign.model_copy(update={"targets": campaign.targets.model_copy(update={"ucs": ucs})})
+    if curve is not None:
+        if not curve.is_absolute():
+            ucs = campaign.targets.ucs.model_copy(update={"curve": base / curve})
+            campaign = campaign.model_copy(update={"targets": campaign.targets.model_copy(update={"ucs": ucs})})
+        read_curve(campaign.targets.ucs.curve)  # a broken CSV fails here, before any run
     return campaign
+
+
+def _check_values(campaign: Campaign) -> None:
+    """Fixed values, bounds and levels must be valid micro-parameter values, named by their key."""
+    fixed = campaign.fixed_params()
+    try:
+        make_params(fixed)
+    except InputError as exc:
+        key = {"density": "rock.density_kg_m3"}.get(exc.field, f"search.fixed.{exc.field}")
+        raise InputError(key if exc.field in fixed else "search.fixed", exc.problem) from None
+    values = [(f"search.bounds.{n}", n, v) for n, bound in campaign.search.bounds.items() for v in bound]
+    if campaign.sensitivity is not None:
+        values += [(f"sensitivity.levels.{n}", n, v) for n, levels in campaign.sensitivity.levels.items()
+                   for v in levels]
+    for key, name, value in values:
+        try:
+            make_params(fixed | {name: value})
+        except InputError as exc:
+            raise InputError(key, exc.problem) from None
+
+
+def _check_specimens(campaign: Campaign) -> None:
+    """The specimens can be packed (and the beam carries a test), naming the [specimen] key."""
+    from rockcal.dem.specimen import check_geometry
+    from rockcal.labtests.bending import Beam
+
+    s = campaign.specimen
+    try:
+        check_geometry(s.width_mm, s.height_mm, s.rmin_mm, s.radius_ratio)
+    except InputError as exc:
+        raise InputError(f"specimen.{exc.field}", exc.problem) from None
+    if campaign.targets.bending is None:
+        return
+    beam = Beam(s.beam_length_mm, s.beam_height_mm, s.notch_mm, s.notch_width_mm, s.span_mm)
+    names = {"width_mm": "beam_length_mm", "height_mm": "beam_height_mm", "--length-mm": "beam_length_mm",
+             "--height-mm": "beam_height_mm"}
+    try:
+        check_geometry(s.beam_length_mm, s.beam_height_mm, s.rmin_mm, s.radius_ratio)
+        beam.check()
+    except InputError as exc:
+        name = names.get(exc.field, exc.field.lstrip("-").replace("-", "_"))
+        raise InputError(f"specimen.{name}", exc.problem) from None
 
 
 def read_curve(path: Path) -> np.ndarray:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 from functools import lru_cache
 from multiprocessing import get_context
 from typing import Callable, Iterable
@@ -23,6 +24,7 @@ from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.specimen import GENERATOR_VERSION
 from rockcal.params import make_params
 
+POOL_RESTARTS = 3
 ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
 UCS_GEOMETRY = ("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed")
 BEAM_GEOMETRY = ("beam_length_mm", "beam_height_mm", "notch_mm", "notch_width_mm", "span_mm",
@@ -50,8 +52,12 @@ def _specimen(kind: str, specimen: tuple):
 
 
 def prepare(spec: RunSpec) -> None:
-    """Make (and cache on disk) the specimen of a run before workers need it."""
-    _specimen(spec.kind, spec.specimen)
+    """Make (and cache on disk) the specimen of a run before workers need it; one that cannot
+    be made is left to `execute`, which records the run as failed."""
+    try:
+        _specimen(spec.kind, spec.specimen)
+    except Exception:
+        pass
 
 
 class RunTimedOut(Exception):
@@ -149,11 +155,28 @@ class Executor:
             for spec in todo:
                 self._finish(spec, execute(spec, self.time_limit_s), results, progress, total)
         else:
-            pool = self._get_pool()
-            futures = {pool.submit(execute, spec, self.time_limit_s): spec for spec in todo}
-            for future in as_completed(futures):
-                self._finish(futures[future], future.result(), results, progress, total)
+            self._run_on_pool(todo, results, progress, total)
         return [results[s.key] for s in specs]
+
+    def _run_on_pool(self, todo, results, progress, total) -> None:
+        """Run on the process pool; a worker process that dies breaks the pool, which is made
+        anew for the runs not yet done (after POOL_RESTARTS new pools they are recorded failed)."""
+        for attempt in range(POOL_RESTARTS + 1):
+            futures = {self._get_pool().submit(execute, spec, self.time_limit_s): spec for spec in todo}
+            for future in as_completed(futures):
+                try:
+                    result = future.result()
+                except BrokenProcessPool:
+                    continue
+                self._finish(futures[future], result, results, progress, total)
+            todo = [spec for spec in todo if spec.key not in results]
+            if not todo:
+                return
+            self._pool.shutdown(cancel_futures=True)
+            self._pool = None
+        for spec in todo:
+            self._finish(spec, RunResult("failed", {}, None, 0.0, "a worker process died during "
+                                         "the run, on every try"), results, progress, total)
 
     def _finish(self, spec, result, results, progress, total) -> None:
         self.store.put(spec, result)

@@ -81,13 +81,14 @@ class RunStore:
         version = self.db.execute("SELECT value FROM meta WHERE key='schema_version'").fetchone()
         if version is None:
             self.db.execute("INSERT INTO meta VALUES ('schema_version', ?)", (str(SCHEMA_VERSION),))
-        elif int(version[0]) > SCHEMA_VERSION:
-            self.db.close()
-            raise InputError("OUT", f"{path} was written by a newer rockcal (store schema "
-                                    f"{version[0]} > {SCHEMA_VERSION}); upgrade rockcal")
 
     def close(self) -> None:
         self.db.close()
+
+    def delete(self) -> None:
+        """Remove the (closed) store file and its WAL files."""
+        for suffix in ("", "-wal", "-shm"):
+            Path(f"{self.path}{suffix}").unlink(missing_ok=True)
 
     def get(self, spec: RunSpec) -> RunResult | None:
         row = self.db.execute("SELECT status, responses, curve, wall_s, message, cracks FROM runs "
@@ -115,6 +116,10 @@ class RunStore:
             return self.db.execute("SELECT COUNT(*) FROM runs").fetchone()[0]
         return self.db.execute("SELECT COUNT(*) FROM runs WHERE kind=?", (kind,)).fetchone()[0]
 
+    def executions(self) -> dict[str, int]:
+        """How many times each stored run was executed (1 each, unless something is wrong)."""
+        return dict(self.db.execute("SELECT run_key, COUNT(*) FROM executions GROUP BY run_key"))
+
     def save_document(self, name: str, text: str) -> None:
         with self.db:
             self.db.execute("BEGIN IMMEDIATE")
@@ -131,12 +136,22 @@ def _check_is_store(path: Path) -> None:
             raise InputError("OUT", f"{path} is not a rockcal run store (not an SQLite file)")
     try:
         db = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
-        tables = {r[0] for r in db.execute("SELECT name FROM sqlite_master WHERE type='table'")}
-        db.close()
+        try:
+            tables = {r[0] for r in db.execute("SELECT name FROM sqlite_master WHERE type='table'")}
+            version = None
+            if "meta" in tables:
+                version = db.execute("SELECT value FROM meta WHERE key='schema_version'").fetchone()
+        finally:
+            db.close()
     except sqlite3.DatabaseError as exc:
         raise InputError("OUT", f"{path} is not a readable run store: {exc}") from None
     if "runs" not in tables or "meta" not in tables:
         raise InputError("OUT", f"{path} is an SQLite file but not a rockcal run store")
+    if version is not None and not str(version[0]).isdigit():
+        raise InputError("OUT", f"{path} has an unknown store schema {version[0]!r}")
+    if version is not None and int(version[0]) > SCHEMA_VERSION:
+        raise InputError("OUT", f"{path} was written by a newer rockcal (store schema "
+                                f"{version[0]} > {SCHEMA_VERSION}); upgrade rockcal")
 
 
 def _to_blob(curve: np.ndarray | None) -> bytes | None:

@@ -43,9 +43,20 @@ def calibrate(
                                   "with it, or choose another folder")
     if out.exists() and not out.is_dir():
         raise InputError("--out", f"{out} is a file, not a folder")
+    if scheduler is not None:  # a malformed --scheduler fails before OUT gets a store
+        from rockcal.campaign.dask_executor import parse_scheduler
+
+        parse_scheduler(scheduler)
+    new_store = not (out / STORE_NAME).exists()
     store = RunStore(out)
     try:
-        executor = make_executor(store, workers=workers, scheduler=scheduler, time_limit_s=time_limit_s)
+        try:
+            executor = make_executor(store, workers=workers, scheduler=scheduler, time_limit_s=time_limit_s)
+        except InputError:  # e.g. an unreachable scheduler: leave no empty store behind
+            if new_store:
+                store.close()
+                store.delete()
+            raise
         try:
             store.save_document("campaign.toml", text)
             with _stage_progress(as_json) as progress:

@@ -1,0 +1,180 @@
+"""Forward runs on a Dask cluster: the same results and store as `Executor`, on many machines.
+
+Only run specs (a few hundred bytes) travel to the workers; each worker process makes or loads
+a specimen once, through forward's specimen cache, and a worker without the driver's disk
+cache regenerates it from its settings (packing is deterministic by seed). The driver alone
+writes the store, each run as soon as it finishes. A worker killed mid-run makes the scheduler
+run its tasks elsewhere; a task that still errors is a failed run, never an exception.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import logging
+import os
+import re
+import time
+from concurrent.futures import CancelledError
+from typing import Callable, Iterable
+
+from rockcal.campaign.forward import ENGINE, execute, prepare
+from rockcal.campaign.store import RunResult, RunSpec, RunStore
+from rockcal.errors import InputError
+
+log = logging.getLogger(__name__)
+
+OPTION = "--scheduler"
+CONNECT_TIMEOUT_S = 10.0
+FORMS = "tcp://HOST:PORT or local:N (N >= 1)"
+
+
+def parse_scheduler(scheduler: str) -> tuple[str, int | str]:
+    """("local", N) or ("tcp", "tcp://HOST:PORT"); InputError naming --scheduler for anything
+    else, or when Dask is not installed. Connects to nothing (the CLI checks before any store)."""
+    if importlib.util.find_spec("distributed") is None:
+        raise InputError(OPTION, "Dask is not installed; pip install 'rockcal[dask]'")
+    text = scheduler.strip()
+    local = re.fullmatch(r"local:([+-]?\d+)", text)
+    if local:
+        n = int(local.group(1))
+        if n < 1:
+            raise InputError(OPTION, f"local:N needs N >= 1 workers, got {text!r}")
+        return "local", n
+    tcp = re.fullmatch(r"tcp://([\w.-]+|\[[0-9A-Fa-f:.]+\]):(\d+)", text)
+    if tcp and 1 <= int(tcp.group(2)) <= 65535:
+        return "tcp", text
+    raise InputError(OPTION, f"expected {FORMS}, got {scheduler!r}")
+
+
+def run_on_worker(spec: RunSpec, time_limit_s: float | None) -> RunResult:
+    """The task: `execute` on one numba thread (set per thread; the cluster's processes are
+    the parallelism)."""
+    import numba
+
+    numba.set_num_threads(1)
+    return execute(spec, time_limit_s)
+
+
+def worker_engine() -> str:
+    """The engine a worker runs (checked against the driver's on connecting)."""
+    return ENGINE
+
+
+class DaskExecutor:
+    """Runs specs through the store on a Dask cluster: tcp://HOST:PORT, or local:N processes."""
+
+    def __init__(self, store: RunStore, scheduler: str, time_limit_s: float | None = None):
+        self.store = store
+        self.time_limit_s = time_limit_s
+        self.executed = 0  # runs done by this executor (not found in the store)
+        self.cluster = None
+        kind, where = parse_scheduler(scheduler)
+        from distributed import Client, LocalCluster
+
+        if kind == "local":
+            self.cluster = _local_cluster(LocalCluster, where)
+            self.client = Client(self.cluster)
+        else:
+            self.client = _connect(Client, where)
+
+    def close(self) -> None:
+        self.client.close()
+        if self.cluster is not None:
+            self.cluster.close()
+
+    def run(self, specs: Iterable[RunSpec],
+            progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
+        """Results in the order of `specs`; each new one is stored as soon as it is done."""
+        from distributed import as_completed
+
+        specs = list(specs)
+        results: dict[str, RunResult] = {}
+        todo: dict[str, RunSpec] = {}
+        for spec in specs:
+            if spec.key not in results and spec.key not in todo:
+                found = self.store.get(spec)
+                if found is not None:
+                    results[spec.key] = found
+                else:
+                    todo[spec.key] = spec
+        total = len(results) + len(todo)
+        if progress:
+            progress(len(results), total)
+        for spec in {(s.kind, s.specimen): s for s in todo.values()}.values():
+            prepare(spec)  # into the disk cache, for workers that share it
+        submitted = time.perf_counter()
+        futures = {self.client.submit(run_on_worker, spec, self.time_limit_s,
+                                      key=f"rockcal-run-{key}"): spec for key, spec in todo.items()}
+        try:
+            for future in as_completed(futures):
+                spec = futures.pop(future)
+                result, finished = _result(future, submitted)
+                future.release()
+                if finished:
+                    self.store.put(spec, result)
+                    self.executed += 1
+                results[spec.key] = result
+                if progress:
+                    progress(len(results), total)
+        finally:
+            if futures:  # interrupted: do not leave the cluster working for no one
+                self.client.cancel(list(futures))
+        return [results[s.key] for s in specs]
+
+
+def _result(future, submitted: float) -> tuple[RunResult, bool]:
+    """The run's result and whether it finished (a task that errored finished as failed; one
+    cancelled with the scheduler did not, and runs again on resume)."""
+    try:
+        return future.result(), True
+    except CancelledError as exc:
+        message = f"cancelled by the Dask scheduler ({_one_line(exc)}); not stored, runs again on resume"
+        return RunResult("failed", {}, None, time.perf_counter() - submitted, message), False
+    except Exception as exc:  # KilledWorker after too many worker deaths, or the task raised
+        message = f"{type(exc).__name__}: {_one_line(exc)}"
+        log.warning("forward run %s failed on the cluster: %s", future.key, message)
+        return RunResult("failed", {}, None, time.perf_counter() - submitted, message), True
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split())
+
+
+def _local_cluster(LocalCluster, n: int):
+    """N one-thread worker processes on loopback, no dashboard; workers see ROCKCAL_CACHE."""
+    env = {"ROCKCAL_CACHE": os.environ["ROCKCAL_CACHE"]} if "ROCKCAL_CACHE" in os.environ else {}
+    if n > (os.cpu_count() or 1):
+        log.warning("local:%d starts more worker processes than this machine's %d cores", n,
+                    os.cpu_count() or 1)
+    try:
+        return LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
+                            dashboard_address=None, env=env)
+    except Exception as exc:
+        raise InputError(OPTION, f"cannot start local:{n}: {_one_line(exc)}") from None
+
+
+def _connect(Client, address: str):
+    """A client of the scheduler at `address` whose workers run this engine."""
+    try:
+        client = Client(address, timeout=CONNECT_TIMEOUT_S)
+    except (OSError, TimeoutError):
+        raise InputError(OPTION, f"cannot reach the Dask scheduler at {address} "
+                                 f"within {CONNECT_TIMEOUT_S:g} s") from None
+    try:
+        engines = client.run(worker_engine)
+    except Exception as exc:
+        client.close()
+        raise InputError(OPTION, f"workers of {address} cannot run rockcal: {_one_line(exc)}") from None
+    wrong = {w: e for w, e in engines.items() if e != ENGINE}
+    if wrong:
+        client.close()
+        worker, engine = next(iter(wrong.items()))
+        raise InputError(OPTION, f"worker {worker} runs {engine}, this driver {ENGINE}; "
+                                 "install the same rockcal on every worker")
+    if not engines:
+        log.warning("the Dask scheduler at %s has no workers yet; runs wait for them", address)
+    threads = {w: n for w, n in client.nthreads().items() if n > 1}
+    if threads:
+        log.warning("workers of %s have several threads, which take turns (the engine holds "
+                    "the GIL); start one single-thread worker per core (--nthreads 1)", address)
+    return client

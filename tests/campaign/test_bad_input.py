@@ -1,0 +1,206 @@
+"""Bad input through the real CLI: a broken campaign file, option or store file gets one line
+on stderr naming what is wrong, exit code 2, no traceback, and leaves the store as it was.
+
+Every case must fail while the input is validated, before any forward run: the sweep is fast.
+"""
+
+import hashlib
+import shutil
+import sqlite3
+import subprocess
+import sys
+
+import pytest
+
+from rockcal.campaign.config import SpecimenSettings
+from rockcal.campaign.forward import Executor, run_spec
+from rockcal.campaign.store import SCHEMA_VERSION, STORE_NAME, RunStore
+
+CAMPAIGN = """
+[targets.ucs]
+E_GPa = 20.0
+ucs_MPa = 40.0
+[specimen]
+rmin_mm = 0.4
+width_mm = 8
+height_mm = 16
+[search]
+bounds = { E_c = [10, 30], sigma_c = [20, 60] }
+fixed = { mu = 0.5 }
+[surrogate]
+samples = 6
+checks = 1
+[optimizer]
+iterations = 20
+[acceptance]
+max_dem_runs = 9
+"""
+CURVES = {
+    "text.csv": "strain,stress_MPa\n0,0\n0.001,abc\n0.002,20\n0.003,30\n",
+    "nan.csv": "0,0\n0.001,nan\n0.002,20\n0.003,30\n",
+    "decreasing.csv": "0,0\n0.002,10\n0.001,20\n0.003,30\n",
+}
+
+
+def edit(old: str, new: str) -> str:
+    assert old in CAMPAIGN
+    return CAMPAIGN.replace(old, new)
+
+
+def with_curve(name: str) -> str:
+    return edit("ucs_MPa = 40.0", f"ucs_MPa = 40.0\ncurve = {name!r}")
+
+
+CAMPAIGNS = [  # (case, campaign text, the key the error must name)
+    ("no UCS targets", edit("[targets.ucs]\nE_GPa = 20.0\nucs_MPa = 40.0",
+                            "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0"), "targets.ucs"),
+    ("UCS target with no response", edit("E_GPa = 20.0\nucs_MPa = 40.0", ""), "targets.ucs"),
+    ("inverted bounds", edit("E_c = [10, 30]", "E_c = [30, 10]"), "search.bounds.E_c"),
+    ("unknown top-level key", "colour = 'grey'\n" + CAMPAIGN, "colour"),
+    ("unknown nested key", edit("samples = 6", "sampels = 6"), "surrogate.sampels"),
+    ("acceptance tolerance 0", CAMPAIGN + "tolerance = 0\n", "acceptance.tolerance"),
+    ("negative surrogate tolerance", edit("checks = 1", "checks = 1\ntolerance = -0.05"),
+     "surrogate.tolerance"),
+    ("samples 0", edit("samples = 6", "samples = 0"), "surrogate.samples"),
+    ("curve with text", with_curve("text.csv"), "targets.ucs.curve"),
+    ("curve with NaN", with_curve("nan.csv"), "targets.ucs.curve"),
+    ("curve with decreasing strain", with_curve("decreasing.csv"), "targets.ucs.curve"),
+    ("curve file missing", with_curve("missing.csv"), "targets.ucs.curve"),
+    ("bound not a number", edit("E_c = [10, 30]", 'E_c = ["ten", 30]'), "search.bounds.E_c"),
+    ("negative bound", edit("E_c = [10, 30]", "E_c = [-10, 30]"), "search.bounds.E_c"),
+    ("unknown parameter", edit("E_c = [10, 30]", "E_cc = [10, 30]"), "search.bounds.E_cc"),
+    ("fixed value out of range", edit("mu = 0.5", "mu = -1"), "search.fixed.mu"),
+    ("specimen narrower than its particles", edit("width_mm = 8", "width_mm = 2"),
+     "specimen.width_mm"),
+    ("not TOML", CAMPAIGN + "[[[", "CONFIG"),
+]
+OPTIONS = [  # (case, extra arguments, the option the error must name)
+    ("negative workers", ["--workers", "-1"], "--workers"),
+    ("workers not a number", ["--workers", "many"], "'--workers'"),
+    ("time limit 0", ["--time-limit-s", "0"], "--time-limit-s"),
+    ("bogus scheduler", ["--scheduler", "bogus"], "--scheduler"),
+    ("no local workers", ["--scheduler", "local:0"], "--scheduler"),
+]
+
+
+def not_sqlite(path):
+    path.write_bytes(bytes(range(256)) * 16)
+
+
+def sqlite_not_a_store(path):
+    db = sqlite3.connect(path)
+    db.execute("CREATE TABLE samples (id INTEGER, granite TEXT)")
+    db.execute("INSERT INTO samples VALUES (1, 'Beishan')")
+    db.commit()
+    db.close()
+
+
+def newer_store(path):
+    """A rockcal store of a later schema, which need not use WAL either."""
+    db = sqlite3.connect(path)
+    db.execute("UPDATE meta SET value=? WHERE key='schema_version'", (str(SCHEMA_VERSION + 1),))
+    db.commit()
+    db.execute("PRAGMA journal_mode=DELETE")
+    db.close()
+
+
+STORES = [("store of random bytes", not_sqlite), ("SQLite file, not a store", sqlite_not_a_store),
+          ("store of a newer rockcal", newer_store)]
+
+
+@pytest.fixture(scope="module")
+def valid_store(tmp_path_factory):
+    """A run store from a tiny earlier run."""
+    folder = tmp_path_factory.mktemp("earlier")
+    store = RunStore(folder)
+    spec = run_spec("ucs", SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16), {"E_c": 20.0})
+    assert Executor(store, workers=1).run([spec])[0].status == "ok"
+    store.save_document("campaign.toml", CAMPAIGN)
+    store.close()
+    return folder / STORE_NAME
+
+
+@pytest.fixture
+def out(tmp_path, valid_store):
+    """OUT holding a copy of the earlier store; the campaign's files next to it."""
+    for name, text in CURVES.items():
+        (tmp_path / name).write_text(text)
+    folder = tmp_path / "out"
+    folder.mkdir()
+    shutil.copy(valid_store, folder / STORE_NAME)
+    return folder
+
+
+def rockcal(*args, cwd):
+    run = subprocess.run([sys.executable, "-m", "rockcal", *map(str, args)], cwd=cwd,
+                         capture_output=True, text=True, timeout=120)
+    return run.returncode, run.stderr
+
+
+def sha256(path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def assert_one_line_error(code: int, stderr: str, names: str) -> None:
+    assert code == 2, stderr
+    assert "Traceback" not in stderr
+    lines = stderr.splitlines()
+    assert len(lines) == 1, stderr
+    assert lines[0].startswith(f"rockcal: error: {names}"), lines[0]
+
+
+@pytest.mark.parametrize("text, key", [c[1:] for c in CAMPAIGNS], ids=[c[0] for c in CAMPAIGNS])
+def test_a_bad_campaign_file(text, key, out):
+    config = out.parent / "campaign.toml"
+    config.write_text(text)
+    before = sha256(out / STORE_NAME)
+    code, stderr = rockcal("calibrate", config, "--out", out, "--resume", cwd=out.parent)
+    assert_one_line_error(code, stderr, key)
+    assert sha256(out / STORE_NAME) == before
+
+
+@pytest.mark.parametrize("args, option", [c[1:] for c in OPTIONS], ids=[c[0] for c in OPTIONS])
+def test_a_bad_option(args, option, out):
+    config = out.parent / "campaign.toml"
+    config.write_text(CAMPAIGN)
+    before = sha256(out / STORE_NAME)
+    code, stderr = rockcal("calibrate", config, "--out", out, "--resume", *args, cwd=out.parent)
+    assert_one_line_error(code, stderr, "Invalid value for " + option if option.startswith("'") else option)
+    assert sha256(out / STORE_NAME) == before
+
+
+@pytest.mark.parametrize("spoil", [c[1] for c in STORES], ids=[c[0] for c in STORES])
+@pytest.mark.parametrize("command", ["calibrate", "report"])
+def test_a_bad_store_file(command, spoil, out):
+    store = out / STORE_NAME
+    if spoil is not newer_store:
+        store.unlink()
+    spoil(store)
+    before = sha256(store)
+    config = out.parent / "campaign.toml"
+    config.write_text(CAMPAIGN)
+    args = [config, "--out", out, "--resume"] if command == "calibrate" else [out]
+    code, stderr = rockcal(command, *args, cwd=out.parent)
+    assert_one_line_error(code, stderr, f"OUT: {store}")
+    assert sha256(store) == before
+
+
+def test_report_on_a_folder_without_a_store(tmp_path):
+    code, stderr = rockcal("report", tmp_path, cwd=tmp_path)
+    assert_one_line_error(code, stderr, f"OUT: {tmp_path} holds no run store")
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("config, args", [
+    pytest.param(with_curve("text.csv"), [], id="broken curve"),
+    pytest.param(CAMPAIGN, ["--scheduler", "bogus"], id="bogus scheduler"),
+    pytest.param(CAMPAIGN, ["--scheduler", "tcp://127.0.0.1:9"], id="unreachable scheduler"),
+])
+def test_a_bad_input_leaves_no_store_in_a_new_out(config, args, tmp_path):
+    for name, text in CURVES.items():
+        (tmp_path / name).write_text(text)
+    (tmp_path / "campaign.toml").write_text(config)
+    code, stderr = rockcal("calibrate", tmp_path / "campaign.toml", "--out", tmp_path / "out", *args,
+                           cwd=tmp_path)
+    assert code == 2, stderr
+    assert not (tmp_path / "out" / STORE_NAME).exists()

@@ -1,0 +1,223 @@
+"""Campaigns on a Dask cluster (local processes on loopback): the same answer as on one core,
+bit for bit, and no run lost or run twice when workers die, runs fail or overrun their time."""
+
+import os
+import signal
+import sys
+import threading
+import time
+
+import pytest
+
+pytest.importorskip("distributed")
+
+from distributed import LocalCluster  # noqa: E402
+
+from rockcal.campaign import dask_executor  # noqa: E402
+from rockcal.campaign.config import SpecimenSettings, parse_campaign  # noqa: E402
+from rockcal.campaign.dask_executor import DaskExecutor, parse_scheduler  # noqa: E402
+from rockcal.campaign.forward import Executor, run_spec  # noqa: E402
+from rockcal.campaign.procedure import Calibration  # noqa: E402
+from rockcal.campaign.store import RunStore  # noqa: E402
+from rockcal.errors import InputError  # noqa: E402
+
+CAMPAIGN = """
+[targets.ucs]
+E_GPa = 20.0
+ucs_MPa = 40.0
+[specimen]
+rmin_mm = 0.4
+width_mm = 8
+height_mm = 16
+[search]
+bounds = { E_c = [10, 30], sigma_c = [20, 60] }
+[surrogate]
+samples = 6
+checks = 1
+[optimizer]
+iterations = 20
+[acceptance]
+max_dem_runs = 9
+"""
+TINY = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16)
+SLOWER = SpecimenSettings(rmin_mm=0.3, width_mm=12, height_mm=24)  # ~1 s a run: time to kill one
+
+
+@pytest.fixture(scope="module")
+def worker_cache(tmp_path_factory):
+    return tmp_path_factory.mktemp("worker_cache")
+
+
+@pytest.fixture(scope="module")
+def cluster(worker_cache):
+    """Two one-thread worker processes on loopback, reached over tcp:// like a real cluster,
+    with a specimen cache of their own (as on other machines)."""
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address=None, env={"ROCKCAL_CACHE": str(worker_cache)}) as cluster:
+        yield cluster
+
+
+def specs(settings, n, **fixed):
+    return [run_spec("ucs", settings, {"E_c": 15.0 + i, "sigma_c": 40.0} | fixed) for i in range(n)]
+
+
+def test_campaign_on_dask_gives_the_serial_answer_bit_for_bit(tmp_path):
+    records = {}
+    for name, make in (("serial", lambda s: Executor(s, workers=1)),
+                       ("dask", lambda s: DaskExecutor(s, "local:2"))):
+        store = RunStore(tmp_path / name)
+        executor = make(store)
+        try:
+            records[name] = Calibration(parse_campaign(CAMPAIGN, tmp_path), executor).run()
+            if name == "dask":  # the workers read the driver's specimen cache
+                assert set(executor.client.run(os.getenv, "ROCKCAL_CACHE").values()) == {os.environ["ROCKCAL_CACHE"]}
+        finally:
+            executor.close()
+        assert executor.executed == records[name]["dem_runs"] == store.count()
+        assert set(store.executions().values()) == {1}
+        store.close()
+    serial, dask = records["serial"], records["dask"]
+    assert dask["identified"] == serial["identified"]
+    assert dask["verified"] == serial["verified"]  # floats compared exactly
+    assert [it["verified"] for it in dask["iterations"]] == [it["verified"] for it in serial["iterations"]]
+    assert dask["dem_run_keys"] == serial["dem_run_keys"]
+
+
+def test_workers_without_the_drivers_cache_make_the_same_specimen(cluster, worker_cache, tmp_path):
+    spec = specs(TINY, 1, mu=0.35)
+    serial = Executor(RunStore(tmp_path / "serial"), workers=1).run(spec)[0]
+    executor = DaskExecutor(RunStore(tmp_path / "dask"), cluster.scheduler_address)
+    try:
+        on_cluster = executor.run(spec)[0]
+    finally:
+        executor.close()
+    assert on_cluster.status == serial.status == "ok"
+    assert on_cluster.responses == serial.responses
+    assert list(worker_cache.glob("*.npz"))  # packed there, from the settings alone
+
+
+def kill_a_busy_worker(client, after_s: float = 0.3) -> dict:
+    """In the background, SIGKILL a worker process that is running a run; returns (filled in
+    when done) its pid and the tasks it held."""
+    killed = {}
+
+    def watch():
+        deadline = time.time() + 60
+        while time.time() < deadline:
+            if any(client.processing().values()):
+                time.sleep(after_s)  # let the run get going
+                busy = {w: keys for w, keys in client.processing().items() if keys}
+                if busy:
+                    worker, keys = next(iter(busy.items()))
+                    pid = client.run(os.getpid, workers=[worker])[worker]
+                    os.kill(pid, signal.SIGKILL)
+                    killed.update(pid=pid, keys=set(keys))
+                    return
+            time.sleep(0.01)
+
+    killed["thread"] = threading.Thread(target=watch, daemon=True)
+    killed["thread"].start()
+    return killed
+
+
+def test_a_worker_killed_mid_run_loses_nothing_and_duplicates_nothing(cluster, tmp_path):
+    store = RunStore(tmp_path)
+    executor = DaskExecutor(store, cluster.scheduler_address)
+    client = executor.client
+    batch = specs(SLOWER, 6)
+    try:
+        client.wait_for_workers(2, timeout=60)
+        killed = kill_a_busy_worker(client)
+        results = executor.run(batch)
+        killed["thread"].join()
+        client.wait_for_workers(2, timeout=60)
+        pids_after = set(client.run(os.getpid).values())
+    finally:
+        executor.close()
+    assert "pid" in killed, "no worker was busy to be killed"
+    assert killed["pid"] not in pids_after  # the nanny replaced the killed worker
+    assert killed["keys"] <= {f"rockcal-run-{s.key}" for s in batch}
+    assert [r.status for r in results] == ["ok"] * len(batch)
+    assert store.executions() == {s.key: 1 for s in batch}  # each run stored exactly once
+    assert [store.get(s).responses for s in batch] == [r.responses for r in results]
+
+
+def test_a_task_that_keeps_killing_workers_is_a_failed_run(cluster, tmp_path):
+    store = RunStore(tmp_path)
+    executor = DaskExecutor(store, cluster.scheduler_address)
+    client = executor.client
+    batch = specs(SLOWER, 2, mu=0.4)
+    cluster.scheduler.allowed_failures = 0  # the first worker death is fatal to its tasks
+    try:
+        client.wait_for_workers(2, timeout=60)
+        killed = kill_a_busy_worker(client)
+        results = executor.run(batch)
+        killed["thread"].join()
+        client.wait_for_workers(2, timeout=60)
+    finally:
+        cluster.scheduler.allowed_failures = 3
+        executor.close()
+    failed = [r for r in results if r.status == "failed"]
+    assert failed and all(r.message.startswith("KilledWorker: ") for r in failed)
+    assert store.executions() == {s.key: 1 for s in batch}
+    assert [store.get(s).status for s in batch] == [r.status for r in results]
+
+
+def test_a_run_that_raises_is_stored_as_failed_and_the_batch_completes(cluster, tmp_path):
+    narrow = SpecimenSettings(rmin_mm=0.4, width_mm=2, height_mm=16)  # narrower than 4 particles
+    batch = specs(TINY, 3, mu=0.45) + specs(narrow, 1)
+    store = RunStore(tmp_path)
+    executor = DaskExecutor(store, cluster.scheduler_address)
+    try:
+        results = executor.run(batch)
+        again = executor.run(batch)
+    finally:
+        executor.close()
+    assert [r.status for r in results] == ["ok", "ok", "ok", "failed"]
+    assert "width_mm" in results[-1].message and "too small" in results[-1].message
+    assert store.get(batch[-1]).message == results[-1].message
+    assert executor.executed == 4  # the second call found everything in the store
+    assert [r.responses for r in again] == [r.responses for r in results]
+    assert store.executions() == {s.key: 1 for s in batch}
+
+
+def test_a_run_past_its_time_limit_is_recorded_as_timed_out(cluster, tmp_path):
+    store = RunStore(tmp_path)
+    executor = DaskExecutor(store, cluster.scheduler_address, time_limit_s=0.01)
+    batch = specs(TINY, 2, mu=0.55)
+    try:
+        results = executor.run(batch)
+    finally:
+        executor.close()
+    assert [r.status for r in results] == ["timed out"] * 2
+    assert all("0.01 s" in r.message for r in results)
+    assert [store.get(s).status for s in batch] == ["timed out"] * 2
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("local:3", ("local", 3)), (" local:1 ", ("local", 1)),
+    ("tcp://10.0.0.5:8786", ("tcp", "tcp://10.0.0.5:8786")),
+    ("tcp://head-node.cluster:8786", ("tcp", "tcp://head-node.cluster:8786"))])
+def test_scheduler_forms(text, expected):
+    assert parse_scheduler(text) == expected
+
+
+@pytest.mark.parametrize("text", ["bogus", "local:0", "local:-2", "local:x", "local", "tcp://host",
+                                  "tcp://host:0", "tcp://host:99999", "http://host:8786", ""])
+def test_bad_scheduler_strings_name_the_option(text):
+    with pytest.raises(InputError, match="^--scheduler: "):
+        parse_scheduler(text)
+
+
+def test_an_unreachable_scheduler_is_an_input_error(tmp_path, monkeypatch):
+    monkeypatch.setattr(dask_executor, "CONNECT_TIMEOUT_S", 1.0)
+    started = time.time()
+    with pytest.raises(InputError, match="^--scheduler: cannot reach the Dask scheduler at tcp://127.0.0.1:9 "):
+        DaskExecutor(RunStore(tmp_path), "tcp://127.0.0.1:9")
+    assert time.time() - started < 20
+
+
+def test_without_dask_installed_the_option_is_an_input_error(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "distributed", None)  # import fails as if not installed
+    with pytest.raises(InputError, match=r"^--scheduler: Dask is not installed; pip install 'rockcal\[dask\]'"):
+        DaskExecutor(RunStore(tmp_path), "local:1")

@@ -1,0 +1,48 @@
+"""The local process pool: the same numbers as a serial run, and a worker process killed mid-run
+costs only that run, which is run again on a new pool."""
+
+import os
+import signal
+import threading
+import time
+
+from rockcal.campaign.config import SpecimenSettings
+from rockcal.campaign.forward import Executor, run_spec
+from rockcal.campaign.store import RunStore
+
+SETTINGS = SpecimenSettings(rmin_mm=0.3, width_mm=12, height_mm=24)  # ~1 s a run
+
+
+def batch(n: int):
+    return [run_spec("ucs", SETTINGS, {"E_c": 15.0 + i, "sigma_c": 40.0}) for i in range(n)]
+
+
+def test_a_killed_pool_worker_loses_nothing_and_the_numbers_match_a_serial_run(tmp_path):
+    specs = batch(6)
+    pool_store, serial_store = RunStore(tmp_path / "pool"), RunStore(tmp_path / "serial")
+    executor = Executor(pool_store, workers=2)
+    killed = []
+
+    def kill_one_worker():
+        watched = RunStore(tmp_path / "pool")  # a connection of this thread's own
+        deadline = time.time() + 120
+        while time.time() < deadline and not killed:
+            pool = executor._pool
+            if pool is not None and pool._processes and watched.count() >= 1:
+                pid = next(iter(pool._processes))
+                os.kill(pid, signal.SIGKILL)
+                killed.append(pid)
+            time.sleep(0.01)
+
+    watcher = threading.Thread(target=kill_one_worker, daemon=True)
+    watcher.start()
+    try:
+        results = executor.run(specs)
+    finally:
+        executor.close()
+    watcher.join()
+    assert killed, "no worker was killed"
+    assert [r.status for r in results] == ["ok"] * len(specs)
+    assert pool_store.executions() == {s.key: 1 for s in specs}
+    serial = Executor(serial_store, workers=1).run(specs)
+    assert [r.responses for r in serial] == [r.responses for r in results]
