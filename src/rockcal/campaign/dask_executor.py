@@ -17,7 +17,7 @@ import time
 from concurrent.futures import CancelledError
 from typing import Callable, Iterable
 
-from rockcal.campaign.forward import ENGINE, execute, prepare
+from rockcal.campaign.forward import ENGINE, execute, split_stored
 from rockcal.campaign.store import RunResult, RunSpec, RunStore
 from rockcal.errors import InputError
 
@@ -88,23 +88,13 @@ class DaskExecutor:
         from distributed import as_completed
 
         specs = list(specs)
-        results: dict[str, RunResult] = {}
-        todo: dict[str, RunSpec] = {}
-        for spec in specs:
-            if spec.key not in results and spec.key not in todo:
-                found = self.store.get(spec)
-                if found is not None:
-                    results[spec.key] = found
-                else:
-                    todo[spec.key] = spec
+        results, todo = split_stored(self.store, specs)
         total = len(results) + len(todo)
         if progress:
             progress(len(results), total)
-        for spec in {(s.kind, s.specimen): s for s in todo.values()}.values():
-            prepare(spec)  # into the disk cache, for workers that share it
         submitted = time.perf_counter()
         futures = {self.client.submit(run_on_worker, spec, self.time_limit_s,
-                                      key=f"rockcal-run-{key}"): spec for key, spec in todo.items()}
+                                      key=f"rockcal-run-{spec.key}"): spec for spec in todo}
         try:
             for future in as_completed(futures):
                 spec = futures.pop(future)

@@ -113,6 +113,24 @@ def _init_worker(threads: int) -> None:
     numba.set_num_threads(threads)
 
 
+def split_stored(store: RunStore, specs: list[RunSpec]) -> tuple[dict[str, RunResult], list[RunSpec]]:
+    """The results already in the store (by key) and the distinct specs still to run, whose
+    specimens are made here, once, into the disk cache that workers read."""
+    results: dict[str, RunResult] = {}
+    todo: dict[str, RunSpec] = {}
+    for spec in specs:
+        if spec.key in results or spec.key in todo:
+            continue
+        found = store.get(spec)
+        if found is not None:
+            results[spec.key] = found
+        else:
+            todo[spec.key] = spec
+    for spec in {(s.kind, s.specimen): s for s in todo.values()}.values():
+        prepare(spec)
+    return results, list(todo.values())
+
+
 class Executor:
     """Runs specs through the store: serially (workers=1) or on a process pool."""
 
@@ -138,19 +156,10 @@ class Executor:
             progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
         """Results in the order of `specs`; each new one is stored as soon as it is done."""
         specs = list(specs)
-        results: dict[str, RunResult] = {}
-        todo = []
-        for spec in specs:
-            found = self.store.get(spec)
-            if found is not None:
-                results[spec.key] = found
-            elif spec.key not in {s.key for s in todo}:
-                todo.append(spec)
-        total = len({s.key for s in specs})
+        results, todo = split_stored(self.store, specs)
+        total = len(results) + len(todo)
         if progress:
             progress(len(results), total)
-        for spec in {s.kind + repr(s.specimen): s for s in todo}.values():
-            prepare(spec)  # the specimen is made once, here, and read from the cache by workers
         if self.workers == 1 or len(todo) <= 1:
             for spec in todo:
                 self._finish(spec, execute(spec, self.time_limit_s), results, progress, total)

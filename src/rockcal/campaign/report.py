@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import base64
 import html
-import io
 import json
 import logging
 from dataclasses import dataclass
@@ -20,7 +19,7 @@ import numpy as np
 
 from rockcal import plots
 from rockcal.campaign.forward import _specimen
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.store import RunStore, from_blob
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 
 logger = logging.getLogger(__name__)
@@ -52,12 +51,7 @@ def stored_run(store: RunStore, key: str | None) -> StoredRun | None:
         return None
     kind, status, specimen, params, responses, curve, cracks, message = row
     return StoredRun(kind, status, json.loads(specimen), json.loads(params),
-                     json.loads(responses or "{}"), _array(curve), _array(cracks), message or "")
-
-
-def _array(blob: bytes | None) -> np.ndarray | None:
-    """An array stored as .npy bytes."""
-    return None if blob is None else np.load(io.BytesIO(blob), allow_pickle=False)
+                     json.loads(responses or "{}"), from_blob(curve), from_blob(cracks), message or "")
 
 
 # -- figures: each draws into `path` and returns None, or returns why it was left out --------

@@ -96,8 +96,8 @@ class RunStore:
         if row is None:
             return None
         status, responses, curve, wall_s, message, cracks = row
-        return RunResult(status, json.loads(responses or "{}"), _from_blob(curve), wall_s,
-                         message or "", _from_blob(cracks))
+        return RunResult(status, json.loads(responses or "{}"), from_blob(curve), wall_s,
+                         message or "", from_blob(cracks))
 
     def put(self, spec: RunSpec, result: RunResult) -> None:
         """Store a finished run (one transaction); a run already there is left as it is."""
@@ -107,8 +107,8 @@ class RunStore:
             self.db.execute(
                 "INSERT OR IGNORE INTO runs VALUES (?,?,?,?,?,?,?,?,?,?,?,?)",
                 (spec.key, spec.kind, json.dumps(dict(spec.specimen)), json.dumps(dict(spec.params)),
-                 spec.engine, result.status, json.dumps(result.responses), _to_blob(result.curve),
-                 _to_blob(result.cracks), result.wall_s, result.message, now))
+                 spec.engine, result.status, json.dumps(result.responses), to_blob(result.curve),
+                 to_blob(result.cracks), result.wall_s, result.message, now))
             self.db.execute("INSERT INTO executions VALUES (?,?,?)", (spec.key, os.getpid(), now))
 
     def count(self, kind: str | None = None) -> int:
@@ -154,7 +154,7 @@ def _check_is_store(path: Path) -> None:
                                 f"{version[0]} > {SCHEMA_VERSION}); upgrade rockcal")
 
 
-def _to_blob(curve: np.ndarray | None) -> bytes | None:
+def to_blob(curve: np.ndarray | None) -> bytes | None:
     if curve is None:
         return None
     buffer = io.BytesIO()
@@ -162,5 +162,5 @@ def _to_blob(curve: np.ndarray | None) -> bytes | None:
     return buffer.getvalue()
 
 
-def _from_blob(blob: bytes | None) -> np.ndarray | None:
+def from_blob(blob: bytes | None) -> np.ndarray | None:
     return None if blob is None else np.load(io.BytesIO(blob), allow_pickle=False)
