@@ -88,15 +88,14 @@ class Calibration:
         n = len(next(iter(runs.values())))
         rows = [{f: float(v[i]) for f, v in runs.items()} for i in range(n)]
         responses = self._ucs("sensitivity", rows)  # the array's values override [search].fixed
-        if any(r is None for r in responses):
-            raise CalibrationFailed("a sensitivity run failed; range analysis needs every run "
-                                    "of the array (see the failed runs in the report)")
         names = list(self.targets)
-        analysis = range_analysis({f: np.array(v) for f, v in runs.items()},
-                                  {r: np.array([resp[r] for resp in responses]) for r in names})
+        table = _fill_failed({r: [None if v is None else v[r] for v in responses] for r in names})
+        analysis = range_analysis({f: np.array(v) for f, v in runs.items()}, table)
         chosen = analysis.chosen(settings.threshold)
-        self.record["sensitivity"] = {"array": settings.array, "runs": rows,
-                                      "run_responses": responses, **analysis.to_dict(settings.threshold)}
+        self.record["sensitivity"] = {
+            "array": settings.array, "runs": rows, "run_responses": responses,
+            "imputed_runs": [i for i, v in enumerate(responses) if v is None],
+            **analysis.to_dict(settings.threshold)}
         if not bounds:
             bounds = {f: (min(settings.levels[f]), max(settings.levels[f])) for f in chosen}
         for f, levels in settings.levels.items():  # factors neither inverted nor fixed: middle
@@ -212,6 +211,16 @@ class Calibration:
                 1e3 * bending.P_max_kN, 1e6 * bending.K_IC_MPa_sqrt_m, 1e-3 * bending.diameter_mm,
                 1e-3 * bending.notch_mm, 1e-3 * bending.span_mm)
         self.record["validation"] = record
+
+
+def _fill_failed(table: dict[str, list]) -> dict[str, np.ndarray]:
+    """Responses of the array's runs with each failed run (None) given the mean of the runs that
+    succeeded: the design stays balanced, and a failed run pulls no level up or down."""
+    filled = {}
+    for response, values in table.items():
+        done = [v for v in values if v is not None]
+        filled[response] = np.array([np.mean(done) if v is None else v for v in values])
+    return filled
 
 
 def _round_rows(x: np.ndarray) -> np.ndarray:

@@ -1,0 +1,65 @@
+"""The procedure's logic on a synthetic forward model (no DEM): failed sensitivity runs are
+filled in and the campaign goes on, and the loop recovers the model's known parameters."""
+
+import pytest
+
+from rockcal.campaign.config import parse_campaign
+from rockcal.campaign.procedure import Calibration
+from rockcal.campaign.store import RunResult
+
+CAMPAIGN = """
+[targets.ucs]
+E_GPa = 50.0
+nu = 0.2
+ucs_MPa = 120.0
+[sensitivity]
+array = "L16(4^5)"
+levels = { E_c = [15, 20, 25, 30], kn_ks = [1.0, 1.67, 2.33, 3.0], sigma_c = [20, 30, 40, 50], tau_c = [50, 70, 90, 110], mu = [0.3, 0.4, 0.5, 0.6] }
+[surrogate]
+samples = 12
+checks = 2
+[optimizer]
+iterations = 60
+[acceptance]
+max_dem_runs = 40
+"""
+
+
+def responses(p: dict) -> dict:
+    """A smooth stand-in for the DEM: E from E_c, nu from kn/ks, UCS from sigma_c, small side effects."""
+    return {"E_GPa": 2.0 * p["E_c"] * (1 + 0.02 * p["mu"]), "nu": 0.1 * p["kn_ks"] + 0.0002 * p["E_c"],
+            "ucs_MPa": 3.0 * p["sigma_c"] + 0.01 * p["tau_c"]}
+
+
+class SyntheticExecutor:
+    """Executor interface over `responses`; the run at E_c 15, mu 0.3 fails, as a DEM run may."""
+
+    class store:
+        @staticmethod
+        def get(spec):
+            return None
+
+    def run(self, specs, progress=None):
+        out = []
+        for spec in specs:
+            p = dict(spec.params)
+            if p["E_c"] == 15 and p["mu"] == 0.3:
+                out.append(RunResult("failed", {}, None, 0.0, "ValueError: unstable"))
+            else:
+                out.append(RunResult("ok", responses(p), None, 0.0))
+        return out
+
+
+def test_a_failed_sensitivity_run_is_filled_in_and_the_campaign_recovers_the_parameters(tmp_path):
+    record = Calibration(parse_campaign(CAMPAIGN, tmp_path), SyntheticExecutor()).run()
+    sensitivity = record["sensitivity"]
+    assert len(sensitivity["imputed_runs"]) == 1
+    assert sensitivity["chosen"] == ["E_c", "kn_ks", "sigma_c"]
+    assert record["failed_runs"] == [{"stage": "sensitivity", "message": "ValueError: unstable"}]
+    assert record["accepted"]
+    mu, tau_c = record["fixed"]["mu"], record["fixed"]["tau_c"]  # the middle of their levels
+    assert (mu, tau_c) == pytest.approx((0.45, 80.0))
+    truth = {"E_c": 25.0 / (1 + 0.02 * mu), "sigma_c": (120.0 - 0.01 * tau_c) / 3.0}
+    truth["kn_ks"] = (0.2 - 0.0002 * truth["E_c"]) / 0.1
+    for name, value in truth.items():
+        assert record["identified"][name] == pytest.approx(value, rel=0.05)
