@@ -58,18 +58,6 @@ def test_halving_the_loading_speed_changes_k_ic_little(specimen, result):
     assert slow.K_IC_MPa_sqrt_m == pytest.approx(result.K_IC_MPa_sqrt_m, rel=0.03)
 
 
-def test_a_deeper_notch_changes_k_ic_less_than_the_peak_load():
-    """Notch 15 vs 20 mm of the full-size beam, at 0.3 scale. On this small beam (14-16 particle
-    diameters over the ligament) K_IC moves 27 % while P_max moves 44 %: K_IC is the steadier,
-    but not yet independent of the notch (see docs/benchmarks.md for the full size)."""
-    shallow, deep = (Beam(66.0, 15.0, a, 1.0, 48.0) for a in (4.5, 6.0))
-    r_shallow, r_deep = (simulate_bending(make_params({}), notched_beam(b), b) for b in (shallow, deep))
-    load_change = abs(r_deep.P_max_kN_per_m / r_shallow.P_max_kN_per_m - 1)
-    kic_change = abs(r_deep.K_IC_MPa_sqrt_m / r_shallow.K_IC_MPa_sqrt_m - 1)
-    assert load_change > 0.2
-    assert kic_change < 0.75 * load_change
-
-
 def test_bending_command_json_and_outputs(tmp_path):
     run = rockcal("simulate", "bending", "--length-mm", "44", "--height-mm", "10", "--notch-mm", "3.6",
                   "--notch-width-mm", "1", "--span-mm", "32", "--json", "--out", str(tmp_path))
