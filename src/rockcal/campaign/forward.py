@@ -40,7 +40,9 @@ def run_spec(kind: str, specimen_settings, params: dict) -> RunSpec:
 
 
 @lru_cache(maxsize=4)
-def _specimen(kind: str, specimen: tuple):
+def specimen_of(kind: str, specimen: tuple):
+    """The specimen (and the beam, for bending) of a run's specimen settings, made once per
+    process (from the disk cache when it holds it)."""
     from rockcal.dem.specimen import random_packing
     from rockcal.labtests.bending import Beam, notched_beam
 
@@ -55,7 +57,7 @@ def prepare(spec: RunSpec) -> None:
     """Make (and cache on disk) the specimen of a run before workers need it; one that cannot
     be made is left to `execute`, which records the run as failed."""
     try:
-        _specimen(spec.kind, spec.specimen)
+        specimen_of(spec.kind, spec.specimen)
     except Exception:
         pass
 
@@ -77,7 +79,7 @@ def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
             raise RunTimedOut(f"stopped after the run's wall-time limit of {time_limit_s:g} s")
 
     try:
-        specimen, beam = _specimen(spec.kind, spec.specimen)
+        specimen, beam = specimen_of(spec.kind, spec.specimen)
         params = make_params(dict(spec.params))
         if spec.kind == "ucs":
             r = simulate_ucs(params, specimen, progress=watch)

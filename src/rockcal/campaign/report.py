@@ -18,7 +18,7 @@ from typing import Callable
 import numpy as np
 
 from rockcal import plots
-from rockcal.campaign.forward import _specimen
+from rockcal.campaign.forward import specimen_of
 from rockcal.campaign.store import RunStore, from_blob
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 
@@ -144,7 +144,7 @@ def _cracks(key: str | None, what: str, store: RunStore, path: Path) -> str | No
         return why
     if run.cracks is None:
         return f"The {what} kept no cracks."
-    specimen, _ = _specimen(run.kind, tuple(run.specimen.items()))
+    specimen, _ = specimen_of(run.kind, tuple(run.specimen.items()))
     modes = {"tension": run.cracks[run.cracks[:, 2] == BROKEN_TENSION, :2],
              "shear": run.cracks[run.cracks[:, 2] == BROKEN_SHEAR, :2]}
     plots.crack_pattern(specimen.pos, specimen.radius, modes, path,
