@@ -120,18 +120,25 @@ def kill_a_busy_worker(client, after_s: float = 0.3) -> dict:
     return killed
 
 
+def run_killing_a_worker(executor, batch):
+    """Run `batch` while a busy worker is killed; returns (results, what was killed), once both
+    workers are up again."""
+    client = executor.client
+    client.wait_for_workers(2, timeout=60)
+    killed = kill_a_busy_worker(client)
+    results = executor.run(batch)
+    killed["thread"].join()
+    client.wait_for_workers(2, timeout=60)
+    return results, killed
+
+
 def test_a_worker_killed_mid_run_loses_nothing_and_duplicates_nothing(cluster, tmp_path):
     store = RunStore(tmp_path)
     executor = DaskExecutor(store, cluster.scheduler_address)
-    client = executor.client
     batch = specs(SLOWER, 6)
     try:
-        client.wait_for_workers(2, timeout=60)
-        killed = kill_a_busy_worker(client)
-        results = executor.run(batch)
-        killed["thread"].join()
-        client.wait_for_workers(2, timeout=60)
-        pids_after = set(client.run(os.getpid).values())
+        results, killed = run_killing_a_worker(executor, batch)
+        pids_after = set(executor.client.run(os.getpid).values())
     finally:
         executor.close()
     assert "pid" in killed, "no worker was busy to be killed"
@@ -145,15 +152,10 @@ def test_a_worker_killed_mid_run_loses_nothing_and_duplicates_nothing(cluster, t
 def test_a_task_that_keeps_killing_workers_is_a_failed_run(cluster, tmp_path):
     store = RunStore(tmp_path)
     executor = DaskExecutor(store, cluster.scheduler_address)
-    client = executor.client
     batch = specs(SLOWER, 2, mu=0.4)
     cluster.scheduler.allowed_failures = 0  # the first worker death is fatal to its tasks
     try:
-        client.wait_for_workers(2, timeout=60)
-        killed = kill_a_busy_worker(client)
-        results = executor.run(batch)
-        killed["thread"].join()
-        client.wait_for_workers(2, timeout=60)
+        results, killed = run_killing_a_worker(executor, batch)
     finally:
         cluster.scheduler.allowed_failures = 3
         executor.close()

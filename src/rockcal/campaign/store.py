@@ -111,10 +111,9 @@ class RunStore:
                  to_blob(result.cracks), result.wall_s, result.message, now))
             self.db.execute("INSERT INTO executions VALUES (?,?,?)", (spec.key, os.getpid(), now))
 
-    def count(self, kind: str | None = None) -> int:
-        if kind is None:
-            return self.db.execute("SELECT COUNT(*) FROM runs").fetchone()[0]
-        return self.db.execute("SELECT COUNT(*) FROM runs WHERE kind=?", (kind,)).fetchone()[0]
+    def count(self) -> int:
+        """How many runs the store holds."""
+        return self.db.execute("SELECT COUNT(*) FROM runs").fetchone()[0]
 
     def executions(self) -> dict[str, int]:
         """How many times each stored run was executed (1 each, unless something is wrong)."""
