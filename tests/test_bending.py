@@ -9,7 +9,9 @@ import pytest
 
 from rockcal import make_params
 from rockcal.labtests.bending import Beam, notched_beam, simulate_bending
+from rockcal.dem.specimen import random_packing
 from rockcal.labtests.kic import senb_kic
+from rockcal.labtests.seeds import mean_over_seeds
 
 SMALL = Beam(66.0, 15.0, 5.4, 1.0, 48.0)  # S/W = 3.2, a/W = 0.36 as at full size
 
@@ -53,6 +55,34 @@ def test_peak_load_gives_k_ic(result):
     assert result.curve[-1, 1] < 0.3 * result.P_max_kN_per_m  # run on past the peak: cracked
 
 
+def test_a_notch_of_zero_width_cuts_bonds_and_keeps_every_particle():
+    beam = Beam(44.0, 10.0, 3.6, 0.0, 32.0)
+    whole = random_packing(44.0, 10.0, 0.25, 1.65, 1)
+    cut = notched_beam(beam, 0.25, 1.65, 1)
+    assert cut.n_particles == whole.n_particles
+    removed = {tuple(b) for b in whole.bonds} - {tuple(b) for b in cut.bonds}
+    assert len(removed) == len(whole.bonds) - len(cut.bonds) > 0
+    for i, j in removed:  # each removed bond crosses mid-span below the notch tip
+        (xi, yi), (xj, yj) = whole.pos[i], whole.pos[j]
+        assert (xi - 0.022) * (xj - 0.022) < 0
+        assert yi + (0.022 - xi) / (xj - xi) * (yj - yi) < 0.0036
+
+
+def test_seed_mean_k_ic_changes_far_less_than_the_peak_load_with_notch_depth():
+    """Sharp (cut) notches 4.5 and 6 mm deep in the small beam (15 and 20 mm at full size),
+    three packings each: the mean peak load falls with the deeper notch, the mean K_IC moves
+    less than a third as much (LEFM: K_IC is the beam's, the peak load the geometry's)."""
+    means = {}
+    for notch in (4.5, 6.0):
+        beam = Beam(66.0, 15.0, notch, 0.0, 48.0)
+        runs = [simulate_bending({}, notched_beam(beam, 0.25, 1.65, seed), beam) for seed in (1, 2, 3)]
+        means[notch] = mean_over_seeds([r.summary() for r in runs])
+    load_change = means[6.0]["P_max_kN_per_m"] / means[4.5]["P_max_kN_per_m"] - 1
+    k_change = means[6.0]["K_IC_MPa_sqrt_m"] / means[4.5]["K_IC_MPa_sqrt_m"] - 1
+    assert load_change < -0.15
+    assert abs(k_change) < abs(load_change) / 3
+
+
 def test_halving_the_loading_speed_changes_k_ic_little(specimen, result):
     slow = simulate_bending(make_params({}), specimen, SMALL, rate_factor=0.5)
     assert slow.K_IC_MPa_sqrt_m == pytest.approx(result.K_IC_MPa_sqrt_m, rel=0.03)
@@ -75,7 +105,7 @@ def test_bending_command_json_and_outputs(tmp_path):
     (["--span-mm", "230"], "--span-mm"),
     (["--span-mm", "215"], "--span-mm"),  # the supports stick out of the beam
     (["--height-mm", "-5"], "--height-mm"),
-    (["--notch-width-mm", "0"], "--notch-width-mm"),
+    (["--notch-width-mm", "-1"], "--notch-width-mm"),
     (["--rmin-mm", "0"], "--rmin-mm"),
 ])
 def test_bad_geometry_is_one_line_and_exit_2(args, field):

@@ -32,6 +32,7 @@ beam_height_mm = 10
 notch_mm = 3.6
 notch_width_mm = 1.0
 span_mm = 32
+bending_seeds = 2
 [sensitivity]
 array = "L4(2^3)"
 levels = { E_c = [10, 30], sigma_c = [20, 60], kn_ks = [1.0, 3.0] }
@@ -92,6 +93,8 @@ def test_summary_shows_the_identified_parameters_and_the_validation(campaign):
         assert f"{100 * error:+.1f} %" in page
     v = record["validation"]
     assert f"{v['K_IC_MPa_sqrt_m']:.4g}" in page and f"{100 * v['K_IC_error']:+.1f} %" in page
+    assert v["ok_seeds"] == [1, 2] and v["K_IC_MPa_sqrt_m"] == pytest.approx(np.mean(v["K_IC_per_seed"]))
+    assert all(f"{seed}: {k:.4g}" in page for seed, k in zip(v["ok_seeds"], v["K_IC_per_seed"]))
     assert "Ouchterlony" in page  # the lab's P_max and K_IC disagree: the warning is shown
     assert f"RE {record['curve_fit']['RE']:.3f}, CC {record['curve_fit']['CC']:.3f}" in page
     assert f"{record['dem_runs']}</td>" in page

@@ -69,8 +69,9 @@ class SpecimenSettings(_Strict):
     beam_length_mm: float = Field(220.0, gt=0)
     beam_height_mm: float = Field(50.0, gt=0)
     notch_mm: float = Field(18.0, gt=0)
-    notch_width_mm: float = Field(2.0, gt=0)
+    notch_width_mm: float = Field(2.0, ge=0)  # 0: a cut (bonds across the notch line removed)
     span_mm: float = Field(160.0, gt=0)
+    bending_seeds: int = Field(1, ge=1)  # validation K_IC: mean over packings seed, seed + 1, ...
 
 
 def _check_names(values: dict) -> None:

@@ -314,11 +314,14 @@ def _validation(record: dict) -> str:
         text = f"<p class='note'>The bending run {html.escape(str(v.get('status')))}: " \
                f"{html.escape(v.get('message') or '')}</p>"
     else:
+        seeds = v.get("ok_seeds") or []
         text = _table(["K_IC lab (MPa·m^0.5)", "K_IC simulated (MPa·m^0.5)", "error",
-                       "P_max (kN/m)", "displacement at peak (mm)"],
-                      [[_num(v.get("lab_K_IC_MPa_sqrt_m")), _num(v.get("K_IC_MPa_sqrt_m")),
+                       "P_max (kN/m)", "displacement at peak (mm)", "packing seeds"],
+                      [[_num(v.get("lab_K_IC_MPa_sqrt_m")),
+                        f"{_num(v.get('K_IC_MPa_sqrt_m'))} ± {_num(v.get('K_IC_MPa_sqrt_m_std'))}",
                         _pct(v.get("K_IC_error")), _num(v.get("P_max_kN_per_m")),
-                        _num(v.get("displacement_at_peak_mm"))]])
+                        _num(v.get("displacement_at_peak_mm")),
+                        ", ".join(f"{s}: {_num(k)}" for s, k in zip(seeds, v.get("K_IC_per_seed", [])))]])
     if v.get("warning"):
         text += f"<p class='warn'>{html.escape(v['warning'])}</p>"
     return text

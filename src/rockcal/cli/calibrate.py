@@ -129,6 +129,8 @@ def summary(record: dict) -> dict:
         "relative_errors": record["errors"], "tolerance": record["tolerance"],
         "objective": record["objective"], "curve_fit": record.get("curve_fit"),
         "K_IC_MPa_sqrt_m": validation.get("K_IC_MPa_sqrt_m"),
+        "K_IC_seed_std": validation.get("K_IC_MPa_sqrt_m_std"),
+        "K_IC_per_seed": validation.get("K_IC_per_seed"),
         "lab_K_IC_MPa_sqrt_m": validation.get("lab_K_IC_MPa_sqrt_m"),
         "K_IC_error": validation.get("K_IC_error"), "warning": validation.get("warning"),
         "dem_runs": record["dem_runs"], "executed_runs": record.get("executed_runs"),
@@ -153,7 +155,8 @@ def _print_summary(record: dict, html: Path, as_json: bool) -> None:
         table.add_row(name, "–" if value is None else f"{value:.4g}", f"{target:.4g}",
                       "–" if error is None else f"{100 * error:+.1f} %")
     if s["K_IC_MPa_sqrt_m"] is not None:
-        table.add_row("K_IC (validation)", f"{s['K_IC_MPa_sqrt_m']:.3f}",
+        table.add_row(f"K_IC (validation, {len(s['K_IC_per_seed'])} packings)",
+                      f"{s['K_IC_MPa_sqrt_m']:.3f} ± {s['K_IC_seed_std']:.3f}",
                       f"{s['lab_K_IC_MPa_sqrt_m']:.3f}", f"{100 * s['K_IC_error']:+.1f} %")
     console.print(table)
     if s["warning"]:

@@ -77,7 +77,7 @@ def ucs(
         ("E", f"{result.E_GPa:.2f} GPa"), ("Poisson's ratio", f"{result.nu:.3f}"),
         ("UCS", f"{result.ucs_MPa:.1f} MPa"),
         ("axial strain at peak", f"{100 * result.peak_axial_strain:.3f} %"),
-        *_common_rows(result)), summary, as_json)
+        *_common_rows(summary)), summary, as_json)
 
 
 def _write_outputs(out: Path, result, summary: dict) -> None:
@@ -118,10 +118,12 @@ def _load_description(unit: str):
     return lambda mm, kN: f"{unit} {mm:.4f} mm  load {kN:.2f} kN/m"
 
 
-def _common_rows(result):
-    return (("particles / bonds", f"{result.n_particles} / {result.n_bonds}"),
-            ("broken bonds tension / shear", f"{result.n_broken_tension} / {result.n_broken_shear}"),
-            ("steps, wall time", f"{result.steps}, {result.wall_s:.1f} s"))
+def _common_rows(summary: dict):
+    """Size, damage and cost of a test (means over packings when there are several)."""
+    return (("particles / bonds", f"{summary['n_particles']:.0f} / {summary['n_bonds']:.0f}"),
+            ("broken bonds tension / shear",
+             f"{summary['n_broken_tension']:.0f} / {summary['n_broken_shear']:.0f}"),
+            ("steps, wall time", f"{summary['steps']:.0f}, {summary['wall_s']:.1f} s"))
 
 
 def _report(title: str, rows, summary: dict, as_json: bool) -> None:
@@ -146,6 +148,9 @@ def _write_load_curve(out: Path, name: str, result, summary: dict, crack_title: 
     plots.load_displacement(result.curve, out / f"{name}_curve.png", f"{name} test")
 
 
+SEEDS_HELP = "Average over this many packings (seed, seed + 1, ...): mean and spread."
+
+
 @app.command()
 def bending(
     set_: list[str] = typer.Option([], "--set", help=SET_HELP),
@@ -154,9 +159,10 @@ def bending(
     length_mm: float = typer.Option(220.0, help="Beam length, mm."),
     height_mm: float = typer.Option(50.0, help="Beam depth W, mm."),
     notch_mm: float = typer.Option(18.0, help="Notch depth a, mm (bottom edge, mid-span)."),
-    notch_width_mm: float = typer.Option(2.0, help="Notch width, mm."),
+    notch_width_mm: float = typer.Option(2.0, help="Notch width, mm; 0 cuts the bonds (sharp crack)."),
     span_mm: float = typer.Option(160.0, help="Distance S between the supports, mm."),
     seed: int = typer.Option(1, help="Packing seed."),
+    seeds: int = typer.Option(1, help=SEEDS_HELP),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Optional[Path] = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here."),
 ) -> None:
@@ -167,21 +173,22 @@ def bending(
     _check_packing_options(rmin_mm, radius_ratio)
     beam = Beam(length_mm, height_mm, notch_mm, notch_width_mm, span_mm)
     beam.check()
-    with _status(as_json):
-        specimen = notched_beam(beam, rmin_mm, radius_ratio, seed)
-    result = _run_with_progress(
-        "bending test", DEFAULT_MAX_DISPLACEMENT_MM, as_json, _load_description("pin"),
-        lambda progress: simulate_bending(params, specimen, beam, progress=progress))
-    summary = result.summary() | {"params": params.key(), "specimen": specimen.label}
-    if out is not None:
-        _write_load_curve(out, "bending", result, summary,
-                          f"K_IC {result.K_IC_MPa_sqrt_m:.3f} MPa·m^0.5 — broken bonds")
-    _report(f"Three-point bending — {specimen.label}", (
+
+    def one(packing_seed: int, label: str):
+        with _status(as_json):
+            specimen = notched_beam(beam, rmin_mm, radius_ratio, packing_seed)
+        result = _run_with_progress(
+            label, DEFAULT_MAX_DISPLACEMENT_MM, as_json, _load_description("pin"),
+            lambda progress: simulate_bending(params, specimen, beam, progress=progress))
+        return result, specimen.label, f"K_IC {result.K_IC_MPa_sqrt_m:.3f} MPa·m^0.5 — broken bonds"
+
+    summary = _over_seeds("bending", one, seed, seeds, params, out)
+    _report(f"Three-point bending — {summary['specimen']}", (
         ("K_IC (notched beam, S/W = %.2f)" % (span_mm / height_mm),
-         f"{result.K_IC_MPa_sqrt_m:.3f} MPa·m^0.5"),
-        ("peak load", f"{result.P_max_kN_per_m:.2f} kN per m of thickness"),
-        ("pin displacement at peak", f"{result.displacement_at_peak_mm:.4f} mm"),
-        *_common_rows(result)), summary, as_json)
+         _mean_text(summary, "K_IC_MPa_sqrt_m", "%.3f", "MPa·m^0.5")),
+        ("peak load", _mean_text(summary, "P_max_kN_per_m", "%.2f", "kN per m of thickness")),
+        ("pin displacement at peak", _mean_text(summary, "displacement_at_peak_mm", "%.4f", "mm")),
+        *_common_rows(summary)), summary, as_json)
 
 
 @app.command()
@@ -191,6 +198,7 @@ def brazilian(
     radius_ratio: float = typer.Option(1.65, help="Largest / smallest radius."),
     diameter_mm: float = typer.Option(50.0, help="Disk diameter D, mm."),
     seed: int = typer.Option(1, help="Packing seed."),
+    seeds: int = typer.Option(1, help=SEEDS_HELP),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Optional[Path] = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here."),
 ) -> None:
@@ -200,17 +208,54 @@ def brazilian(
     params = make_params(parse_assignments(set_))
     _check_packing_options(rmin_mm, radius_ratio)
     finite("--diameter-mm", diameter_mm)
-    with _status(as_json):
-        specimen = brazilian_disk(diameter_mm, rmin_mm, radius_ratio, seed)
-    result = _run_with_progress(
-        "Brazilian test", DEFAULT_MAX_STRAIN * diameter_mm, as_json, _load_description("closure"),
-        lambda progress: simulate_brazilian(params, specimen, progress=progress))
-    summary = result.summary() | {"params": params.key(), "specimen": specimen.label}
+
+    def one(packing_seed: int, label: str):
+        with _status(as_json):
+            specimen = brazilian_disk(diameter_mm, rmin_mm, radius_ratio, packing_seed)
+        result = _run_with_progress(
+            label, DEFAULT_MAX_STRAIN * diameter_mm, as_json, _load_description("closure"),
+            lambda progress: simulate_brazilian(params, specimen, progress=progress))
+        return result, specimen.label, f"sigma_t {result.sigma_t_MPa:.2f} MPa — broken bonds"
+
+    summary = _over_seeds("brazilian", one, seed, seeds, params, out)
+    _report(f"Brazilian test — {summary['specimen']}", (
+        ("tensile strength sigma_t", _mean_text(summary, "sigma_t_MPa", "%.2f", "MPa")),
+        ("peak load", _mean_text(summary, "P_max_kN_per_m", "%.2f", "kN per m of thickness")),
+        ("platen closure at peak", _mean_text(summary, "displacement_at_peak_mm", "%.4f", "mm")),
+        *_common_rows(summary)), summary, as_json)
+
+
+def _over_seeds(name: str, one, seed: int, count: int, params, out: Path | None):
+    """Run `one(seed, label)` -> (result, specimen label, crack title) on `count` packings and
+    write each one's outputs; the summary of one packing, or the mean and spread over several
+    (with each packing's summary under "per_seed")."""
+    from rockcal.labtests.seeds import mean_over_seeds, seed_list
+
+    if count < 1:
+        raise InputError("--seeds", f"must be >= 1, got {count}")
+    responses, per_seed = [], []
+    for k, packing_seed in enumerate(seed_list(seed, count)):
+        label = f"{name} test" + (f", packing {k + 1}/{count}" if count > 1 else "")
+        result, specimen_label, crack_title = one(packing_seed, label)
+        responses.append(result.summary())
+        per_seed.append(responses[-1] | {"params": params.key(), "specimen": specimen_label,
+                                         "seed": packing_seed})
+        if out is not None:
+            _write_load_curve(out, name if count == 1 else f"{name}_seed{packing_seed}", result,
+                              per_seed[-1], crack_title)
+    if count == 1:
+        return per_seed[0]
+    summary = mean_over_seeds(responses) | {
+        "params": params.key(), "specimen": per_seed[0]["specimen"].replace(f"seed {seed}", f"seeds {seed}-{seed + count - 1}"),
+        "seeds": seed_list(seed, count), "per_seed": per_seed}
     if out is not None:
-        _write_load_curve(out, "brazilian", result, summary,
-                          f"sigma_t {result.sigma_t_MPa:.2f} MPa — broken bonds")
-    _report(f"Brazilian test — {specimen.label}", (
-        ("tensile strength sigma_t", f"{result.sigma_t_MPa:.2f} MPa"),
-        ("peak load", f"{result.P_max_kN_per_m:.2f} kN per m of thickness"),
-        ("platen closure at peak", f"{result.displacement_at_peak_mm:.4f} mm"),
-        *_common_rows(result)), summary, as_json)
+        (out / f"{name}_summary.json").write_text(json.dumps(summary, indent=2))
+    return summary
+
+
+def _mean_text(summary: dict, key: str, fmt: str, unit: str) -> str:
+    """A response, with its spread over packings when there are several."""
+    text = fmt % summary[key]
+    if "per_seed" in summary:
+        text += " ± " + fmt % summary[f"{key}_std"] + f" (over {len(summary['per_seed'])} packings)"
+    return f"{text} {unit}"

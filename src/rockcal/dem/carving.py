@@ -1,4 +1,5 @@
 """Cutting specimens out of a packing: a notch, a disk. Removed particles take their bonds along.
+A notch of zero width is a cut: the bonds across a line are removed, no particle is.
 
 Carving keeps the packing's contact forces and fabric (as when a lab specimen is cut from a
 block); particles left with no bond at all would float, so they are removed as well.
@@ -38,3 +39,15 @@ def outside_rectangle(pos: np.ndarray, radius: np.ndarray, x0: float, x1: float,
 def inside_circle(pos: np.ndarray, radius: np.ndarray, centre, circle_radius: float) -> np.ndarray:
     """True for the disks lying wholly inside the circle."""
     return np.hypot(pos[:, 0] - centre[0], pos[:, 1] - centre[1]) + radius <= circle_radius
+
+
+def cut_bonds(spec: Specimen, x: float, y_top: float, label: str) -> Specimen:
+    """The specimen with the bonds that cross the vertical line at `x` below `y_top` (m)
+    removed: a crack of zero width, as sharp as the packing allows."""
+    i, j = spec.bonds.T
+    dx_i, dx_j = spec.pos[i, 0] - x, spec.pos[j, 0] - x
+    crosses = dx_i * dx_j < 0
+    along = np.divide(dx_i, dx_i - dx_j, out=np.zeros(len(i)), where=crosses)
+    y_cross = spec.pos[i, 1] + along * (spec.pos[j, 1] - spec.pos[i, 1])
+    keep = ~(crosses & (y_cross < y_top))
+    return Specimen(spec.pos, spec.radius, spec.bonds[keep], spec.width_m, spec.height_m, label)

@@ -16,7 +16,7 @@ from typing import Callable
 import numpy as np
 
 from rockcal.dem import measure
-from rockcal.dem.carving import keep_particles, outside_rectangle
+from rockcal.dem.carving import cut_bonds, keep_particles, outside_rectangle
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.simulate import advance, new_state
 from rockcal.dem.specimen import Specimen, random_packing
@@ -43,7 +43,8 @@ PAST_PEAK_FRACTION = 0.8
 
 @dataclass(frozen=True)
 class Beam:
-    """Geometry of the notched beam and its supports (mm)."""
+    """Geometry of the notched beam and its supports (mm); a notch of width 0 is a cut (the
+    bonds across the notch line removed), the sharp crack of the K formula."""
 
     length_mm: float = 220.0
     height_mm: float = 50.0
@@ -60,9 +61,10 @@ class Beam:
         """Reject geometry no test can be run on, naming the CLI option."""
         for name in ("length_mm", "height_mm", "notch_mm", "notch_width_mm", "span_mm",
                      "pin_radius_mm"):
-            value = getattr(self, name)
-            if not (np.isfinite(value) and value > 0):
-                raise InputError("--" + name.replace("_", "-"), f"must be a finite number > 0, got {value}")
+            value, may_be_zero = getattr(self, name), name == "notch_width_mm"
+            if not (np.isfinite(value) and (value > 0 or (may_be_zero and value == 0))):
+                raise InputError("--" + name.replace("_", "-"), "must be a finite number "
+                                 f"{'>= 0' if may_be_zero else '> 0'}, got {value}")
         if self.notch_mm >= self.height_mm:
             raise InputError("--notch-mm", f"the notch ({self.notch_mm:g} mm) must be shallower "
                              f"than the beam ({self.height_mm:g} mm)")
@@ -110,15 +112,18 @@ class BendingResult:
 
 def notched_beam(beam: Beam = Beam(), rmin_mm: float = 0.25, radius_ratio: float = 1.65,
                  seed: int = 1) -> Specimen:
-    """The beam packing with the notch carved out of the middle of its bottom edge."""
+    """The beam packing with the notch carved out of the middle of its bottom edge (or, for
+    width 0, cut into it)."""
     beam.check()
     spec = random_packing(beam.length_mm, beam.height_mm, rmin_mm, radius_ratio, seed)
     half = 0.5e-3 * beam.notch_width_mm
     middle = 0.5e-3 * beam.length_mm
+    label = f"{spec.label}, notch {beam.notch_mm:g} x {beam.notch_width_mm:g} mm"
+    if beam.notch_width_mm == 0:
+        return cut_bonds(spec, middle, 1e-3 * beam.notch_mm, label)
     keep = outside_rectangle(spec.pos, spec.radius, middle - half, middle + half, -1.0,
                              1e-3 * beam.notch_mm)
-    return keep_particles(spec, keep, f"{spec.label}, notch {beam.notch_mm:g} x "
-                          f"{beam.notch_width_mm:g} mm")
+    return keep_particles(spec, keep, label)
 
 
 def pin_disks(centre, pin_radius: float, disk_radius: float, facing_up: bool) -> np.ndarray:
