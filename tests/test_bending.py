@@ -107,6 +107,7 @@ def test_bending_command_json_and_outputs(tmp_path):
     (["--height-mm", "-5"], "--height-mm"),
     (["--notch-width-mm", "-1"], "--notch-width-mm"),
     (["--rmin-mm", "0"], "--rmin-mm"),
+    (["--seeds", "0"], "--seeds"),
 ])
 def test_bad_geometry_is_one_line_and_exit_2(args, field):
     run = rockcal("simulate", "bending", *args)

@@ -47,3 +47,19 @@ def test_brazilian_command_json_and_outputs(tmp_path):
     assert json.loads(run.stdout)["sigma_t_MPa"] > 0
     assert {p.name for p in tmp_path.iterdir()} >= {"brazilian_curve.csv", "brazilian_summary.json",
                                                     "brazilian_cracks.png", "brazilian_curve.png"}
+
+
+def test_seeds_give_the_mean_and_spread_of_each_packing(tmp_path):
+    """--seeds 2: each packing's own outputs, and the summary's mean and sample spread are
+    those of the two packings' values."""
+    run = subprocess.run([sys.executable, "-m", "rockcal", "simulate", "brazilian", "--diameter-mm",
+                          "12", "--seed", "4", "--seeds", "2", "--json", "--out", str(tmp_path)],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    summary = json.loads(run.stdout)
+    values = [s["sigma_t_MPa"] for s in summary["per_seed"]]
+    assert summary["seeds"] == [4, 5] and [s["seed"] for s in summary["per_seed"]] == [4, 5]
+    assert summary["sigma_t_MPa"] == pytest.approx(np.mean(values))
+    assert summary["sigma_t_MPa_std"] == pytest.approx(np.std(values, ddof=1))
+    assert {"brazilian_seed4_curve.csv", "brazilian_seed5_cracks.png",
+            "brazilian_summary.json"} <= {p.name for p in tmp_path.iterdir()}

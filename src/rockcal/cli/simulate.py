@@ -245,9 +245,9 @@ def _over_seeds(name: str, one, seed: int, count: int, params, out: Path | None)
                               per_seed[-1], crack_title)
     if count == 1:
         return per_seed[0]
-    summary = mean_over_seeds(responses) | {
-        "params": params.key(), "specimen": per_seed[0]["specimen"].replace(f"seed {seed}", f"seeds {seed}-{seed + count - 1}"),
-        "seeds": seed_list(seed, count), "per_seed": per_seed}
+    specimen = per_seed[0]["specimen"].replace(f"seed {seed}", f"seeds {seed}-{seed + count - 1}")
+    summary = mean_over_seeds(responses) | {"params": params.key(), "specimen": specimen,
+                                            "seeds": seed_list(seed, count), "per_seed": per_seed}
     if out is not None:
         (out / f"{name}_summary.json").write_text(json.dumps(summary, indent=2))
     return summary
