@@ -17,7 +17,7 @@ import time
 from concurrent.futures import CancelledError
 from typing import Callable, Iterable
 
-from rockcal.campaign.forward import ENGINE, execute, split_stored
+from rockcal.campaign.forward import ENGINE, Batch, execute
 from rockcal.campaign.store import RunResult, RunSpec, RunStore
 from rockcal.errors import InputError
 
@@ -87,29 +87,21 @@ class DaskExecutor:
         """Results in the order of `specs`; each new one is stored as soon as it is done."""
         from distributed import as_completed
 
-        specs = list(specs)
-        results, todo = split_stored(self.store, specs)
-        total = len(results) + len(todo)
-        if progress:
-            progress(len(results), total)
+        batch = Batch(self.store, specs, progress)
         submitted = time.perf_counter()
         futures = {self.client.submit(run_on_worker, spec, self.time_limit_s,
-                                      key=f"rockcal-run-{spec.key}"): spec for spec in todo}
+                                      key=f"rockcal-run-{spec.key}"): spec for spec in batch.todo}
         try:
             for future in as_completed(futures):
                 spec = futures.pop(future)
                 result, finished = _result(future, submitted)
                 future.release()
-                if finished:
-                    self.store.put(spec, result)
-                    self.executed += 1
-                results[spec.key] = result
-                if progress:
-                    progress(len(results), total)
+                batch.finish(spec, result, store=finished)
         finally:
             if futures:  # interrupted: do not leave the cluster working for no one
                 self.client.cancel(list(futures))
-        return [results[s.key] for s in specs]
+            self.executed += batch.executed
+        return batch.in_order()
 
 
 def _result(future, submitted: float) -> tuple[RunResult, bool]:

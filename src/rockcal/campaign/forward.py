@@ -157,21 +157,21 @@ class Executor:
     def run(self, specs: Iterable[RunSpec],
             progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
         """Results in the order of `specs`; each new one is stored as soon as it is done."""
-        specs = list(specs)
-        results, todo = split_stored(self.store, specs)
-        total = len(results) + len(todo)
-        if progress:
-            progress(len(results), total)
-        if self.workers == 1 or len(todo) <= 1:
-            for spec in todo:
-                self._finish(spec, execute(spec, self.time_limit_s), results, progress, total)
-        else:
-            self._run_on_pool(todo, results, progress, total)
-        return [results[s.key] for s in specs]
+        batch = Batch(self.store, specs, progress)
+        try:
+            if self.workers == 1 or len(batch.todo) <= 1:
+                for spec in batch.todo:
+                    batch.finish(spec, execute(spec, self.time_limit_s))
+            else:
+                self._run_on_pool(batch)
+        finally:
+            self.executed += batch.executed
+        return batch.in_order()
 
-    def _run_on_pool(self, todo, results, progress, total) -> None:
+    def _run_on_pool(self, batch: Batch) -> None:
         """Run on the process pool; a worker process that dies breaks the pool, which is made
         anew for the runs not yet done (after POOL_RESTARTS new pools they are recorded failed)."""
+        todo = batch.todo
         for attempt in range(POOL_RESTARTS + 1):
             futures = {self._get_pool().submit(execute, spec, self.time_limit_s): spec for spec in todo}
             for future in as_completed(futures):
@@ -179,22 +179,43 @@ class Executor:
                     result = future.result()
                 except BrokenProcessPool:
                     continue
-                self._finish(futures[future], result, results, progress, total)
-            todo = [spec for spec in todo if spec.key not in results]
+                batch.finish(futures[future], result)
+            todo = [spec for spec in todo if spec.key not in batch.results]
             if not todo:
                 return
             self._pool.shutdown(cancel_futures=True)
             self._pool = None
         for spec in todo:
-            self._finish(spec, RunResult("failed", {}, None, 0.0, "a worker process died during "
-                                         "the run, on every try"), results, progress, total)
+            batch.finish(spec, RunResult("failed", {}, None, 0.0, "a worker process died during "
+                                         "the run, on every try"))
 
-    def _finish(self, spec, result, results, progress, total) -> None:
-        self.store.put(spec, result)
-        self.executed += 1
-        results[spec.key] = result
-        if progress:
-            progress(len(results), total)
+
+class Batch:
+    """One call of an executor's `run`: the results the store already holds, the runs still to
+    do, and the progress over both; each run done is stored as it finishes."""
+
+    def __init__(self, store: RunStore, specs: Iterable[RunSpec],
+                 progress: Callable[[int, int], None] | None):
+        self.store, self.specs, self.progress = store, list(specs), progress
+        self.results, self.todo = split_stored(store, self.specs)
+        self.total = len(self.results) + len(self.todo)
+        self.executed = 0  # runs of this batch stored as done
+        self._report()
+
+    def finish(self, spec: RunSpec, result: RunResult, store: bool = True) -> None:
+        """Record a run's result; `store=False` keeps it out of the store (it runs again later)."""
+        if store:
+            self.store.put(spec, result)
+            self.executed += 1
+        self.results[spec.key] = result
+        self._report()
+
+    def in_order(self) -> list[RunResult]:
+        return [self.results[s.key] for s in self.specs]
+
+    def _report(self) -> None:
+        if self.progress:
+            self.progress(len(self.results), self.total)
 
 
 def make_executor(store: RunStore, *, workers: int = 0, scheduler: str | None = None,
