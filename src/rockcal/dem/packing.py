@@ -18,7 +18,7 @@ log = logging.getLogger(__name__)
 
 GROWTH_STAGES = 5
 STEPS_PER_STAGE = 1000
-STEPS_PER_SERVO = 2000
+STEPS_PER_SERVO = 8000  # rounds long enough for a 220 mm box to jam evenly (2000 left loose zones)
 SAMPLES_PER_SERVO = 8
 MAX_SERVO_ROUNDS = 60
 

@@ -17,7 +17,7 @@ import numpy as np
 
 from rockcal.errors import InputError
 
-GENERATOR_VERSION = 3
+GENERATOR_VERSION = 4
 PACKING_MODULUS_GPA = 1.0  # frictionless contacts used only to make the packing
 ISOTROPIC_STRESS_MPA = 0.1  # installed before bonding (Potyondy & Cundall 2004): overlaps ~1e-4 R
 BOND_GAP = 0.02  # pairs nearer than this fraction of R_min count as touching, and are bonded
