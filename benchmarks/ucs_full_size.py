@@ -1,6 +1,6 @@
 """Full-size UCS benchmark: 50 x 100 mm, R_min 0.25 mm (the paper's specimen), granite defaults.
 
-Run by hand: `python benchmarks/ucs_full_size.py [--threads N]`. Prints the packing time, the
+Run by hand: `python benchmarks/ucs_full_size.py [--seed 1] [--threads N]`. Prints the packing time, the
 wall time of the whole test (warm JIT) and the throughput in particle-steps and bond-steps/s.
 """
 
@@ -17,16 +17,17 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--threads", type=int, default=numba.config.NUMBA_NUM_THREADS)
     parser.add_argument("--rate-factor", type=float, default=1.0)
+    parser.add_argument("--seed", type=int, default=1, help="packing seed")
     args = parser.parse_args()
     numba.set_num_threads(args.threads)
 
     started = time.perf_counter()
-    spec = rockcal.random_packing(50, 100, 0.25, 1.65, seed=1)
+    spec = rockcal.random_packing(50, 100, 0.25, 1.65, seed=args.seed)
     packing_s = time.perf_counter() - started
     rockcal.simulate_ucs({}, rockcal.random_packing(10, 20, 0.25, 1.65, seed=1))  # warm the JIT
     result = rockcal.simulate_ucs({}, spec, rate_factor=args.rate_factor)
     report = result.summary() | {
-        "threads": args.threads, "rate_factor": args.rate_factor,
+        "threads": args.threads, "rate_factor": args.rate_factor, "seed": args.seed,
         "packing_or_cache_s": round(packing_s, 2), "porosity": round(spec.porosity, 4),
         "coordination": round(spec.coordination(), 3),
         "particle_steps_per_s": result.n_particles * result.steps / result.wall_s,
