@@ -18,8 +18,10 @@ def test_simulate_ucs_json_and_outputs(tmp_path):
     assert run.returncode == 0, run.stderr
     summary = json.loads(run.stdout)
     for key in ("E_GPa", "nu", "ucs_MPa", "peak_axial_strain", "n_particles", "n_bonds",
-                "n_broken_tension", "n_broken_shear", "steps", "wall_s"):
+                "n_broken_tension", "n_broken_shear", "steps", "wall_s", "porosity",
+                "coordination", "bonds_per_particle"):
         assert key in summary
+    assert summary["strain"] == "gauge"
     assert summary["params"]["sigma_c"] == 30
     assert {p.name for p in tmp_path.iterdir()} >= {"ucs_curve.csv", "ucs_summary.json", "ucs_cracks.png"}
 
@@ -36,6 +38,17 @@ def test_simulate_ucs_json_and_outputs(tmp_path):
     (["--width-mm", "1"], "width_mm"),
     (["--max-axial-strain", "nan"], "--max-axial-strain"),
     (["--packing", "cubic"], "--packing"),
+    (["--set", "sigma_c_sd=-1"], "sigma_c_sd"),
+    (["--set", "tau_c_sd=-0.5"], "tau_c_sd"),
+    (["--set", "phi_b=90"], "phi_b"),
+    (["--set", "phi_b=-1"], "phi_b"),
+    (["--set", "mcf=1.5"], "mcf"),
+    (["--install-gap", "-0.1"], "--install-gap"),
+    (["--cloud-porosity", "0"], "--cloud-porosity"),
+    (["--cloud-porosity", "1"], "--cloud-porosity"),
+    (["--pressure-mpa", "0"], "--pressure-mpa"),
+    (["--strain", "laser"], "--strain"),
+    (["--stop-fraction", "1"], "--stop-fraction"),
 ])
 def test_bad_input_is_one_line_and_exit_2(args, field):
     run = rockcal("simulate", "ucs", *SMALL, *args)

@@ -1,7 +1,10 @@
 """Micro-parameters of the bonded-particle model, in the units rock engineers quote them.
 
 Names follow PFC2D's linear + linear parallel bond model (Potyondy & Cundall 2004): E_c and
-kn_ks for the linear contact; Ebar_c, knbar_ksbar, lambda, sigma_c, tau_c for the parallel bond.
+kn_ks for the linear contact; Ebar_c, knbar_ksbar, lambda, sigma_c, tau_c for the parallel bond,
+and PFC 5's bond options: per-bond normal spreads sigma_c_sd, tau_c_sd (pb_ten, pb_coh sd),
+friction angle phi_b (pb_fa; shear strength tau_c - sigma tan phi_b) and moment contribution
+factor mcf (pb_mcf); their defaults give Potyondy & Cundall's constant-strength bond.
 Defaults are the source study's identified granite values (E_c 21.65 GPa, kn/ks 1.9,
 sigma_c 36.55 MPa) and its fixed ones (tau_c 90 MPa, mu 0.5, lambda 1).
 """
@@ -27,8 +30,12 @@ class MicroParams(BaseModel):
     Ebar_c: float | None = Field(None, ge=0, le=1e4, description="bond effective modulus, GPa (default E_c)")
     kn_ks: float = Field(1.9, gt=0, le=1e3, description="contact normal-to-shear stiffness ratio")
     knbar_ksbar: float | None = Field(None, gt=0, le=1e3, description="bond stiffness ratio (default kn_ks)")
-    sigma_c: float = Field(36.55, gt=0, le=1e5, description="bond tensile strength, MPa")
-    tau_c: float = Field(90.0, gt=0, le=1e5, description="bond shear strength, MPa")
+    sigma_c: float = Field(36.55, gt=0, le=1e5, description="bond tensile strength (mean), MPa")
+    tau_c: float = Field(90.0, gt=0, le=1e5, description="bond cohesion (mean shear strength), MPa")
+    sigma_c_sd: float = Field(0.0, ge=0, le=1e5, description="bond tensile strength sd, MPa")
+    tau_c_sd: float = Field(0.0, ge=0, le=1e5, description="bond cohesion sd, MPa")
+    phi_b: float = Field(0.0, ge=0, lt=90, description="bond friction angle, degrees")
+    mcf: float = Field(1.0, ge=0, le=1, description="bond moment contribution factor")
     mu: float = Field(0.5, ge=0, le=10, description="contact friction coefficient")
     lambda_: float = Field(1.0, gt=0, le=1, alias="lambda", description="bond radius multiplier")
     density: float = Field(2622.0, gt=0, le=1e5, description="particle density, kg/m³")

@@ -73,6 +73,17 @@ CAMPAIGNS = [  # (case, campaign text, the key the error must name)
     ("specimen narrower than its particles", edit("width_mm = 8", "width_mm = 2"),
      "specimen.width_mm"),
     ("not TOML", CAMPAIGN + "[[[", "CONFIG"),
+    ("negative installation gap", edit("height_mm = 16", "height_mm = 16\ninstall_gap = -0.5"),
+     "specimen.install_gap"),
+    ("cloud porosity 1", edit("height_mm = 16", "height_mm = 16\ncloud_porosity = 1.0"),
+     "specimen.cloud_porosity"),
+    ("pressure 0", edit("height_mm = 16", "height_mm = 16\npressure_mpa = 0"),
+     "specimen.pressure_mpa"),
+    ("unknown strain reading", edit("height_mm = 16", "height_mm = 16\nstrain = 'laser'"),
+     "specimen.strain"),
+    ("negative strength sd", edit("mu = 0.5", "mu = 0.5, sigma_c_sd = -3"),
+     "search.fixed.sigma_c_sd"),
+    ("bond friction angle 90", edit("mu = 0.5", "mu = 0.5, phi_b = 90"), "search.fixed.phi_b"),
 ]
 OPTIONS = [  # (case, extra arguments, the option the error must name)
     ("negative workers", ["--workers", "-1"], "--workers"),

@@ -16,7 +16,9 @@ from typing import Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
+from rockcal.dem.genesis import Genesis
 from rockcal.errors import InputError, from_validation_error
+from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
 from rockcal.params import NAMES, make_params
 
 RESPONSES = ("E_GPa", "nu", "ucs_MPa")  # what a UCS run gives and the calibration can fit
@@ -58,8 +60,9 @@ class Targets(_Strict):
     bending: BendingTargets | None = None
 
 
-class SpecimenSettings(_Strict):
-    """Resolution and size of the virtual specimens (defaults: the source's)."""
+class SpecimenSettings(Genesis):
+    """Resolution, size and genesis of the virtual specimens and how the UCS test reads them
+    (defaults: the source's; the genesis keys are `rockcal.dem.genesis.Genesis`'s)."""
 
     rmin_mm: float = Field(0.25, gt=0)
     radius_ratio: float = Field(1.65, ge=1, le=10)
@@ -72,6 +75,11 @@ class SpecimenSettings(_Strict):
     notch_width_mm: float = Field(2.0, ge=0)  # 0: a cut (bonds across the notch line removed)
     span_mm: float = Field(160.0, gt=0)
     bending_seeds: int = Field(1, ge=1)  # validation K_IC: mean over packings seed, seed + 1, ...
+    strain: Literal["gauge", "platen"] = DEFAULT_STRAIN  # the UCS test's axial strain reading
+    stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1)  # UCS stop: stress < this x peak
+
+    def genesis(self) -> Genesis:
+        return Genesis(**{name: getattr(self, name) for name in Genesis.model_fields})
 
 
 def _check_names(values: dict) -> None:

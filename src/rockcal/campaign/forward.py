@@ -26,9 +26,11 @@ from rockcal.params import make_params
 
 POOL_RESTARTS = 3
 ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
-UCS_GEOMETRY = ("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed")
+GENESIS = ("install_gap", "cloud_porosity", "pressure_mpa")
+UCS_GEOMETRY = ("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
+                "stop_fraction")
 BEAM_GEOMETRY = ("beam_length_mm", "beam_height_mm", "notch_mm", "notch_width_mm", "span_mm",
-                 "rmin_mm", "radius_ratio", "seed")
+                 "rmin_mm", "radius_ratio", "seed", *GENESIS)
 
 
 def run_spec(kind: str, specimen_settings, params: dict) -> RunSpec:
@@ -43,14 +45,23 @@ def run_spec(kind: str, specimen_settings, params: dict) -> RunSpec:
 def specimen_of(kind: str, specimen: tuple):
     """The specimen (and the beam, for bending) of a run's specimen settings, made once per
     process (from the disk cache when it holds it)."""
+    from rockcal.dem.genesis import Genesis
     from rockcal.dem.specimen import random_packing
     from rockcal.labtests.bending import Beam, notched_beam
 
     s = dict(specimen)
+    genesis = Genesis(**{name: s[name] for name in GENESIS})
     if kind == "ucs":
-        return random_packing(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"]), None
+        return random_packing(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"],
+                              s["seed"], genesis), None
     beam = Beam(s["beam_length_mm"], s["beam_height_mm"], s["notch_mm"], s["notch_width_mm"], s["span_mm"])
-    return notched_beam(beam, s["rmin_mm"], s["radius_ratio"], s["seed"]), beam
+    return notched_beam(beam, s["rmin_mm"], s["radius_ratio"], s["seed"], genesis), beam
+
+
+def specimen_description(kind: str, specimen_settings) -> dict:
+    """Size, porosity, coordination and bonds per grain of a campaign's specimen of `kind`."""
+    specimen, _ = specimen_of(kind, run_spec(kind, specimen_settings, {}).specimen)
+    return specimen.description()
 
 
 def prepare(spec: RunSpec) -> None:
@@ -82,7 +93,9 @@ def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
         specimen, beam = specimen_of(spec.kind, spec.specimen)
         params = make_params(dict(spec.params))
         if spec.kind == "ucs":
-            r = simulate_ucs(params, specimen, progress=watch)
+            settings = dict(spec.specimen)
+            r = simulate_ucs(params, specimen, strain=settings["strain"],
+                             stop_fraction=settings["stop_fraction"], progress=watch)
             responses = {"E_GPa": r.E_GPa, "nu": r.nu, "ucs_MPa": r.ucs_MPa,
                          "peak_axial_strain": r.peak_axial_strain}
         else:

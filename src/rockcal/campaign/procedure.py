@@ -14,7 +14,7 @@ from typing import Callable
 import numpy as np
 
 from rockcal.campaign.config import Campaign, read_curve
-from rockcal.campaign.forward import Executor, run_spec
+from rockcal.campaign.forward import Executor, run_spec, specimen_description
 from rockcal.inverse import (RBFSurrogate, Objective, ant_colony, curve_fit, design, latin_hypercube,
                              range_analysis)
 from rockcal.labtests.kic import pmax_kic_disagreement
@@ -59,7 +59,8 @@ class Calibration:
         self.fixed = campaign.fixed_params()
         self.dem_runs: list[str] = []  # keys of the distinct UCS runs the procedure used
         self.record: dict = {"rock": campaign.rock.name, "targets": self.targets,
-                             "specimen": campaign.specimen.model_dump()}
+                             "specimen": campaign.specimen.model_dump(),
+                             "ucs_specimen": specimen_description("ucs", campaign.specimen)}
         if self.curve is not None:
             self.record["measured_curve"] = self.curve.tolist()
 

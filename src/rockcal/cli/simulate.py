@@ -15,7 +15,9 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
+from rockcal.dem.genesis import Genesis, make_genesis
 from rockcal.errors import InputError
+from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
 from rockcal.params import make_params, parse_assignments
 
 app = typer.Typer(no_args_is_help=True, help="Run one virtual lab test.")
@@ -26,8 +28,30 @@ class Packing(str, Enum):
     hexagonal = "hexagonal"
 
 
+class Strain(str, Enum):
+    gauge = "gauge"
+    platen = "platen"
+
+
 SET_HELP = ("Micro-parameter NAME=VALUE, repeatable: E_c, Ebar_c (GPa), kn_ks, knbar_ksbar, "
-            "sigma_c, tau_c (MPa), mu, lambda, density (kg/m3), damping.")
+            "sigma_c, tau_c, sigma_c_sd, tau_c_sd (MPa), phi_b (degrees), mcf, mu, lambda, "
+            "density (kg/m3), damping.")
+GENESIS_DEFAULTS = Genesis()
+INSTALL_GAP = typer.Option(GENESIS_DEFAULTS.install_gap,
+                           help="Bond installation gap / R_min (PFC pbm_igap / R_min).")
+CLOUD_POROSITY = typer.Option(GENESIS_DEFAULTS.cloud_porosity,
+                              help="Cloud porosity: sets the grain count (PFC mp_nc).")
+PRESSURE_MPA = typer.Option(GENESIS_DEFAULTS.pressure_mpa,
+                            help="Material pressure of the packing, MPa (PFC pk_Pm).")
+
+
+def genesis_of(install_gap: float, cloud_porosity: float, pressure_mpa: float) -> Genesis:
+    """The genesis settings of the specimen flags; a bad one is an error naming its flag."""
+    values = dict(install_gap=install_gap, cloud_porosity=cloud_porosity, pressure_mpa=pressure_mpa)
+    try:
+        return make_genesis(values)
+    except InputError as exc:
+        raise InputError("--" + exc.field.replace("_", "-"), exc.problem) from None
 
 
 def finite(name: str, value: float, low: float = 0.0) -> float:
@@ -46,6 +70,13 @@ def ucs(
     width_mm: float = typer.Option(50.0, help="Specimen width, mm."),
     height_mm: float = typer.Option(100.0, help="Specimen height, mm."),
     seed: int = typer.Option(1, help="Packing seed."),
+    install_gap: float = INSTALL_GAP,
+    cloud_porosity: float = CLOUD_POROSITY,
+    pressure_mpa: float = PRESSURE_MPA,
+    strain: Strain = typer.Option(Strain(DEFAULT_STRAIN), help="Axial strain read from the specimen's "
+                                  "own end particles (gauge) or from the platens (platen, PFC's)."),
+    stop_fraction: float = typer.Option(POST_PEAK_FRACTION, help="Stop once past the peak the "
+                                        "stress is below this fraction of it (PFC ct_loadFac)."),
     max_axial_strain: float = typer.Option(0.02, help="Stop at this axial strain at the latest."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Optional[Path] = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here."),
@@ -59,24 +90,30 @@ def ucs(
     finite("--width-mm", width_mm)
     finite("--height-mm", height_mm)
     finite("--max-axial-strain", max_axial_strain)
+    if not 0 < stop_fraction < 1:
+        raise InputError("--stop-fraction", f"must be in (0, 1), got {stop_fraction}")
+    genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
     with _status(as_json):
         if packing is Packing.hexagonal:
             specimen = hexagonal(width_mm, height_mm, rmin_mm)
         else:
-            specimen = random_packing(width_mm, height_mm, rmin_mm, radius_ratio, seed)
+            specimen = random_packing(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis)
     result = _run_with_progress(
         "UCS test", max_axial_strain, as_json,
-        lambda strain, stress: f"strain {100 * strain:.3f} %  stress {stress:.1f} MPa",
+        lambda axial, stress: f"strain {100 * axial:.3f} %  stress {stress:.1f} MPa",
         lambda progress: simulate_ucs(params, specimen, max_axial_strain=max_axial_strain,
+                                      strain=strain.value, stop_fraction=stop_fraction,
                                       progress=progress))
-    summary = result.summary() | {"params": params.key(), "specimen": specimen.label,
-                                  "porosity": specimen.porosity}
+    summary = result.summary() | specimen.description() | {"params": params.key(),
+                                                           "specimen": specimen.label}
     if out is not None:
         _write_outputs(out, result, summary)
     _report(f"UCS test — {specimen.label}", (
         ("E", f"{result.E_GPa:.2f} GPa"), ("Poisson's ratio", f"{result.nu:.3f}"),
         ("UCS", f"{result.ucs_MPa:.1f} MPa"),
-        ("axial strain at peak", f"{100 * result.peak_axial_strain:.3f} %"),
+        ("axial strain at peak", f"{100 * result.peak_axial_strain:.3f} % ({result.strain})"),
+        ("porosity / contacts / bonds per grain", f"{specimen.porosity:.3f} / "
+         f"{summary['coordination']:.2f} / {summary['bonds_per_particle']:.2f}"),
         *_common_rows(summary)), summary, as_json)
 
 
@@ -163,6 +200,9 @@ def bending(
     span_mm: float = typer.Option(160.0, help="Distance S between the supports, mm."),
     seed: int = typer.Option(1, help="Packing seed."),
     seeds: int = typer.Option(1, help=SEEDS_HELP),
+    install_gap: float = INSTALL_GAP,
+    cloud_porosity: float = CLOUD_POROSITY,
+    pressure_mpa: float = PRESSURE_MPA,
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Optional[Path] = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here."),
 ) -> None:
@@ -173,14 +213,15 @@ def bending(
     _check_packing_options(rmin_mm, radius_ratio)
     beam = Beam(length_mm, height_mm, notch_mm, notch_width_mm, span_mm)
     beam.check()
+    genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
 
     def one(packing_seed: int, label: str):
         with _status(as_json):
-            specimen = notched_beam(beam, rmin_mm, radius_ratio, packing_seed)
+            specimen = notched_beam(beam, rmin_mm, radius_ratio, packing_seed, genesis)
         result = _run_with_progress(
             label, DEFAULT_MAX_DISPLACEMENT_MM, as_json, _load_description("pin"),
             lambda progress: simulate_bending(params, specimen, beam, progress=progress))
-        return result, specimen.label, f"K_IC {result.K_IC_MPa_sqrt_m:.3f} MPa·m^0.5 — broken bonds"
+        return result, specimen, f"K_IC {result.K_IC_MPa_sqrt_m:.3f} MPa·m^0.5 — broken bonds"
 
     summary = _over_seeds("bending", one, seed, seeds, params, out)
     _report(f"Three-point bending — {summary['specimen']}", (
@@ -199,6 +240,9 @@ def brazilian(
     diameter_mm: float = typer.Option(50.0, help="Disk diameter D, mm."),
     seed: int = typer.Option(1, help="Packing seed."),
     seeds: int = typer.Option(1, help=SEEDS_HELP),
+    install_gap: float = INSTALL_GAP,
+    cloud_porosity: float = CLOUD_POROSITY,
+    pressure_mpa: float = PRESSURE_MPA,
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     out: Optional[Path] = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here."),
 ) -> None:
@@ -208,14 +252,15 @@ def brazilian(
     params = make_params(parse_assignments(set_))
     _check_packing_options(rmin_mm, radius_ratio)
     finite("--diameter-mm", diameter_mm)
+    genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
 
     def one(packing_seed: int, label: str):
         with _status(as_json):
-            specimen = brazilian_disk(diameter_mm, rmin_mm, radius_ratio, packing_seed)
+            specimen = brazilian_disk(diameter_mm, rmin_mm, radius_ratio, packing_seed, genesis)
         result = _run_with_progress(
             label, DEFAULT_MAX_STRAIN * diameter_mm, as_json, _load_description("closure"),
             lambda progress: simulate_brazilian(params, specimen, progress=progress))
-        return result, specimen.label, f"sigma_t {result.sigma_t_MPa:.2f} MPa — broken bonds"
+        return result, specimen, f"sigma_t {result.sigma_t_MPa:.2f} MPa — broken bonds"
 
     summary = _over_seeds("brazilian", one, seed, seeds, params, out)
     _report(f"Brazilian test — {summary['specimen']}", (
@@ -226,7 +271,7 @@ def brazilian(
 
 
 def _over_seeds(name: str, one, seed: int, count: int, params, out: Path | None):
-    """Run `one(seed, label)` -> (result, specimen label, crack title) on `count` packings and
+    """Run `one(seed, label)` -> (result, specimen, crack title) on `count` packings and
     write each one's outputs; the summary of one packing, or the mean and spread over several
     (with each packing's summary under "per_seed")."""
     from rockcal.labtests.seeds import mean_over_seeds, seed_list
@@ -236,9 +281,9 @@ def _over_seeds(name: str, one, seed: int, count: int, params, out: Path | None)
     responses, per_seed = [], []
     for k, packing_seed in enumerate(seed_list(seed, count)):
         label = f"{name} test" + (f", packing {k + 1}/{count}" if count > 1 else "")
-        result, specimen_label, crack_title = one(packing_seed, label)
-        responses.append(result.summary())
-        per_seed.append(responses[-1] | {"params": params.key(), "specimen": specimen_label,
+        result, specimen, crack_title = one(packing_seed, label)
+        responses.append(result.summary() | specimen.description())
+        per_seed.append(responses[-1] | {"params": params.key(), "specimen": specimen.label,
                                          "seed": packing_seed})
         if out is not None:
             _write_load_curve(out, name if count == 1 else f"{name}_seed{packing_seed}", result,

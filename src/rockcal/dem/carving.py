@@ -7,6 +7,8 @@ block); particles left with no bond at all would float, so they are removed as w
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from rockcal.dem.specimen import Specimen
@@ -22,10 +24,15 @@ def keep_particles(spec: Specimen, keep: np.ndarray, label: str,
         keep = keep & bonded
     index = np.full(spec.n_particles, -1)
     index[keep] = np.arange(np.count_nonzero(keep))
-    bonds = index[spec.bonds[keep[spec.bonds[:, 0]] & keep[spec.bonds[:, 1]]]]
-    return Specimen(spec.pos[keep].copy(), spec.radius[keep].copy(), bonds,
-                    width_m if width_m is not None else spec.width_m,
-                    height_m if height_m is not None else spec.height_m, label)
+    kept = keep[spec.bonds[:, 0]] & keep[spec.bonds[:, 1]]
+    return replace(spec, pos=spec.pos[keep].copy(), radius=spec.radius[keep].copy(),
+                   bonds=index[spec.bonds[kept]], bond_draws=_kept_draws(spec, kept),
+                   width_m=width_m if width_m is not None else spec.width_m,
+                   height_m=height_m if height_m is not None else spec.height_m, label=label)
+
+
+def _kept_draws(spec: Specimen, kept: np.ndarray):
+    return None if spec.bond_draws is None else spec.bond_draws[kept]
 
 
 def outside_rectangle(pos: np.ndarray, radius: np.ndarray, x0: float, x1: float, y0: float,
@@ -50,4 +57,4 @@ def cut_bonds(spec: Specimen, x: float, y_top: float, label: str) -> Specimen:
     along = np.divide(dx_i, dx_i - dx_j, out=np.zeros(len(i)), where=crosses)
     y_cross = spec.pos[i, 1] + along * (spec.pos[j, 1] - spec.pos[i, 1])
     keep = ~(crosses & (y_cross < y_top))
-    return Specimen(spec.pos, spec.radius, spec.bonds[keep], spec.width_m, spec.height_m, label)
+    return replace(spec, bonds=spec.bonds[keep], bond_draws=_kept_draws(spec, keep), label=label)

@@ -7,7 +7,12 @@ Sign conventions, per pair (i, j) with unit normal n from i to j and tangent t =
 - parallel bond: radius Rb = lambda * min(R_i, R_j), area A = 2 Rb t, inertia I = 2/3 Rb^3 t,
   normal stiffness per area kbn = Ebar_c / L, kbs = kbn / (kbn/kbs); normal force
   (tension positive), shear force and moment updated incrementally from the relative motion;
-  it breaks in tension when Fn/A + |M| Rb / I > sigma_c, in shear when |Fs| / A > tau_c.
+  it breaks in tension when Fn/A + mcf |M| Rb / I > sigma_c, else in shear when
+  |Fs| / A > c - (Fn/A) tan(phi) (PFC 5+: tensile strength sigma_c and cohesion c per bond,
+  friction angle phi, moment contribution factor mcf; phi = 0, mcf = 1 is Potyondy & Cundall
+  2004's constant shear strength c = tau_c);
+- reference gap: a bond installed at an overlapping pair takes that overlap as the contact's
+  reference, so the linear contact carries only the overlap added since installation.
 Each pair writes the force it exerts on i (j gets the opposite) and the moments on i and j.
 """
 
@@ -19,8 +24,9 @@ INTACT, BROKEN_TENSION, BROKEN_SHEAR = 0, 1, 2
 
 @njit(parallel=True, cache=True, error_model="numpy")
 def pair_forces(pos, vel, spin, radius, pi, pj, contact_shear, bond_state, bond_fn, bond_fs,
-                bond_m, bond_break_xy, n_bonds, E_c, kn_ks, mu, Ebar_c, knbar_ksbar, lam,
-                sigma_c, tau_c, thickness, dt, force_on_i, moment_on_i, moment_on_j):
+                bond_m, bond_break_xy, bond_ref_overlap, bond_ten, bond_coh, n_bonds, E_c, kn_ks,
+                mu, Ebar_c, knbar_ksbar, lam, tan_phi, mcf, thickness, dt, force_on_i,
+                moment_on_i, moment_on_j):
     """Forces of every listed pair for one time step; bonds that exceed a strength break."""
     ks_per_kn = 1.0 / kn_ks
     ksbar_per_knbar = 1.0 / knbar_ksbar
@@ -47,6 +53,8 @@ def pair_forces(pos, vel, spin, radius, pi, pj, contact_shear, bond_state, bond_
         fn = 0.0  # along n on i: negative pushes i away from j
         fs = 0.0  # along t on i
         overlap = length - dist
+        if p < n_bonds:
+            overlap -= bond_ref_overlap[p]
         if overlap > 0.0 and E_c > 0.0:
             kn = 2.0 * rmin * thickness * E_c * inv_length
             shear = contact_shear[p] + kn * ks_per_kn * vs * dt
@@ -72,12 +80,17 @@ def pair_forces(pos, vel, spin, radius, pi, pj, contact_shear, bond_state, bond_
             bfs = bond_fs[p] + kbn * ksbar_per_knbar * area * vs * dt
             bm = bond_m[p] + kbn * inertia * (spin[j] - spin[i]) * dt
             inv_area = 1.0 / area
-            sigma = (bfn + 3.0 * abs(bm) / rb) * inv_area  # |M| Rb / I = 3 |M| / (Rb A)
+            sigma = (bfn + mcf * 3.0 * abs(bm) / rb) * inv_area  # |M| Rb / I = 3 |M| / (Rb A)
             tau = abs(bfs) * inv_area
-            if sigma > sigma_c or tau > tau_c:
-                bond_state[p] = BROKEN_TENSION if sigma * tau_c >= tau * sigma_c else BROKEN_SHEAR
-                bond_break_xy[p, 0] = pos[i, 0] + nx * (ri - 0.5 * overlap)
-                bond_break_xy[p, 1] = pos[i, 1] + ny * (ri - 0.5 * overlap)
+            mode = INTACT
+            if sigma > bond_ten[p]:
+                mode = BROKEN_TENSION
+            elif tau > bond_coh[p] - bfn * inv_area * tan_phi:
+                mode = BROKEN_SHEAR
+            if mode != INTACT:
+                bond_state[p] = mode
+                bond_break_xy[p, 0] = pos[i, 0] + nx * (ri - 0.5 * (length - dist))
+                bond_break_xy[p, 1] = pos[i, 1] + ny * (ri - 0.5 * (length - dist))
                 bond_fn[p] = 0.0
                 bond_fs[p] = 0.0
                 bond_m[p] = 0.0

@@ -1,8 +1,9 @@
-"""Radius expansion in a rigid box (Potyondy & Cundall 2004, steps 1-2 of their genesis).
+"""Packing a grain cloud by grain scaling in a rigid box (steps 1-2 of PFC's genesis).
 
-Disks are dropped at random with half their radii, grown in stages to the jamming density
-with frictionless contacts, then their radii are scaled until the box walls feel a small
-isotropic stress. What comes out is a dense, nearly stress-free packing.
+The cloud's grains (`genesis.cloud_radii`) are dropped at random with half the size they have
+at jamming, grown in stages to it with frictionless contacts, then all their radii are scaled
+by one factor until the mean wall stress is the material pressure. What comes out is a
+dense packing under a small isotropic stress, whose grains are the cloud's scaled by one factor.
 """
 
 from __future__ import annotations
@@ -21,17 +22,24 @@ STEPS_PER_STAGE = 1000
 STEPS_PER_SERVO = 8000  # rounds long enough for a 220 mm box to jam evenly (2000 left loose zones)
 SAMPLES_PER_SERVO = 8
 MAX_SERVO_ROUNDS = 60
+PACKING_MODULUS_GPA = 1.0  # frictionless contacts used only to make the packing
+JAMMING_FRACTION = 0.845  # solid fraction of frictionless 2D polydisperse disks at jamming
+PRESSURE_TOLERANCE = 0.05  # relative; the servo stops once the wall stress is this close to P_m
+FLOATER_ROUNDS = 200  # at most this many rounds of enlarging floaters, servo step and cycling
+STEPS_PER_FLOATER_ROUND = 2000
 
 
-def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed: int):
-    """Centres and radii (m) of a jammed packing in [0, width] x [0, height]."""
-    from rockcal.dem.specimen import ISOTROPIC_STRESS_MPA, JAMMING_FRACTION, PACKING_MODULUS_GPA
+def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed: int,
+             cloud_porosity: float, pressure_mpa: float):
+    """Centres and radii (m) of the cloud packed in [0, width] x [0, height] to the pressure,
+    and the mean wall stress reached (MPa)."""
+    from rockcal.dem.genesis import cloud_radii, enlarge_floaters
 
     rng = np.random.default_rng(seed)
-    mean_r2 = rmin**2 * (1 + radius_ratio + radius_ratio**2) / 3
-    n = int(round(JAMMING_FRACTION * width * height / (np.pi * mean_r2)))
-    radius = rng.uniform(rmin, radius_ratio * rmin, n)
-    rmax = radius_ratio * rmin
+    radius = cloud_radii(rng, width * height, rmin, radius_ratio, cloud_porosity)
+    n = len(radius)
+    radius *= min(1.0, np.sqrt(JAMMING_FRACTION / (np.pi * (radius**2).sum() / (width * height))))
+    rmax = radius.max()
     pos = np.column_stack([rng.uniform(rmax, width - rmax, n), rng.uniform(rmax, height - rmax, n)])
     params = MicroParams(E_c=PACKING_MODULUS_GPA, mu=0.0, damping=0.7)
     state = new_state(pos, radius, np.empty((0, 2)), params, walls=(0.0, width, 0.0, height),
@@ -42,18 +50,51 @@ def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed
         rebuild_neighbours(state)
         advance(state, STEPS_PER_STAGE)
 
-    target = ISOTROPIC_STRESS_MPA * MPa
+    target = pressure_mpa * MPa
+    stress = scale_to_pressure(state, radius, target, STEPS_PER_SERVO)
+    overlap = target / (PACKING_MODULUS_GPA * GPa)  # ~ a contact's at P_m, / R
+    for round_ in range(FLOATER_ROUNDS):
+        grown = enlarge_floaters(state.pos, state.radius, width, height, overlap)
+        floaters = np.count_nonzero(grown != state.radius)
+        log.debug("floater round %d: %d floaters, wall stress %.3g MPa", round_, floaters, stress / MPa)
+        if not floaters and abs(stress - target) < PRESSURE_TOLERANCE * target:
+            break
+        state.radius[:] = grown * servo_factor(stress, target)
+        rebuild_neighbours(state)
+        stress = settled_stress(state, STEPS_PER_FLOATER_ROUND)
+    return state.pos.copy(), state.radius.copy(), stress / MPa
+
+
+def wall_stress(state, width: float, height: float) -> float:
+    """Mean normal stress on the four walls of the vessel, Pa."""
+    f = state.total_wall_force()
+    return 0.5 * ((f[LEFT] + f[RIGHT]) / height + (f[BOTTOM] + f[TOP]) / width) / THICKNESS_M
+
+
+def servo_factor(stress: float, target: float) -> float:
+    """The factor on all radii that moves the wall stress towards `target` (Pa)."""
+    return 1.0 + 0.5 * (target - stress) / (PACKING_MODULUS_GPA * GPa)
+
+
+def settled_stress(state, steps: int) -> float:
+    """Cycle `steps` steps; the mean wall stress over their second half, Pa."""
+    width, height = state.walls[RIGHT] - state.walls[LEFT], state.walls[TOP] - state.walls[BOTTOM]
+    samples = []
+    for _ in range(SAMPLES_PER_SERVO):
+        advance(state, steps // SAMPLES_PER_SERVO)
+        samples.append(wall_stress(state, width, height))
+    return float(np.mean(samples[SAMPLES_PER_SERVO // 2:]))
+
+
+def scale_to_pressure(state, radius: np.ndarray, target: float, steps: int) -> float:
+    """Scale all radii by one factor until the mean wall stress is within PRESSURE_TOLERANCE of
+    `target` (Pa), cycling `steps` steps between scalings; returns the stress reached."""
     scale = 1.0
     for round_ in range(MAX_SERVO_ROUNDS):
-        samples = []
-        for _ in range(SAMPLES_PER_SERVO):
-            advance(state, STEPS_PER_SERVO // SAMPLES_PER_SERVO)
-            f = state.total_wall_force()
-            samples.append(0.5 * ((f[LEFT] + f[RIGHT]) / height + (f[BOTTOM] + f[TOP]) / width))
-        stress = float(np.mean(samples[SAMPLES_PER_SERVO // 2:])) / THICKNESS_M
+        stress = settled_stress(state, steps)
         log.debug("servo round %d: wall stress %.3g MPa", round_, stress / MPa)
-        if abs(stress - target) < 0.25 * target:
+        if abs(stress - target) < PRESSURE_TOLERANCE * target:
             break
-        scale *= 1.0 + 0.5 * (target - stress) / (PACKING_MODULUS_GPA * GPa)
+        scale *= servo_factor(stress, target)
         state.radius[:] = radius * scale
-    return state.pos.copy(), state.radius.copy()
+    return stress

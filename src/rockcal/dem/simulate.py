@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import numba
 from numba import njit, prange
+from scipy import special
 
 from rockcal.dem import laws, neighbours
 from rockcal.params import GPa, MPa, MicroParams
@@ -42,13 +43,16 @@ class State:
     bond_fs: np.ndarray
     bond_m: np.ndarray
     bond_break_xy: np.ndarray
+    bond_ref_overlap: np.ndarray  # overlap at installation (PFC's reference gap, negated)
+    bond_ten: np.ndarray  # tensile strength of each bond, Pa
+    bond_coh: np.ndarray  # cohesion of each bond, Pa
     walls: np.ndarray  # x_left, x_right, y_bottom, y_top
     wall_active: np.ndarray
     wall_vel: np.ndarray
     wall_force: np.ndarray  # (n, 4): force of each particle on each wall
     force: np.ndarray
     moment: np.ndarray
-    laws: tuple  # E_c, kn_ks, mu, Ebar_c, knbar_ksbar, lambda, sigma_c, tau_c (SI)
+    laws: tuple  # E_c, kn_ks, mu, Ebar_c, knbar_ksbar, lambda (SI), tan(phi_b), mcf
     damping: float
     k_wall: float
     skin: float
@@ -71,12 +75,36 @@ class State:
 
 def law_constants(params: MicroParams) -> tuple:
     return (params.E_c * GPa, params.kn_ks, params.mu, params.Ebar_c * GPa, params.knbar_ksbar,
-            params.lambda_, params.sigma_c * MPa, params.tau_c * MPa)
+            params.lambda_, float(np.tan(np.radians(params.phi_b))), params.mcf)
+
+
+def bond_strengths(params: MicroParams, draws: np.ndarray | None, n_bonds: int):
+    """Tensile strength and cohesion (Pa) of each bond, normally distributed (mean, sd) and
+    truncated at zero as PFC's FISHTank does (it redraws negative values): the bond's uniform
+    draws u (columns of `draws`; None: the means) map through the truncated normal's inverse
+    distribution function, so a bond keeps its rank in strength whatever the parameters."""
+    u = None if draws is None else np.asarray(draws, float).reshape(n_bonds, 2)
+    strengths = []
+    for column, (mean, sd) in enumerate(((params.sigma_c, params.sigma_c_sd),
+                                         (params.tau_c, params.tau_c_sd))):
+        if sd == 0 or u is None:
+            strengths.append(np.full(n_bonds, mean * MPa))
+            continue
+        below = special.ndtr(-mean / sd)  # probability mass cut off below zero
+        z = special.ndtri(below + u[:, column] * (1.0 - below))
+        strengths.append(np.maximum(0.0, mean + sd * z) * MPa)
+    return tuple(strengths)
 
 
 def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 0.0),
-              wall_active=(False,) * 4, driven=None, skin=None, laws_si=None) -> State:
-    """A state at rest with the given bonds (pairs i < j) installed at zero force."""
+              wall_active=(False,) * 4, driven=None, skin=None, laws_si=None,
+              bond_draws=None) -> State:
+    """A state at rest with the given bonds (pairs i < j) installed at zero force.
+
+    bond_draws: two uniform draws per bond (in the order of `bonds`) that set its strengths
+    (`bond_strengths`). A bond installed at an overlapping pair takes the overlap
+    as reference, so installing it locks in no force.
+    """
     n = pos.shape[0]
     radius = np.array(radius, float)
     mass = params.density * np.pi * radius**2 * THICKNESS_M
@@ -88,15 +116,21 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
     bonds = np.asarray(bonds, np.int64).reshape(-1, 2)
     order = np.argsort(bonds[:, 0] * n + bonds[:, 1])
     bonds = bonds[order]
+    ten, coh = bond_strengths(params, None if bond_draws is None else
+                              np.asarray(bond_draws, float).reshape(-1, 2)[order], len(bonds))
+    pos = np.ascontiguousarray(pos, float)
+    centre_gap = np.hypot(*(pos[bonds[:, 1]] - pos[bonds[:, 0]]).T)
+    ref_overlap = np.maximum(0.0, radius[bonds[:, 0]] + radius[bonds[:, 1]] - centre_gap)
     laws_si = laws_si or law_constants(params)
     E_c, Ebar_c = laws_si[0], laws_si[3]
     state = State(
-        pos=np.ascontiguousarray(pos, float).copy(), vel=np.zeros((n, 2)), spin=np.zeros(n),
+        pos=pos.copy(), vel=np.zeros((n, 2)), spin=np.zeros(n),
         radius=radius, inv_mass=inv_mass, inv_inertia=inv_inertia,
         pi=bonds[:, 0].copy(), pj=bonds[:, 1].copy(), n_bonds=len(bonds),
         contact_shear=np.zeros(len(bonds)), bond_state=np.zeros(len(bonds), np.int64),
         bond_fn=np.zeros(len(bonds)), bond_fs=np.zeros(len(bonds)), bond_m=np.zeros(len(bonds)),
-        bond_break_xy=np.full((len(bonds), 2), np.nan),
+        bond_break_xy=np.full((len(bonds), 2), np.nan), bond_ref_overlap=ref_overlap,
+        bond_ten=ten, bond_coh=coh,
         walls=np.array(walls, float), wall_active=np.array(wall_active, np.bool_),
         wall_vel=np.zeros(4), wall_force=np.zeros((n, 4)), force=np.zeros((n, 2)),
         moment=np.zeros(n), laws=laws_si, damping=params.damping,
@@ -180,16 +214,17 @@ def _move(pos, vel, spin, force, moment, inv_mass, inv_inertia, damping, dt, pos
 
 @njit(cache=True)
 def _advance(n_steps, pos, vel, spin, radius, inv_mass, inv_inertia, pi, pj, n_bonds,
-             contact_shear, bond_state, bond_fn, bond_fs, bond_m, bond_break_xy, start, pair,
-             side, force_on_i, moment_on_i, moment_on_j, force, moment, walls, wall_active,
-             wall_vel, wall_force, k_wall, pos_at_build, half_skin_sq, E_c, kn_ks, mu, Ebar_c,
-             knbar_ksbar, lam, sigma_c, tau_c, damping, dt):
+             contact_shear, bond_state, bond_fn, bond_fs, bond_m, bond_break_xy,
+             bond_ref_overlap, bond_ten, bond_coh, start, pair, side, force_on_i, moment_on_i,
+             moment_on_j, force, moment, walls, wall_active, wall_vel, wall_force, k_wall,
+             pos_at_build, half_skin_sq, E_c, kn_ks, mu, Ebar_c, knbar_ksbar, lam, tan_phi, mcf,
+             damping, dt):
     """Run up to n_steps; stop early (returning the steps done) when the list must be rebuilt."""
     for s in range(n_steps):
         laws.pair_forces(pos, vel, spin, radius, pi, pj, contact_shear, bond_state, bond_fn,
-                         bond_fs, bond_m, bond_break_xy, n_bonds, E_c, kn_ks, mu, Ebar_c,
-                         knbar_ksbar, lam, sigma_c, tau_c, 1.0, dt, force_on_i, moment_on_i,
-                         moment_on_j)
+                         bond_fs, bond_m, bond_break_xy, bond_ref_overlap, bond_ten, bond_coh,
+                         n_bonds, E_c, kn_ks, mu, Ebar_c, knbar_ksbar, lam, tan_phi, mcf, 1.0, dt,
+                         force_on_i, moment_on_i, moment_on_j)
         laws.gather_forces(start, pair, side, force_on_i, moment_on_i, moment_on_j, force, moment)
         laws.wall_forces(pos, radius, walls, wall_active, k_wall, force, wall_force)
         moved = _move(pos, vel, spin, force, moment, inv_mass, inv_inertia, damping, dt,
@@ -224,7 +259,7 @@ def _advance_all(state: State, n_steps: int) -> None:
             n_steps - done, state.pos, state.vel, state.spin, state.radius, state.inv_mass,
             state.inv_inertia, state.pi, state.pj, state.n_bonds, state.contact_shear,
             state.bond_state, state.bond_fn, state.bond_fs, state.bond_m, state.bond_break_xy,
-            start, pair, side, f_i, m_i, m_j, state.force, state.moment, state.walls,
+            state.bond_ref_overlap, state.bond_ten, state.bond_coh, start, pair, side, f_i, m_i, m_j, state.force, state.moment, state.walls,
             state.wall_active, state.wall_vel, state.wall_force, state.k_wall,
             state.pos_at_build, (0.5 * state.skin) ** 2, *state.laws, state.damping, state.dt)
         done += done_now

@@ -1,8 +1,10 @@
-"""Making specimens: a dense random packing by radius expansion, or a regular hexagonal one.
+"""Making specimens: a random packing by PFC's material genesis, or a regular hexagonal one.
 
-A specimen is geometry only (centres, radii, bonded pairs); micro-parameters come later, so
-one specimen serves every forward run of a calibration. Random packings are cached on disk
-by (geometry, resolution, seed, generator version).
+A specimen is geometry (centres, radii, bonded pairs) and one uniform draw per bond and
+strength that fixes, with the micro-parameters that come later, each bond's strengths; so one
+specimen serves every forward run of a calibration. Random packings are cached on disk by
+(geometry, resolution, cloud porosity, pressure, seed, generator version); the bonds of an
+installation gap are found on loading.
 """
 
 from __future__ import annotations
@@ -15,18 +17,17 @@ from pathlib import Path
 
 import numpy as np
 
+from rockcal.dem.genesis import Genesis, install_bonds
 from rockcal.errors import InputError
 
-GENERATOR_VERSION = 4
-PACKING_MODULUS_GPA = 1.0  # frictionless contacts used only to make the packing
-ISOTROPIC_STRESS_MPA = 0.1  # installed before bonding (Potyondy & Cundall 2004): overlaps ~1e-4 R
-BOND_GAP = 0.02  # pairs nearer than this fraction of R_min count as touching, and are bonded
-JAMMING_FRACTION = 0.845  # solid fraction of frictionless 2D polydisperse disks at jamming
+GENERATOR_VERSION = 5
+STRENGTH_STREAM = 1  # the bond strength draws' random stream, apart from the packing's
 
 
 @dataclass(frozen=True)
 class Specimen:
-    """Disk centres (m), radii (m) and bonded pairs (i < j) in a width x height box (m)."""
+    """Disk centres (m), radii (m) and bonded pairs (i < j) in a width x height box (m);
+    bond_draws holds each bond's uniform draws in [0, 1) for its tensile strength and cohesion."""
 
     pos: np.ndarray
     radius: np.ndarray
@@ -34,6 +35,8 @@ class Specimen:
     width_m: float
     height_m: float
     label: str
+    bond_draws: np.ndarray | None = None  # None: every bond at the mean strengths
+    pressure_mpa: float = float("nan")  # mean wall stress at the end of packing
 
     @property
     def n_particles(self) -> int:
@@ -44,7 +47,18 @@ class Specimen:
         return 1.0 - float(np.pi * (self.radius**2).sum()) / (self.width_m * self.height_m)
 
     def coordination(self) -> float:
+        """Grain-grain contacts per grain."""
+        from rockcal.dem.genesis import grain_contacts
+
+        return float(grain_contacts(self.pos, self.radius).mean())
+
+    def bonds_per_particle(self) -> float:
         return 2.0 * len(self.bonds) / self.n_particles
+
+    def description(self) -> dict:
+        """What a PFC user reports of a specimen."""
+        return {"n_particles": self.n_particles, "porosity": self.porosity,
+                "coordination": self.coordination(), "bonds_per_particle": self.bonds_per_particle()}
 
 
 def check_geometry(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float) -> None:
@@ -76,55 +90,41 @@ def hexagonal(width_mm: float, height_mm: float, radius_mm: float) -> Specimen:
     pos = np.vstack(centres)
     radius = np.full(len(pos), r)
     # the lattice's own width: each disk spans 2r of its row, rows alternate n and n - 1 disks
-    return Specimen(pos, radius, touching_pairs(pos, radius, 1e-9 * r), 2 * r * len(pos) / rows,
+    return Specimen(pos, radius, install_bonds(pos, radius, 0.0), 2 * r * len(pos) / rows,
                     rows * np.sqrt(3) * r,
                     f"hexagonal {width_mm:g}x{height_mm:g} mm, R {radius_mm:g} mm")
 
 
-def touching_pairs(pos: np.ndarray, radius: np.ndarray, gap: float) -> np.ndarray:
-    """Pairs i < j whose gap R_i + R_j - d is below `gap` (m)."""
-    from rockcal.dem.neighbours import near_pairs
-
-    pi, pj = near_pairs(pos, radius, gap)
-    return np.column_stack([pi, pj]).astype(np.int64)
-
-
 def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
-                   radius_ratio: float = 1.65, seed: int = 1, cache: bool = True) -> Specimen:
-    """Dense polydisperse packing (radii uniform in [rmin, ratio*rmin]), cached on disk."""
+                   radius_ratio: float = 1.65, seed: int = 1, genesis: Genesis | None = None,
+                   cache: bool = True) -> Specimen:
+    """A specimen made by PFC's material genesis (`rockcal.dem.genesis`), cached on disk."""
     check_geometry(width_mm, height_mm, rmin_mm, radius_ratio)
+    genesis = genesis or Genesis()
     key = dict(kind="random", width_mm=width_mm, height_mm=height_mm, rmin_mm=rmin_mm,
-               radius_ratio=radius_ratio, seed=seed, version=GENERATOR_VERSION)
+               radius_ratio=radius_ratio, seed=seed, version=GENERATOR_VERSION,
+               cloud_porosity=genesis.cloud_porosity, pressure_mpa=genesis.pressure_mpa)
     path = cache_dir() / (hashlib.sha1(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16] + ".npz")
-    label = f"random {width_mm:g}x{height_mm:g} mm, Rmin {rmin_mm:g} mm x{radius_ratio:g}, seed {seed}"
+    label = (f"random {width_mm:g}x{height_mm:g} mm, Rmin {rmin_mm:g} mm x{radius_ratio:g}, "
+             f"gap {genesis.install_gap:g} Rmin, seed {seed}")
     if cache and path.exists():
         data = np.load(path)
-        return Specimen(data["pos"], data["radius"], data["bonds"], width_mm * 1e-3,
-                        height_mm * 1e-3, label)
-    from rockcal.dem.packing import pack_box
+        pos, radius, pressure = data["pos"], data["radius"], float(data["pressure_mpa"])
+    else:
+        from rockcal.dem.packing import pack_box
 
-    pos, radius = pack_box(width_mm * 1e-3, height_mm * 1e-3, rmin_mm * 1e-3, radius_ratio, seed)
-    gap = BOND_GAP * rmin_mm * 1e-3
-    pos, radius = remove_floaters(pos, radius, width_mm * 1e-3, height_mm * 1e-3, gap)
-    pos, radius = in_memory_order(pos, radius, 4 * radius_ratio * rmin_mm * 1e-3)
-    spec = Specimen(pos, radius, touching_pairs(pos, radius, gap), width_mm * 1e-3,
-                    height_mm * 1e-3, label)
-    if cache:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
-        np.savez(tmp, pos=spec.pos, radius=spec.radius, bonds=spec.bonds)
-        os.replace(tmp, path)
-    return spec
-
-
-def remove_floaters(pos: np.ndarray, radius: np.ndarray, width: float, height: float, gap: float,
-                    min_contacts: int = 3):
-    """Drop the particles touching fewer than `min_contacts` neighbours or box walls (one pass)."""
-    count = np.bincount(touching_pairs(pos, radius, gap).ravel(), minlength=len(radius))
-    count += (pos[:, 0] - radius < gap).astype(int) + (pos[:, 0] + radius > width - gap)
-    count += (pos[:, 1] - radius < gap).astype(int) + (pos[:, 1] + radius > height - gap)
-    keep = count >= min_contacts
-    return pos[keep], radius[keep]
+        pos, radius, pressure = pack_box(width_mm * 1e-3, height_mm * 1e-3, rmin_mm * 1e-3,
+                                         radius_ratio, seed, genesis.cloud_porosity,
+                                         genesis.pressure_mpa)
+        pos, radius = in_memory_order(pos, radius, 4 * radius_ratio * rmin_mm * 1e-3)
+        if cache:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
+            np.savez(tmp, pos=pos, radius=radius, pressure_mpa=pressure)
+            os.replace(tmp, path)
+    bonds = install_bonds(pos, radius, genesis.install_gap * rmin_mm * 1e-3)
+    draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
+    return Specimen(pos, radius, bonds, width_mm * 1e-3, height_mm * 1e-3, label, draws, pressure)
 
 
 def in_memory_order(pos: np.ndarray, radius: np.ndarray, strip: float):

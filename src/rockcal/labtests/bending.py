@@ -19,6 +19,7 @@ from rockcal.dem import measure
 from rockcal.dem.carving import cut_bonds, keep_particles, outside_rectangle
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.simulate import advance, new_state
+from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.kic import senb_kic
@@ -111,11 +112,11 @@ class BendingResult:
 
 
 def notched_beam(beam: Beam = Beam(), rmin_mm: float = 0.25, radius_ratio: float = 1.65,
-                 seed: int = 1) -> Specimen:
+                 seed: int = 1, genesis: Genesis | None = None) -> Specimen:
     """The beam packing with the notch carved out of the middle of its bottom edge (or, for
     width 0, cut into it)."""
     beam.check()
-    spec = random_packing(beam.length_mm, beam.height_mm, rmin_mm, radius_ratio, seed)
+    spec = random_packing(beam.length_mm, beam.height_mm, rmin_mm, radius_ratio, seed, genesis)
     half = 0.5e-3 * beam.notch_width_mm
     middle = 0.5e-3 * beam.length_mm
     label = f"{spec.label}, notch {beam.notch_mm:g} x {beam.notch_width_mm:g} mm"
@@ -178,7 +179,8 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
     is_support = np.zeros(n + len(rigid), bool)
     is_support[n + len(pin):] = True
     state = new_state(np.vstack([pos, rigid]), np.concatenate([radius, np.full(len(rigid), disk)]),
-                      specimen.bonds, params, driven=is_pin | is_support)
+                      specimen.bonds, params, driven=is_pin | is_support,
+                      bond_draws=specimen.bond_draws)
 
     rows = specimen.height_m / (2 * radius.mean())
     step = rate_factor * PIN_STEP_PER_RADIUS * radius.mean()

@@ -19,6 +19,7 @@ from rockcal.dem import measure
 from rockcal.dem.carving import inside_circle, keep_particles
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.simulate import BOTTOM, THICKNESS_M, TOP, advance, new_state
+from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.bending import PAST_PEAK_FRACTION, POST_PEAK_FRACTION
@@ -58,11 +59,11 @@ class BrazilianResult:
 
 
 def brazilian_disk(diameter_mm: float = 50.0, rmin_mm: float = 0.25, radius_ratio: float = 1.65,
-                   seed: int = 1) -> Specimen:
+                   seed: int = 1, genesis: Genesis | None = None) -> Specimen:
     """A disk of the given diameter carved from a square packing of the same size."""
     if not (np.isfinite(diameter_mm) and diameter_mm > 0):
         raise InputError("--diameter-mm", f"must be a finite number > 0, got {diameter_mm}")
-    spec = random_packing(diameter_mm, diameter_mm, rmin_mm, radius_ratio, seed)
+    spec = random_packing(diameter_mm, diameter_mm, rmin_mm, radius_ratio, seed, genesis)
     r = 0.5e-3 * diameter_mm
     keep = inside_circle(spec.pos, spec.radius, (r, r), r)
     return keep_particles(spec, keep, f"{spec.label}, disk D {diameter_mm:g} mm")
@@ -85,7 +86,7 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
     bottom, top = (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()
     diameter = top - bottom
     state = new_state(pos, radius, specimen.bonds, params, walls=(0.0, 0.0, bottom, top),
-                      wall_active=(False, False, True, True))
+                      wall_active=(False, False, True, True), bond_draws=specimen.bond_draws)
     rows = diameter / (2 * radius.mean())
     speed = 0.5 * rate_factor * STRAIN_PER_STEP_PER_ROW / rows * diameter / state.dt
     chunk = max(5, int(rows / 8))

@@ -1,8 +1,10 @@
 """The virtual uniaxial compression test: frictionless platens closing at constant speed.
 
 Readings as PFC users make them: UCS = peak axial stress; E and nu secant at half the peak;
-nu from the lateral displacement of the sides. The test stops once the stress has fallen
-below POST_PEAK_FRACTION of the peak, or at the maximum axial strain.
+nu from the lateral displacement of the sides. The axial strain is read from the platen
+separation (FISHTank's wall-based strain, "platen") or from the specimen's own top and bottom
+particles, like gauges on a lab sample ("gauge"). The test stops once the stress has fallen
+below a fraction of the peak (FISHTank's ct_loadFac), or at the maximum axial strain.
 """
 
 from __future__ import annotations
@@ -21,6 +23,8 @@ from rockcal.errors import InputError
 from rockcal.params import MicroParams, make_params
 
 POST_PEAK_FRACTION = 0.7
+STRAIN_READINGS = ("gauge", "platen")
+DEFAULT_STRAIN = "gauge"
 DEFAULT_MAX_AXIAL_STRAIN = 0.02
 # Quasi-static loading: axial strain per step = STRAIN_PER_STEP_PER_ROW / (rows of particles),
 # so the number of wave transits to the peak is the same for every specimen size. The elastic
@@ -35,6 +39,7 @@ class UCSResult:
 
     E_GPa: float
     nu: float
+    strain: str  # how the axial strain was read: "gauge" or "platen"
     ucs_MPa: float
     peak_axial_strain: float
     n_particles: int
@@ -50,28 +55,35 @@ class UCSResult:
 
     def summary(self) -> dict:
         """The scalar responses, as JSON-ready numbers."""
-        keys = ("E_GPa", "nu", "ucs_MPa", "peak_axial_strain", "n_particles", "n_bonds",
+        keys = ("E_GPa", "nu", "strain", "ucs_MPa", "peak_axial_strain", "n_particles", "n_bonds",
                 "n_broken_tension", "n_broken_shear", "steps", "wall_s")
         return {k: getattr(self, k) for k in keys}
 
 
 def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | None = None, *,
                  rate_factor: float = 1.0, max_axial_strain: float = DEFAULT_MAX_AXIAL_STRAIN,
+                 strain: str = DEFAULT_STRAIN, stop_fraction: float = POST_PEAK_FRACTION,
                  progress: Callable[[float, float], None] | None = None) -> UCSResult:
     """Run the UCS test; defaults: granite parameters on the paper's 50 x 100 mm specimen.
 
-    rate_factor scales the loading speed; progress(axial_strain, stress_MPa) is called as it goes.
+    rate_factor scales the loading speed; strain is the axial strain reading ("gauge" or
+    "platen"); the test stops past the peak once the stress is below stop_fraction x peak;
+    progress(axial_strain, stress_MPa) is called as it goes.
     """
     started = time.perf_counter()
     if not isinstance(params, MicroParams):
         params = make_params(params or {})
     if not 0 < max_axial_strain <= 0.5:
         raise InputError("max_axial_strain", f"must be in (0, 0.5], got {max_axial_strain}")
+    if strain not in STRAIN_READINGS:
+        raise InputError("strain", f"must be one of {', '.join(STRAIN_READINGS)}, got {strain!r}")
+    if not 0 < stop_fraction < 1:
+        raise InputError("stop_fraction", f"must be in (0, 1), got {stop_fraction}")
     specimen = specimen or random_packing(50.0, 100.0)
     pos, radius = specimen.pos, specimen.radius
     bottom, top = (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()
     state = new_state(pos, radius, specimen.bonds, params, walls=(0.0, 0.0, bottom, top),
-                      wall_active=(False, False, True, True))
+                      wall_active=(False, False, True, True), bond_draws=specimen.bond_draws)
     rows = (top - bottom) / (2 * radius.mean())
     strain_per_step = rate_factor * STRAIN_PER_STEP_PER_ROW / rows
     speed = 0.5 * strain_per_step * (top - bottom) / state.dt
@@ -90,7 +102,10 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
         state.wall_vel[BOTTOM], state.wall_vel[TOP] = speed * ramp, -speed * ramp
         advance(state, chunk)
         width, height = measure.gauge_lengths(state.pos, sets)
-        axial = (height0 - height) / height0
+        if strain == "platen":
+            axial = 1.0 - (state.walls[TOP] - state.walls[BOTTOM]) / (top - bottom)
+        else:
+            axial = (height0 - height) / height0
         lateral = (width - width0) / width0
         f = state.total_wall_force()
         stress = 0.5 * (f[BOTTOM] + f[TOP]) / area
@@ -98,13 +113,14 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
         peak = max(peak, stress)
         if progress:
             progress(axial, stress / 1e6)
-        if stress < POST_PEAK_FRACTION * peak or axial >= max_axial_strain:
+        if stress < stop_fraction * peak or axial >= max_axial_strain:
             break
 
     curve = np.array(rows_out)
     E_MPa, nu, k = measure.secant_at_half_peak(curve[:, 0], curve[:, 1], curve[:, 2])
     return UCSResult(
-        E_GPa=E_MPa / 1e3, nu=nu, ucs_MPa=float(curve[k, 2]), peak_axial_strain=float(curve[k, 0]),
+        E_GPa=E_MPa / 1e3, nu=nu, strain=strain, ucs_MPa=float(curve[k, 2]),
+        peak_axial_strain=float(curve[k, 0]),
         n_particles=specimen.n_particles, n_bonds=len(specimen.bonds),
         n_broken_tension=state.n_broken(BROKEN_TENSION),
         n_broken_shear=state.n_broken(BROKEN_SHEAR), steps=state.step,

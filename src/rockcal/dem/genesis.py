@@ -1,0 +1,106 @@
+"""Material genesis settings, as PFC's FISHTank names them (`ft.fis`; Potyondy & Cundall 2004).
+
+A random specimen is made in four steps, each set here with PFC's meaning:
+1. a grain cloud: as many grains (radii uniform in [R_min, ratio R_min]) as fill the vessel
+   to the cloud porosity n_c, overlaps not counted (FISHTank `mp_nc`);
+2. packing by grain scaling: frictionless grains rearrange and all radii are scaled by one
+   factor until the vessel walls feel the material pressure P_m (`mp_Pm`);
+3. floaters (grains with fewer than 3 contacts, walls counted) are enlarged until they touch
+   3, the packing is cycled so that their neighbours make room and scaled back to P_m, until
+   no floater is left;
+4. bonds at every grain pair whose gap is <= the installation gap g_i (`pbm_igap`), given
+   here as a fraction of R_min; a bond at an overlapping pair takes the overlap as its
+   contact's reference gap, so the specimen leaves the vessel free of locked-in force.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from rockcal.errors import InputError, from_validation_error
+
+MIN_CONTACTS = 3  # a grain with fewer grain contacts is a floater
+CONTACT_GAP = 1e-6  # gaps below this fraction of R_min count as contact (floating-point touching)
+
+
+class Genesis(BaseModel):
+    """Genesis settings of a random specimen (see the module docstring for their PFC names)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    install_gap: float = Field(0.0, ge=0, le=10, description="bond installation gap / R_min")
+    cloud_porosity: float = Field(0.09, gt=0, lt=1, description="porosity of the grain cloud")
+    pressure_mpa: float = Field(0.1, gt=0, le=1e3, description="material pressure P_m, MPa")
+
+    def key(self) -> dict[str, float]:
+        return self.model_dump()
+
+
+def make_genesis(values: dict | None = None, prefix: str = "") -> Genesis:
+    """Validated genesis settings; a bad one raises InputError naming `prefix + field`."""
+    try:
+        return Genesis(**(values or {}))
+    except ValidationError as exc:
+        err = from_validation_error(exc)
+        raise InputError(prefix + err.field, err.problem) from None
+
+
+def cloud_radii(rng: np.random.Generator, area: float, rmin: float, radius_ratio: float,
+                cloud_porosity: float) -> np.ndarray:
+    """Radii drawn one after another until the grains' area reaches (1 - n_c) x `area`."""
+    mean_area = np.pi * rmin**2 * (1 + radius_ratio + radius_ratio**2) / 3
+    target = (1.0 - cloud_porosity) * area
+    radius = rng.uniform(rmin, radius_ratio * rmin, int(1.2 * target / mean_area) + 16)
+    count = int(np.searchsorted(np.cumsum(np.pi * radius**2), target)) + 1
+    return radius[:count]
+
+
+def pair_gaps(pos: np.ndarray, radius: np.ndarray, reach: float):
+    """Pairs (i, j), i < j, with gap R_i + R_j - d below `reach` (m), and their gaps."""
+    from rockcal.dem.neighbours import near_pairs
+
+    pi, pj = near_pairs(pos, radius, reach)
+    gap = np.hypot(*(pos[pj] - pos[pi]).T) - radius[pi] - radius[pj]
+    return pi, pj, gap
+
+
+def grain_contacts(pos: np.ndarray, radius: np.ndarray) -> np.ndarray:
+    """Number of grain-grain contacts of each grain."""
+    pi, pj, _ = pair_gaps(pos, radius, CONTACT_GAP * radius.min())
+    return np.bincount(np.concatenate([pi, pj]), minlength=len(radius))
+
+
+def wall_gaps(pos: np.ndarray, radius: np.ndarray, width: float, height: float) -> np.ndarray:
+    """Gap of each grain to the vessel's left, right, bottom and top walls, (n, 4) m."""
+    return np.column_stack([pos[:, 0] - radius, width - pos[:, 0] - radius,
+                            pos[:, 1] - radius, height - pos[:, 1] - radius])
+
+
+def vessel_contacts(pos: np.ndarray, radius: np.ndarray, width: float, height: float) -> np.ndarray:
+    """Contacts of each grain in the vessel: with grains and with the walls."""
+    touching = wall_gaps(pos, radius, width, height) <= CONTACT_GAP * radius.min()
+    return grain_contacts(pos, radius) + touching.sum(axis=1)
+
+
+def enlarge_floaters(pos: np.ndarray, radius: np.ndarray, width: float, height: float,
+                     overlap: float) -> np.ndarray:
+    """Radii with every floater (fewer than MIN_CONTACTS contacts in the vessel, walls counted)
+    grown until it overlaps its MIN_CONTACTS-th nearest grain or wall by `overlap` x its radius,
+    and the nearer ones more: the packing must then be cycled so that its neighbours make room
+    (Potyondy & Cundall 2004 enlarge floaters, they do not delete them)."""
+    radius = radius.copy()
+    walls = wall_gaps(pos, radius, width, height)
+    for k in np.flatnonzero(vessel_contacts(pos, radius, width, height) < MIN_CONTACTS):
+        gaps = np.hypot(*(pos - pos[k]).T) - radius - radius[k]
+        gaps[k] = np.inf
+        nearest = np.partition(np.concatenate([gaps, walls[k]]), MIN_CONTACTS - 1)
+        radius[k] += max(0.0, nearest[MIN_CONTACTS - 1]) + overlap * radius[k]
+    return radius
+
+
+def install_bonds(pos: np.ndarray, radius: np.ndarray, gap: float) -> np.ndarray:
+    """Pairs i < j whose gap is <= `gap` (m): the bonds of PFC's installation gap."""
+    pi, pj, g = pair_gaps(pos, radius, gap + CONTACT_GAP * radius.min())
+    keep = g <= gap + CONTACT_GAP * radius.min()
+    return np.column_stack([pi[keep], pj[keep]]).astype(np.int64)
