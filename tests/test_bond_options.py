@@ -103,3 +103,21 @@ def test_moment_contribution_factor_scales_the_bending_stress():
         assert mcf * moment * R / inertia == pytest.approx(20e6, rel=0.01)
         moments[mcf] = moment
     assert moments[0.5] / moments[1.0] == pytest.approx(2.0, rel=0.01)
+
+
+def test_strength_spread_weakens_potyondy_cundall_granite_but_leaves_its_modulus():
+    """P&C 2004's granite on a small specimen with its own genesis (touching pairs bonded):
+    drawing the strengths 157 +- 36 MPa instead of a constant 157 leaves the elastic curve as
+    it is, and the weakest bonds, failing first, lower the peak."""
+    from rockcal.dem.genesis import Genesis
+    from rockcal.dem.specimen import random_packing
+    from rockcal.labtests.ucs import simulate_ucs
+
+    spec = random_packing(12, 24, 0.27, 1.66, seed=1, genesis=Genesis(install_gap=0.0,
+                                                                      cloud_porosity=0.08))
+    granite = {"E_c": 62, "kn_ks": 2.5, "sigma_c": 157, "tau_c": 157, "mu": 0.5, "density": 2630}
+    constant = simulate_ucs(granite, spec)
+    spread = simulate_ucs(granite | {"sigma_c_sd": 36, "tau_c_sd": 36}, spec)
+    assert spread.E_GPa == pytest.approx(constant.E_GPa, rel=0.01)
+    assert spread.ucs_MPa < 0.95 * constant.ucs_MPa
+    assert constant.E_GPa == pytest.approx(70.9, rel=0.15)  # PFC2D's, on a specimen this small

@@ -25,6 +25,7 @@ from rockcal.dem.specimen import GENERATOR_VERSION
 from rockcal.params import make_params
 
 POOL_RESTARTS = 3
+SPECIMEN_KEYS = ("n_particles", "porosity", "coordination", "bonds_per_particle")  # of each run
 ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
 GENESIS = ("install_gap", "cloud_porosity", "pressure_mpa")
 UCS_GEOMETRY = ("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
@@ -56,12 +57,6 @@ def specimen_of(kind: str, specimen: tuple):
                               s["seed"], genesis), None
     beam = Beam(s["beam_length_mm"], s["beam_height_mm"], s["notch_mm"], s["notch_width_mm"], s["span_mm"])
     return notched_beam(beam, s["rmin_mm"], s["radius_ratio"], s["seed"], genesis), beam
-
-
-def specimen_description(kind: str, specimen_settings) -> dict:
-    """Size, porosity, coordination and bonds per grain of a campaign's specimen of `kind`."""
-    specimen, _ = specimen_of(kind, run_spec(kind, specimen_settings, {}).specimen)
-    return specimen.description()
 
 
 def prepare(spec: RunSpec) -> None:
@@ -103,7 +98,7 @@ def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
             responses = {"K_IC_MPa_sqrt_m": r.K_IC_MPa_sqrt_m, "P_max_kN_per_m": r.P_max_kN_per_m,
                          "displacement_at_peak_mm": r.displacement_at_peak_mm}
         responses |= {"n_broken_tension": r.n_broken_tension, "n_broken_shear": r.n_broken_shear,
-                      "steps": r.steps}
+                      "steps": r.steps} | specimen.description()
         bad = [k for k, v in responses.items() if v != v]  # NaN: no usable reading
         if bad:
             raise ValueError(f"no reading of {bad[0]} (the specimen did not load up)")

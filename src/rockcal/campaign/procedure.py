@@ -14,7 +14,7 @@ from typing import Callable
 import numpy as np
 
 from rockcal.campaign.config import Campaign, read_curve
-from rockcal.campaign.forward import Executor, run_spec, specimen_description
+from rockcal.campaign.forward import SPECIMEN_KEYS, Executor, run_spec
 from rockcal.inverse import (RBFSurrogate, Objective, ant_colony, curve_fit, design, latin_hypercube,
                              range_analysis)
 from rockcal.labtests.kic import pmax_kic_disagreement
@@ -59,8 +59,7 @@ class Calibration:
         self.fixed = campaign.fixed_params()
         self.dem_runs: list[str] = []  # keys of the distinct UCS runs the procedure used
         self.record: dict = {"rock": campaign.rock.name, "targets": self.targets,
-                             "specimen": campaign.specimen.model_dump(),
-                             "ucs_specimen": specimen_description("ucs", campaign.specimen)}
+                             "specimen": campaign.specimen.model_dump()}
         if self.curve is not None:
             self.record["measured_curve"] = self.curve.tolist()
 
@@ -77,6 +76,8 @@ class Calibration:
             {"stage": stage, "message": m} for m in failed)
         if failed and len(failed) == len(results):
             raise CalibrationFailed(f"every forward run of stage '{stage}' failed; first: {failed[0]}")
+        done = next(r.responses for r in results if r.status == "ok")
+        self.record.setdefault("ucs_specimen", {k: done[k] for k in SPECIMEN_KEYS if k in done})
         return [r.responses if r.status == "ok" else None for r in results]
 
     # -- the steps ------------------------------------------------------------------------

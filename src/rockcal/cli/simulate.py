@@ -40,7 +40,7 @@ GENESIS_DEFAULTS = Genesis()
 INSTALL_GAP = typer.Option(GENESIS_DEFAULTS.install_gap,
                            help="Bond installation gap / R_min (PFC pbm_igap / R_min).")
 CLOUD_POROSITY = typer.Option(GENESIS_DEFAULTS.cloud_porosity,
-                              help="Cloud porosity: sets the grain count (PFC mp_nc).")
+                              help="Cloud porosity: sets the grain count (PFC pk_nc).")
 PRESSURE_MPA = typer.Option(GENESIS_DEFAULTS.pressure_mpa,
                             help="Material pressure of the packing, MPa (PFC pk_Pm).")
 

@@ -2,9 +2,9 @@
 
 A random specimen is made in four steps, each set here with PFC's meaning:
 1. a grain cloud: as many grains (radii uniform in [R_min, ratio R_min]) as fill the vessel
-   to the cloud porosity n_c, overlaps not counted (FISHTank `mp_nc`);
+   to the cloud porosity n_c, overlaps not counted (FISHTank `pk_nc`);
 2. packing by grain scaling: frictionless grains rearrange and all radii are scaled by one
-   factor until the vessel walls feel the material pressure P_m (`mp_Pm`);
+   factor until the vessel walls feel the material pressure P_m (`pk_Pm`);
 3. floaters (grains with fewer than 3 contacts, walls counted) are enlarged until they touch
    3, the packing is cycled so that their neighbours make room and scaled back to P_m, until
    no floater is left;
@@ -18,32 +18,29 @@ from __future__ import annotations
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from rockcal.errors import InputError, from_validation_error
+from rockcal.errors import from_validation_error
 
-MIN_CONTACTS = 3  # a grain with fewer grain contacts is a floater
+MIN_CONTACTS = 3  # a grain with fewer contacts in the vessel (walls counted) is a floater
 CONTACT_GAP = 1e-6  # gaps below this fraction of R_min count as contact (floating-point touching)
 
 
 class Genesis(BaseModel):
-    """Genesis settings of a random specimen (see the module docstring for their PFC names)."""
+    """Genesis settings of a random specimen (see the module docstring for their PFC names).
+    The defaults reproduce the source study's PFC2D results (docs/benchmarks.md)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    install_gap: float = Field(0.0, ge=0, le=10, description="bond installation gap / R_min")
+    install_gap: float = Field(0.6, ge=0, le=10, description="bond installation gap / R_min")
     cloud_porosity: float = Field(0.09, gt=0, lt=1, description="porosity of the grain cloud")
     pressure_mpa: float = Field(0.1, gt=0, le=1e3, description="material pressure P_m, MPa")
 
-    def key(self) -> dict[str, float]:
-        return self.model_dump()
 
-
-def make_genesis(values: dict | None = None, prefix: str = "") -> Genesis:
-    """Validated genesis settings; a bad one raises InputError naming `prefix + field`."""
+def make_genesis(values: dict) -> Genesis:
+    """Validated genesis settings; a bad one raises InputError naming the field."""
     try:
-        return Genesis(**(values or {}))
+        return Genesis(**values)
     except ValidationError as exc:
-        err = from_validation_error(exc)
-        raise InputError(prefix + err.field, err.problem) from None
+        raise from_validation_error(exc) from None
 
 
 def cloud_radii(rng: np.random.Generator, area: float, rmin: float, radius_ratio: float,

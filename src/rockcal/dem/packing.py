@@ -27,6 +27,10 @@ JAMMING_FRACTION = 0.845  # solid fraction of frictionless 2D polydisperse disks
 PRESSURE_TOLERANCE = 0.05  # relative; the servo stops once the wall stress is this close to P_m
 FLOATER_ROUNDS = 200  # at most this many rounds of enlarging floaters, servo step and cycling
 STEPS_PER_FLOATER_ROUND = 2000
+# Small vessels settle sooner: rounds are at most this many steps per row of grains along the
+# vessel's longer side (the caps above hold from about 130 rows, e.g. 100 mm at R_min 0.25 mm).
+SERVO_STEPS_PER_ROW = 60
+FLOATER_STEPS_PER_ROW = 20
 
 
 def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed: int,
@@ -50,8 +54,11 @@ def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed
         rebuild_neighbours(state)
         advance(state, STEPS_PER_STAGE)
 
+    rows = max(width, height) / (2.0 * radius.mean())
+    servo_steps = min(STEPS_PER_SERVO, int(SERVO_STEPS_PER_ROW * rows))
+    floater_steps = min(STEPS_PER_FLOATER_ROUND, int(FLOATER_STEPS_PER_ROW * rows))
     target = pressure_mpa * MPa
-    stress = scale_to_pressure(state, radius, target, STEPS_PER_SERVO)
+    stress = scale_to_pressure(state, radius, target, servo_steps)
     overlap = target / (PACKING_MODULUS_GPA * GPa)  # ~ a contact's at P_m, / R
     for round_ in range(FLOATER_ROUNDS):
         grown = enlarge_floaters(state.pos, state.radius, width, height, overlap)
@@ -61,7 +68,7 @@ def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed
             break
         state.radius[:] = grown * servo_factor(stress, target)
         rebuild_neighbours(state)
-        stress = settled_stress(state, STEPS_PER_FLOATER_ROUND)
+        stress = settled_stress(state, floater_steps)
     return state.pos.copy(), state.radius.copy(), stress / MPa
 
 

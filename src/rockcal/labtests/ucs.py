@@ -113,7 +113,9 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
         peak = max(peak, stress)
         if progress:
             progress(axial, stress / 1e6)
-        if stress < stop_fraction * peak or axial >= max_axial_strain:
+        # past the ramp only (FISHTank likewise loads a while before it may stop): a bond that
+        # breaks early slows the platens, and the stress of the ramp's first steps relaxes
+        if (stress < stop_fraction * peak and state.step > ramp_steps) or axial >= max_axial_strain:
             break
 
     curve = np.array(rows_out)
