@@ -78,9 +78,6 @@ class SpecimenSettings(Genesis):
     strain: Literal["gauge", "platen"] = DEFAULT_STRAIN  # the UCS test's axial strain reading
     stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1)  # UCS stop: stress < this x peak
 
-    def genesis(self) -> Genesis:
-        return Genesis(**{name: getattr(self, name) for name in Genesis.model_fields})
-
 
 def _check_names(values: dict) -> None:
     for name in values:

@@ -20,6 +20,7 @@ import numpy as np
 
 from rockcal import __version__
 from rockcal.campaign.store import RunResult, RunSpec, RunStore
+from rockcal.dem.genesis import Genesis
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.specimen import GENERATOR_VERSION
 from rockcal.params import make_params
@@ -27,7 +28,7 @@ from rockcal.params import make_params
 POOL_RESTARTS = 3
 SPECIMEN_KEYS = ("n_particles", "porosity", "coordination", "bonds_per_particle")  # of each run
 ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
-GENESIS = ("install_gap", "cloud_porosity", "pressure_mpa")
+GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_mpa
 UCS_GEOMETRY = ("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
                 "stop_fraction")
 BEAM_GEOMETRY = ("beam_length_mm", "beam_height_mm", "notch_mm", "notch_width_mm", "span_mm",
@@ -46,7 +47,6 @@ def run_spec(kind: str, specimen_settings, params: dict) -> RunSpec:
 def specimen_of(kind: str, specimen: tuple):
     """The specimen (and the beam, for bending) of a run's specimen settings, made once per
     process (from the disk cache when it holds it)."""
-    from rockcal.dem.genesis import Genesis
     from rockcal.dem.specimen import random_packing
     from rockcal.labtests.bending import Beam, notched_beam
 
