@@ -39,6 +39,14 @@ def test_strengths_are_truncated_at_zero_like_a_redraw():
     assert stats.kstest(ten, truncated.cdf).pvalue > 1e-3
 
 
+def test_a_coefficient_of_variation_is_the_sd_as_a_fraction_of_the_mean():
+    by_cv = bond_strengths(make_params({"sigma_c": 40, "sigma_c_cv": 0.25, "tau_c": 80,
+                                        "tau_c_cv": 0.1}), draws(4), N_BONDS)
+    by_sd = bond_strengths(make_params({"sigma_c": 40, "sigma_c_sd": 10, "tau_c": 80,
+                                        "tau_c_sd": 8}), draws(4), N_BONDS)
+    np.testing.assert_allclose(by_cv, by_sd, rtol=1e-12)
+
+
 def test_zero_sd_gives_every_bond_the_mean():
     ten, coh = bond_strengths(make_params({}), draws(1), N_BONDS)
     assert np.all(ten == 36.55e6) and np.all(coh == 90e6)

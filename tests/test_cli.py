@@ -40,6 +40,8 @@ def test_simulate_ucs_json_and_outputs(tmp_path):
     (["--packing", "cubic"], "--packing"),
     (["--set", "sigma_c_sd=-1"], "sigma_c_sd"),
     (["--set", "tau_c_sd=-0.5"], "tau_c_sd"),
+    (["--set", "sigma_c_cv=-0.1"], "sigma_c_cv"),
+    (["--set", "sigma_c_cv=0.2", "--set", "sigma_c_sd=5"], "sigma_c_cv"),
     (["--set", "phi_b=90"], "phi_b"),
     (["--set", "phi_b=-1"], "phi_b"),
     (["--set", "mcf=1.5"], "mcf"),

@@ -2,7 +2,9 @@
 
 Names follow PFC2D's linear + linear parallel bond model (Potyondy & Cundall 2004): E_c and
 kn_ks for the linear contact; Ebar_c, knbar_ksbar, lambda, sigma_c, tau_c for the parallel bond,
-and PFC 5's bond options: per-bond normal spreads sigma_c_sd, tau_c_sd (pb_ten, pb_coh sd),
+and PFC 5's bond options: per-bond normal spreads sigma_c_sd, tau_c_sd (pb_ten, pb_coh sd; or
+sigma_c_cv, tau_c_cv, the sd as a fraction of the mean, which Potyondy & Cundall quote and which
+stays meaningful while a calibration moves the mean),
 friction angle phi_b (pb_fa; shear strength tau_c - sigma tan phi_b) and moment contribution
 factor mcf (pb_mcf); their defaults give Potyondy & Cundall's constant-strength bond.
 Defaults are the source study's identified granite values (E_c 21.65 GPa, kn/ks 1.9,
@@ -34,6 +36,8 @@ class MicroParams(BaseModel):
     tau_c: float = Field(90.0, gt=0, le=1e5, description="bond cohesion (mean shear strength), MPa")
     sigma_c_sd: float = Field(0.0, ge=0, le=1e5, description="bond tensile strength sd, MPa")
     tau_c_sd: float = Field(0.0, ge=0, le=1e5, description="bond cohesion sd, MPa")
+    sigma_c_cv: float = Field(0.0, ge=0, le=10, description="bond tensile strength sd / mean")
+    tau_c_cv: float = Field(0.0, ge=0, le=10, description="bond cohesion sd / mean")
     phi_b: float = Field(0.0, ge=0, lt=90, description="bond friction angle, degrees")
     mcf: float = Field(1.0, ge=0, le=1, description="bond moment contribution factor")
     mu: float = Field(0.5, ge=0, le=10, description="contact friction coefficient")
@@ -49,7 +53,16 @@ class MicroParams(BaseModel):
             object.__setattr__(self, "knbar_ksbar", self.kn_ks)
         if self.E_c == 0 and self.Ebar_c == 0:
             raise ValueError("E_c and Ebar_c cannot both be 0")
+        for name in ("sigma_c", "tau_c"):
+            if getattr(self, name + "_sd") and getattr(self, name + "_cv"):
+                raise ValueError(f"{name}_cv: set {name}_sd or {name}_cv, not both")
         return self
+
+    @property
+    def strength_sds(self) -> tuple[float, float]:
+        """The sd (MPa) of the bond tensile strength and cohesion: PFC's pb_ten, pb_coh sd."""
+        return (self.sigma_c_sd or self.sigma_c_cv * self.sigma_c,
+                self.tau_c_sd or self.tau_c_cv * self.tau_c)
 
     def key(self) -> dict[str, float]:
         """All values by their user names (for storage and reports)."""

@@ -12,13 +12,15 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
 
 
 def _register() -> None:
-    from rockcal.cli import calibrate, kic, sensitivity, simulate
+    from rockcal.cli import calibrate, export, kic, sensitivity, simulate
 
     app.add_typer(simulate.app, name="simulate")
     app.add_typer(sensitivity.app, name="sensitivity")
     app.command("kic")(kic.kic)
     app.command("calibrate")(calibrate.calibrate)
     app.command("report")(calibrate.report)
+    app.command("export")(export.export)
+    app.command("export-specimen")(export.export_specimen)
 
 
 def _fail(message: str) -> None:

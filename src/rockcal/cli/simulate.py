@@ -34,7 +34,8 @@ class Strain(str, Enum):
 
 
 SET_HELP = ("Micro-parameter NAME=VALUE, repeatable: E_c, Ebar_c (GPa), kn_ks, knbar_ksbar, "
-            "sigma_c, tau_c, sigma_c_sd, tau_c_sd (MPa), phi_b (degrees), mcf, mu, lambda, "
+            "sigma_c, tau_c, sigma_c_sd, tau_c_sd (MPa) or sigma_c_cv, tau_c_cv (sd / mean), "
+            "phi_b (degrees), mcf, mu, lambda, "
             "density (kg/m3), damping.")
 GENESIS_DEFAULTS = Genesis()
 INSTALL_GAP = typer.Option(GENESIS_DEFAULTS.install_gap,

@@ -85,8 +85,8 @@ def bond_strengths(params: MicroParams, draws: np.ndarray | None, n_bonds: int):
     distribution function, so a bond keeps its rank in strength whatever the parameters."""
     u = None if draws is None else np.asarray(draws, float).reshape(n_bonds, 2)
     strengths = []
-    for column, (mean, sd) in enumerate(((params.sigma_c, params.sigma_c_sd),
-                                         (params.tau_c, params.tau_c_sd))):
+    means = (params.sigma_c, params.tau_c)
+    for column, (mean, sd) in enumerate(zip(means, params.strength_sds)):
         if sd == 0 or u is None:
             strengths.append(np.full(n_bonds, mean * MPa))
             continue

@@ -1,0 +1,75 @@
+"""`rockcal export` and `rockcal export-specimen`: a finished calibration, ready for PFC."""
+
+from __future__ import annotations
+
+from enum import Enum
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.console import Console
+
+from rockcal.errors import InputError
+
+
+class Format(str, Enum):
+    pfc_fish = "pfc-fish"
+    pfc_python = "pfc-python"
+    json = "json"
+
+
+def export(
+    out: Path = typer.Argument(..., help="Output folder of a finished campaign."),
+    format: Format = typer.Option(Format.pfc_fish, "--format", help="pfc-fish: FISHTank mpParams-style data file; pfc-python: a PFC Python script; json."),
+    to: Optional[Path] = typer.Option(None, "--to", help="File to write (default: stdout)."),
+) -> None:
+    """The identified micro-parameters under PFC FISHTank's names (pbm_emod, ...), in SI units."""
+    from rockcal.campaign.export import WRITERS
+
+    calibrated = _calibration(out)
+    text = WRITERS[format.value](calibrated)
+    if to is None:
+        typer.echo(text, nl=False)
+        return
+    _write(to, text)
+    Console(stderr=True).print(f"wrote {to}")
+
+
+def export_specimen(
+    out: Path = typer.Argument(..., help="Output folder of a finished campaign."),
+    to: Path = typer.Option(Path("specimen"), "--to", help="Folder for balls.csv and bonds.csv."),
+) -> None:
+    """The campaign's UCS specimen as ball and bond lists (SI), with each bond's strengths at
+    the identified parameters."""
+    from rockcal.campaign.export import write_specimen
+    from rockcal.campaign.forward import run_spec, specimen_of
+
+    calibrated = _calibration(out)
+    if to.exists() and not to.is_dir():
+        raise InputError("--to", f"{to} is a file, not a folder")
+    spec = run_spec("ucs", calibrated.specimen, calibrated.params.key())
+    specimen = specimen_of("ucs", spec.specimen)[0]
+    try:
+        paths = write_specimen(specimen, calibrated.params, to)
+    except OSError as exc:
+        raise InputError("--to", f"cannot write to {to}: {exc.strerror}") from None
+    Console(stderr=True).print(f"wrote {paths[0]} ({specimen.n_particles} balls) and {paths[1]} "
+                               f"({len(specimen.bonds)} bonds)")
+
+
+def _calibration(out: Path):
+    from rockcal.campaign.export import read_calibration
+    from rockcal.campaign.store import RunStore
+
+    store = RunStore(out, create=False)
+    try:
+        return read_calibration(store, out)
+    finally:
+        store.close()
+
+
+def _write(path: Path, text: str) -> None:
+    try:
+        path.write_text(text)
+    except OSError as exc:
+        raise InputError("--to", f"cannot write {path}: {exc.strerror}") from None
