@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -163,6 +164,36 @@ def calibrated_curve(curve, measured, path: Path, title: str) -> None:
     if measured is not None:
         ax.plot(100 * measured[:, 0], measured[:, 1], "k.", ms=3, label="measured, axial")
     _finish(fig, ax, "strain (%)  (lateral shown negative)", "axial stress (MPa)", title, path)
+
+
+def parameter_draws(samples, names: list[str], bounds: dict, identified: dict, path: Path) -> None:
+    """Corner plot of the parameters solved for each drawn target set: histograms on the
+    diagonal, pairs below it, the search box as the axes' limits and the identified point."""
+    x = np.asarray(samples, float)
+    n = len(names)
+    fig, axes = plt.subplots(n, n, figsize=(2.6 * n, 2.6 * n), squeeze=False)
+    for i in range(n):
+        for j in range(n):
+            ax = axes[i][j]
+            if j > i:
+                ax.set_axis_off()
+                continue
+            if i == j:
+                ax.hist(x[:, i], bins=20, range=bounds[names[i]], color="tab:blue", alpha=0.7)
+                ax.axvline(identified[names[i]], color="black", lw=1)
+                ax.set_yticks([])
+            else:
+                ax.plot(x[:, j], x[:, i], ".", ms=3, alpha=0.5)
+                ax.plot(identified[names[j]], identified[names[i]], "k+", ms=10)
+                ax.set_ylim(bounds[names[i]])
+            ax.set_xlim(bounds[names[j]])
+            ax.tick_params(labelsize=7)
+            if i == n - 1:
+                ax.set_xlabel(names[j], fontsize=8)
+            if j == 0 and i > 0:
+                ax.set_ylabel(names[i], fontsize=8)
+    fig.suptitle("Identified parameters, one point per drawn target set", fontsize=10)
+    _save(fig, path)
 
 
 def _save(fig, path: Path) -> None:

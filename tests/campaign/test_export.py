@@ -55,6 +55,8 @@ def finished(tmp_path_factory):
     folder = tmp_path_factory.mktemp("campaign")
     record = {"rock": "twin", "accepted": True, "dem_runs": 12, "targets": {"E_GPa": 41.5},
               "verified": {"E_GPa": 41.3}, "identified": {"E_c": 21.65},
+              "uncertainty": {"intervals": {"E_c": {"p5": 20.9, "p50": 21.6, "p95": 22.4,
+                                                    "at_bound": 0.0, "pinned": True}}},
               "identified_params": make_params(IDENTIFIED).key()}
     store = RunStore(folder)
     store.save_document("campaign.toml", CAMPAIGN)
@@ -75,6 +77,7 @@ def test_fish_file_reads_back_in_si(finished, tmp_path):
     assert run.returncode == 0, run.stderr
     text = path.read_text()
     assert re.search(r"^def mpSetPBParams$", text, re.M) and "; rockcal calibration of twin" in text
+    assert ";   E_c: 5-95 % interval 20.9 to 22.4" in text
     values = {m[0]: float(m[1]) for m in re.findall(r"^\s+(\w+)(?:\(1\))? = ([-+0-9.e]+)", text, re.M)}
     values.pop("cm_densityCode"), values.pop("cm_nSD"), values.pop("cm_Vfrac")
     check(values)

@@ -20,6 +20,7 @@ TOML = '''
 [targets.ucs]
 nu = 0.2
 curve = "measured.csv"
+spread = { nu = 0.01, ucs_MPa = [24, 26] }
 [targets.bending]
 K_IC_MPa_sqrt_m = 0.5
 P_max_kN = 1.453
@@ -45,6 +46,9 @@ checks = 2
 iterations = 30
 [acceptance]
 max_dem_runs = 14
+[uncertainty]
+packings = 2
+draws = 20
 '''
 
 ALL_PNGS = {name for _, name, _, _ in FIGURES}
@@ -100,6 +104,20 @@ def test_summary_shows_the_identified_parameters_and_the_validation(campaign):
     assert f"{record['dem_runs']}</td>" in page
 
 
+def test_intervals_of_the_identified_parameters(campaign):
+    record, store, folder = campaign
+    u = record["uncertainty"]
+    assert u["seeds"] == [1, 2] and len(u["packing_responses"]) == 2 and len(u["samples"]) == 20
+    assert u["run_keys"][0] == record["final_ucs_run_key"]  # seed 1 is the verified run
+    page = write_report(record, store, folder / "intervals").read_text(encoding="utf-8")
+    for name, value in record["identified"].items():
+        i = u["intervals"][name]
+        low, high = record["bounds"][name]
+        assert low <= i["p5"] <= i["p50"] <= i["p95"] <= high
+        assert f"<td>{name}</td><td>{value:.4g}</td>" in page and f"<td>{i['p95']:.4g}</td>" in page
+    assert "target sets drawn from the lab spread" in page
+
+
 def test_stored_run_reads_the_final_ucs_run(campaign):
     record, store, _ = campaign
     run = stored_run(store, record["final_ucs_run_key"])
@@ -113,15 +131,17 @@ def test_stored_run_reads_the_final_ucs_run(campaign):
 def test_missing_pieces_are_noted_not_raised(campaign):
     record, store, folder = campaign
     bare = copy.deepcopy(record)
-    for key in ("sensitivity", "validation", "curve_fit", "measured_curve", "specimen"):
+    for key in ("sensitivity", "validation", "curve_fit", "measured_curve", "specimen", "uncertainty"):
         bare.pop(key, None)
     bare["failed_runs"] = [{"stage": "samples", "message": "RunTimedOut: stopped after 5 s"}]
     path = write_report(bare, store, folder / "bare")
     page = path.read_text(encoding="utf-8")
     written = {p.name for p in path.parent.glob("*.png")}
-    assert written == ALL_PNGS - {"range_analysis.png", "cracks_bending.png", "bending_curve.png"}
+    assert written == ALL_PNGS - {"range_analysis.png", "cracks_bending.png", "bending_curve.png",
+                                  "parameter_draws.png"}
     assert len(_images(page)) == len(written)
     assert "No sensitivity study" in page and "No bending validation" in page
+    assert "No intervals" in page
     assert "<td>samples</td><td>RunTimedOut: stopped after 5 s</td>" in page
 
 
@@ -134,6 +154,7 @@ def test_failed_validation_and_unknown_runs_leave_figures_out(campaign):
     broken["iterations"] = []
     path = write_report(broken, store, folder / "broken")
     page = path.read_text(encoding="utf-8")
-    assert {p.name for p in path.parent.glob("*.png")} == {"range_analysis.png", "surrogate_parity.png"}
+    drawn = {"range_analysis.png", "surrogate_parity.png", "parameter_draws.png"}
+    assert {p.name for p in path.parent.glob("*.png")} == drawn
     assert "wall-time limit of 60 s" in page
-    assert page.count("class='note'") == len(ALL_PNGS) - 2 + 1  # 6 figures left out, 1 validation note
+    assert page.count("class='note'") == len(ALL_PNGS) - len(drawn) + 1  # 1: the validation note

@@ -40,9 +40,26 @@ class UCSTargets(_Strict):
     nu: float | None = Field(None, gt=0, lt=0.5)
     ucs_MPa: float | None = Field(None, gt=0)
     curve: Path | None = None  # CSV: axial strain, axial stress (MPa)
+    # the lab's spread of a response: its sd, or the [min, max] of the lab's samples
+    spread: dict[str, float | tuple[float, float]] = {}
 
     def scalars(self) -> dict[str, float]:
         return {k: getattr(self, k) for k in RESPONSES if getattr(self, k) is not None}
+
+    @model_validator(mode="after")
+    def _spread(self):
+        from_curve = ("E_GPa", "ucs_MPa") if self.curve is not None else ()
+        for name, s in self.spread.items():
+            value = getattr(self, name, None) if name in RESPONSES else None
+            if value is None and name not in from_curve:
+                raise ValueError(f"spread.{name}: not a target given here ({', '.join(self.scalars())})")
+            if isinstance(s, tuple):
+                holds = value is None or s[0] <= value <= s[1]
+                if not (math.isfinite(s[0]) and math.isfinite(s[1]) and s[0] < s[1] and holds):
+                    raise ValueError(f"spread.{name}: [min, max] must hold the target {value}, got {list(s)}")
+            elif not (math.isfinite(s) and s > 0):
+                raise ValueError(f"spread.{name}: an sd must be > 0, got {s}")
+        return self
 
 
 class BendingTargets(_Strict):
@@ -142,6 +159,15 @@ class Acceptance(_Strict):
     max_dem_runs: int = Field(80, ge=1)
 
 
+class Uncertainty(_Strict):
+    """Intervals of the identified parameters (Monte Carlo on the surrogate)."""
+
+    enabled: bool | None = None  # None: on when [targets.ucs] gives a spread
+    draws: int = Field(200, ge=10)
+    packings: int = Field(3, ge=1)  # UCS packings at the identified point for the model scatter
+    seed: int = 1
+
+
 class Campaign(_Strict):
     """A whole calibration campaign, as read from its TOML file."""
 
@@ -153,6 +179,7 @@ class Campaign(_Strict):
     surrogate: Surrogate = Surrogate()
     optimizer: Optimizer = Optimizer()
     acceptance: Acceptance = Acceptance()
+    uncertainty: Uncertainty = Uncertainty()
 
     @model_validator(mode="after")
     def _consistent(self):
@@ -164,6 +191,10 @@ class Campaign(_Strict):
         if both:
             raise ValueError(f"search.fixed: {sorted(both)[0]!r} is also in search.bounds")
         return self
+
+    def wants_uncertainty(self) -> bool:
+        u = self.uncertainty.enabled
+        return bool(self.targets.ucs.spread) if u is None else u
 
     def fixed_params(self) -> dict[str, float]:
         """Parameters held constant: the density of the rock, then [search].fixed."""

@@ -42,6 +42,7 @@ def read_calibration(store, folder: Path) -> Calibrated:
     origin = {"rock": record["rock"], "campaign": str(folder), "accepted": record["accepted"],
               "dem_runs": record["dem_runs"], "targets": record["targets"],
               "verified": record["verified"], "identified": record["identified"],
+              "intervals": (record.get("uncertainty") or {}).get("intervals", {}),
               "engine": ENGINE}
     return Calibrated(make_params(record["identified_params"]), campaign.specimen, origin)
 
@@ -91,6 +92,9 @@ def header_lines(calibrated: Calibrated) -> list[str]:
     if o["verified"]:
         lines.append("verified: " + ", ".join(f"{k} {o['verified'][k]:.4g}" for k in o["targets"]))
     lines.append("identified: " + ", ".join(f"{k} {v:.4g}" for k, v in o["identified"].items()))
+    for name, i in o.get("intervals", {}).items():
+        pinned = "" if i["pinned"] else " (not pinned down by the lab data)"
+        lines.append(f"  {name}: 5-95 % interval {i['p5']:.4g} to {i['p95']:.4g}{pinned}")
     lines.append("2D: disks of unit thickness; SI units")
     return lines
 

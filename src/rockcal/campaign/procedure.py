@@ -1,6 +1,7 @@
 """The inverse procedure end to end (SPEC steps 1-8): sensitivity runs and range analysis,
 Latin hypercube runs, Gaussian RBF surrogate and its check, ant colony search on the
-surrogate, DEM verification and the adaptive loop, then the bending validation.
+surrogate, DEM verification and the adaptive loop, the intervals of the identified parameters
+(when the lab gives a spread), then the bending validation.
 
 Every forward run goes through the executor and its store, and every other step is seeded,
 so running a campaign again (after a kill, or to rebuild a report) gives the same answer and
@@ -17,6 +18,7 @@ from rockcal.campaign.config import Campaign, read_curve
 from rockcal.campaign.forward import SPECIMEN_KEYS, Executor, run_spec
 from rockcal.inverse import (RBFSurrogate, Objective, ant_colony, curve_fit, design, latin_hypercube,
                              range_analysis)
+from rockcal.inverse.uncertainty import parameter_intervals
 from rockcal.labtests.kic import pmax_kic_disagreement
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
 from rockcal.dem.measure import secant_at_half_peak
@@ -152,13 +154,13 @@ class Calibration:
                 "predicted": surrogate.predict(x_best), "verified": verified, "errors": errors,
                 "history_fun": list(map(float, opt.history_fun)),
                 "history_x": [list(map(float, h)) for h in opt.history_x], "nfev": int(opt.nfev)})
-            if errors is not None and all(abs(e) <= tolerance for e in errors.values()):
-                accepted = len(iterations) - 1
-                break
             repeated = any(np.allclose(x_best, row) for row in train_x)
             if verified is not None and not repeated:
                 train_x = np.vstack([train_x, x_best])
                 train_y = train_y + [verified]
+            if errors is not None and all(abs(e) <= tolerance for e in errors.values()):
+                accepted = len(iterations) - 1
+                break
             if len(self.dem_runs) >= self.campaign.acceptance.max_dem_runs or repeated:
                 break
         best = accepted if accepted is not None else _closest(iterations)
@@ -169,6 +171,8 @@ class Calibration:
                         "tolerance": tolerance, "objective": objective.describe(),
                         "dem_runs": len(self.dem_runs), "best_iteration": best}
         self.record["dem_run_keys"] = list(self.dem_runs)
+        if self.campaign.wants_uncertainty():
+            self._uncertainty(identified, self._fit(train_x, train_y, box), box, names)
         self._curve_fit(identified)
         self._validate(identified)
         return self.record
@@ -183,6 +187,33 @@ class Calibration:
                               seed=o.seed, vectorized=True)
         return ant_colony(objective, box, method="ant-system", ants=o.ants, iterations=o.iterations,
                           alpha=o.alpha, beta=o.beta, rho=o.rho, seed=o.seed, vectorized=True)
+
+    def _uncertainty(self, identified: dict, surrogate: RBFSurrogate, box, names) -> None:
+        """The model's scatter over packings at the identified point (relative sd of each
+        response), then the parameters' intervals for targets drawn from the lab's spread and
+        that scatter (`rockcal.inverse.uncertainty`), each solved on the surrogate."""
+        u, settings = self.campaign.uncertainty, self.campaign.specimen
+        seeds = seed_list(settings.seed, u.packings)
+        specs = [run_spec("ucs", settings.model_copy(update={"seed": s}), self.fixed | identified)
+                 for s in seeds]
+        results = self.executor.run(specs, lambda d, t: self.progress("uncertainty (packings)", d, t))
+        ok = [r.responses for r in results if r.status == "ok"]
+        scatter = {r: float(np.std([v[r] for v in ok], ddof=1) / abs(np.mean([v[r] for v in ok])))
+                   if len(ok) > 1 else 0.0 for r in self.targets}
+        done = [0]
+
+        def solve(targets: dict) -> np.ndarray:
+            done[0] += 1
+            self.progress("uncertainty (draws)", done[0], u.draws)
+            return self._optimise(Objective(surrogate.predict, targets), box).x
+
+        spread = {r: list(s) if isinstance(s, tuple) else s
+                  for r, s in self.campaign.targets.ucs.spread.items()}
+        self.record["uncertainty"] = {
+            "seeds": seeds, "run_keys": [spec.key for spec in specs], "packing_responses": ok,
+            "scatter": scatter, "spread": spread, "draws": u.draws,
+            **parameter_intervals(solve, self.targets, spread, scatter, box, names,
+                                  draws=u.draws, seed=u.seed)}
 
     def _curve_fit(self, identified: dict) -> None:
         """Step 7: RE and CC of the stress-strain curve at the identified parameters (the

@@ -177,6 +177,14 @@ def _bending_curve(record: dict, store: RunStore, path: Path) -> str | None:
     return None
 
 
+def _parameter_draws(record: dict, store: RunStore, path: Path) -> str | None:
+    u = record.get("uncertainty")
+    if not u:
+        return "No intervals in this campaign (no lab spread in [targets.ucs], or [uncertainty] off)."
+    plots.parameter_draws(u["samples"], record["parameters"], record["bounds"], record["identified"], path)
+    return None
+
+
 NO_VALIDATION = "No bending validation in this campaign (no [targets.bending])."
 Figure = Callable[[dict, RunStore, Path], "str | None"]
 FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
@@ -190,6 +198,9 @@ FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
      _convergence),
     ("Verification loop", "loop_errors.png",
      "Relative error of the DEM responses at each optimum found on the surrogate.", _loop),
+    ("Parameter intervals", "parameter_draws.png",
+     "Each point: the parameters the surrogate gives for one target set drawn from the lab's "
+     "spread and the model's scatter over packings; +: the identified point.", _parameter_draws),
     ("Stress–strain curve", "stress_strain.png",
      "UCS test at the identified parameters; the measured curve when one was given.", _stress_strain),
     ("Crack pattern, UCS", "cracks_ucs.png",
@@ -295,9 +306,27 @@ def _responses(record: dict) -> str:
 def _parameters(record: dict) -> str:
     """The identified parameters with their search ranges, then every micro-parameter."""
     bounds = record.get("bounds", {})
-    rows = [[n, _num(v), " – ".join(map(_num, bounds.get(n, [])))]
-            for n, v in record.get("identified", {}).items()]
-    table = _table(["parameter", "identified", "search range"], rows)
+    intervals = (record.get("uncertainty") or {}).get("intervals", {})
+    header = ["parameter", "identified", "search range"]
+    if intervals:
+        header += ["5 %", "95 %", "pinned down by the data"]
+    rows = []
+    for n, v in record.get("identified", {}).items():
+        row = [n, _num(v), " – ".join(map(_num, bounds.get(n, [])))]
+        if n in intervals:
+            i = intervals[n]
+            row += [_num(i["p5"]), _num(i["p95"]), "yes" if i["pinned"] else
+                    f"no ({100 * i['at_bound']:.0f} % of draws at a bound)"]
+        rows.append(row)
+    table = _table(header, rows)
+    if intervals:
+        u = record["uncertainty"]
+        table += "<p>" + html.escape(
+            f"Intervals: {u['draws']} target sets drawn from the lab spread "
+            f"({', '.join(f'{r} {s}' for r, s in u['spread'].items()) or 'none'}) and the model's "
+            f"scatter over {len(u['packing_responses'])} packings (relative sd "
+            f"{', '.join(f'{r} {100 * s:.1f} %' for r, s in u['scatter'].items())}), each solved "
+            "on the surrogate.") + "</p>"
     everything = record.get("identified_params")
     if everything:
         table += "<p>All micro-parameters: " + html.escape(

@@ -135,6 +135,7 @@ def summary(record: dict) -> dict:
         "K_IC_error": validation.get("K_IC_error"), "warning": validation.get("warning"),
         "dem_runs": record["dem_runs"], "executed_runs": record.get("executed_runs"),
         "failed_runs": len(record.get("failed_runs", [])),
+        "intervals": (record.get("uncertainty") or {}).get("intervals"),
     }
 
 
@@ -148,8 +149,12 @@ def _print_summary(record: dict, html: Path, as_json: bool) -> None:
     table = Table(title=f"Calibration of {s['rock']}: {verdict}, {s['dem_runs']} DEM runs")
     for column in ("", "value", "target", "error"):
         table.add_column(column)
+    intervals = s["intervals"] or {}
     for name, value in s["identified"].items():
-        table.add_row(name, f"{value:.4g}", "", "")
+        i = intervals.get(name)
+        spread = "" if i is None else f"  (5–95 %: {i['p5']:.4g}–{i['p95']:.4g}" + (
+            ")" if i["pinned"] else ", not pinned down)")
+        table.add_row(name, f"{value:.4g}{spread}", "", "")
     for name, target in s["targets"].items():
         value, error = (s["verified"] or {}).get(name), (s["relative_errors"] or {}).get(name)
         table.add_row(name, "–" if value is None else f"{value:.4g}", f"{target:.4g}",

@@ -23,6 +23,7 @@ from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.kic import senb_kic
+from rockcal.labtests.peak import SettledPeak
 from rockcal.labtests.ucs import DAMAGE_SLOWDOWN
 from rockcal.params import MicroParams, make_params
 
@@ -189,13 +190,14 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
     pin_y0 = state.pos[is_pin, 1].mean()
 
     rows_out = [(0.0, 0.0)]
-    peak = 0.0
+    peak = SettledPeak(ramp_steps)
     first_break = np.empty((0, 2))
     past_peak = False
     while True:
         ramp = min(1.0, (state.step + chunk) / ramp_steps)
         if state.bond_state.any() and not past_peak:
             ramp = 1.0 / DAMAGE_SLOWDOWN
+            peak.slow_down(state.step)
         state.vel[is_pin, 1] = -step * ramp / state.dt
         advance(state, chunk)
         if not len(first_break) and state.bond_state.any():
@@ -203,11 +205,11 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
         displacement = pin_y0 - state.pos[is_pin, 1].mean()
         load = 0.5 * (state.force[is_pin, 1].sum() + -state.force[is_support, 1].sum())
         rows_out.append((1e3 * displacement, load / 1e3))
-        peak = max(peak, load)
-        past_peak = past_peak or (load < PAST_PEAK_FRACTION * peak and state.bond_state.any())
+        peak.update(state.step, load)
+        past_peak = past_peak or (peak.fallen_below(PAST_PEAK_FRACTION, load) and state.bond_state.any())
         if progress:
             progress(1e3 * displacement, load / 1e3)
-        if (load < POST_PEAK_FRACTION * peak and state.bond_state.any()) or \
+        if (peak.fallen_below(POST_PEAK_FRACTION, load) and state.bond_state.any()) or \
                 displacement >= 1e-3 * max_displacement_mm:
             break
 

@@ -23,6 +23,7 @@ from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.bending import PAST_PEAK_FRACTION, POST_PEAK_FRACTION
+from rockcal.labtests.peak import SettledPeak
 from rockcal.labtests.ucs import DAMAGE_SLOWDOWN, STRAIN_PER_STEP_PER_ROW
 from rockcal.params import MicroParams, make_params
 
@@ -93,24 +94,26 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
     ramp_steps = int(10 * rows)
 
     rows_out = [(0.0, 0.0)]
-    peak = closure_at_peak = 0.0
+    peak, closure_at_peak = SettledPeak(ramp_steps), 0.0
     past_peak = False
     while True:
         ramp = min(1.0, (state.step + chunk) / ramp_steps)
         if state.bond_state.any() and not past_peak:
             ramp = 1.0 / DAMAGE_SLOWDOWN
+            peak.slow_down(state.step)
         state.wall_vel[BOTTOM], state.wall_vel[TOP] = speed * ramp, -speed * ramp
         advance(state, chunk)
         closure = (state.walls[BOTTOM] - bottom) + (top - state.walls[TOP])
         f = state.total_wall_force()
         load = 0.5 * (f[BOTTOM] + f[TOP])
         rows_out.append((1e3 * closure, load / 1e3))
-        if load > peak:
-            peak, closure_at_peak = load, closure
-        past_peak = past_peak or (load < PAST_PEAK_FRACTION * peak and state.bond_state.any())
+        if state.step >= peak.settled_from and load > peak.value:
+            closure_at_peak = closure
+        peak.update(state.step, load)
+        past_peak = past_peak or (peak.fallen_below(PAST_PEAK_FRACTION, load) and state.bond_state.any())
         if progress:
             progress(1e3 * closure, load / 1e3)
-        split = load < POST_PEAK_FRACTION * peak and closure > closure_at_peak + radius.mean()
+        split = peak.fallen_below(POST_PEAK_FRACTION, load) and closure > closure_at_peak + radius.mean()
         if (split and state.bond_state.any()) or closure >= max_strain * diameter:
             break
 

@@ -20,6 +20,7 @@ from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.simulate import BOTTOM, TOP, THICKNESS_M, advance, new_state
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
+from rockcal.labtests.peak import SettledPeak
 from rockcal.params import MicroParams, make_params
 
 POST_PEAK_FRACTION = 0.7
@@ -94,11 +95,12 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
     width0, height0 = measure.gauge_lengths(state.pos, sets)
     area = specimen.width_m * THICKNESS_M
     rows_out = [(0.0, 0.0, 0.0)]
-    peak = 0.0
+    peak = SettledPeak(ramp_steps)
     while True:
         ramp = min(1.0, (state.step + chunk) / ramp_steps)
         if state.bond_state.any():
             ramp = 1.0 / DAMAGE_SLOWDOWN
+            peak.slow_down(state.step)
         state.wall_vel[BOTTOM], state.wall_vel[TOP] = speed * ramp, -speed * ramp
         advance(state, chunk)
         width, height = measure.gauge_lengths(state.pos, sets)
@@ -110,12 +112,10 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
         f = state.total_wall_force()
         stress = 0.5 * (f[BOTTOM] + f[TOP]) / area
         rows_out.append((axial, lateral, stress / 1e6))
-        peak = max(peak, stress)
+        peak.update(state.step, stress)
         if progress:
             progress(axial, stress / 1e6)
-        # past the ramp only (FISHTank likewise loads a while before it may stop): a bond that
-        # breaks early slows the platens, and the stress of the ramp's first steps relaxes
-        if (stress < stop_fraction * peak and state.step > ramp_steps) or axial >= max_axial_strain:
+        if peak.fallen_below(stop_fraction, stress) or axial >= max_axial_strain:
             break
 
     curve = np.array(rows_out)
