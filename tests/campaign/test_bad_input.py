@@ -84,6 +84,16 @@ CAMPAIGNS = [  # (case, campaign text, the key the error must name)
     ("negative strength sd", edit("mu = 0.5", "mu = 0.5, sigma_c_sd = -3"),
      "search.fixed.sigma_c_sd"),
     ("bond friction angle 90", edit("mu = 0.5", "mu = 0.5, phi_b = 90"), "search.fixed.phi_b"),
+    ("sd and cv of one strength", edit("mu = 0.5", "mu = 0.5, sigma_c_sd = 3, sigma_c_cv = 0.2"),
+     "search.fixed.sigma_c_cv"),
+    ("spread of a response not targeted", edit("ucs_MPa = 40.0", "ucs_MPa = 40.0\nspread = { nu = 0.01 }"),
+     "targets.ucs.spread.nu"),
+    ("spread range without the target", edit("ucs_MPa = 40.0", "ucs_MPa = 40.0\nspread = { ucs_MPa = [41, 45] }"),
+     "targets.ucs.spread.ucs_MPa"),
+    ("spread sd 0", edit("ucs_MPa = 40.0", "ucs_MPa = 40.0\nspread = { E_GPa = 0 }"),
+     "targets.ucs.spread.E_GPa"),
+    ("too few draws", CAMPAIGN + "[uncertainty]\ndraws = 2\n", "uncertainty.draws"),
+    ("no packings", CAMPAIGN + "[uncertainty]\npackings = 0\n", "uncertainty.packings"),
 ]
 OPTIONS = [  # (case, extra arguments, the option the error must name)
     ("negative workers", ["--workers", "-1"], "--workers"),
