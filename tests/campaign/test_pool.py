@@ -46,3 +46,23 @@ def test_a_killed_pool_worker_loses_nothing_and_the_numbers_match_a_serial_run(t
     assert pool_store.executions() == {s.key: 1 for s in specs}
     serial = Executor(serial_store, workers=1).run(specs)
     assert [r.responses for r in serial] == [r.responses for r in results]
+
+
+def test_running_tests_report_their_readings_as_they_go(tmp_path, monkeypatch):
+    """Each running test shows its strain and stress about once a second (here every step
+    chunk), on the pool and serially; nothing is shown once the runs are done."""
+    import rockcal.campaign.forward as forward
+
+    monkeypatch.setattr(forward, "LIVE_INTERVAL_S", 0.0)
+    for workers in (2, 1):
+        shown = []
+        executor = Executor(RunStore(tmp_path / str(workers)), workers=workers)
+        executor.on_live = shown.append
+        try:
+            executor.run(batch(2))
+        finally:
+            executor.close()
+        readings = [text for text in shown if text]
+        assert readings and all(text.startswith("running: ") for text in readings)
+        assert any(" MPa" in text and "strain" in text for text in readings)
+        assert shown[-1] == ""

@@ -3,14 +3,15 @@ cores, through the run store (a run in the store is never run again).
 
 Workers are separate processes (spawned, so numba's threads are never forked); each sets its
 numba threads to its share of the cores and loads the specimen from the on-disk specimen cache
-once, not per run.
+once, not per run. A running test reports its reading (strain and stress, or displacement and
+load) about once a second, so a long run shows that it moves.
 """
 
 from __future__ import annotations
 
 import os
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from functools import lru_cache
 from multiprocessing import get_context
@@ -26,6 +27,8 @@ from rockcal.dem.specimen import GENERATOR_VERSION
 from rockcal.params import make_params
 
 POOL_RESTARTS = 3
+LIVE_INTERVAL_S = 1.0  # a running test reports its reading at most this often
+_live = None  # where a running test reports to: a worker's queue, or the serial executor
 SPECIMEN_KEYS = ("n_particles", "porosity", "coordination", "bonds_per_particle")  # of each run
 ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
 GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_mpa
@@ -78,11 +81,16 @@ def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
     from rockcal.labtests.bending import simulate_bending
     from rockcal.labtests.ucs import simulate_ucs
 
-    started = time.perf_counter()
+    started = last = time.perf_counter()
 
-    def watch(*_):
-        if time_limit_s is not None and time.perf_counter() - started > time_limit_s:
+    def watch(x: float, y: float):
+        nonlocal last
+        now = time.perf_counter()
+        if time_limit_s is not None and now - started > time_limit_s:
             raise RunTimedOut(f"stopped after the run's wall-time limit of {time_limit_s:g} s")
+        if _live is not None and now - last >= LIVE_INTERVAL_S:
+            last = now
+            _live.put((spec.key, spec.kind, float(x), float(y), now - started))
 
     try:
         specimen, beam = specimen_of(spec.kind, spec.specimen)
@@ -117,10 +125,32 @@ def crack_rows(cracks: dict[str, np.ndarray]) -> np.ndarray:
                       for code, mode in ((BROKEN_TENSION, "tension"), (BROKEN_SHEAR, "shear"))])
 
 
-def _init_worker(threads: int) -> None:
+def _init_worker(threads: int, live) -> None:
     import numba
 
+    global _live
     numba.set_num_threads(threads)
+    _live = live
+
+
+def live_text(readings: dict[str, tuple]) -> str:
+    """The running tests in a line: their short key and latest reading."""
+    parts = []
+    for key, (kind, x, y, elapsed) in readings.items():
+        reading = (f"strain {100 * x:.3f} %, {y:.1f} MPa" if kind == "ucs" else
+                   f"{x:.3f} mm, {y:.2f} kN/m")
+        parts.append(f"{key[:6]} {reading}, {elapsed:.0f} s")
+    return "running: " + "; ".join(parts) if parts else ""
+
+
+class _Shown:
+    """The serial executor's `_live`: readings go straight to the display."""
+
+    def __init__(self, executor: "Executor"):
+        self.executor = executor
+
+    def put(self, item) -> None:
+        self.executor._reading(item)
 
 
 def split_stored(store: RunStore, specs: list[RunSpec]) -> tuple[dict[str, RunResult], list[RunSpec]]:
@@ -149,7 +179,30 @@ class Executor:
         self.workers = workers if workers > 0 else (os.cpu_count() or 1)
         self.time_limit_s = time_limit_s
         self._pool = None
+        self._queue = None
         self.executed = 0  # runs done by this executor (not found in the store)
+        self.on_live: Callable[[str], None] | None = None  # shows `live_text` of running tests
+        self._readings: dict[str, tuple] = {}
+
+    def _reading(self, item) -> None:
+        key, *reading = item
+        self._readings[key] = tuple(reading)
+        self._show()
+
+    def _done(self, key: str) -> None:
+        if self._readings.pop(key, None) is not None:
+            self._show()
+
+    def _show(self) -> None:
+        if self.on_live is not None:
+            self.on_live(live_text(self._readings))
+
+    def _drain(self) -> None:
+        while self._queue is not None and not self._queue.empty():
+            try:
+                self._reading(self._queue.get_nowait())
+            except Exception:  # queue.Empty, or a reading cut short by a dying worker
+                break
 
     def close(self) -> None:
         if self._pool is not None:
@@ -158,21 +211,27 @@ class Executor:
     def _get_pool(self) -> ProcessPoolExecutor:
         if self._pool is None:
             threads = max(1, (os.cpu_count() or 1) // self.workers)
-            self._pool = ProcessPoolExecutor(self.workers, mp_context=get_context("spawn"),
-                                             initializer=_init_worker, initargs=(threads,))
+            context = get_context("spawn")
+            self._queue = context.Queue()
+            self._pool = ProcessPoolExecutor(self.workers, mp_context=context,
+                                             initializer=_init_worker, initargs=(threads, self._queue))
         return self._pool
 
     def run(self, specs: Iterable[RunSpec],
             progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
         """Results in the order of `specs`; each new one is stored as soon as it is done."""
+        global _live
         batch = Batch(self.store, specs, progress)
         try:
             if self.workers == 1 or len(batch.todo) <= 1:
+                _live = _Shown(self)
                 for spec in batch.todo:
                     batch.finish(spec, execute(spec, self.time_limit_s))
+                    self._done(spec.key)
             else:
                 self._run_on_pool(batch)
         finally:
+            _live = None
             self.executed += batch.executed
         return batch.in_order()
 
@@ -182,12 +241,17 @@ class Executor:
         todo = batch.todo
         for attempt in range(POOL_RESTARTS + 1):
             futures = {self._get_pool().submit(execute, spec, self.time_limit_s): spec for spec in todo}
-            for future in as_completed(futures):
-                try:
-                    result = future.result()
-                except BrokenProcessPool:
-                    continue
-                batch.finish(futures[future], result)
+            pending = set(futures)
+            while pending:
+                finished, pending = wait(pending, timeout=LIVE_INTERVAL_S, return_when=FIRST_COMPLETED)
+                self._drain()
+                for future in finished:
+                    self._done(futures[future].key)
+                    try:
+                        result = future.result()
+                    except BrokenProcessPool:
+                        continue
+                    batch.finish(futures[future], result)
             todo = [spec for spec in todo if spec.key not in batch.results]
             if not todo:
                 return

@@ -59,7 +59,10 @@ def calibrate(
             raise
         try:
             store.save_document("campaign.toml", text)
+            if not as_json:
+                _print_plan(campaign, store, executor)
             with _stage_progress(as_json) as progress:
+                executor.on_live = progress.live
                 record = Calibration(campaign, executor, progress).run()
         except CalibrationFailed as exc:
             print(f"rockcal: calibration failed: {exc}", file=sys.stderr)
@@ -97,14 +100,30 @@ def _write_report(record: dict, store, out: Path) -> Path:
     return write_report(record, store, out)
 
 
+def _print_plan(campaign, store, executor) -> None:
+    from rockcal.campaign.plan import describe
+
+    console = Console(stderr=True)
+    console.print(f"[bold]Calibrating {campaign.rock.name}[/]")
+    for line in describe(campaign, store, getattr(executor, "workers", None)):
+        console.print("  " + line, highlight=False)
+
+
 class _stage_progress:
     """A rich progress bar per stage of the campaign (runs done / to do, ETA), on stderr."""
 
     def __init__(self, quiet: bool):
         self.bar = Progress(TextColumn("{task.description:<24}"), BarColumn(), MofNCompleteColumn(),
                             TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
+                            TextColumn("{task.fields[live]}"),
                             console=Console(stderr=True), disable=quiet)
         self.tasks: dict[str, int] = {}
+        self.current = None  # the stage now running
+
+    def live(self, text: str) -> None:
+        """Show what the running tests read now, after the current stage's bar."""
+        if self.current is not None:
+            self.bar.update(self.current, live=text)
 
     def __enter__(self):
         self.bar.start()
@@ -115,7 +134,9 @@ class _stage_progress:
 
     def __call__(self, stage: str, done: int, total: int) -> None:
         if stage not in self.tasks:
-            self.tasks[stage] = self.bar.add_task(stage, total=total)
+            if self.current is not None:
+                self.bar.update(self.current, live="")
+            self.tasks[stage] = self.current = self.bar.add_task(stage, total=total, live="")
         self.bar.update(self.tasks[stage], completed=done, total=total)
 
 

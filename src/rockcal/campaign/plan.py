@@ -1,0 +1,101 @@
+"""What a campaign will run and about how long it will take: shown before it starts.
+
+A run's time is the mean of the UCS runs on the same specimen that the store already holds;
+without any, it is scaled from the full-size granite UCS run of docs/benchmarks.md. Work per
+step grows with the grains, and the steps of a test with its rows of grains (the loading speed
+is set per row), so a run's time goes as grains x rows; a bending run is scaled likewise.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+
+from rockcal.campaign.config import Campaign, SpecimenSettings
+from rockcal.campaign.forward import UCS_GEOMETRY
+
+REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
+REFERENCE_RUN_S = 430.0  # its mean UCS run, one thread (the source's L16 table, 2-core machine)
+
+
+def grain_count(width_mm: float, height_mm: float, s: SpecimenSettings) -> int:
+    """Grains of a genesis in a width x height vessel: the cloud's count (floaters are
+    enlarged, not added)."""
+    rmin = s.rmin_mm
+    mean_area = np.pi * rmin**2 * (1 + s.radius_ratio + s.radius_ratio**2) / 3
+    return int(round((1 - s.cloud_porosity) * width_mm * height_mm / mean_area))
+
+
+def work(width_mm: float, height_mm: float, s: SpecimenSettings) -> float:
+    """Grains x rows of a specimen: what a test's run time is proportional to."""
+    rows = height_mm / (s.rmin_mm * (1 + s.radius_ratio))
+    return grain_count(width_mm, height_mm, s) * rows
+
+
+def array_runs(name: str) -> int:
+    """Runs of an orthogonal array named like "L16(4^5)"."""
+    return int(re.match(r"L(\d+)", name).group(1))
+
+
+def stages(campaign: Campaign) -> list[tuple[str, str, int]]:
+    """(stage, test, runs) in the order they run; the verification loop counts its first run."""
+    out = []
+    if campaign.sensitivity is not None:
+        out.append(("sensitivity", "ucs", array_runs(campaign.sensitivity.array)))
+    out += [("samples", "ucs", campaign.surrogate.samples),
+            ("surrogate check", "ucs", campaign.surrogate.checks), ("verification", "ucs", 1)]
+    if campaign.wants_uncertainty():
+        out.append(("uncertainty (packings)", "ucs", campaign.uncertainty.packings - 1))
+    if campaign.targets.bending is not None:
+        out.append(("validation (bending)", "bending", campaign.specimen.bending_seeds))
+    return out
+
+
+def stored_ucs_runs_s(store, specimen: SpecimenSettings) -> list[float]:
+    """Wall times of the finished UCS runs on this specimen in the store."""
+    wanted = {n: getattr(specimen, n) for n in UCS_GEOMETRY}
+    return [wall for text, wall in store.db.execute(
+        "SELECT specimen, wall_s FROM runs WHERE kind='ucs' AND status='ok'")
+        if json.loads(text) == wanted]
+
+
+def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
+    """The lines of the first screen: specimens, stages and run counts, expected time."""
+    s = campaign.specimen
+    ucs_grains = grain_count(s.width_mm, s.height_mm, s)
+    beam_grains = grain_count(s.beam_length_mm, s.beam_height_mm, s)
+    measured = stored_ucs_runs_s(store, s)
+    ucs_work = work(s.width_mm, s.height_mm, s)
+    ucs_s = float(np.mean(measured)) if measured else REFERENCE_RUN_S * ucs_work / REFERENCE_WORK
+    beam_s = ucs_s * work(s.beam_length_mm, s.beam_height_mm, s) / ucs_work
+    plan = stages(campaign)
+    ucs_runs = max(0, sum(n for _, test, n in plan if test == "ucs") - len(measured))
+    beam_runs = sum(n for _, test, n in plan if test == "bending")
+    total_s = ucs_runs * ucs_s + beam_runs * beam_s
+    beam = (f"; beam {s.beam_length_mm:g} x {s.beam_height_mm:g} mm, about {beam_grains} grains"
+            if campaign.targets.bending is not None else "")
+    lines = [
+        f"specimens: UCS {s.width_mm:g} x {s.height_mm:g} mm, about {ucs_grains} grains{beam} "
+        f"(R {s.rmin_mm:g} to {s.rmin_mm * s.radius_ratio:.3g} mm)",
+        "stages: " + ", ".join(f"{name} {n}" for name, _, n in plan)
+        + f" (then more verifications if needed, at most {campaign.acceptance.max_dem_runs} UCS runs)",
+        f"runs in the store: {store.count()}, {len(measured)} of them UCS runs on this specimen "
+        "(a run in the store is never run again)",
+    ]
+    basis = ("the mean of this store's UCS runs" if measured else
+             "scaled from the full-size granite run on a reference machine; ±2x between machines")
+    if workers:
+        lines.append(f"expected: about {_duration(total_s / workers)} on {workers} "
+                     f"worker{'s' if workers > 1 else ''} "
+                     f"for the {ucs_runs} UCS and {beam_runs} bending runs still to do "
+                     f"({_duration(ucs_s)} per UCS run on one worker: {basis})")
+    return lines
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    minutes = seconds / 60
+    return f"{minutes:.0f} min" if minutes < 90 else f"{minutes / 60:.1f} h"

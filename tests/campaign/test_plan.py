@@ -1,0 +1,42 @@
+"""The first screen of a campaign: what will run, on what specimens, and about how long."""
+
+import pytest
+
+from rockcal.campaign.config import parse_campaign, SpecimenSettings
+from rockcal.campaign.plan import describe, grain_count, stages
+from rockcal.campaign.store import RunStore
+from rockcal.dem.specimen import random_packing
+
+
+@pytest.mark.parametrize("rmin_mm, cloud_porosity", [(0.4, 0.09), (0.3, 0.15)])
+def test_grain_count_is_the_genesis_count(rmin_mm, cloud_porosity):
+    settings = SpecimenSettings(rmin_mm=rmin_mm, cloud_porosity=cloud_porosity)
+    made = random_packing(10, 20, rmin_mm, settings.radius_ratio, genesis=settings)
+    assert grain_count(10, 20, settings) == pytest.approx(made.n_particles, rel=0.03)
+
+
+def test_stages_and_the_expected_time(tmp_path):
+    campaign = parse_campaign("""
+[targets.ucs]
+E_GPa = 20.0
+spread = { E_GPa = 1.0 }
+[targets.bending]
+K_IC_MPa_sqrt_m = 1.0
+[specimen]
+bending_seeds = 2
+[sensitivity]
+array = "L9(3^4)"
+levels = { E_c = [10, 20, 30], sigma_c = [20, 40, 60] }
+[surrogate]
+samples = 12
+checks = 2
+[uncertainty]
+packings = 4
+""", tmp_path)
+    assert stages(campaign) == [("sensitivity", "ucs", 9), ("samples", "ucs", 12),
+                                ("surrogate check", "ucs", 2), ("verification", "ucs", 1),
+                                ("uncertainty (packings)", "ucs", 3),
+                                ("validation (bending)", "bending", 2)]
+    lines = describe(campaign, RunStore(tmp_path / "out"), workers=2)
+    assert "about 12940 grains" in lines[0]
+    assert lines[-1].startswith("expected: about ") and "27 UCS and 2 bending runs" in lines[-1]
