@@ -61,7 +61,7 @@ def calibrate(
             store.save_document("campaign.toml", text)
             if not as_json:
                 _print_plan(campaign, store, executor)
-            with _stage_progress(as_json) as progress:
+            with _stage_progress(as_json, _planned_runs(campaign)) as progress:
                 executor.on_live = progress.live
                 record = Calibration(campaign, executor, progress).run()
         except CalibrationFailed as exc:
@@ -100,6 +100,12 @@ def _write_report(record: dict, store, out: Path) -> Path:
     return write_report(record, store, out)
 
 
+def _planned_runs(campaign) -> dict[str, int]:
+    from rockcal.campaign.plan import stages
+
+    return {name: n for name, _, n in stages(campaign)}
+
+
 def _print_plan(campaign, store, executor) -> None:
     from rockcal.campaign.plan import describe
 
@@ -110,13 +116,18 @@ def _print_plan(campaign, store, executor) -> None:
 
 
 class _stage_progress:
-    """A rich progress bar per stage of the campaign (runs done / to do, ETA), on stderr."""
+    """A rich progress bar for the whole campaign (its planned runs) and one per stage (runs
+    done / to do, ETA), on stderr; the ETAs average the run rate over the last 10 minutes."""
 
-    def __init__(self, quiet: bool):
+    def __init__(self, quiet: bool, planned_runs: dict[str, int]):
         self.bar = Progress(TextColumn("{task.description:<24}"), BarColumn(), MofNCompleteColumn(),
                             TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
                             TextColumn("{task.fields[live]}"),
-                            console=Console(stderr=True), disable=quiet)
+                            console=Console(stderr=True), disable=quiet, speed_estimate_period=600)
+        self.planned = planned_runs  # forward runs per stage (the others count no runs)
+        self.campaign = self.bar.add_task("campaign (planned runs)", total=sum(planned_runs.values()),
+                                          live="")
+        self.done: dict[str, int] = {}
         self.tasks: dict[str, int] = {}
         self.current = None  # the stage now running
 
@@ -138,6 +149,11 @@ class _stage_progress:
                 self.bar.update(self.current, live="")
             self.tasks[stage] = self.current = self.bar.add_task(stage, total=total, live="")
         self.bar.update(self.tasks[stage], completed=done, total=total)
+        if stage in self.planned:
+            self.done[stage] = done
+            overall = sum(self.done.values())
+            self.bar.update(self.campaign, completed=overall,
+                            total=max(sum(self.planned.values()), overall))
 
 
 def summary(record: dict) -> dict:
