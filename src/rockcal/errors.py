@@ -12,6 +12,18 @@ class InputError(ValueError):
         super().__init__(f"{field}: {problem}")
 
 
+class as_flags:
+    """Within it, an InputError naming a setting (notch_mm) names its CLI flag (--notch-mm)."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if isinstance(exc, InputError) and not exc.field.startswith("-"):
+            raise InputError("--" + exc.field.replace("_", "-"), exc.problem) from None
+        return False
+
+
 def from_validation_error(exc) -> InputError:
     """Turn a pydantic ValidationError into an InputError naming the first bad field; a
     validator's message "key: problem" names a key below the field it validated."""

@@ -273,14 +273,12 @@ def _check_specimens(campaign: Campaign) -> None:
     if campaign.targets.bending is None:
         return
     beam = Beam(s.beam_length_mm, s.beam_height_mm, s.notch_mm, s.notch_width_mm, s.span_mm)
-    names = {"width_mm": "beam_length_mm", "height_mm": "beam_height_mm", "--length-mm": "beam_length_mm",
-             "--height-mm": "beam_height_mm"}
+    names = {"width_mm": "beam_length_mm", "height_mm": "beam_height_mm", "length_mm": "beam_length_mm"}
     try:
         check_geometry(s.beam_length_mm, s.beam_height_mm, s.rmin_mm, s.radius_ratio)
         beam.check()
     except InputError as exc:
-        name = names.get(exc.field, exc.field.lstrip("-").replace("-", "_"))
-        raise InputError(f"specimen.{name}", exc.problem) from None
+        raise InputError(f"specimen.{names.get(exc.field, exc.field)}", exc.problem) from None
 
 
 def read_curve(path: Path) -> np.ndarray:

@@ -17,8 +17,11 @@ def kic(
     """K_IC = 0.25 (S/D) Y P_max / D^1.5 (Ouchterlony's straight-notched round bar)."""
     from rockcal.labtests.kic import check_round_bar, ouchterlony_Y, round_bar_kic
 
+    from rockcal.errors import as_flags
+
     args = (1e3 * pmax_kn, 1e-3 * diameter_mm, 1e-3 * notch_mm, 1e-3 * span_mm)
-    check_round_bar(*args)
+    with as_flags():
+        check_round_bar(*args)
     summary = {"K_IC_MPa_sqrt_m": round_bar_kic(*args) / 1e6,
                "Y": ouchterlony_Y(notch_mm / diameter_mm), "a_over_D": notch_mm / diameter_mm,
                "formula": "Ouchterlony straight-notched round bar, 0.25 (S/D) Y P / D^1.5"}

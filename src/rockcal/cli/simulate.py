@@ -16,7 +16,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from rockcal.dem.genesis import Genesis, make_genesis
-from rockcal.errors import InputError
+from rockcal.errors import InputError, as_flags
 from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
 from rockcal.params import make_params, parse_assignments
 
@@ -49,10 +49,8 @@ PRESSURE_MPA = typer.Option(GENESIS_DEFAULTS.pressure_mpa,
 def genesis_of(install_gap: float, cloud_porosity: float, pressure_mpa: float) -> Genesis:
     """The genesis settings of the specimen flags; a bad one is an error naming its flag."""
     values = dict(install_gap=install_gap, cloud_porosity=cloud_porosity, pressure_mpa=pressure_mpa)
-    try:
+    with as_flags():
         return make_genesis(values)
-    except InputError as exc:
-        raise InputError("--" + exc.field.replace("_", "-"), exc.problem) from None
 
 
 def finite(name: str, value: float, low: float = 0.0) -> float:
@@ -213,7 +211,8 @@ def bending(
     params = make_params(parse_assignments(set_))
     _check_packing_options(rmin_mm, radius_ratio)
     beam = Beam(length_mm, height_mm, notch_mm, notch_width_mm, span_mm)
-    beam.check()
+    with as_flags():
+        beam.check()
     genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
 
     def one(packing_seed: int, label: str):

@@ -60,24 +60,24 @@ class Beam:
             object.__setattr__(self, "pin_radius_mm", PIN_RADIUS_MM * self.height_mm / 50.0)
 
     def check(self) -> None:
-        """Reject geometry no test can be run on, naming the CLI option."""
+        """Reject geometry no test can be run on, naming the setting."""
         for name in ("length_mm", "height_mm", "notch_mm", "notch_width_mm", "span_mm",
                      "pin_radius_mm"):
             value, may_be_zero = getattr(self, name), name == "notch_width_mm"
             if not (np.isfinite(value) and (value > 0 or (may_be_zero and value == 0))):
-                raise InputError("--" + name.replace("_", "-"), "must be a finite number "
+                raise InputError(name, "must be a finite number "
                                  f"{'>= 0' if may_be_zero else '> 0'}, got {value}")
         if self.notch_mm >= self.height_mm:
-            raise InputError("--notch-mm", f"the notch ({self.notch_mm:g} mm) must be shallower "
+            raise InputError("notch_mm", f"the notch ({self.notch_mm:g} mm) must be shallower "
                              f"than the beam ({self.height_mm:g} mm)")
         if self.span_mm >= self.length_mm:
-            raise InputError("--span-mm", f"the span ({self.span_mm:g} mm) must be shorter than "
+            raise InputError("span_mm", f"the span ({self.span_mm:g} mm) must be shorter than "
                              f"the beam ({self.length_mm:g} mm)")
         if self.span_mm / 2 + self.pin_radius_mm > self.length_mm / 2:
-            raise InputError("--span-mm", f"supports of radius {self.pin_radius_mm:g} mm at "
+            raise InputError("span_mm", f"supports of radius {self.pin_radius_mm:g} mm at "
                              f"+-{self.span_mm / 2:g} mm stick out of a {self.length_mm:g} mm beam")
         if self.notch_width_mm >= self.span_mm - 2 * self.pin_radius_mm:
-            raise InputError("--notch-width-mm", f"must be narrower than the span between the "
+            raise InputError("notch_width_mm", f"must be narrower than the span between the "
                              f"supports, got {self.notch_width_mm:g} mm")
 
 

@@ -63,7 +63,7 @@ def brazilian_disk(diameter_mm: float = 50.0, rmin_mm: float = 0.25, radius_rati
                    seed: int = 1, genesis: Genesis | None = None) -> Specimen:
     """A disk of the given diameter carved from a square packing of the same size."""
     if not (np.isfinite(diameter_mm) and diameter_mm > 0):
-        raise InputError("--diameter-mm", f"must be a finite number > 0, got {diameter_mm}")
+        raise InputError("diameter_mm", f"must be a finite number > 0, got {diameter_mm}")
     spec = random_packing(diameter_mm, diameter_mm, rmin_mm, radius_ratio, seed, genesis)
     r = 0.5e-3 * diameter_mm
     keep = inside_circle(spec.pos, spec.radius, (r, r), r)

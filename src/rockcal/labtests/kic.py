@@ -27,12 +27,12 @@ def round_bar_kic(pmax_N: float, diameter_m: float, notch_m: float, span_m: floa
 
 
 def check_round_bar(pmax_N: float, diameter_m: float, notch_m: float, span_m: float) -> None:
-    for name, value in (("--pmax-kn", pmax_N), ("--diameter-mm", diameter_m),
-                        ("--notch-mm", notch_m), ("--span-mm", span_m)):
+    for name, value in (("pmax_kn", pmax_N), ("diameter_mm", diameter_m),
+                        ("notch_mm", notch_m), ("span_mm", span_m)):
         if not (math.isfinite(value) and value > 0):
             raise InputError(name, f"must be a finite number > 0, got {value:g}")
     if notch_m >= diameter_m:
-        raise InputError("--notch-mm", f"the notch ({1e3 * notch_m:g} mm) must be shallower than "
+        raise InputError("notch_mm", f"the notch ({1e3 * notch_m:g} mm) must be shallower than "
                          f"the diameter ({1e3 * diameter_m:g} mm)")
 
 
