@@ -52,3 +52,18 @@ def test_to_values_and_design_map_levels():
     assert sorted(set(mixed["switch"])) == [0, 1] and len(mixed["a"]) == 18
     with pytest.raises(InputError, match="levels.E_c"):
         to_values(orthogonal_array("L9(3^4)"), {"E_c": [1, 2, 3, 4]})
+
+
+def test_l16_is_the_design_of_the_source_studys_table_3():
+    """The source's 16 PFC2D runs (E_c, kn/ks, sigma_c, tau_c, mu of its Table 3, in order),
+    so the campaign's sensitivity runs are the source's own and a store can share them."""
+    table3 = [(15, 1.0, 20, 50, 0.3), (15, 1.67, 30, 70, 0.4), (15, 2.33, 40, 90, 0.5),
+              (15, 3.0, 50, 110, 0.6), (20, 1.0, 30, 90, 0.6), (20, 1.67, 20, 110, 0.5),
+              (20, 2.33, 50, 50, 0.4), (20, 3.0, 40, 70, 0.3), (25, 1.0, 40, 110, 0.4),
+              (25, 1.67, 50, 90, 0.3), (25, 2.33, 20, 70, 0.6), (25, 3.0, 30, 50, 0.5),
+              (30, 1.0, 50, 70, 0.5), (30, 1.67, 40, 50, 0.6), (30, 2.33, 30, 110, 0.3),
+              (30, 3.0, 20, 90, 0.4)]
+    levels = {"E_c": [15, 20, 25, 30], "kn_ks": [1.0, 1.67, 2.33, 3.0], "sigma_c": [20, 30, 40, 50],
+              "tau_c": [50, 70, 90, 110], "mu": [0.3, 0.4, 0.5, 0.6]}
+    runs = design("L16(4^5)", levels)
+    np.testing.assert_array_equal(np.column_stack([runs[f] for f in levels]), np.array(table3))

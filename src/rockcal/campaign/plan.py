@@ -8,16 +8,17 @@ is set per row), so a run's time goes as grains x rows; a bending run is scaled 
 
 from __future__ import annotations
 
-import json
 import re
 
 import numpy as np
 
 from rockcal.campaign.config import Campaign, SpecimenSettings
-from rockcal.campaign.forward import UCS_GEOMETRY
+from rockcal.campaign.forward import UCS_GEOMETRY, run_spec
+from rockcal.campaign.procedure import sample_points
+from rockcal.inverse import design
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
-REFERENCE_RUN_S = 430.0  # its mean UCS run, one thread (the source's L16 table, 2-core machine)
+REFERENCE_RUN_S = 300.0  # its mean UCS run on one thread (the L16 table with the strength spread)
 
 
 def grain_count(width_mm: float, height_mm: float, s: SpecimenSettings) -> int:
@@ -53,12 +54,29 @@ def stages(campaign: Campaign) -> list[tuple[str, str, int]]:
     return out
 
 
+def stored_runs(campaign: Campaign, store) -> int:
+    """How many of the campaign's sensitivity, sample and check runs the store holds: those
+    known before it runs (the samples only when [search] gives the bounds)."""
+    fixed, rows = campaign.fixed_params(), []
+    bounds = campaign.search.bounds
+    if campaign.sensitivity is not None:
+        runs = design(campaign.sensitivity.array, campaign.sensitivity.levels)
+        rows += [{f: float(v[i]) for f, v in runs.items()} for i in range(len(next(iter(runs.values()))))]
+        for f, levels in campaign.sensitivity.levels.items():  # as the procedure does
+            if f not in bounds and f not in fixed:
+                fixed[f] = float(np.mean(levels))
+    if bounds:
+        names = list(bounds)
+        x, checks = sample_points(np.array([bounds[n] for n in names], float), campaign.surrogate)
+        rows += [fixed | dict(zip(names, row)) for row in np.vstack([x, checks])]
+    specs = [run_spec("ucs", campaign.specimen, campaign.fixed_params() | row) for row in rows]
+    return sum(store.get(spec) is not None for spec in specs)
+
+
 def stored_ucs_runs_s(store, specimen: SpecimenSettings) -> list[float]:
     """Wall times of the finished UCS runs on this specimen in the store."""
     wanted = {n: getattr(specimen, n) for n in UCS_GEOMETRY}
-    return [wall for text, wall in store.db.execute(
-        "SELECT specimen, wall_s FROM runs WHERE kind='ucs' AND status='ok'")
-        if json.loads(text) == wanted]
+    return [wall for settings, wall in store.wall_times("ucs") if settings == wanted]
 
 
 def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
@@ -71,7 +89,8 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
     ucs_s = float(np.mean(measured)) if measured else REFERENCE_RUN_S * ucs_work / REFERENCE_WORK
     beam_s = ucs_s * work(s.beam_length_mm, s.beam_height_mm, s) / ucs_work
     plan = stages(campaign)
-    ucs_runs = max(0, sum(n for _, test, n in plan if test == "ucs") - len(measured))
+    done = stored_runs(campaign, store)
+    ucs_runs = sum(n for _, test, n in plan if test == "ucs") - done
     beam_runs = sum(n for _, test, n in plan if test == "bending")
     total_s = ucs_runs * ucs_s + beam_runs * beam_s
     beam = (f"; beam {s.beam_length_mm:g} x {s.beam_height_mm:g} mm, about {beam_grains} grains"
@@ -81,8 +100,8 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
         f"(R {s.rmin_mm:g} to {s.rmin_mm * s.radius_ratio:.3g} mm)",
         "stages: " + ", ".join(f"{name} {n}" for name, _, n in plan)
         + f" (then more verifications if needed, at most {campaign.acceptance.max_dem_runs} UCS runs)",
-        f"runs in the store: {store.count()}, {len(measured)} of them UCS runs on this specimen "
-        "(a run in the store is never run again)",
+        f"runs of this campaign already in the store: {done} (a run in the store is never run "
+        "again)",
     ]
     basis = ("the mean of this store's UCS runs" if measured else
              "scaled from the full-size granite run on a reference machine; ±2x between machines")

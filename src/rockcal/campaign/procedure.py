@@ -118,10 +118,8 @@ class Calibration:
         s = self.campaign.surrogate
 
         # step 3: Latin hypercube runs, surrogate, check on fresh random points
-        x = _round_rows(latin_hypercube(box, s.samples, seed=s.seed))
+        x, checks = sample_points(box, s)
         y = self._ucs("samples", [dict(zip(names, row)) for row in x])
-        rng = np.random.default_rng(s.seed + 1)
-        checks = _round_rows(box[:, 0] + rng.random((s.checks, len(names))) * (box[:, 1] - box[:, 0]))
         y_checks = self._ucs("surrogate check", [dict(zip(names, row)) for row in checks])
         train_x, train_y = _usable(x, y)
         surrogate = self._fit(train_x, train_y, box)
@@ -266,6 +264,15 @@ def _fill_failed(table: dict[str, list]) -> dict[str, np.ndarray]:
         done = [v for v in values if v is not None]
         filled[response] = np.array([np.mean(done) if v is None else v for v in values])
     return filled
+
+
+def sample_points(box: np.ndarray, s) -> tuple[np.ndarray, np.ndarray]:
+    """The Latin hypercube points and the surrogate's random check points in the box (rounded:
+    stable store keys), as the campaign's [surrogate] settings and seed make them."""
+    x = _round_rows(latin_hypercube(box, s.samples, seed=s.seed))
+    rng = np.random.default_rng(s.seed + 1)
+    checks = _round_rows(box[:, 0] + rng.random((s.checks, len(box))) * (box[:, 1] - box[:, 0]))
+    return x, checks
 
 
 def _round_rows(x: np.ndarray) -> np.ndarray:

@@ -111,6 +111,11 @@ class RunStore:
                  to_blob(result.cracks), result.wall_s, result.message, now))
             self.db.execute("INSERT INTO executions VALUES (?,?,?)", (spec.key, os.getpid(), now))
 
+    def wall_times(self, kind: str) -> list[tuple[dict, float]]:
+        """(specimen settings, wall time s) of each finished run of a test."""
+        rows = self.db.execute("SELECT specimen, wall_s FROM runs WHERE kind=? AND status='ok'", (kind,))
+        return [(json.loads(specimen), wall) for specimen, wall in rows]
+
     def count(self) -> int:
         """How many runs the store holds."""
         return self.db.execute("SELECT COUNT(*) FROM runs").fetchone()[0]

@@ -62,6 +62,14 @@ def rao_hamming(levels: int, t: int) -> np.ndarray:
     return np.column_stack([_gf_dot(runs, np.array(v), levels) for v in points])
 
 
+def l16() -> np.ndarray:
+    """L16(4^5) as Taguchi's standard table, the one the source study's Table 3 follows: the
+    GF(4) construction with its last two columns swapped and multiplied by x and x + 1 (the
+    same projective points, other level labels), so a campaign's L16 runs are the source's."""
+    a = rao_hamming(4, 2)
+    return np.column_stack([a[:, :3], _GF4_MUL[2][a[:, 4]], _GF4_MUL[3][a[:, 3]]])
+
+
 def l18() -> np.ndarray:
     """L18(2^1 3^7): the two-level column first, then seven three-level columns."""
     rows = []
@@ -75,7 +83,7 @@ _BUILDERS = {
     "L4(2^3)": lambda: rao_hamming(2, 2),
     "L8(2^7)": lambda: rao_hamming(2, 3),
     "L9(3^4)": lambda: rao_hamming(3, 2),
-    "L16(4^5)": lambda: rao_hamming(4, 2),
+    "L16(4^5)": l16,
     "L18(2^1 3^7)": l18,
     "L25(5^6)": lambda: rao_hamming(5, 2),
     "L27(3^13)": lambda: rao_hamming(3, 3),
