@@ -12,6 +12,7 @@ import logging
 
 import numpy as np
 
+from rockcal.dem.neighbours import spatial_order
 from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, TOP, THICKNESS_M, advance, new_state, rebuild_neighbours
 from rockcal.params import GPa, MPa, MicroParams
 
@@ -45,6 +46,8 @@ def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed
     radius *= min(1.0, np.sqrt(JAMMING_FRACTION / (np.pi * (radius**2).sum() / (width * height))))
     rmax = radius.max()
     pos = np.column_stack([rng.uniform(rmax, width - rmax, n), rng.uniform(rmax, height - rmax, n)])
+    order = spatial_order(pos, 4 * rmax)  # blocks of the engine are then bands of the vessel
+    pos, radius = pos[order], radius[order]
     params = MicroParams(E_c=PACKING_MODULUS_GPA, mu=0.0, damping=0.7)
     state = new_state(pos, radius, np.empty((0, 2)), params, walls=(0.0, width, 0.0, height),
                       wall_active=(True,) * 4)

@@ -3,6 +3,9 @@
 The state is a structure of plain arrays. `advance` runs many steps inside one compiled
 loop (force laws, walls, PFC local damping, central-difference motion) and hands back to
 Python only to rebuild the neighbour list, so the per-step cost is the arithmetic alone.
+Each step sums the pair forces block by block in parallel, then the pairs across block
+borders, then moves the particles block by block (`neighbours.block_layout`): the order of
+every sum is fixed by the specimen, so results do not depend on the number of threads.
 Everything is SI; disks have unit thickness (PFC2D convention).
 """
 
@@ -20,13 +23,13 @@ from rockcal.params import GPa, MPa, MicroParams
 
 THICKNESS_M = 1.0
 TIME_STEP_SAFETY = 0.8
-PARTICLES_PER_THREAD = 1000  # smaller specimens run on fewer threads (see advance)
 LEFT, RIGHT, BOTTOM, TOP = range(4)
 
 
 @dataclass
 class State:
-    """Particles, pairs (bonds first, then near unbonded pairs), walls and their forces."""
+    """Particles, pairs (bonds first, then near unbonded pairs; each part grouped by block),
+    walls and their forces."""
 
     pos: np.ndarray
     vel: np.ndarray
@@ -52,14 +55,16 @@ class State:
     wall_force: np.ndarray  # (n, 4): force of each particle on each wall
     force: np.ndarray
     moment: np.ndarray
-    laws: tuple  # E_c, kn_ks, mu, Ebar_c, knbar_ksbar, lambda (SI), tan(phi_b), mcf
+    laws: laws.Laws
     damping: float
     k_wall: float
     skin: float
     dt: float
+    block_starts: np.ndarray  # first particle of each block, and n
+    bond_offsets: np.ndarray  # bonds of block b: bond_offsets[b]:[b + 1]; border bonds last
+    contact_offsets: np.ndarray | None = None  # the same for the unbonded pairs
     step: int = 0
     pos_at_build: np.ndarray | None = None
-    table: tuple | None = None
 
     @property
     def n_particles(self) -> int:
@@ -72,10 +77,15 @@ class State:
     def n_broken(self, mode: int) -> int:
         return int(np.count_nonzero(self.bond_state == mode))
 
+    def bonds(self) -> laws.Bonds:
+        return laws.Bonds(self.bond_state, self.bond_fn, self.bond_fs, self.bond_m,
+                          self.bond_break_xy, self.bond_ref_overlap, self.bond_ten, self.bond_coh)
 
-def law_constants(params: MicroParams) -> tuple:
-    return (params.E_c * GPa, params.kn_ks, params.mu, params.Ebar_c * GPa, params.knbar_ksbar,
-            params.lambda_, float(np.tan(np.radians(params.phi_b))), params.mcf)
+
+def law_constants(params: MicroParams) -> laws.Laws:
+    return laws.Laws(params.E_c * GPa, 1.0 / params.kn_ks, params.mu, params.Ebar_c * GPa,
+                     1.0 / params.knbar_ksbar, params.lambda_,
+                     float(np.tan(np.radians(params.phi_b))), params.mcf)
 
 
 def bond_strengths(params: MicroParams, draws: np.ndarray | None, n_bonds: int):
@@ -115,6 +125,9 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
         inv_inertia[driven] = 0.0
     bonds = np.asarray(bonds, np.int64).reshape(-1, 2)
     order = np.argsort(bonds[:, 0] * n + bonds[:, 1])
+    starts = neighbours.block_starts(n)
+    by_block, bond_offsets = neighbours.block_layout(bonds[order, 0], bonds[order, 1], starts)
+    order = order[by_block]
     bonds = bonds[order]
     ten, coh = bond_strengths(params, None if bond_draws is None else
                               np.asarray(bond_draws, float).reshape(-1, 2)[order], len(bonds))
@@ -122,7 +135,7 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
     centre_gap = np.hypot(*(pos[bonds[:, 1]] - pos[bonds[:, 0]]).T)
     ref_overlap = np.maximum(0.0, radius[bonds[:, 0]] + radius[bonds[:, 1]] - centre_gap)
     laws_si = laws_si or law_constants(params)
-    E_c, Ebar_c = laws_si[0], laws_si[3]
+    E_c, Ebar_c = laws_si.E_c, laws_si.Ebar_c
     state = State(
         pos=pos.copy(), vel=np.zeros((n, 2)), spin=np.zeros(n),
         radius=radius, inv_mass=inv_mass, inv_inertia=inv_inertia,
@@ -136,6 +149,7 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
         moment=np.zeros(n), laws=laws_si, damping=params.damping,
         k_wall=2.0 * THICKNESS_M * (E_c if E_c > 0 else Ebar_c),
         skin=skin if skin is not None else 0.5 * radius.min(), dt=0.0,
+        block_starts=starts, bond_offsets=bond_offsets,
     )
     rebuild_neighbours(state)
     state.dt = stable_time_step(state)
@@ -148,13 +162,14 @@ def rebuild_neighbours(state: State) -> None:
     bond_keys = state.pi[:nb] * n + state.pj[:nb]
     old_keys = state.pi[nb:] * n + state.pj[nb:]
     order = np.argsort(old_keys)
-    ci, cj, shear = neighbours.contact_pairs(state.pos, state.radius, state.skin, bond_keys,
-                                             old_keys[order], state.contact_shear[nb:][order])
-    state.pi = np.concatenate([state.pi[:nb], ci])
-    state.pj = np.concatenate([state.pj[:nb], cj])
-    state.contact_shear = np.concatenate([state.contact_shear[:nb], shear])
-    state.table = neighbours.pair_table(n, state.pi, state.pj) + (
-        np.zeros((len(state.pi), 2)), np.zeros(len(state.pi)), np.zeros(len(state.pi)))
+    ci, cj, shear = neighbours.contact_pairs(state.pos, state.radius, state.skin,
+                                             np.sort(bond_keys), old_keys[order],
+                                             state.contact_shear[nb:][order])
+    by_block, offsets = neighbours.block_layout(ci, cj, state.block_starts)
+    state.pi = np.concatenate([state.pi[:nb], ci[by_block]])
+    state.pj = np.concatenate([state.pj[:nb], cj[by_block]])
+    state.contact_shear = np.concatenate([state.contact_shear[:nb], shear[by_block]])
+    state.contact_offsets = nb + offsets
     state.pos_at_build = state.pos.copy()
 
 
@@ -163,17 +178,17 @@ def stable_time_step(state: State) -> float:
 
     Stiffness sums count every listed pair (as if touching) and the walls, as PFC does.
     """
-    E_c, kn_ks, _, Ebar_c, knbar_ksbar, lam = state.laws[:6]
+    E_c, ks_per_kn, _, Ebar_c, ksbar_per_knbar, lam = state.laws[:6]
     ri, rj = state.radius[state.pi], state.radius[state.pj]
     length = ri + rj
     rmin = np.minimum(ri, rj)
     kn = 2 * rmin * THICKNESS_M * E_c / length
-    ks = kn / kn_ks
+    ks = kn * ks_per_kn
     bonded = np.zeros(len(ri), bool)
     bonded[:state.n_bonds] = True
     rb = lam * rmin
     kbn = np.where(bonded, Ebar_c / length * 2 * rb * THICKNESS_M, 0.0)
-    kbs = kbn / knbar_ksbar
+    kbs = kbn * ksbar_per_knbar
     kbr = np.where(bonded, Ebar_c / length * 2 / 3 * rb**3 * THICKNESS_M, 0.0)
     n = state.n_particles
     k_trans = np.full(n, state.k_wall)
@@ -188,15 +203,14 @@ def stable_time_step(state: State) -> float:
     return TIME_STEP_SAFETY * float(min(dt_t.min(), dt_r.min()))
 
 
-@njit(parallel=True, cache=True, error_model="numpy")
-def _move(pos, vel, spin, force, moment, inv_mass, inv_inertia, damping, dt, pos_at_build):
-    """PFC local damping (force reduced by damping*|F| against the velocity), then leapfrog.
-
-    Returns the largest squared displacement since the neighbour list was built.
-    """
-    n = pos.shape[0]
-    moved = np.empty(n)
-    for k in prange(n):
+@njit(cache=True, error_model="numpy")
+def _move(first, last, pos, vel, spin, force, moment, inv_mass, inv_inertia, damping, dt,
+          pos_at_build):
+    """PFC local damping (force reduced by damping*|F| against the velocity), then leapfrog, of
+    particles first..last-1. Returns their largest squared displacement since the neighbour
+    list was built."""
+    moved = 0.0
+    for k in range(first, last):
         if inv_mass[k] > 0.0:
             for a in range(2):
                 f = force[k, a]
@@ -208,43 +222,55 @@ def _move(pos, vel, spin, force, moment, inv_mass, inv_inertia, damping, dt, pos
         pos[k, 1] += vel[k, 1] * dt
         dx = pos[k, 0] - pos_at_build[k, 0]
         dy = pos[k, 1] - pos_at_build[k, 1]
-        moved[k] = dx * dx + dy * dy
-    return moved.max()
+        moved = max(moved, dx * dx + dy * dy)
+    return moved
 
 
-@njit(cache=True)
-def _advance(n_steps, pos, vel, spin, radius, inv_mass, inv_inertia, pi, pj, n_bonds,
-             contact_shear, bond_state, bond_fn, bond_fs, bond_m, bond_break_xy,
-             bond_ref_overlap, bond_ten, bond_coh, start, pair, side, force_on_i, moment_on_i,
-             moment_on_j, force, moment, walls, wall_active, wall_vel, wall_force, k_wall,
-             pos_at_build, half_skin_sq, E_c, kn_ks, mu, Ebar_c, knbar_ksbar, lam, tan_phi, mcf,
+@njit(parallel=True, cache=True, error_model="numpy")
+def _advance(n_steps, pos, vel, spin, radius, inv_mass, inv_inertia, pi, pj, contact_shear,
+             bonds, n_bonds, starts, bond_offsets, contact_offsets, force, moment, walls,
+             wall_active, wall_vel, wall_force, k_wall, pos_at_build, half_skin_sq, law,
              damping, dt):
     """Run up to n_steps; stop early (returning the steps done) when the list must be rebuilt."""
-    for s in range(n_steps):
-        laws.pair_forces(pos, vel, spin, radius, pi, pj, contact_shear, bond_state, bond_fn,
-                         bond_fs, bond_m, bond_break_xy, bond_ref_overlap, bond_ten, bond_coh,
-                         n_bonds, E_c, kn_ks, mu, Ebar_c, knbar_ksbar, lam, tan_phi, mcf, 1.0, dt,
-                         force_on_i, moment_on_i, moment_on_j)
-        laws.gather_forces(start, pair, side, force_on_i, moment_on_i, moment_on_j, force, moment)
-        laws.wall_forces(pos, radius, walls, wall_active, k_wall, force, wall_force)
-        moved = _move(pos, vel, spin, force, moment, inv_mass, inv_inertia, damping, dt,
-                      pos_at_build)
+    blocks = starts.shape[0] - 1
+    moved = np.zeros(blocks)
+    for s in range(n_steps):  # no array expressions: each would be a parallel region
+        for b in prange(blocks):  # explicit loops: an array expression here would nest parfors
+            for k in range(starts[b], starts[b + 1]):
+                force[k, 0] = 0.0
+                force[k, 1] = 0.0
+                moment[k] = 0.0
+            laws.add_pair_forces(bond_offsets[b], bond_offsets[b + 1], pos, vel, spin, radius,
+                                 pi, pj, contact_shear, bonds, n_bonds, law, dt, force, moment)
+            laws.add_pair_forces(contact_offsets[b], contact_offsets[b + 1], pos, vel, spin,
+                                 radius, pi, pj, contact_shear, bonds, n_bonds, law, dt, force,
+                                 moment)
+        # then the pairs across block borders
+        laws.add_pair_forces(bond_offsets[blocks], bond_offsets[blocks + 1], pos, vel, spin,
+                             radius, pi, pj, contact_shear, bonds, n_bonds, law, dt, force, moment)
+        laws.add_pair_forces(contact_offsets[blocks], contact_offsets[blocks + 1], pos, vel, spin,
+                             radius, pi, pj, contact_shear, bonds, n_bonds, law, dt, force, moment)
+        for b in prange(blocks):
+            laws.add_wall_forces(starts[b], starts[b + 1], pos, radius, walls, wall_active,
+                                 k_wall, force, wall_force)
+            moved[b] = _move(starts[b], starts[b + 1], pos, vel, spin, force, moment, inv_mass,
+                             inv_inertia, damping, dt, pos_at_build)
         for w in range(4):
             walls[w] += wall_vel[w] * dt
-        if moved > half_skin_sq:
-            return s + 1
+        for b in range(blocks):
+            if moved[b] > half_skin_sq:
+                return s + 1
     return n_steps
 
 
 def advance(state: State, n_steps: int) -> None:
     """Run n_steps time steps, rebuilding the neighbour list whenever particles moved enough.
 
-    Small specimens run on fewer threads (one per PARTICLES_PER_THREAD particles): below that,
-    a parallel loop costs more in synchronisation than it saves, and much more when the cores
-    are shared with other processes.
+    Runs on at most one thread per block: a small specimen is one block, and a parallel loop
+    over it would cost more in synchronisation than it saves.
     """
     cap = numba.get_num_threads()
-    numba.set_num_threads(max(1, min(cap, state.n_particles // PARTICLES_PER_THREAD)))
+    numba.set_num_threads(max(1, min(cap, len(state.block_starts) - 1)))
     try:
         _advance_all(state, n_steps)
     finally:
@@ -254,14 +280,13 @@ def advance(state: State, n_steps: int) -> None:
 def _advance_all(state: State, n_steps: int) -> None:
     done = 0
     while done < n_steps:
-        start, pair, side, f_i, m_i, m_j = state.table
         done_now = _advance(
             n_steps - done, state.pos, state.vel, state.spin, state.radius, state.inv_mass,
-            state.inv_inertia, state.pi, state.pj, state.n_bonds, state.contact_shear,
-            state.bond_state, state.bond_fn, state.bond_fs, state.bond_m, state.bond_break_xy,
-            state.bond_ref_overlap, state.bond_ten, state.bond_coh, start, pair, side, f_i, m_i, m_j, state.force, state.moment, state.walls,
-            state.wall_active, state.wall_vel, state.wall_force, state.k_wall,
-            state.pos_at_build, (0.5 * state.skin) ** 2, *state.laws, state.damping, state.dt)
+            state.inv_inertia, state.pi, state.pj, state.contact_shear, state.bonds(),
+            state.n_bonds, state.block_starts, state.bond_offsets, state.contact_offsets,
+            state.force, state.moment, state.walls, state.wall_active, state.wall_vel,
+            state.wall_force, state.k_wall, state.pos_at_build, (0.5 * state.skin) ** 2,
+            state.laws, state.damping, state.dt)
         done += done_now
         state.step += done_now
         if done < n_steps or _needs_rebuild(state):

@@ -18,9 +18,10 @@ from pathlib import Path
 import numpy as np
 
 from rockcal.dem.genesis import Genesis, install_bonds
+from rockcal.dem.neighbours import spatial_order
 from rockcal.errors import InputError
 
-GENERATOR_VERSION = 5
+GENERATOR_VERSION = 6
 STRENGTH_STREAM = 1  # the bond strength draws' random stream, apart from the packing's
 
 
@@ -116,7 +117,8 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
         pos, radius, pressure = pack_box(width_mm * 1e-3, height_mm * 1e-3, rmin_mm * 1e-3,
                                          radius_ratio, seed, genesis.cloud_porosity,
                                          genesis.pressure_mpa)
-        pos, radius = in_memory_order(pos, radius, 4 * radius_ratio * rmin_mm * 1e-3)
+        order = spatial_order(pos, 4 * radius_ratio * rmin_mm * 1e-3)
+        pos, radius = pos[order], radius[order]
         if cache:
             path.parent.mkdir(parents=True, exist_ok=True)
             tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
@@ -125,13 +127,6 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
     bonds = install_bonds(pos, radius, genesis.install_gap * rmin_mm * 1e-3)
     draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
     return Specimen(pos, radius, bonds, width_mm * 1e-3, height_mm * 1e-3, label, draws, pressure)
-
-
-def in_memory_order(pos: np.ndarray, radius: np.ndarray, strip: float):
-    """Number particles strip by strip (strips of height `strip`, then by x) so that
-    neighbours sit close in memory: the pair loops then run from cache, not from RAM."""
-    order = np.lexsort((pos[:, 0], np.floor(pos[:, 1] / strip)))
-    return pos[order], radius[order]
 
 
 def cache_dir() -> Path:

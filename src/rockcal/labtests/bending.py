@@ -23,8 +23,7 @@ from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.kic import senb_kic
-from rockcal.labtests.peak import SettledPeak
-from rockcal.labtests.ucs import DAMAGE_SLOWDOWN
+from rockcal.labtests.loading import LOCALISED_DAMAGE, Loading
 from rockcal.params import MicroParams, make_params
 
 PIN_RADIUS_MM = 5.0
@@ -39,7 +38,7 @@ DEFAULT_MAX_DISPLACEMENT_MM = 1.0
 # this fraction of the peak, so that the crack path is there to be seen.
 POST_PEAK_FRACTION = 0.3
 # Once the load has fallen below PAST_PEAK_FRACTION of the peak, the peak is known and the pin
-# goes back to full speed (the slow-down after the first broken bond serves the peak only).
+# goes back to full speed (the slow-down where bonds break serves the peak only).
 PAST_PEAK_FRACTION = 0.8
 
 
@@ -190,26 +189,23 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
     pin_y0 = state.pos[is_pin, 1].mean()
 
     rows_out = [(0.0, 0.0)]
-    peak = SettledPeak(ramp_steps)
+    loading = Loading(ramp_steps, LOCALISED_DAMAGE)
     first_break = np.empty((0, 2))
     past_peak = False
     while True:
-        ramp = min(1.0, (state.step + chunk) / ramp_steps)
-        if state.bond_state.any() and not past_peak:
-            ramp = 1.0 / DAMAGE_SLOWDOWN
-            peak.slow_down(state.step)
-        state.vel[is_pin, 1] = -step * ramp / state.dt
+        factor = loading.speed(state.step, np.count_nonzero(state.bond_state), chunk, past_peak)
+        state.vel[is_pin, 1] = -step * factor / state.dt
         advance(state, chunk)
         if not len(first_break) and state.bond_state.any():
             first_break = state.bond_break_xy[state.bond_state > 0]
         displacement = pin_y0 - state.pos[is_pin, 1].mean()
         load = 0.5 * (state.force[is_pin, 1].sum() + -state.force[is_support, 1].sum())
         rows_out.append((1e3 * displacement, load / 1e3))
-        peak.update(state.step, load)
-        past_peak = past_peak or (peak.fallen_below(PAST_PEAK_FRACTION, load) and state.bond_state.any())
+        loading.update(state.step, load)
+        past_peak = past_peak or (loading.fallen_below(PAST_PEAK_FRACTION, load) and state.bond_state.any())
         if progress:
             progress(1e3 * displacement, load / 1e3)
-        if (peak.fallen_below(POST_PEAK_FRACTION, load) and state.bond_state.any()) or \
+        if (loading.fallen_below(POST_PEAK_FRACTION, load) and state.bond_state.any()) or \
                 displacement >= 1e-3 * max_displacement_mm:
             break
 

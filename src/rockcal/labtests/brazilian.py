@@ -1,7 +1,7 @@
 """Virtual Brazilian (splitting tensile) test: a disk between two frictionless platens.
 
 The disk is carved from a square packing; the platens are the UCS test's walls, closing at the
-same quasi-static speed (slower once bonds break, full speed again past the peak; the test stops
+same quasi-static speed (slower where bonds break, full speed again past the peak; the test stops
 when the load has fallen below POST_PEAK_FRACTION of the peak, as in the bending test: a bond
 breaking under a platen drops the load for a while without splitting the disk). Tensile strength sigma_t = 2 P / (pi D t) (ISRM 1978; ASTM D3967)
 with P the peak load per metre of thickness.
@@ -23,8 +23,8 @@ from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.bending import PAST_PEAK_FRACTION, POST_PEAK_FRACTION
-from rockcal.labtests.peak import SettledPeak
-from rockcal.labtests.ucs import DAMAGE_SLOWDOWN, STRAIN_PER_STEP_PER_ROW
+from rockcal.labtests.loading import LOCALISED_DAMAGE, Loading
+from rockcal.labtests.ucs import RAMP_STEPS_PER_ROW, STRAIN_PER_STEP_PER_ROW
 from rockcal.params import MicroParams, make_params
 
 DEFAULT_MAX_STRAIN = 0.02  # platen closure / diameter at which the test stops at the latest
@@ -91,29 +91,25 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
     rows = diameter / (2 * radius.mean())
     speed = 0.5 * rate_factor * STRAIN_PER_STEP_PER_ROW / rows * diameter / state.dt
     chunk = max(5, int(rows / 8))
-    ramp_steps = int(10 * rows)
 
     rows_out = [(0.0, 0.0)]
-    peak, closure_at_peak = SettledPeak(ramp_steps), 0.0
+    loading, closure_at_peak = Loading(RAMP_STEPS_PER_ROW * rows, LOCALISED_DAMAGE), 0.0
     past_peak = False
     while True:
-        ramp = min(1.0, (state.step + chunk) / ramp_steps)
-        if state.bond_state.any() and not past_peak:
-            ramp = 1.0 / DAMAGE_SLOWDOWN
-            peak.slow_down(state.step)
-        state.wall_vel[BOTTOM], state.wall_vel[TOP] = speed * ramp, -speed * ramp
+        factor = loading.speed(state.step, np.count_nonzero(state.bond_state), chunk, past_peak)
+        state.wall_vel[BOTTOM], state.wall_vel[TOP] = speed * factor, -speed * factor
         advance(state, chunk)
         closure = (state.walls[BOTTOM] - bottom) + (top - state.walls[TOP])
         f = state.total_wall_force()
         load = 0.5 * (f[BOTTOM] + f[TOP])
         rows_out.append((1e3 * closure, load / 1e3))
-        if state.step >= peak.settled_from and load > peak.value:
+        if state.step >= loading.settled_from and load > loading.peak:
             closure_at_peak = closure
-        peak.update(state.step, load)
-        past_peak = past_peak or (peak.fallen_below(PAST_PEAK_FRACTION, load) and state.bond_state.any())
+        loading.update(state.step, load)
+        past_peak = past_peak or (loading.fallen_below(PAST_PEAK_FRACTION, load) and state.bond_state.any())
         if progress:
             progress(1e3 * closure, load / 1e3)
-        split = peak.fallen_below(POST_PEAK_FRACTION, load) and closure > closure_at_peak + radius.mean()
+        split = loading.fallen_below(POST_PEAK_FRACTION, load) and closure > closure_at_peak + radius.mean()
         if (split and state.bond_state.any()) or closure >= max_strain * diameter:
             break
 

@@ -20,7 +20,7 @@ from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.simulate import BOTTOM, TOP, THICKNESS_M, advance, new_state
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
-from rockcal.labtests.peak import SettledPeak
+from rockcal.labtests.loading import DISTRIBUTED_DAMAGE, Loading
 from rockcal.params import MicroParams, make_params
 
 POST_PEAK_FRACTION = 0.7
@@ -28,10 +28,11 @@ STRAIN_READINGS = ("gauge", "platen")
 DEFAULT_STRAIN = "gauge"
 DEFAULT_MAX_AXIAL_STRAIN = 0.02
 # Quasi-static loading: axial strain per step = STRAIN_PER_STEP_PER_ROW / (rows of particles),
-# so the number of wave transits to the peak is the same for every specimen size. The elastic
-# part is rate-insensitive; once bonds start breaking the platens slow down by DAMAGE_SLOWDOWN.
+# so the number of wave transits to the peak is the same for every specimen size, ramped in
+# over RAMP_STEPS_PER_ROW x rows steps. The elastic part is rate-insensitive; where bonds break
+# the platens slow down (`rockcal.labtests.loading`).
 STRAIN_PER_STEP_PER_ROW = 2e-5
-DAMAGE_SLOWDOWN = 8.0
+RAMP_STEPS_PER_ROW = 10
 
 
 @dataclass
@@ -89,19 +90,15 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
     strain_per_step = rate_factor * STRAIN_PER_STEP_PER_ROW / rows
     speed = 0.5 * strain_per_step * (top - bottom) / state.dt
     chunk = max(5, int(rows / 8))
-    ramp_steps = int(10 * rows)
 
     sets = measure.boundary_sets(pos, radius, 0.5 * radius.min())
     width0, height0 = measure.gauge_lengths(state.pos, sets)
     area = specimen.width_m * THICKNESS_M
     rows_out = [(0.0, 0.0, 0.0)]
-    peak = SettledPeak(ramp_steps)
+    loading = Loading(RAMP_STEPS_PER_ROW * rows, DISTRIBUTED_DAMAGE)
     while True:
-        ramp = min(1.0, (state.step + chunk) / ramp_steps)
-        if state.bond_state.any():
-            ramp = 1.0 / DAMAGE_SLOWDOWN
-            peak.slow_down(state.step)
-        state.wall_vel[BOTTOM], state.wall_vel[TOP] = speed * ramp, -speed * ramp
+        factor = loading.speed(state.step, np.count_nonzero(state.bond_state), chunk)
+        state.wall_vel[BOTTOM], state.wall_vel[TOP] = speed * factor, -speed * factor
         advance(state, chunk)
         width, height = measure.gauge_lengths(state.pos, sets)
         if strain == "platen":
@@ -112,10 +109,10 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
         f = state.total_wall_force()
         stress = 0.5 * (f[BOTTOM] + f[TOP]) / area
         rows_out.append((axial, lateral, stress / 1e6))
-        peak.update(state.step, stress)
+        loading.update(state.step, stress)
         if progress:
             progress(axial, stress / 1e6)
-        if peak.fallen_below(stop_fraction, stress) or axial >= max_axial_strain:
+        if loading.fallen_below(stop_fraction, stress) or axial >= max_axial_strain:
             break
 
     curve = np.array(rows_out)

@@ -1,0 +1,117 @@
+"""Engine throughput: time per step by phase, particle-steps/s on 1 and 2 threads, and the ratio
+to the bare bond loop (`../shared/bench/bond_loop.py`) run in the same process.
+
+Run by hand: `python benchmarks/engine_profile.py [--steps 1000] [--bond-loop PATH]`. The
+specimen is the full-size UCS one (50 x 100 mm, R_min 0.25 mm, granite genesis) at the source
+study's identified point, its particles moving slightly so that every law is exercised; the
+bare loop gets the same number of disks (its own bonds: 4.1 per disk, ours about 5.4).
+"""
+
+import argparse
+import contextlib
+import importlib.util
+import io
+import sys
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+
+import rockcal
+from rockcal.dem import laws, simulate
+from rockcal.params import make_params
+
+SOURCE_POINT = {"E_c": 21.65, "kn_ks": 1.9, "sigma_c": 36.55, "tau_c": 90, "mu": 0.5,
+                "sigma_c_cv": 0.23, "tau_c_cv": 0.23}
+
+
+def ucs_state():
+    spec = rockcal.random_packing(50, 100, 0.25, 1.65, seed=1)
+    pos, radius = spec.pos, spec.radius
+    state = simulate.new_state(pos, radius, spec.bonds, make_params(SOURCE_POINT),
+                               walls=(0, 0, (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()),
+                               wall_active=(False, False, True, True), bond_draws=spec.bond_draws)
+    state.vel[:] = np.random.default_rng(0).normal(0, 1e-4, state.vel.shape)
+    return state
+
+
+def per_step(fn, steps: int) -> float:
+    fn()
+    started = time.perf_counter()
+    for _ in range(steps):
+        fn()
+    return (time.perf_counter() - started) / steps
+
+
+def phases(state, steps: int) -> dict:
+    """Seconds per step of each phase, run one by one on all pairs and particles (one thread)."""
+    n, pairs = state.n_particles, len(state.pi)
+    bonds = state.bonds()
+    return {
+        "pair forces": per_step(lambda: laws.add_pair_forces(
+            0, pairs, state.pos, state.vel, state.spin, state.radius, state.pi, state.pj,
+            state.contact_shear, bonds, state.n_bonds, state.laws, state.dt, state.force,
+            state.moment), steps),
+        "walls": per_step(lambda: laws.add_wall_forces(
+            0, n, state.pos, state.radius, state.walls, state.wall_active, state.k_wall,
+            state.force, state.wall_force), steps),
+        "damping and motion": per_step(lambda: simulate._move(
+            0, n, state.pos, state.vel, state.spin, state.force, state.moment, state.inv_mass,
+            state.inv_inertia, state.damping, state.dt, state.pos_at_build), steps),
+        "neighbour list (per rebuild)": per_step(lambda: simulate.rebuild_neighbours(state), 5),
+    }
+
+
+def bare_loop_seconds_per_step(path: Path, n: int, steps: int) -> tuple[float, int]:
+    """The bare loop's seconds per step on n disks (one thread), and its bond count."""
+    spec = importlib.util.spec_from_file_location("bond_loop", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    argv, sys.argv = sys.argv, ["bond_loop.py", str(n), str(steps)]
+    buffer = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(buffer):
+            module.main()
+    finally:
+        sys.argv = argv
+    lines = buffer.getvalue().split()
+    ms = float(lines[lines.index("ms/step,") - 1])
+    bonds = int(lines[lines.index("bonds:") - 1].rstrip(","))
+    return ms / 1e3, bonds
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--steps", type=int, default=1000)
+    parser.add_argument("--bond-loop", type=Path,
+                        default=Path(__file__).resolve().parents[2] / "shared/bench/bond_loop.py")
+    args = parser.parse_args()
+    cap = numba.config.NUMBA_NUM_THREADS
+    state = ucs_state()
+    n, nb = state.n_particles, state.n_bonds
+    print(f"full-size UCS specimen: {n} disks, {nb} bonds, {len(simulate.neighbours.block_starts(n)) - 1} blocks")
+
+    numba.set_num_threads(1)
+    for name, seconds in phases(state, args.steps).items():
+        print(f"  {name:30s} {1e3 * seconds:7.3f} ms")
+    engine = {}
+    for threads in sorted({1, min(2, cap)}):
+        numba.set_num_threads(threads)
+        state = ucs_state()
+        engine[threads] = per_step(lambda: simulate.advance(state, 50), args.steps // 50) / 50
+        print(f"engine, {threads} thread(s): {1e3 * engine[threads]:.3f} ms/step, "
+              f"{n / engine[threads] / 1e6:.1f} M particle-steps/s, "
+              f"{nb / engine[threads] / 1e6:.1f} M bond-steps/s")
+    numba.set_num_threads(1)
+    bare, bare_bonds = bare_loop_seconds_per_step(args.bond_loop, n, 2 * args.steps)
+    print(f"bare bond loop, 1 thread: {1e3 * bare:.3f} ms/step, {n / bare / 1e6:.1f} M "
+          f"particle-steps/s, {bare_bonds / bare / 1e6:.1f} M bond-steps/s ({bare_bonds} bonds)")
+    print(f"ratio to the bare loop on 1 thread: {bare / engine[1]:.2f} per particle-step, "
+          f"{(nb / engine[1]) / (bare_bonds / bare):.2f} per bond-step")
+    if 2 in engine:
+        print(f"2 threads / 1 thread: {engine[1] / engine[2]:.2f}x")
+
+
+if __name__ == "__main__":
+    main()

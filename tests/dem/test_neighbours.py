@@ -1,0 +1,149 @@
+"""Neighbour search: the cell-grid list of near pairs equals the brute-force one, and the
+Verlet list kept by `advance` (rebuilt when a disk has moved half the skin) never misses a
+contact and keeps the shear force of lasting contacts across rebuilds."""
+
+import numpy as np
+import pytest
+
+from rockcal.dem.neighbours import near_pairs
+from rockcal.dem.simulate import advance, new_state
+from rockcal.params import make_params
+
+T = 1.0
+GPA = 1e9
+
+
+def brute_force_pairs(pos, radius, skin):
+    """All pairs i < j whose gap is below the skin, sorted by (i, j)."""
+    d2 = ((pos[:, None, :] - pos[None, :, :]) ** 2).sum(axis=2)
+    reach = radius[:, None] + radius[None, :] + skin
+    i, j = np.nonzero(np.triu(d2 < reach**2, 1))
+    return i, j  # np.nonzero is row-major: sorted by i, then j
+
+
+def random_disks(rng, n, box, rmin=0.5e-3, ratio=1.65):
+    return rng.uniform(0, box, (n, 2)), rng.uniform(rmin, ratio * rmin, n)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+@pytest.mark.parametrize("skin_factor", [0.0, 0.25, 1.0, 3.0])
+def test_near_pairs_equal_brute_force(seed, skin_factor):
+    """For random polydisperse disks the grid search returns exactly the pairs with
+    gap < skin, each once as i < j, in (i, j) order; also after random moves of up to a radius."""
+    rng = np.random.default_rng(seed)
+    pos, radius = random_disks(rng, 300, 0.02)
+    skin = skin_factor * radius.min()
+    for _ in range(3):
+        pi, pj = near_pairs(pos, radius, skin)
+        bi, bj = brute_force_pairs(pos, radius, skin)
+        np.testing.assert_array_equal(pi, bi)
+        np.testing.assert_array_equal(pj, bj)
+        assert len(bi) > 0
+        pos = pos + rng.uniform(-1, 1, pos.shape) * radius.max()
+
+
+def test_near_pairs_in_a_dense_pile_and_a_line():
+    """Degenerate layouts: 80 disks piled in one spot (every pair near: more pairs than the
+    search's first buffer), and disks on one horizontal line (a grid one cell high)."""
+    rng = np.random.default_rng(7)
+    pos = rng.uniform(0, 0.2e-3, (80, 2))
+    radius = rng.uniform(0.5e-3, 0.8e-3, 80)
+    pi, pj = near_pairs(pos, radius, 0.1e-3)
+    assert len(pi) == 80 * 79 // 2
+    np.testing.assert_array_equal(np.column_stack([pi, pj]),
+                                  np.column_stack(brute_force_pairs(pos, radius, 0.1e-3)))
+    line = np.column_stack([np.arange(50) * 2.05e-3, np.zeros(50)])
+    r = np.full(50, 1e-3)
+    pi, pj = near_pairs(line, r, 0.1e-3)
+    np.testing.assert_array_equal(pi, np.arange(49))
+    np.testing.assert_array_equal(pj, np.arange(1, 50))
+    pi, pj = near_pairs(line[:1], r[:1], 0.1e-3)
+    assert len(pi) == 0
+
+
+def gas(seed, n=36):
+    """Frictionless disks (history-free forces) in a walled box, fast enough to cross the
+    neighbour skin every few tens of steps."""
+    rng = np.random.default_rng(seed)
+    box = 14e-3
+    pos, radius = [], []
+    while len(pos) < n:
+        r = rng.uniform(0.6e-3, 1.0e-3)
+        p = rng.uniform(r, box - r, 2)
+        if all(np.hypot(*(p - q)) > r + s for q, s in zip(pos, radius)):
+            pos.append(p)
+            radius.append(r)
+    params = make_params({"E_c": 5.0, "mu": 0.0, "damping": 0.0})
+    state = new_state(np.array(pos), np.array(radius), np.empty((0, 2), int), params,
+                      walls=(0.0, box, 0.0, box), wall_active=(True,) * 4)
+    state.vel[:] = rng.normal(0.0, 1.0, (n, 2)) * 0.03e-3 / state.dt  # ~0.03 mm per step
+    return state
+
+
+def brute_force_forces(pos, radius, walls, E_c):
+    """Forces of frictionless linear contacts between all pairs and with the four walls."""
+    d = pos[None, :, :] - pos[:, None, :]  # d[i, j] = pos[j] - pos[i]
+    dist = np.hypot(d[..., 0], d[..., 1])
+    np.fill_diagonal(dist, np.inf)
+    ri, rj = radius[:, None], radius[None, :]
+    overlap = np.maximum(0.0, ri + rj - dist)
+    kn = 2 * np.minimum(ri, rj) * T * E_c / (ri + rj)
+    force = -(kn * overlap / dist)[..., None] * d  # pushes i away from every j it overlaps
+    force = force.sum(axis=1)
+    k_wall = 2 * T * E_c
+    force[:, 0] += k_wall * np.maximum(0, walls[0] - (pos[:, 0] - radius))
+    force[:, 0] -= k_wall * np.maximum(0, pos[:, 0] + radius - walls[1])
+    force[:, 1] += k_wall * np.maximum(0, walls[2] - (pos[:, 1] - radius))
+    force[:, 1] -= k_wall * np.maximum(0, pos[:, 1] + radius - walls[3])
+    return force
+
+
+def test_no_contact_is_missed_during_a_long_run():
+    """Runs of random length (rebuilds inside and between `advance` calls), each followed by a
+    step whose forces are checked against the all-pairs forces at that step's positions: every
+    contact is found while the disks travel many skins (5 R_min) and collide many times."""
+    state = gas(5)
+    rng = np.random.default_rng(11)
+    start = state.pos.copy()
+    travelled = np.zeros(len(state.pos))
+    contacts = 0
+    scale = 2 * T * 5 * GPA * 1e-6  # the force of a 1 um overlap
+    for _ in range(150):
+        before = state.pos.copy()
+        advance(state, int(rng.integers(1, 40)))
+        at = state.pos.copy()
+        travelled += np.hypot(*(at - before).T)
+        advance(state, 1)
+        expected = brute_force_forces(at, state.radius, state.walls, 5 * GPA)
+        np.testing.assert_allclose(state.force, expected, rtol=1e-9, atol=1e-9 * scale)
+        contacts += np.count_nonzero(np.any(expected != 0, axis=1))
+    assert contacts > 100
+    rmin = state.radius.min()  # the default skin is rmin / 2
+    assert np.median(travelled) > 5 * rmin
+    assert np.abs(state.pos - start).max() > 2 * rmin
+
+
+def test_shear_force_survives_neighbour_list_rebuilds():
+    """A lasting frictional contact keeps its shear force while a distant disk's travel
+    forces the neighbour list to be rebuilt many times."""
+    r, overlap = 1e-3, 2e-6
+    pos = np.array([[0.0, 0.0], [2 * r - overlap, 0.0], [20e-3, 0.0]])
+    params = make_params({"E_c": 10.0, "kn_ks": 2.0, "mu": 0.5, "damping": 0.0})
+    state = new_state(pos, np.full(3, r), np.empty((0, 2), int), params, driven=np.array([0]))
+    state.inv_mass[:] = 0.0
+    state.inv_inertia[:] = 0.0
+    kn = 2 * r * T * 10 * GPA / (2 * r)
+    ks = kn / 2.0
+    omega = 0.01 * kn * overlap / (ks * r * state.dt)
+    state.spin[1] = omega
+    advance(state, 20)  # shear force on disk 0: 20 ks (-omega r) dt along y
+    state.spin[1] = 0.0
+    advance(state, 1)
+    before = state.force[0].copy()
+    assert before[1] == pytest.approx(20 * ks * (-omega * r) * state.dt, rel=overlap / r)
+    state.vel[2] = (0.0, 0.05 * r / state.dt)  # 10 R in all: many skins
+    advance(state, 200)
+    state.vel[2] = 0.0
+    advance(state, 1)
+    assert state.pos[2, 1] > 9 * r
+    np.testing.assert_allclose(state.force[0], before, rtol=1e-12)
