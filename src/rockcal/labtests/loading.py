@@ -29,8 +29,9 @@ class Loading:
     A change of speed leaves a transient: the load read at the platens is not yet the
     specimen's and falls as the specimen catches up. With spread bond strengths the weakest
     bonds break in the first steps, and that fall looked like failure (a granite UCS of 2 MPa).
-    So the peak that decides when a test may stop counts only the load read `ramp_steps` or
-    more after the loading last slowed down; the reported peak is the largest of the curve.
+    So a test may stop, and its deciding peak counts, only on loads read `ramp_steps` or more
+    after the loading last slowed down (by however little); the reported peak is the largest
+    of the curve.
     """
 
     def __init__(self, ramp_steps: float, breaks_at_half_speed: float):
@@ -39,6 +40,7 @@ class Loading:
         self.factor = 0.0
         self.settled_from = ramp_steps
         self.peak = 0.0
+        self.settled = False
         self._broken = [(0, 0)]  # (step, bonds broken so far), over the last ramp_steps
 
     def speed(self, step: int, broken: int, chunk: int, full_speed: bool = False) -> float:
@@ -52,7 +54,7 @@ class Loading:
             target = min(target, 1.0 / SLOWEST if broken else 1.0)
         elif not full_speed:
             target = min(target, max(1.0 / SLOWEST, 1.0 / (1.0 + recent / self.breaks_at_half_speed)))
-        if target < 0.5 * self.factor:
+        if target < self.factor:
             self.settled_from = max(self.settled_from, step + self.ramp_steps)
         if step >= self.ramp_steps:
             target = min(target, self.factor * 2.0 ** (chunk / self.ramp_steps))
@@ -61,9 +63,11 @@ class Loading:
 
     def update(self, step: int, load: float) -> None:
         """Record a load read at `step`."""
-        if step >= self.settled_from:
+        self.settled = step >= self.settled_from
+        if self.settled:
             self.peak = max(self.peak, load)
 
     def fallen_below(self, fraction: float, load: float) -> bool:
-        """Whether the load has fallen below `fraction` of the settled peak."""
-        return self.peak > 0 and load < fraction * self.peak
+        """Whether the load, read where the loading has settled, has fallen below `fraction` of
+        the settled peak."""
+        return self.settled and self.peak > 0 and load < fraction * self.peak
