@@ -2,7 +2,10 @@
 
 Run by hand: `python benchmarks/calibrate_granite.py [--out runs/granite-bench] [--workers N]`.
 Runs `rockcal calibrate --json` (resuming the folder's store if it holds one) and prints the wall
-time, the DEM runs used, the identified parameters, the verified errors and K_IC.
+time, the DEM runs used, the identified parameters, the verified errors and K_IC. The wall time
+is also given in "UCS units": divided by one full-size UCS run at the source's identified point
+(granite specimen and strength spread, all threads) timed first in the same benchmark, so that
+machines of different speed compare.
 """
 
 import argparse
@@ -15,11 +18,28 @@ from pathlib import Path
 SOURCE = {"E_c": 21.65, "kn_ks": 1.9, "sigma_c": 36.55, "dem_runs": 49, "K_IC_error": 0.10}
 
 
+def reference_ucs_s() -> float:
+    """Wall time of one full-size UCS run at the source's point, as the campaign runs it."""
+    from rockcal.campaign.config import load_campaign
+    from rockcal.campaign.forward import execute, run_spec
+
+    granite, _ = load_campaign(None)
+    params = granite.fixed_params() | {k: SOURCE[k] for k in ("E_c", "kn_ks", "sigma_c")}
+    execute(run_spec("ucs", granite.specimen.model_copy(update={"height_mm": 20, "width_mm": 10}),
+                     params))  # compiles the engine and warms the caches
+    started = time.perf_counter()
+    execute(run_spec("ucs", granite.specimen, params))
+    return time.perf_counter() - started
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--out", type=Path, default=Path("runs/granite-bench"))
     parser.add_argument("--workers", type=int, default=0)
+    parser.add_argument("--no-reference", action="store_true",
+                        help="skip timing the reference UCS run (no UCS units)")
     args = parser.parse_args()
+    reference_s = None if args.no_reference else reference_ucs_s()
     started = time.perf_counter()
     command = [sys.executable, "-m", "rockcal", "calibrate", "--out", str(args.out),
                "--workers", str(args.workers), "--json"]
@@ -30,6 +50,9 @@ def main() -> None:
         sys.exit(run.stderr)
     result = json.loads(run.stdout)
     result["wall_s"] = time.perf_counter() - started
+    if reference_s:
+        result["reference_ucs_s"] = reference_s
+        result["wall_ucs_units"] = result["wall_s"] / reference_s
     result["source"] = SOURCE
     print(json.dumps(result, indent=2))
 
