@@ -288,13 +288,3 @@ class Batch:
     def _report(self) -> None:
         if self.progress:
             self.progress(len(self.results), self.total)
-
-
-def make_executor(store: RunStore, *, workers: int = 0, scheduler: str | None = None,
-                  time_limit_s: float | None = None):
-    """The executor of a campaign: a local process pool, or a Dask cluster with `scheduler`."""
-    if scheduler is None:
-        return Executor(store, workers, time_limit_s)
-    from rockcal.campaign.dask_executor import DaskExecutor
-
-    return DaskExecutor(store, scheduler, time_limit_s)

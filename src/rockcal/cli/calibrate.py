@@ -28,7 +28,7 @@ def calibrate(
 ) -> None:
     """Identify BPM micro-parameters from lab results (SPEC steps 1-8), with a report."""
     from rockcal.campaign.config import load_campaign
-    from rockcal.campaign.forward import make_executor
+    from rockcal.campaign.executors import make_executor
     from rockcal.campaign.procedure import Calibration, CalibrationFailed
     from rockcal.campaign.store import STORE_NAME, RunStore
 

@@ -226,6 +226,8 @@ def _move(first, last, pos, vel, spin, force, moment, inv_mass, inv_inertia, dam
     return moved
 
 
+# numba caches this kernel with the law kernels compiled into it, keyed by this file alone:
+# after editing laws.py in a checkout, clear the caches (__pycache__/*.nbi, *.nbc).
 @njit(parallel=True, cache=True, error_model="numpy")
 def _advance(n_steps, pos, vel, spin, radius, inv_mass, inv_inertia, pi, pj, contact_shear,
              bonds, n_bonds, starts, bond_offsets, contact_offsets, force, moment, walls,

@@ -1,0 +1,16 @@
+"""Where a campaign's forward runs go: a local process pool, or a Dask cluster."""
+
+from __future__ import annotations
+
+from rockcal.campaign.forward import Executor
+from rockcal.campaign.store import RunStore
+
+
+def make_executor(store: RunStore, *, workers: int = 0, scheduler: str | None = None,
+                  time_limit_s: float | None = None):
+    """The executor of a campaign: a local process pool, or a Dask cluster with `scheduler`."""
+    if scheduler is None:
+        return Executor(store, workers, time_limit_s)
+    from rockcal.campaign.dask_executor import DaskExecutor
+
+    return DaskExecutor(store, scheduler, time_limit_s)
