@@ -15,7 +15,9 @@ from rockcal.campaign.store import RunStore
 
 TRUE = {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 40.0}
 FIXED = {"tau_c": 200.0, "mu": 0.5}
-SPECIMEN = {"rmin_mm": 0.4, "width_mm": 10.0, "height_mm": 20.0}
+# About 200 disks: too few for every packing to read nu. On seed 1 of generator v6 the lateral
+# gauges read nu 0.77 at TRUE (seeds 2 and 3: 0.225, 0.213), so the twin uses seed 2.
+SPECIMEN = {"rmin_mm": 0.4, "width_mm": 10.0, "height_mm": 20.0, "seed": 2}
 
 
 def campaign_text(targets: dict) -> str:
@@ -28,6 +30,7 @@ ucs_MPa = {targets["ucs_MPa"]!r}
 rmin_mm = {SPECIMEN["rmin_mm"]}
 width_mm = {SPECIMEN["width_mm"]}
 height_mm = {SPECIMEN["height_mm"]}
+seed = {SPECIMEN["seed"]}
 [search]
 bounds = {{ E_c = [10, 30], kn_ks = [1, 3], sigma_c = [20, 60] }}
 fixed = {{ tau_c = {FIXED["tau_c"]}, mu = {FIXED["mu"]} }}
@@ -51,7 +54,8 @@ def calibrate(*args, **kwargs):
 def twin(tmp_path_factory):
     """Targets made by the engine at TRUE, and the uninterrupted campaign's --json output."""
     folder = tmp_path_factory.mktemp("twin")
-    specimen = rockcal.random_packing(SPECIMEN["width_mm"], SPECIMEN["height_mm"], SPECIMEN["rmin_mm"])
+    specimen = rockcal.random_packing(SPECIMEN["width_mm"], SPECIMEN["height_mm"], SPECIMEN["rmin_mm"],
+                                      seed=SPECIMEN["seed"])
     made = rockcal.simulate_ucs(TRUE | FIXED, specimen)
     targets = {"E_GPa": made.E_GPa, "nu": made.nu, "ucs_MPa": made.ucs_MPa}
     config = folder / "twin.toml"
