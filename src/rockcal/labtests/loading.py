@@ -12,8 +12,9 @@ breaking calms down. In a UCS test, where damage spreads through the specimen be
 isolated weak bonds breaking far below the peak thus cost little time, and the cascade at the
 peak runs at the slowest speed (DISTRIBUTED_DAMAGE). Where one crack decides the peak (bending,
 Brazilian, whose disk also crushes under the platens long before it splits), every break counts:
-the loading runs at the slowest speed from the first broken bond on (LOCALISED_DAMAGE). Where the test no longer needs the peak
-(bending and Brazilian tests once the load has fallen well past it) it may run at full speed.
+the loading runs at the slowest speed from the first broken bond on (LOCALISED_DAMAGE). Where
+the test no longer needs the peak (bending and Brazilian tests once the load has fallen well
+past it) it may run at full speed.
 """
 
 from __future__ import annotations
