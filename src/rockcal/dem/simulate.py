@@ -233,7 +233,8 @@ def _advance(n_steps, pos, vel, spin, radius, inv_mass, inv_inertia, pi, pj, con
              bonds, n_bonds, starts, bond_offsets, contact_offsets, force, moment, walls,
              wall_active, wall_vel, wall_force, k_wall, pos_at_build, half_skin_sq, law,
              damping, dt):
-    """Run up to n_steps; stop early (returning the steps done) when the list must be rebuilt."""
+    """Run up to n_steps; stop early when the list must be rebuilt. Returns the steps done
+    and whether the list must be rebuilt."""
     blocks = starts.shape[0] - 1
     moved = np.zeros(blocks)
     for s in range(n_steps):  # no array expressions: each would be a parallel region
@@ -261,8 +262,8 @@ def _advance(n_steps, pos, vel, spin, radius, inv_mass, inv_inertia, pi, pj, con
             walls[w] += wall_vel[w] * dt
         for b in range(blocks):
             if moved[b] > half_skin_sq:
-                return s + 1
-    return n_steps
+                return s + 1, True
+    return n_steps, False
 
 
 def advance(state: State, n_steps: int) -> None:
@@ -282,7 +283,7 @@ def advance(state: State, n_steps: int) -> None:
 def _advance_all(state: State, n_steps: int) -> None:
     done = 0
     while done < n_steps:
-        done_now = _advance(
+        done_now, rebuild = _advance(
             n_steps - done, state.pos, state.vel, state.spin, state.radius, state.inv_mass,
             state.inv_inertia, state.pi, state.pj, state.contact_shear, state.bonds(),
             state.n_bonds, state.block_starts, state.bond_offsets, state.contact_offsets,
@@ -291,9 +292,5 @@ def _advance_all(state: State, n_steps: int) -> None:
             state.laws, state.damping, state.dt)
         done += done_now
         state.step += done_now
-        if done < n_steps or _needs_rebuild(state):
+        if rebuild:
             rebuild_neighbours(state)
-
-
-def _needs_rebuild(state: State) -> bool:
-    return float(((state.pos - state.pos_at_build) ** 2).sum(axis=1).max()) > (0.5 * state.skin) ** 2

@@ -103,9 +103,8 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
         f = state.total_wall_force()
         load = 0.5 * (f[BOTTOM] + f[TOP])
         rows_out.append((1e3 * closure, load / 1e3))
-        if state.step >= loading.settled_from and load > loading.peak:
+        if loading.update(state.step, load):
             closure_at_peak = closure
-        loading.update(state.step, load)
         past_peak = past_peak or (loading.fallen_below(PAST_PEAK_FRACTION, load) and state.bond_state.any())
         if progress:
             progress(1e3 * closure, load / 1e3)

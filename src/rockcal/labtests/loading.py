@@ -62,11 +62,13 @@ class Loading:
         self.factor = target
         return target
 
-    def update(self, step: int, load: float) -> None:
-        """Record a load read at `step`."""
+    def update(self, step: int, load: float) -> bool:
+        """Record a load read at `step`; whether it is a new settled peak."""
         self.settled = step >= self.settled_from
-        if self.settled:
-            self.peak = max(self.peak, load)
+        if self.settled and load > self.peak:
+            self.peak = load
+            return True
+        return False
 
     def fallen_below(self, fraction: float, load: float) -> bool:
         """Whether the load, read where the loading has settled, has fallen below `fraction` of
