@@ -4,7 +4,8 @@ identified point (the validation issue's factor table).
 Run by hand: `python benchmarks/kic_factors.py [--store runs/kic-factors] [--rmin-mm 0.25]
 [--seeds 3] [--workers 2] [--only cv0,cv023]`. Each factor is a set of micro-parameters on top
 of the source's identified point (E_c 21.65 GPa, kn/ks 1.9, sigma_c 36.55 MPa, tau_c 90 MPa,
-mu 0.5) on the granite campaign's specimens; per factor: K_IC and P_max of the full-size
+mu 0.5), on the granite campaign's specimens or with some of their settings changed
+(installation gap, notch); per factor: K_IC and P_max of the full-size
 notched beam over `--seeds` packings, E, nu and UCS of the UCS specimen (seed 1), and UCS / K_IC
 (the lab granite: 131 m^-0.5). Runs go through a run store (resumable, never run twice).
 """
@@ -23,13 +24,19 @@ from rockcal.campaign.forward import Executor, run_spec
 from rockcal.campaign.store import RunStore
 
 LAB = {"K_IC_MPa_sqrt_m": 1.057, "ucs_MPa": 138.8}
-FACTORS = {  # name: micro-parameters on top of the source's identified point
-    "cv0": {},
-    "cv023": {"sigma_c_cv": 0.23, "tau_c_cv": 0.23},
-    "ten_cv023": {"sigma_c_cv": 0.23},
-    "cv023_phi30": {"sigma_c_cv": 0.23, "tau_c_cv": 0.23, "phi_b": 30.0},
-    "cv023_lambda07": {"sigma_c_cv": 0.23, "tau_c_cv": 0.23, "lambda": 0.7},
-    "cv023_mcf05": {"sigma_c_cv": 0.23, "tau_c_cv": 0.23, "mcf": 0.5},
+SPREAD = {"sigma_c_cv": 0.23, "tau_c_cv": 0.23}  # the granite default (Potyondy & Cundall's)
+FACTORS = {  # name: (micro-parameters on top of the source's point, specimen settings changed)
+    "cv023": (SPREAD, {}),
+    "cv0": ({}, {}),
+    "cv046": ({"sigma_c_cv": 0.46, "tau_c_cv": 0.46}, {}),
+    "ten_cv023": ({"sigma_c_cv": 0.23}, {}),
+    "cv023_phi30": (SPREAD | {"phi_b": 30.0}, {}),
+    "cv023_lambda07": (SPREAD | {"lambda": 0.7}, {}),
+    "cv023_mcf05": (SPREAD | {"mcf": 0.5}, {}),
+    "cv023_mcf0": (SPREAD | {"mcf": 0.0}, {}),
+    "cv023_gap03": (SPREAD, {"install_gap": 0.3}),
+    "cv023_gap09": (SPREAD, {"install_gap": 0.9}),
+    "cv023_cut": (SPREAD, {"notch_width_mm": 0.0}),
 }
 
 
@@ -54,10 +61,11 @@ def main() -> None:
     base = {"density": granite.rock.density_kg_m3}  # the MicroParams defaults: the source's point
     specs = {}
     for name in names:
-        params = base | FACTORS[name]
-        specs[name] = ([run_spec("bending", specimen.model_copy(update={"seed": specimen.seed + k}),
-                                 params) for k in range(args.seeds)],
-                       run_spec("ucs", specimen, params))
+        changes, settings = FACTORS[name]
+        params, own = base | changes, specimen.model_copy(update=settings)
+        specs[name] = ([run_spec("bending", own.model_copy(update={"seed": own.seed + k}), params)
+                        for k in range(args.seeds)],
+                       run_spec("ucs", own, params))
     everything = [s for beams, ucs in specs.values() for s in (*beams, ucs)]
     started = time.perf_counter()
     store = RunStore(args.store)
@@ -74,7 +82,8 @@ def main() -> None:
         k = [results[s.key].responses.get("K_IC_MPa_sqrt_m", np.nan) for s in beams]
         p = [results[s.key].responses.get("P_max_kN_per_m", np.nan) for s in beams]
         u = results[ucs.key].responses
-        row = {"factor": name, "params": FACTORS[name], "K_IC": float(np.mean(k)),
+        row = {"factor": name, "params": FACTORS[name][0], "specimen": FACTORS[name][1],
+               "K_IC": float(np.mean(k)),
                "K_IC_sd": float(np.std(k, ddof=1)) if len(k) > 1 else 0.0, "K_IC_per_seed": k,
                "P_max_kN_per_m": float(np.mean(p)), "E_GPa": u.get("E_GPa"), "nu": u.get("nu"),
                "ucs_MPa": u.get("ucs_MPa")}
