@@ -144,7 +144,7 @@ def _cracks(key: str | None, what: str, store: RunStore, path: Path) -> str | No
         return why
     if run.cracks is None:
         return f"The {what} kept no cracks."
-    specimen, _ = specimen_of(run.kind, tuple(run.specimen.items()))
+    specimen = specimen_of(run.kind, tuple(run.specimen.items()))
     modes = {"tension": run.cracks[run.cracks[:, 2] == BROKEN_TENSION, :2],
              "shear": run.cracks[run.cracks[:, 2] == BROKEN_SHEAR, :2]}
     plots.crack_pattern(specimen.pos, specimen.radius, modes, path,
