@@ -39,13 +39,12 @@ def read_calibration(store, folder: Path) -> Calibrated:
                                 f"`rockcal calibrate --resume --out {folder}`")
     record = json.loads(record_text)
     campaign = Campaign.model_validate(tomllib.loads(campaign_text))
-    row = store.db.execute("SELECT engine FROM runs WHERE key=?",
-                           (record.get("final_ucs_run_key"),)).fetchone()
+    final_run = store.run(record.get("final_ucs_run_key"))
     origin = {"rock": record["rock"], "campaign": str(folder), "accepted": record["accepted"],
               "dem_runs": record["dem_runs"], "targets": record["targets"],
               "verified": record["verified"], "identified": record["identified"],
               "intervals": (record.get("uncertainty") or {}).get("intervals", {}),
-              "engine": row[0] if row else ENGINE}
+              "engine": final_run.engine if final_run else ENGINE}
     return Calibrated(make_params(record["identified_params"]), campaign.specimen, origin)
 
 

@@ -9,9 +9,7 @@ from __future__ import annotations
 
 import base64
 import html
-import json
 import logging
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
@@ -19,7 +17,7 @@ import numpy as np
 
 from rockcal import plots
 from rockcal.campaign.forward import specimen_of
-from rockcal.campaign.store import RunStore, from_blob
+from rockcal.campaign.store import RunStore, StoredRun
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 
 logger = logging.getLogger(__name__)
@@ -27,31 +25,9 @@ logger = logging.getLogger(__name__)
 REPORT_NAME = "report.html"
 
 
-@dataclass(frozen=True)
-class StoredRun:
-    """A forward run as the store holds it (curve and cracks as arrays, or None)."""
-
-    kind: str
-    status: str
-    specimen: dict
-    params: dict
-    responses: dict
-    curve: np.ndarray | None
-    cracks: np.ndarray | None
-    message: str
-
-
 def stored_run(store: RunStore, key: str | None) -> StoredRun | None:
-    """The run stored under `key`, or None when there is no such run."""
-    if key is None:
-        return None
-    row = store.db.execute("SELECT kind, status, specimen, params, responses, curve, cracks, "
-                           "message FROM runs WHERE key=?", (key,)).fetchone()
-    if row is None:
-        return None
-    kind, status, specimen, params, responses, curve, cracks, message = row
-    return StoredRun(kind, status, json.loads(specimen), json.loads(params),
-                     json.loads(responses or "{}"), from_blob(curve), from_blob(cracks), message or "")
+    """The run stored under `key`, or None when there is no key or no such run."""
+    return None if key is None else store.run(key)
 
 
 # -- figures: each draws into `path` and returns None, or returns why it was left out --------

@@ -61,6 +61,21 @@ class RunResult:
     cracks: np.ndarray | None = None  # rows (x m, y m, mode 1 tension / 2 shear) of broken bonds
 
 
+@dataclass(frozen=True)
+class StoredRun:
+    """A forward run as the store holds it (curve and cracks as arrays, or None)."""
+
+    kind: str
+    status: str
+    specimen: dict
+    params: dict
+    responses: dict
+    curve: np.ndarray | None
+    cracks: np.ndarray | None
+    message: str
+    engine: str
+
+
 class RunStore:
     """Forward runs by key, in OUT/runs.sqlite."""
 
@@ -98,6 +113,17 @@ class RunStore:
         status, responses, curve, wall_s, message, cracks = row
         return RunResult(status, json.loads(responses or "{}"), from_blob(curve), wall_s,
                          message or "", from_blob(cracks))
+
+    def run(self, key: str) -> StoredRun | None:
+        """The run stored under `key`, or None when there is no such run."""
+        row = self.db.execute("SELECT kind, status, specimen, params, responses, curve, cracks, "
+                              "message, engine FROM runs WHERE key=?", (key,)).fetchone()
+        if row is None:
+            return None
+        kind, status, specimen, params, responses, curve, cracks, message, engine = row
+        return StoredRun(kind, status, json.loads(specimen), json.loads(params),
+                         json.loads(responses or "{}"), from_blob(curve), from_blob(cracks),
+                         message or "", engine)
 
     def put(self, spec: RunSpec, result: RunResult) -> None:
         """Store a finished run (one transaction); a run already there is left as it is."""
