@@ -210,6 +210,18 @@ def test_a_bad_store_file(command, spoil, out):
     assert sha256(store) == before
 
 
+@pytest.mark.parametrize("record, names", [
+    ("{not json", "record.json: not valid JSON"),
+    ('{"rock": "granite"}', "targets: Field required (in record.json)"),  # an older record
+    ('{"rock": 3}', "rock: Input should be a valid string (in record.json)"),
+])
+def test_a_record_that_does_not_fit(record, names, out):
+    store = RunStore(out)
+    store.save_document("record.json", record)
+    store.close()
+    assert_one_line_error(*rockcal("report", out, cwd=out.parent), names)
+
+
 def test_report_on_a_folder_without_a_store(tmp_path):
     code, stderr = rockcal("report", tmp_path, cwd=tmp_path)
     assert_one_line_error(code, stderr, f"OUT: {tmp_path} holds no run store")

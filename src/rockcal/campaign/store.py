@@ -38,7 +38,7 @@ CREATE TABLE IF NOT EXISTS documents (name TEXT PRIMARY KEY, text TEXT NOT NULL)
 class RunSpec:
     """What a forward run is: the test, its specimen settings and the full micro-parameters."""
 
-    kind: str  # "ucs" or "bending"
+    kind: str  # a lab test's name (`rockcal.labtests.registry`)
     specimen: tuple  # sorted (name, value) pairs
     params: tuple  # sorted (name, value) pairs, every micro-parameter
     engine: str
