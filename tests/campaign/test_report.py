@@ -14,7 +14,7 @@ from rockcal.campaign.forward import Executor
 from rockcal.campaign.procedure import Calibration
 from rockcal.campaign.figures import FIGURES
 from rockcal.campaign.report import write_report
-from rockcal.campaign.result import FailedRun, Validation
+from rockcal.campaign.result import CalibrationResult, FailedRun, Validation
 from rockcal.campaign.store import RunStore
 
 TOML = '''
@@ -158,3 +158,10 @@ def test_failed_validation_and_unknown_runs_leave_figures_out(campaign):
     assert {p.name for p in path.parent.glob("*.png")} == drawn
     assert "wall-time limit of 60 s" in page
     assert page.count("class='note'") == len(ALL_PNGS) - len(drawn) + 1  # 1: the validation note
+
+
+def test_the_record_reads_back_as_the_result(campaign):
+    record, _, _ = campaign
+    text = record.to_json()
+    assert CalibrationResult.from_json(text) == record
+    assert CalibrationResult.from_json(text).to_json() == text
