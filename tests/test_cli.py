@@ -53,7 +53,19 @@ def test_simulate_ucs_json_and_outputs(tmp_path):
     (["--stop-fraction", "1"], "--stop-fraction"),
 ])
 def test_bad_input_is_one_line_and_exit_2(args, field):
-    run = rockcal("simulate", "ucs", *SMALL, *args)
+    assert_one_line_error(rockcal("simulate", "ucs", *SMALL, *args), field)
+
+
+@pytest.mark.parametrize("test, args, flag", [
+    ("bending", ["--length-mm", "2"], "--length-mm"),  # too short for its particles
+    ("bending", ["--span-mm", "300"], "--span-mm"),
+    ("brazilian", ["--diameter-mm", "1"], "--diameter-mm"),  # too small for its particles
+])
+def test_a_specimen_that_cannot_be_made_names_its_flag(test, args, flag):
+    assert_one_line_error(rockcal("simulate", test, *args), flag)
+
+
+def assert_one_line_error(run, field: str) -> None:
     assert run.returncode == 2
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and field in lines[0], run.stderr

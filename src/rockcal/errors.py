@@ -1,6 +1,7 @@
 """The one exception type for a user's mistake; the CLI prints it in one line and exits 2."""
 
 import re
+from typing import Callable, Mapping
 
 
 class InputError(ValueError):
@@ -12,16 +13,25 @@ class InputError(ValueError):
         super().__init__(f"{field}: {problem}")
 
 
-class as_flags:
-    """Within it, an InputError naming a setting (notch_mm) names its CLI flag (--notch-mm)."""
+class fields_named:
+    """Within it, an InputError's field is renamed by `rename`: a function of the field, or a
+    dict (a field it does not hold keeps its name)."""
+
+    def __init__(self, rename: Callable[[str], str] | Mapping[str, str]):
+        self.rename = (lambda field: rename.get(field, field)) if isinstance(rename, Mapping) else rename
 
     def __enter__(self):
         return self
 
     def __exit__(self, kind, exc, tb):
-        if isinstance(exc, InputError) and not exc.field.startswith("-"):
-            raise InputError("--" + exc.field.replace("_", "-"), exc.problem) from None
+        if isinstance(exc, InputError) and self.rename(exc.field) != exc.field:
+            raise InputError(self.rename(exc.field), exc.problem) from None
         return False
+
+
+def as_flags() -> fields_named:
+    """Within it, an InputError naming a setting (notch_mm) names its CLI flag (--notch-mm)."""
+    return fields_named(lambda field: field if field.startswith("-") else "--" + field.replace("_", "-"))
 
 
 def from_validation_error(exc) -> InputError:

@@ -70,6 +70,10 @@ CAMPAIGNS = [  # (case, campaign text, the key the error must name)
     ("negative bound", edit("E_c = [10, 30]", "E_c = [-10, 30]"), "search.bounds.E_c"),
     ("unknown parameter", edit("E_c = [10, 30]", "E_cc = [10, 30]"), "search.bounds.E_cc"),
     ("fixed value out of range", edit("mu = 0.5", "mu = -1"), "search.fixed.mu"),
+    ("beam too short for its particles", edit("[specimen]", "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0\n"
+                                               "[specimen]\nbeam_length_mm = 4"), "specimen.beam_length_mm"),
+    ("span longer than the beam", edit("[specimen]", "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0\n"
+                                       "[specimen]\nspan_mm = 300"), "specimen.span_mm"),
     ("specimen narrower than its particles", edit("width_mm = 8", "width_mm = 2"),
      "specimen.width_mm"),
     ("not TOML", CAMPAIGN + "[[[", "CONFIG"),
@@ -204,6 +208,18 @@ def test_a_bad_store_file(command, spoil, out):
     code, stderr = rockcal(command, *args, cwd=out.parent)
     assert_one_line_error(code, stderr, f"OUT: {store}")
     assert sha256(store) == before
+
+
+@pytest.mark.parametrize("record, names", [
+    ("{not json", "record.json: not valid JSON"),
+    ('{"rock": "granite"}', "targets: Field required (in record.json)"),  # an older record
+    ('{"rock": 3}', "rock: Input should be a valid string (in record.json)"),
+])
+def test_a_record_that_does_not_fit(record, names, out):
+    store = RunStore(out)
+    store.save_document("record.json", record)
+    store.close()
+    assert_one_line_error(*rockcal("report", out, cwd=out.parent), names)
 
 
 def test_report_on_a_folder_without_a_store(tmp_path):

@@ -129,10 +129,10 @@ def test_twin_intervals_hold_the_truth_and_shrink_with_the_lab_spread(twin):
         finally:
             store.close()
         assert executor.executed == 0
-        intervals = record["uncertainty"]["intervals"]
+        intervals = record.uncertainty.intervals
         for name, truth in TRUE.items():
-            assert intervals[name]["p5"] <= truth <= intervals[name]["p95"], (fraction, name)
-        widths.append({n: i["p95"] - i["p5"] for n, i in intervals.items()})
+            assert intervals[name].p5 <= truth <= intervals[name].p95, (fraction, name)
+        widths.append({n: i.p95 - i.p5 for n, i in intervals.items()})
     wide, narrow = widths
     assert all(narrow[n] < wide[n] for n in TRUE)
     # E and nu follow the spread (about 1/3); UCS, noisy on 179 disks, leaves a floor on sigma_c

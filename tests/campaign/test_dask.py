@@ -73,14 +73,14 @@ def test_campaign_on_dask_gives_the_serial_answer_bit_for_bit(tmp_path):
                 assert set(executor.client.run(os.getenv, "ROCKCAL_CACHE").values()) == {os.environ["ROCKCAL_CACHE"]}
         finally:
             executor.close()
-        assert executor.executed == records[name]["dem_runs"] == store.count()
+        assert executor.executed == records[name].dem_runs == store.count()
         assert set(store.executions().values()) == {1}
         store.close()
     serial, dask = records["serial"], records["dask"]
-    assert dask["identified"] == serial["identified"]
-    assert dask["verified"] == serial["verified"]  # floats compared exactly
-    assert [it["verified"] for it in dask["iterations"]] == [it["verified"] for it in serial["iterations"]]
-    assert dask["dem_run_keys"] == serial["dem_run_keys"]
+    assert dask.identified == serial.identified
+    assert dask.verified == serial.verified  # floats compared exactly
+    assert [it.verified for it in dask.iterations] == [it.verified for it in serial.iterations]
+    assert dask.dem_run_keys == serial.dem_run_keys
 
 
 def test_workers_without_the_drivers_cache_make_the_same_specimen(cluster, worker_cache, tmp_path):

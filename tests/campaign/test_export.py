@@ -11,6 +11,8 @@ import sys
 import numpy as np
 import pytest
 
+from rockcal.campaign.config import parse_campaign
+from rockcal.campaign.result import CalibrationResult, save_result
 from rockcal.campaign.store import RunStore
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.simulate import bond_strengths
@@ -53,14 +55,23 @@ def rockcal(*args):
 def finished(tmp_path_factory):
     """A store holding a finished campaign's documents (what `calibrate` writes at its end)."""
     folder = tmp_path_factory.mktemp("campaign")
-    record = {"rock": "twin", "accepted": True, "dem_runs": 12, "targets": {"E_GPa": 41.5},
-              "verified": {"E_GPa": 41.3}, "identified": {"E_c": 21.65},
-              "uncertainty": {"intervals": {"E_c": {"p5": 20.9, "p50": 21.6, "p95": 22.4,
-                                                    "at_bound": 0.0, "pinned": True}}},
-              "identified_params": make_params(IDENTIFIED).key()}
+    nothing = {"samples": {"x": [], "responses": []}, "iterations": [], "dem_run_keys": [],
+               "surrogate_check": {"x": [], "dem": [], "predicted": [], "max_relative_error": None,
+                                   "trusted": None, "tolerance": 0.05, "epsilon": {}},
+               "failed_runs": [], "ucs_specimen": {}, "fixed": {}}
+    result = CalibrationResult.model_validate(nothing | {
+        "rock": "twin", "accepted": True, "dem_runs": 12, "targets": {"E_GPa": 41.5},
+        "specimen": parse_campaign(CAMPAIGN, folder).specimen, "parameters": ["E_c"],
+        "bounds": {"E_c": [10, 30]}, "verified": {"E_GPa": 41.3}, "errors": {"E_GPa": -0.005},
+        "identified": {"E_c": 21.65}, "identified_params": make_params(IDENTIFIED).key(),
+        "tolerance": 0.05, "objective": "F", "best_iteration": 0, "final_ucs_run_key": "not run",
+        "uncertainty": {"seeds": [1], "run_keys": [], "packing_responses": [], "scatter": {},
+                        "spread": {}, "draws": 10, "samples": [], "drawn_targets": {},
+                        "intervals": {"E_c": {"p5": 20.9, "p50": 21.6, "p95": 22.4, "at_bound": 0.0,
+                                              "pinned": True}}}})
     store = RunStore(folder)
     store.save_document("campaign.toml", CAMPAIGN)
-    store.save_document("record.json", json.dumps(record))
+    save_result(store, result)
     store.close()
     return folder
 

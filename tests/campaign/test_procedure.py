@@ -5,6 +5,7 @@ import pytest
 
 from rockcal.campaign.config import parse_campaign
 from rockcal.campaign.procedure import Calibration
+from rockcal.campaign.result import FailedRun
 from rockcal.campaign.store import RunResult
 
 CAMPAIGN = """
@@ -52,14 +53,14 @@ class SyntheticExecutor:
 
 def test_a_failed_sensitivity_run_is_filled_in_and_the_campaign_recovers_the_parameters(tmp_path):
     record = Calibration(parse_campaign(CAMPAIGN, tmp_path), SyntheticExecutor()).run()
-    sensitivity = record["sensitivity"]
-    assert len(sensitivity["imputed_runs"]) == 1
-    assert sensitivity["chosen"] == ["E_c", "kn_ks", "sigma_c"]
-    assert record["failed_runs"] == [{"stage": "sensitivity", "message": "ValueError: unstable"}]
-    assert record["accepted"]
-    mu, tau_c = record["fixed"]["mu"], record["fixed"]["tau_c"]  # the middle of their levels
+    sensitivity = record.sensitivity
+    assert len(sensitivity.imputed_runs) == 1
+    assert sensitivity.chosen == ["E_c", "kn_ks", "sigma_c"]
+    assert record.failed_runs == [FailedRun(stage="sensitivity", message="ValueError: unstable")]
+    assert record.accepted
+    mu, tau_c = record.fixed["mu"], record.fixed["tau_c"]  # the middle of their levels
     assert (mu, tau_c) == pytest.approx((0.45, 80.0))
     truth = {"E_c": 25.0 / (1 + 0.02 * mu), "sigma_c": (120.0 - 0.01 * tau_c) / 3.0}
     truth["kn_ks"] = (0.2 - 0.0002 * truth["E_c"]) / 0.1
     for name, value in truth.items():
-        assert record["identified"][name] == pytest.approx(value, rel=0.05)
+        assert record.identified[name] == pytest.approx(value, rel=0.05)

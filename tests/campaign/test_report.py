@@ -2,7 +2,6 @@
 written, the identified parameters shown, and missing pieces noted instead of failing."""
 
 import base64
-import copy
 import re
 from pathlib import Path
 
@@ -13,7 +12,9 @@ import pytest
 from rockcal.campaign.config import parse_campaign
 from rockcal.campaign.forward import Executor
 from rockcal.campaign.procedure import Calibration
-from rockcal.campaign.report import FIGURES, stored_run, write_report
+from rockcal.campaign.figures import FIGURES
+from rockcal.campaign.report import write_report
+from rockcal.campaign.result import CalibrationResult, FailedRun, Validation
 from rockcal.campaign.store import RunStore
 
 TOML = '''
@@ -91,49 +92,48 @@ def test_full_report_is_self_contained_and_has_every_figure(campaign):
 def test_summary_shows_the_identified_parameters_and_the_validation(campaign):
     record, store, folder = campaign
     page = write_report(record, store, folder / "summary").read_text(encoding="utf-8")
-    for name, value in record["identified"].items():
+    for name, value in record.identified.items():
         assert re.search(rf"<td>{name}</td><td>{value:.4g}</td>", page)
-    for response, error in record["errors"].items():
+    for response, error in record.errors.items():
         assert f"{100 * error:+.1f} %" in page
-    v = record["validation"]
-    assert f"{v['K_IC_MPa_sqrt_m']:.4g}" in page and f"{100 * v['K_IC_error']:+.1f} %" in page
-    assert v["ok_seeds"] == [1, 2] and v["K_IC_MPa_sqrt_m"] == pytest.approx(np.mean(v["K_IC_per_seed"]))
-    assert all(f"{seed}: {k:.4g}" in page for seed, k in zip(v["ok_seeds"], v["K_IC_per_seed"]))
+    v = record.validation
+    assert f"{v.K_IC_MPa_sqrt_m:.4g}" in page and f"{100 * v.K_IC_error:+.1f} %" in page
+    assert v.ok_seeds == [1, 2] and v.K_IC_MPa_sqrt_m == pytest.approx(np.mean(v.K_IC_per_seed))
+    assert all(f"{seed}: {k:.4g}" in page for seed, k in zip(v.ok_seeds, v.K_IC_per_seed))
     assert "Ouchterlony" in page  # the lab's P_max and K_IC disagree: the warning is shown
-    assert f"RE {record['curve_fit']['RE']:.3f}, CC {record['curve_fit']['CC']:.3f}" in page
-    assert f"{record['dem_runs']}</td>" in page
+    assert f"RE {record.curve_fit.RE:.3f}, CC {record.curve_fit.CC:.3f}" in page
+    assert f"{record.dem_runs}</td>" in page
 
 
 def test_intervals_of_the_identified_parameters(campaign):
     record, store, folder = campaign
-    u = record["uncertainty"]
-    assert u["seeds"] == [1, 2] and len(u["packing_responses"]) == 2 and len(u["samples"]) == 20
-    assert u["run_keys"][0] == record["final_ucs_run_key"]  # seed 1 is the verified run
+    u = record.uncertainty
+    assert u.seeds == [1, 2] and len(u.packing_responses) == 2 and len(u.samples) == 20
+    assert u.run_keys[0] == record.final_ucs_run_key  # seed 1 is the verified run
     page = write_report(record, store, folder / "intervals").read_text(encoding="utf-8")
-    for name, value in record["identified"].items():
-        i = u["intervals"][name]
-        low, high = record["bounds"][name]
-        assert low <= i["p5"] <= i["p50"] <= i["p95"] <= high
-        assert f"<td>{name}</td><td>{value:.4g}</td>" in page and f"<td>{i['p95']:.4g}</td>" in page
+    for name, value in record.identified.items():
+        i = u.intervals[name]
+        low, high = record.bounds[name]
+        assert low <= i.p5 <= i.p50 <= i.p95 <= high
+        assert f"<td>{name}</td><td>{value:.4g}</td>" in page and f"<td>{i.p95:.4g}</td>" in page
     assert "target sets drawn from the lab spread" in page
 
 
-def test_stored_run_reads_the_final_ucs_run(campaign):
+def test_the_store_gives_the_final_ucs_run(campaign):
     record, store, _ = campaign
-    run = stored_run(store, record["final_ucs_run_key"])
+    run = store.run(record.final_ucs_run_key)
     assert run.kind == "ucs" and run.status == "ok"
-    assert run.params == record["identified_params"]
+    assert run.params == record.identified_params
     assert run.responses["ucs_MPa"] == pytest.approx(np.max(run.curve[:, 2]), rel=1e-12)
     assert len(run.cracks) == run.responses["n_broken_tension"] + run.responses["n_broken_shear"]
-    assert stored_run(store, "no such key") is None
+    assert store.run("no such key") is None
 
 
 def test_missing_pieces_are_noted_not_raised(campaign):
     record, store, folder = campaign
-    bare = copy.deepcopy(record)
-    for key in ("sensitivity", "validation", "curve_fit", "measured_curve", "specimen", "uncertainty"):
-        bare.pop(key, None)
-    bare["failed_runs"] = [{"stage": "samples", "message": "RunTimedOut: stopped after 5 s"}]
+    bare = record.model_copy(update=dict.fromkeys(
+        ("sensitivity", "validation", "curve_fit", "measured_curve", "uncertainty")))
+    bare.failed_runs = [FailedRun(stage="samples", message="RunTimedOut: stopped after 5 s")]
     path = write_report(bare, store, folder / "bare")
     page = path.read_text(encoding="utf-8")
     written = {p.name for p in path.parent.glob("*.png")}
@@ -147,14 +147,21 @@ def test_missing_pieces_are_noted_not_raised(campaign):
 
 def test_failed_validation_and_unknown_runs_leave_figures_out(campaign):
     record, store, folder = campaign
-    broken = copy.deepcopy(record)
-    broken["validation"] = {"lab_K_IC_MPa_sqrt_m": 0.5, "run_key": "gone", "status": "timed out",
-                            "message": "stopped after the run's wall-time limit of 60 s", "warning": None}
-    broken["final_ucs_run_key"] = "gone too"
-    broken["iterations"] = []
+    broken = record.model_copy(update={
+        "validation": Validation(lab_K_IC_MPa_sqrt_m=0.5, seeds=[1], run_keys=["gone"], run_key="gone",
+                                 status="timed out",
+                                 message="stopped after the run's wall-time limit of 60 s"),
+        "final_ucs_run_key": "gone too", "iterations": []})
     path = write_report(broken, store, folder / "broken")
     page = path.read_text(encoding="utf-8")
     drawn = {"range_analysis.png", "surrogate_parity.png", "parameter_draws.png"}
     assert {p.name for p in path.parent.glob("*.png")} == drawn
     assert "wall-time limit of 60 s" in page
     assert page.count("class='note'") == len(ALL_PNGS) - len(drawn) + 1  # 1: the validation note
+
+
+def test_the_record_reads_back_as_the_result(campaign):
+    record, _, _ = campaign
+    text = record.to_json()
+    assert CalibrationResult.from_json(text) == record
+    assert CalibrationResult.from_json(text).to_json() == text

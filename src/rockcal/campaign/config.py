@@ -17,11 +17,12 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from rockcal.dem.genesis import Genesis
-from rockcal.errors import InputError, from_validation_error
+from rockcal.errors import InputError, fields_named, from_validation_error
+from rockcal.labtests.registry import lab_test
 from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
 from rockcal.params import NAMES, make_params
 
-RESPONSES = ("E_GPa", "nu", "ucs_MPa")  # what a UCS run gives and the calibration can fit
+RESPONSES = lab_test("ucs").targets  # what a UCS run gives and the calibration can fit
 
 
 class _Strict(BaseModel):
@@ -196,6 +197,10 @@ class Campaign(_Strict):
         u = self.uncertainty.enabled
         return bool(self.targets.ucs.spread) if u is None else u
 
+    def tests(self) -> list[str]:
+        """The lab tests the campaign runs: UCS, and bending when it validates with one."""
+        return ["ucs"] + (["bending"] if self.targets.bending is not None else [])
+
     def fixed_params(self) -> dict[str, float]:
         """Parameters held constant: the density of the rock, then [search].fixed."""
         return {"density": self.rock.density_kg_m3} | dict(self.search.fixed)
@@ -261,24 +266,10 @@ def _check_values(campaign: Campaign) -> None:
 
 
 def _check_specimens(campaign: Campaign) -> None:
-    """The specimens can be packed (and the beam carries a test), naming the [specimen] key."""
-    from rockcal.dem.specimen import check_geometry
-    from rockcal.labtests.bending import Beam
-
-    s = campaign.specimen
-    try:
-        check_geometry(s.width_mm, s.height_mm, s.rmin_mm, s.radius_ratio)
-    except InputError as exc:
-        raise InputError(f"specimen.{exc.field}", exc.problem) from None
-    if campaign.targets.bending is None:
-        return
-    beam = Beam(s.beam_length_mm, s.beam_height_mm, s.notch_mm, s.notch_width_mm, s.span_mm)
-    names = {"width_mm": "beam_length_mm", "height_mm": "beam_height_mm", "length_mm": "beam_length_mm"}
-    try:
-        check_geometry(s.beam_length_mm, s.beam_height_mm, s.rmin_mm, s.radius_ratio)
-        beam.check()
-    except InputError as exc:
-        raise InputError(f"specimen.{names.get(exc.field, exc.field)}", exc.problem) from None
+    """The specimen of each test the campaign runs can be made, naming the [specimen] key."""
+    for test in map(lab_test, campaign.tests()):
+        with fields_named(lambda field: f"specimen.{field}"):
+            test.check(test.settings_of(campaign.specimen))
 
 
 def read_curve(path: Path) -> np.ndarray:

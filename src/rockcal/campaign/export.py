@@ -14,6 +14,7 @@ import numpy as np
 
 from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.forward import ENGINE
+from rockcal.campaign.result import read_result
 from rockcal.errors import InputError
 from rockcal.params import GPa, MPa, MicroParams, make_params
 
@@ -33,20 +34,19 @@ class Calibrated:
 
 def read_calibration(store, folder: Path) -> Calibrated:
     """The identified material of the campaign in `store`; InputError if it has not finished."""
-    record_text, campaign_text = store.document("record.json"), store.document("campaign.toml")
-    if record_text is None or campaign_text is None:
+    result, campaign_text = read_result(store), store.document("campaign.toml")
+    if result is None or campaign_text is None:
         raise InputError("OUT", f"the campaign in {folder} has not finished; run "
                                 f"`rockcal calibrate --resume --out {folder}`")
-    record = json.loads(record_text)
     campaign = Campaign.model_validate(tomllib.loads(campaign_text))
-    row = store.db.execute("SELECT engine FROM runs WHERE key=?",
-                           (record.get("final_ucs_run_key"),)).fetchone()
-    origin = {"rock": record["rock"], "campaign": str(folder), "accepted": record["accepted"],
-              "dem_runs": record["dem_runs"], "targets": record["targets"],
-              "verified": record["verified"], "identified": record["identified"],
-              "intervals": (record.get("uncertainty") or {}).get("intervals", {}),
-              "engine": row[0] if row else ENGINE}
-    return Calibrated(make_params(record["identified_params"]), campaign.specimen, origin)
+    final_run = store.run(result.final_ucs_run_key)
+    u = result.uncertainty
+    origin = {"rock": result.rock, "campaign": str(folder), "accepted": result.accepted,
+              "dem_runs": result.dem_runs, "targets": result.targets, "verified": result.verified,
+              "identified": result.identified,
+              "intervals": {} if u is None else {n: i.to_dict() for n, i in u.intervals.items()},
+              "engine": final_run.engine if final_run else ENGINE}
+    return Calibrated(make_params(result.identified_params), campaign.specimen, origin)
 
 
 def pfc_parameters(params: MicroParams, specimen: SpecimenSettings) -> dict[str, float]:

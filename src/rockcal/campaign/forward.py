@@ -1,5 +1,5 @@
-"""Forward runs of a campaign: the virtual UCS or bending test for one parameter set, on many
-cores, through the run store (a run in the store is never run again).
+"""Forward runs of a campaign: a virtual lab test (`rockcal.labtests.registry`) for one
+parameter set, on many cores, through the run store (a run in the store is never run again).
 
 Workers are separate processes (spawned, so numba's threads are never forked); each sets its
 numba threads to its share of the cores and loads the specimen from the on-disk specimen cache
@@ -21,9 +21,9 @@ import numpy as np
 
 from rockcal import __version__
 from rockcal.campaign.store import RunResult, RunSpec, RunStore
-from rockcal.dem.genesis import Genesis
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.specimen import GENERATOR_VERSION
+from rockcal.labtests.registry import lab_test
 from rockcal.params import make_params
 
 POOL_RESTARTS = 3
@@ -31,35 +31,21 @@ LIVE_INTERVAL_S = 1.0  # a running test reports its reading at most this often
 _live = None  # where a running test reports to: a worker's queue, or the serial executor
 SPECIMEN_KEYS = ("n_particles", "porosity", "coordination", "bonds_per_particle")  # of each run
 ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
-GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_mpa
-UCS_GEOMETRY = ("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
-                "stop_fraction")
-BEAM_GEOMETRY = ("beam_length_mm", "beam_height_mm", "notch_mm", "notch_width_mm", "span_mm",
-                 "rmin_mm", "radius_ratio", "seed", *GENESIS)
 
 
 def run_spec(kind: str, specimen_settings, params: dict) -> RunSpec:
-    """The spec of a run; `params` are completed with the defaults so the key is total."""
-    names = UCS_GEOMETRY if kind == "ucs" else BEAM_GEOMETRY
-    specimen = tuple((n, getattr(specimen_settings, n)) for n in names)
+    """The spec of a run of the lab test `kind`: its specimen settings, and `params` completed
+    with the defaults so the key is total."""
+    specimen = tuple(lab_test(kind).settings_of(specimen_settings).items())
     full = make_params(params).key()
     return RunSpec(kind, specimen, tuple(sorted(full.items())), ENGINE)
 
 
 @lru_cache(maxsize=4)
 def specimen_of(kind: str, specimen: tuple):
-    """The specimen (and the beam, for bending) of a run's specimen settings, made once per
-    process (from the disk cache when it holds it)."""
-    from rockcal.dem.specimen import random_packing
-    from rockcal.labtests.bending import Beam, notched_beam
-
-    s = dict(specimen)
-    genesis = Genesis(**{name: s[name] for name in GENESIS})
-    if kind == "ucs":
-        return random_packing(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"],
-                              s["seed"], genesis), None
-    beam = Beam(s["beam_length_mm"], s["beam_height_mm"], s["notch_mm"], s["notch_width_mm"], s["span_mm"])
-    return notched_beam(beam, s["rmin_mm"], s["radius_ratio"], s["seed"], genesis), beam
+    """The specimen of a run's specimen settings, made once per process (from the disk cache
+    when it holds it)."""
+    return lab_test(kind).make(dict(specimen))
 
 
 def prepare(spec: RunSpec) -> None:
@@ -78,9 +64,6 @@ class RunTimedOut(Exception):
 def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
     """Run one forward test; a run that raises is a failed result, not an exception, and a run
     past `time_limit_s` is stopped and recorded as timed out."""
-    from rockcal.labtests.bending import simulate_bending
-    from rockcal.labtests.ucs import simulate_ucs
-
     started = last = time.perf_counter()
 
     def watch(x: float, y: float):
@@ -93,20 +76,12 @@ def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
             _live.put((spec.key, spec.kind, float(x), float(y), now - started))
 
     try:
-        specimen, beam = specimen_of(spec.kind, spec.specimen)
-        params = make_params(dict(spec.params))
-        if spec.kind == "ucs":
-            settings = dict(spec.specimen)
-            r = simulate_ucs(params, specimen, strain=settings["strain"],
-                             stop_fraction=settings["stop_fraction"], progress=watch)
-            responses = {"E_GPa": r.E_GPa, "nu": r.nu, "ucs_MPa": r.ucs_MPa,
-                         "peak_axial_strain": r.peak_axial_strain}
-        else:
-            r = simulate_bending(params, specimen, beam, progress=watch)
-            responses = {"K_IC_MPa_sqrt_m": r.K_IC_MPa_sqrt_m, "P_max_kN_per_m": r.P_max_kN_per_m,
-                         "displacement_at_peak_mm": r.displacement_at_peak_mm}
-        responses |= {"n_broken_tension": r.n_broken_tension, "n_broken_shear": r.n_broken_shear,
-                      "steps": r.steps} | specimen.description()
+        test = lab_test(spec.kind)
+        specimen = specimen_of(spec.kind, spec.specimen)
+        r = test.run(make_params(dict(spec.params)), specimen, dict(spec.specimen), watch)
+        responses = test.responses_of(r) | {
+            "n_broken_tension": r.n_broken_tension, "n_broken_shear": r.n_broken_shear,
+            "steps": r.steps} | specimen.description()
         bad = [k for k, v in responses.items() if v != v]  # NaN: no usable reading
         if bad:
             raise ValueError(f"no reading of {bad[0]} (the specimen did not load up)")
@@ -137,9 +112,7 @@ def live_text(readings: dict[str, tuple]) -> str:
     """The running tests in a line: their short key and latest reading."""
     parts = []
     for key, (kind, x, y, elapsed) in readings.items():
-        reading = (f"strain {100 * x:.3f} %, {y:.1f} MPa" if kind == "ucs" else
-                   f"{x:.3f} mm, {y:.2f} kN/m")
-        parts.append(f"{key[:6]} {reading}, {elapsed:.0f} s")
+        parts.append(f"{key[:6]} {lab_test(kind).reading(x, y)}, {elapsed:.0f} s")
     return "running: " + "; ".join(parts) if parts else ""
 
 

@@ -13,9 +13,10 @@ import re
 import numpy as np
 
 from rockcal.campaign.config import Campaign, SpecimenSettings
-from rockcal.campaign.forward import UCS_GEOMETRY, run_spec
+from rockcal.campaign.forward import run_spec
 from rockcal.campaign.procedure import sample_points
 from rockcal.inverse import design
+from rockcal.labtests.registry import lab_test
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
 REFERENCE_RUN_S = 128.0  # its mean UCS run on one thread (the L16 table with the spread, engine 0.2)
@@ -75,7 +76,7 @@ def stored_runs(campaign: Campaign, store) -> int:
 
 def stored_ucs_runs_s(store, specimen: SpecimenSettings) -> list[float]:
     """Wall times of the finished UCS runs on this specimen in the store."""
-    wanted = {n: getattr(specimen, n) for n in UCS_GEOMETRY}
+    wanted = lab_test("ucs").settings_of(specimen)
     return [wall for settings, wall in store.wall_times("ucs") if settings == wanted]
 
 

@@ -16,6 +16,8 @@ import numpy as np
 
 from rockcal.campaign.config import Campaign, read_curve
 from rockcal.campaign.forward import SPECIMEN_KEYS, Executor, run_spec
+from rockcal.campaign.result import (CalibrationResult, CurveFit, FailedRun, Iteration, Samples, Sensitivity,
+                                     SurrogateCheck, Uncertainty, Validation)
 from rockcal.inverse import (RBFSurrogate, Objective, ant_colony, curve_fit, design, latin_hypercube,
                              range_analysis)
 from rockcal.inverse.uncertainty import parameter_intervals
@@ -51,7 +53,7 @@ def _round(x: np.ndarray) -> np.ndarray:
 
 
 class Calibration:
-    """One campaign's run: call `run()`; the record it returns is what reports are made of."""
+    """One campaign's run: call `run()`; the result it returns is what reports are made of."""
 
     def __init__(self, campaign: Campaign, executor: Executor, progress: Stage | None = None):
         self.campaign = campaign
@@ -60,10 +62,8 @@ class Calibration:
         self.targets, self.curve = ucs_targets(campaign)
         self.fixed = campaign.fixed_params()
         self.dem_runs: list[str] = []  # keys of the distinct UCS runs the procedure used
-        self.record: dict = {"rock": campaign.rock.name, "targets": self.targets,
-                             "specimen": campaign.specimen.model_dump()}
-        if self.curve is not None:
-            self.record["measured_curve"] = self.curve.tolist()
+        self.failed_runs: list[FailedRun] = []
+        self.ucs_specimen: dict | None = None  # of the first UCS run that succeeded
 
     # -- forward runs ---------------------------------------------------------------------
     def _ucs(self, stage: str, rows: list[dict]) -> list[dict | None]:
@@ -74,21 +74,22 @@ class Calibration:
             if spec.key not in self.dem_runs:
                 self.dem_runs.append(spec.key)
         failed = [r.message for r in results if r.status != "ok"]
-        self.record.setdefault("failed_runs", []).extend(
-            {"stage": stage, "message": m} for m in failed)
+        self.failed_runs += [FailedRun(stage=stage, message=m) for m in failed]
         if failed and len(failed) == len(results):
             raise CalibrationFailed(f"every forward run of stage '{stage}' failed; first: {failed[0]}")
-        done = next(r.responses for r in results if r.status == "ok")
-        self.record.setdefault("ucs_specimen", {k: done[k] for k in SPECIMEN_KEYS if k in done})
+        if self.ucs_specimen is None:
+            done = next(r.responses for r in results if r.status == "ok")
+            self.ucs_specimen = {k: done[k] for k in SPECIMEN_KEYS if k in done}
         return [r.responses if r.status == "ok" else None for r in results]
 
     # -- the steps ------------------------------------------------------------------------
-    def sensitivity(self) -> dict[str, tuple[float, float]]:
-        """Step 2: orthogonal-array runs, range analysis; returns the search bounds."""
+    def sensitivity(self) -> tuple[dict[str, tuple[float, float]], Sensitivity | None]:
+        """Step 2: orthogonal-array runs, range analysis; returns the search bounds and the
+        study (None without [sensitivity])."""
         settings = self.campaign.sensitivity
         bounds = dict(self.campaign.search.bounds)
         if settings is None:
-            return bounds
+            return bounds, None
         runs = design(settings.array, settings.levels)
         n = len(next(iter(runs.values())))
         rows = [{f: float(v[i]) for f, v in runs.items()} for i in range(n)]
@@ -97,24 +98,22 @@ class Calibration:
         table = _fill_failed({r: [None if v is None else v[r] for v in responses] for r in names})
         analysis = range_analysis({f: np.array(v) for f, v in runs.items()}, table)
         chosen = analysis.chosen(settings.threshold)
-        self.record["sensitivity"] = {
-            "array": settings.array, "runs": rows, "run_responses": responses,
-            "imputed_runs": [i for i, v in enumerate(responses) if v is None],
-            **analysis.to_dict(settings.threshold)}
+        study = Sensitivity(array=settings.array, runs=rows, run_responses=responses,
+                            imputed_runs=[i for i, v in enumerate(responses) if v is None],
+                            **analysis.to_dict(settings.threshold))
         if not bounds:
             bounds = {f: (min(settings.levels[f]), max(settings.levels[f])) for f in chosen}
         for f, levels in settings.levels.items():  # factors neither inverted nor fixed: middle
             if f not in bounds and f not in self.fixed:
                 self.fixed[f] = float(np.mean(levels))
-        return bounds
+        return bounds, study
 
-    def run(self) -> dict:
-        """Steps 2-8; returns the campaign record (JSON-ready)."""
-        bounds = self.sensitivity()
+    def run(self) -> CalibrationResult:
+        """Steps 2-8; returns what the campaign found."""
+        bounds, sensitivity = self.sensitivity()
         names = list(bounds)
         box = np.array([bounds[n] for n in names], dtype=float)
-        self.record |= {"parameters": names, "bounds": {n: list(bounds[n]) for n in names},
-                        "fixed": dict(self.fixed)}
+        fixed = dict(self.fixed)
         s = self.campaign.surrogate
 
         # step 3: Latin hypercube runs, surrogate, check on fresh random points
@@ -126,13 +125,11 @@ class Calibration:
         check_x, check_y = _usable(checks, y_checks)
         validation = surrogate.validate(check_x, {r: np.array([v[r] for v in check_y]) for r in self.targets},
                                         s.tolerance) if len(check_x) else None
-        self.record["samples"] = {"x": x.tolist(), "responses": y}
-        self.record["surrogate_check"] = {
-            "x": checks.tolist(), "dem": y_checks,
-            "predicted": [surrogate.predict(row) for row in checks],
-            "max_relative_error": None if validation is None else validation.max_relative_error,
-            "trusted": None if validation is None else validation.trusted,
-            "tolerance": s.tolerance, "epsilon": surrogate.epsilon}
+        surrogate_check = SurrogateCheck(
+            x=checks.tolist(), dem=y_checks, predicted=[surrogate.predict(row) for row in checks],
+            max_relative_error=None if validation is None else validation.max_relative_error,
+            trusted=None if validation is None else validation.trusted,
+            tolerance=s.tolerance, epsilon=surrogate.epsilon)
         train_x = np.vstack([train_x, check_x])
         train_y = train_y + check_y
 
@@ -147,11 +144,11 @@ class Calibration:
             verified = self._ucs("verification", [dict(zip(names, x_best))])[0]
             errors = None if verified is None else {
                 r: verified[r] / t - 1 for r, t in self.targets.items()}
-            iterations.append({
-                "x": x_best.tolist(), "objective_surrogate": float(opt.fun),
-                "predicted": surrogate.predict(x_best), "verified": verified, "errors": errors,
-                "history_fun": list(map(float, opt.history_fun)),
-                "history_x": [list(map(float, h)) for h in opt.history_x], "nfev": int(opt.nfev)})
+            iterations.append(Iteration(
+                x=x_best.tolist(), objective_surrogate=float(opt.fun),
+                predicted=surrogate.predict(x_best), verified=verified, errors=errors,
+                history_fun=list(map(float, opt.history_fun)),
+                history_x=[list(map(float, h)) for h in opt.history_x], nfev=int(opt.nfev)))
             repeated = any(np.allclose(x_best, row) for row in train_x)
             if verified is not None and not repeated:
                 train_x = np.vstack([train_x, x_best])
@@ -162,18 +159,23 @@ class Calibration:
             if len(self.dem_runs) >= self.campaign.acceptance.max_dem_runs or repeated:
                 break
         best = accepted if accepted is not None else _closest(iterations)
-        identified = dict(zip(names, iterations[best]["x"]))
-        self.record |= {"iterations": iterations, "accepted": accepted is not None,
-                        "identified": identified, "identified_params": make_params(self.fixed | identified).key(),
-                        "verified": iterations[best]["verified"], "errors": iterations[best]["errors"],
-                        "tolerance": tolerance, "objective": objective.describe(),
-                        "dem_runs": len(self.dem_runs), "best_iteration": best}
-        self.record["dem_run_keys"] = list(self.dem_runs)
-        if self.campaign.wants_uncertainty():
-            self._uncertainty(identified, self._fit(train_x, train_y, box), box, names)
-        self._curve_fit(identified)
-        self._validate(identified)
-        return self.record
+        identified = dict(zip(names, iterations[best].x))
+        dem_run_keys = list(self.dem_runs)
+        uncertainty = self._uncertainty(identified, self._fit(train_x, train_y, box), box, names) \
+            if self.campaign.wants_uncertainty() else None
+        final_ucs_run_key, curve_fit = self._curve_fit(identified)
+        return CalibrationResult(
+            rock=self.campaign.rock.name, targets=self.targets, specimen=self.campaign.specimen,
+            measured_curve=None if self.curve is None else self.curve.tolist(),
+            failed_runs=self.failed_runs, ucs_specimen=self.ucs_specimen, sensitivity=sensitivity,
+            parameters=names, bounds=bounds, fixed=fixed,
+            samples=Samples(x=x.tolist(), responses=y), surrogate_check=surrogate_check,
+            iterations=iterations, accepted=accepted is not None, identified=identified,
+            identified_params=make_params(self.fixed | identified).key(),
+            verified=iterations[best].verified, errors=iterations[best].errors, tolerance=tolerance,
+            objective=objective.describe(), dem_runs=len(dem_run_keys), best_iteration=best,
+            dem_run_keys=dem_run_keys, uncertainty=uncertainty, final_ucs_run_key=final_ucs_run_key,
+            curve_fit=curve_fit, validation=self._validate(identified))
 
     def _fit(self, x, y, box) -> RBFSurrogate:
         return RBFSurrogate(x, {r: np.array([v[r] for v in y]) for r in self.targets}, box)
@@ -186,7 +188,7 @@ class Calibration:
         return ant_colony(objective, box, method="ant-system", ants=o.ants, iterations=o.iterations,
                           alpha=o.alpha, beta=o.beta, rho=o.rho, seed=o.seed, vectorized=True)
 
-    def _uncertainty(self, identified: dict, surrogate: RBFSurrogate, box, names) -> None:
+    def _uncertainty(self, identified: dict, surrogate: RBFSurrogate, box, names) -> Uncertainty:
         """The model's scatter over packings at the identified point (relative sd of each
         response), then the parameters' intervals for targets drawn from the lab's spread and
         that scatter (`rockcal.inverse.uncertainty`), each solved on the surrogate."""
@@ -207,53 +209,53 @@ class Calibration:
 
         spread = {r: list(s) if isinstance(s, tuple) else s
                   for r, s in self.campaign.targets.ucs.spread.items()}
-        self.record["uncertainty"] = {
-            "seeds": seeds, "run_keys": [spec.key for spec in specs], "packing_responses": ok,
-            "scatter": scatter, "spread": spread, "draws": u.draws,
+        return Uncertainty(
+            seeds=seeds, run_keys=[spec.key for spec in specs], packing_responses=ok,
+            scatter=scatter, spread=spread, draws=u.draws,
             **parameter_intervals(solve, self.targets, spread, scatter, box, names,
-                                  draws=u.draws, seed=u.seed)}
+                                  draws=u.draws, seed=u.seed))
 
-    def _curve_fit(self, identified: dict) -> None:
-        """Step 7: RE and CC of the stress-strain curve at the identified parameters (the
-        simulated strain may dither at the start: only the points that advance it are kept)."""
+    def _curve_fit(self, identified: dict) -> tuple[str, CurveFit | None]:
+        """Step 7: the key of the UCS run at the identified parameters, and the RE and CC of
+        its stress-strain curve (the simulated strain may dither at the start: only the points
+        that advance it are kept), None without a measured curve or a stored run."""
         spec = run_spec("ucs", self.campaign.specimen, self.fixed | identified)
-        self.record["final_ucs_run_key"] = spec.key
         result = self.executor.store.get(spec)
         if self.curve is None or result is None or result.curve is None:
-            return
+            return spec.key, None
         strain, stress = result.curve[:, 0], result.curve[:, 2]
         ahead = strain > np.maximum.accumulate(np.concatenate([[-np.inf], strain[:-1]]))
         fit = curve_fit(strain[ahead], stress[ahead], self.curve[:, 0], self.curve[:, 1])
-        self.record["curve_fit"] = {"RE": fit.RE, "CC": fit.CC}
+        return spec.key, CurveFit(RE=fit.RE, CC=fit.CC)
 
-    def _validate(self, identified: dict) -> None:
+    def _validate(self, identified: dict) -> Validation | None:
         """Step 8: the notched-beam bending test with the identified parameters, K_IC averaged
-        over `specimen.bending_seeds` packings."""
+        over `specimen.bending_seeds` packings (None without [targets.bending])."""
         bending = self.campaign.targets.bending
         if bending is None:
-            return
+            return None
         settings = self.campaign.specimen
         seeds = seed_list(settings.seed, settings.bending_seeds)
         specs = [run_spec("bending", settings.model_copy(update={"seed": s}), self.fixed | identified)
                  for s in seeds]
         results = self.executor.run(specs, lambda d, t: self.progress("validation (bending)", d, t))
         ok = [(seed, spec, r) for seed, spec, r in zip(seeds, specs, results) if r.status == "ok"]
-        record = {"lab_K_IC_MPa_sqrt_m": bending.K_IC_MPa_sqrt_m, "seeds": seeds,
-                  "run_keys": [spec.key for spec in specs]}
+        found = {"lab_K_IC_MPa_sqrt_m": bending.K_IC_MPa_sqrt_m, "seeds": seeds,
+                 "run_keys": [spec.key for spec in specs]}
         if ok:
             k_per_seed = [r.responses["K_IC_MPa_sqrt_m"] for _, _, r in ok]
-            record |= {"status": "ok", "run_key": ok[0][1].key, "ok_seeds": [s for s, _, _ in ok],
-                       "K_IC_per_seed": k_per_seed}
-            record |= mean_over_seeds([r.responses for _, _, r in ok])
-            record["K_IC_error"] = record["K_IC_MPa_sqrt_m"] / bending.K_IC_MPa_sqrt_m - 1
+            found |= {"status": "ok", "run_key": ok[0][1].key, "ok_seeds": [s for s, _, _ in ok],
+                      "K_IC_per_seed": k_per_seed}
+            found |= mean_over_seeds([r.responses for _, _, r in ok])
+            found["K_IC_error"] = found["K_IC_MPa_sqrt_m"] / bending.K_IC_MPa_sqrt_m - 1
         else:
-            record |= {"status": results[0].status, "message": results[0].message,
-                       "run_key": specs[0].key}
+            found |= {"status": results[0].status, "message": results[0].message,
+                      "run_key": specs[0].key}
         if bending.P_max_kN is not None:
-            record["warning"] = pmax_kic_disagreement(
+            found["warning"] = pmax_kic_disagreement(
                 1e3 * bending.P_max_kN, 1e6 * bending.K_IC_MPa_sqrt_m, 1e-3 * bending.diameter_mm,
                 1e-3 * bending.notch_mm, 1e-3 * bending.span_mm)
-        self.record["validation"] = record
+        return Validation(**found)
 
 
 def _fill_failed(table: dict[str, list]) -> dict[str, np.ndarray]:
@@ -284,10 +286,10 @@ def _usable(x: np.ndarray, y: list) -> tuple[np.ndarray, list]:
     return x[keep].reshape(len(keep), x.shape[1]), [y[i] for i in keep]
 
 
-def _closest(iterations: list[dict]) -> int:
+def _closest(iterations: list[Iteration]) -> int:
     """The verified iteration with the smallest largest error (when none was accepted)."""
-    scored = [(max(abs(e) for e in it["errors"].values()), i)
-              for i, it in enumerate(iterations) if it["errors"] is not None]
+    scored = [(max(abs(e) for e in it.errors.values()), i)
+              for i, it in enumerate(iterations) if it.errors is not None]
     if not scored:
         raise CalibrationFailed("no verification run succeeded")
     return min(scored)[1]

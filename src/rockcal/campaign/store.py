@@ -38,7 +38,7 @@ CREATE TABLE IF NOT EXISTS documents (name TEXT PRIMARY KEY, text TEXT NOT NULL)
 class RunSpec:
     """What a forward run is: the test, its specimen settings and the full micro-parameters."""
 
-    kind: str  # "ucs" or "bending"
+    kind: str  # a lab test's name (`rockcal.labtests.registry`)
     specimen: tuple  # sorted (name, value) pairs
     params: tuple  # sorted (name, value) pairs, every micro-parameter
     engine: str
@@ -59,6 +59,21 @@ class RunResult:
     wall_s: float
     message: str = ""
     cracks: np.ndarray | None = None  # rows (x m, y m, mode 1 tension / 2 shear) of broken bonds
+
+
+@dataclass(frozen=True)
+class StoredRun:
+    """A forward run as the store holds it (curve and cracks as arrays, or None)."""
+
+    kind: str
+    status: str
+    specimen: dict
+    params: dict
+    responses: dict
+    curve: np.ndarray | None
+    cracks: np.ndarray | None
+    message: str
+    engine: str
 
 
 class RunStore:
@@ -98,6 +113,17 @@ class RunStore:
         status, responses, curve, wall_s, message, cracks = row
         return RunResult(status, json.loads(responses or "{}"), from_blob(curve), wall_s,
                          message or "", from_blob(cracks))
+
+    def run(self, key: str) -> StoredRun | None:
+        """The run stored under `key`, or None when there is no such run."""
+        row = self.db.execute("SELECT kind, status, specimen, params, responses, curve, cracks, "
+                              "message, engine FROM runs WHERE key=?", (key,)).fetchone()
+        if row is None:
+            return None
+        kind, status, specimen, params, responses, curve, cracks, message, engine = row
+        return StoredRun(kind, status, json.loads(specimen), json.loads(params),
+                         json.loads(responses or "{}"), from_blob(curve), from_blob(cracks),
+                         message or "", engine)
 
     def put(self, spec: RunSpec, result: RunResult) -> None:
         """Store a finished run (one transaction); a run already there is left as it is."""

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import sys
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import typer
 from rich.console import Console
@@ -13,6 +13,9 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 from rich.table import Table
 
 from rockcal.errors import InputError
+
+if TYPE_CHECKING:
+    from rockcal.campaign.result import CalibrationResult
 
 DEFAULT_OUT = Path("runs")
 
@@ -30,6 +33,7 @@ def calibrate(
     from rockcal.campaign.config import load_campaign
     from rockcal.campaign.executors import make_executor
     from rockcal.campaign.procedure import Calibration, CalibrationFailed
+    from rockcal.campaign.result import save_result
     from rockcal.campaign.store import STORE_NAME, RunStore
 
     campaign, text = load_campaign(config)
@@ -63,41 +67,43 @@ def calibrate(
                 _print_plan(campaign, store, executor)
             with _stage_progress(as_json, _planned_runs(campaign)) as progress:
                 executor.on_live = progress.live
-                record = Calibration(campaign, executor, progress).run()
+                result = Calibration(campaign, executor, progress).run()
         except CalibrationFailed as exc:
             print(f"rockcal: calibration failed: {exc}", file=sys.stderr)
             raise typer.Exit(1)
         finally:
             executor.close()
-        record["executed_runs"] = executor.executed
-        store.save_document("record.json", json.dumps(record))
-        html = _write_report(record, store, out)
+        result = result.model_copy(update={"executed_runs": executor.executed})
+        save_result(store, result)
+        html = _write_report(result, store, out)
     finally:
         store.close()
-    _print_summary(record, html, as_json)
+    _print_summary(result, html, as_json)
 
 
 def report(out: Path = typer.Argument(..., help="Output folder of a campaign.")) -> None:
     """Rebuild OUT/report.html and its figures from the campaign's run store."""
+    from rockcal.campaign.result import read_result
     from rockcal.campaign.store import RunStore
 
     store = RunStore(out, create=False)
     try:
-        text = store.document("record.json")
-        if text is None:
+        result = read_result(store)
+        if result is None:
             raise InputError("OUT", f"the campaign in {out} has not finished; run "
                                     f"`rockcal calibrate --resume --out {out}`")
-        html = _write_report(json.loads(text), store, out)
+        html = _write_report(result, store, out)
     finally:
         store.close()
     Console(stderr=True).print(f"report: {html}")
 
 
-def _write_report(record: dict, store, out: Path) -> Path:
+def _write_report(result: CalibrationResult, store, out: Path) -> Path:
     from rockcal.campaign.report import write_report
+    from rockcal.campaign.result import RECORD_NAME
 
-    (out / "record.json").write_text(json.dumps(record, indent=1))
-    return write_report(record, store, out)
+    (out / RECORD_NAME).write_text(result.to_json(indent=1))
+    return write_report(result, store, out)
 
 
 def _planned_runs(campaign) -> dict[str, int]:
@@ -156,28 +162,33 @@ class _stage_progress:
                             total=max(sum(self.planned.values()), overall))
 
 
-def summary(record: dict) -> dict:
+def summary(result: CalibrationResult) -> dict:
     """What `--json` prints: identified parameters, verified responses and errors, K_IC, runs."""
-    validation = record.get("validation", {})
+    v, u = result.validation, result.uncertainty
+
+    def validation(name: str):
+        return None if v is None else getattr(v, name)
+
     return {
-        "rock": record["rock"], "accepted": record["accepted"], "identified": record["identified"],
-        "identified_params": record["identified_params"], "targets": record["targets"],
-        "verified": {r: record["verified"][r] for r in record["targets"]} if record["verified"] else None,
-        "relative_errors": record["errors"], "tolerance": record["tolerance"],
-        "objective": record["objective"], "curve_fit": record.get("curve_fit"),
-        "K_IC_MPa_sqrt_m": validation.get("K_IC_MPa_sqrt_m"),
-        "K_IC_seed_std": validation.get("K_IC_MPa_sqrt_m_std"),
-        "K_IC_per_seed": validation.get("K_IC_per_seed"),
-        "lab_K_IC_MPa_sqrt_m": validation.get("lab_K_IC_MPa_sqrt_m"),
-        "K_IC_error": validation.get("K_IC_error"), "warning": validation.get("warning"),
-        "dem_runs": record["dem_runs"], "executed_runs": record.get("executed_runs"),
-        "failed_runs": len(record.get("failed_runs", [])),
-        "intervals": (record.get("uncertainty") or {}).get("intervals"),
+        "rock": result.rock, "accepted": result.accepted, "identified": result.identified,
+        "identified_params": result.identified_params, "targets": result.targets,
+        "verified": {r: result.verified[r] for r in result.targets},
+        "relative_errors": result.errors, "tolerance": result.tolerance,
+        "objective": result.objective,
+        "curve_fit": None if result.curve_fit is None else result.curve_fit.model_dump(),
+        "K_IC_MPa_sqrt_m": validation("K_IC_MPa_sqrt_m"),
+        "K_IC_seed_std": validation("K_IC_MPa_sqrt_m_std"),
+        "K_IC_per_seed": validation("K_IC_per_seed"),
+        "lab_K_IC_MPa_sqrt_m": validation("lab_K_IC_MPa_sqrt_m"),
+        "K_IC_error": validation("K_IC_error"), "warning": validation("warning"),
+        "dem_runs": result.dem_runs, "executed_runs": result.executed_runs,
+        "failed_runs": len(result.failed_runs),
+        "intervals": None if u is None else {n: i.to_dict() for n, i in u.intervals.items()},
     }
 
 
-def _print_summary(record: dict, html: Path, as_json: bool) -> None:
-    s = summary(record)
+def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None:
+    s = summary(result)
     if as_json:
         typer.echo(json.dumps(s | {"report": str(html)}))
         return

@@ -48,7 +48,7 @@ def export_specimen(
     if to.exists() and not to.is_dir():
         raise InputError("--to", f"{to} is a file, not a folder")
     spec = run_spec("ucs", calibrated.specimen, calibrated.params.key())
-    specimen = specimen_of("ucs", spec.specimen)[0]
+    specimen = specimen_of("ucs", spec.specimen)
     try:
         paths = write_specimen(specimen, calibrated.params, to)
     except OSError as exc:

@@ -206,13 +206,14 @@ def bending(
     out: Optional[Path] = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here."),
 ) -> None:
     """Three-point bending of a notched beam: peak load, load-displacement curve, K_IC."""
-    from rockcal.labtests.bending import DEFAULT_MAX_DISPLACEMENT_MM, Beam, notched_beam, simulate_bending
+    from rockcal.labtests.bending import (DEFAULT_MAX_DISPLACEMENT_MM, Beam, check_beam, notched_beam,
+                                          simulate_bending)
 
     params = make_params(parse_assignments(set_))
     _check_packing_options(rmin_mm, radius_ratio)
     beam = Beam(length_mm, height_mm, notch_mm, notch_width_mm, span_mm)
     with as_flags():
-        beam.check()
+        check_beam(beam, rmin_mm, radius_ratio)
     genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
 
     def one(packing_seed: int, label: str):
@@ -247,11 +248,12 @@ def brazilian(
     out: Optional[Path] = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here."),
 ) -> None:
     """Brazilian test of a disk between platens: sigma_t = 2P/(pi D t), load-closure curve."""
-    from rockcal.labtests.brazilian import DEFAULT_MAX_STRAIN, brazilian_disk, simulate_brazilian
+    from rockcal.labtests.brazilian import DEFAULT_MAX_STRAIN, brazilian_disk, check_disk, simulate_brazilian
 
     params = make_params(parse_assignments(set_))
     _check_packing_options(rmin_mm, radius_ratio)
-    finite("--diameter-mm", diameter_mm)
+    with as_flags():
+        check_disk(diameter_mm, rmin_mm, radius_ratio)
     genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
 
     def one(packing_seed: int, label: str):

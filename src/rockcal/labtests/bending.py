@@ -20,9 +20,10 @@ from rockcal.dem.carving import cut_bonds, keep_particles, outside_rectangle
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.simulate import advance, new_state
 from rockcal.dem.genesis import Genesis
-from rockcal.dem.specimen import Specimen, random_packing
-from rockcal.errors import InputError
+from rockcal.dem.specimen import Specimen, check_geometry, random_packing
+from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kic import senb_kic
+from rockcal.labtests.kind import GENESIS, LabTest, Response, genesis_of, load_reading
 from rockcal.labtests.loading import LOCALISED_DAMAGE, Loading
 from rockcal.params import MicroParams, make_params
 
@@ -80,6 +81,14 @@ class Beam:
                              f"supports, got {self.notch_width_mm:g} mm")
 
 
+def check_beam(beam: Beam, rmin_mm: float, radius_ratio: float) -> None:
+    """Reject a beam its particles cannot fill or no test can be run on, naming the Beam's
+    field (the packing's width is the beam's length)."""
+    with fields_named({"width_mm": "length_mm"}):
+        check_geometry(beam.length_mm, beam.height_mm, rmin_mm, radius_ratio)
+    beam.check()
+
+
 @dataclass
 class BendingResult:
     """Responses of a notched-beam three-point bending test, the curve and the cracked beam."""
@@ -115,7 +124,7 @@ def notched_beam(beam: Beam = Beam(), rmin_mm: float = 0.25, radius_ratio: float
                  seed: int = 1, genesis: Genesis | None = None) -> Specimen:
     """The beam packing with the notch carved out of the middle of its bottom edge (or, for
     width 0, cut into it)."""
-    beam.check()
+    check_beam(beam, rmin_mm, radius_ratio)
     spec = random_packing(beam.length_mm, beam.height_mm, rmin_mm, radius_ratio, seed, genesis)
     half = 0.5e-3 * beam.notch_width_mm
     middle = 0.5e-3 * beam.length_mm
@@ -221,3 +230,35 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
         steps=state.step, wall_s=time.perf_counter() - started, beam=beam, curve=curve,
         positions=state.pos[:n].copy(), radius=radius, cracks=measure.cracks(bond_state, bond_xy),
         first_break_xy=first_break)
+
+
+# The specimen setting of each of the Beam's fields.
+BEAM_SETTINGS = {"length_mm": "beam_length_mm", "height_mm": "beam_height_mm", "notch_mm": "notch_mm",
+                 "notch_width_mm": "notch_width_mm", "span_mm": "span_mm"}
+
+
+def beam_of(settings: dict) -> Beam:
+    """The beam of a test's specimen settings."""
+    return Beam(**{field: settings[name] for field, name in BEAM_SETTINGS.items()})
+
+
+def _check(s: dict) -> None:
+    with fields_named(BEAM_SETTINGS):
+        check_beam(beam_of(s), s["rmin_mm"], s["radius_ratio"])
+
+
+def _specimen(s: dict) -> Specimen:
+    return notched_beam(beam_of(s), s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
+
+
+def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BendingResult:
+    return simulate_bending(params, specimen, beam_of(s), progress=progress)
+
+
+TEST = LabTest(
+    name="bending",
+    responses=(Response("K_IC_MPa_sqrt_m", "MPa·m^0.5"),
+               Response("P_max_kN_per_m", "kN/m", target=False),
+               Response("displacement_at_peak_mm", "mm", target=False)),
+    settings=(*BEAM_SETTINGS.values(), "rmin_mm", "radius_ratio", "seed", *GENESIS),
+    check=_check, make=_specimen, run=_run, reading=load_reading)

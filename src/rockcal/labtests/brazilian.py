@@ -20,9 +20,10 @@ from rockcal.dem.carving import inside_circle, keep_particles
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.simulate import BOTTOM, THICKNESS_M, TOP, advance, new_state
 from rockcal.dem.genesis import Genesis
-from rockcal.dem.specimen import Specimen, random_packing
-from rockcal.errors import InputError
+from rockcal.dem.specimen import Specimen, check_geometry, random_packing
+from rockcal.errors import InputError, fields_named
 from rockcal.labtests.bending import PAST_PEAK_FRACTION, POST_PEAK_FRACTION
+from rockcal.labtests.kind import GENESIS, LabTest, Response, genesis_of, load_reading
 from rockcal.labtests.loading import LOCALISED_DAMAGE, Loading
 from rockcal.labtests.ucs import RAMP_STEPS_PER_ROW, STRAIN_PER_STEP_PER_ROW
 from rockcal.params import MicroParams, make_params
@@ -59,11 +60,19 @@ class BrazilianResult:
         return {k: getattr(self, k) for k in keys}
 
 
+def check_disk(diameter_mm: float, rmin_mm: float, radius_ratio: float) -> None:
+    """Reject a disk its particles cannot fill, naming the field (the square packing it is
+    carved from is the diameter wide and high)."""
+    if not (np.isfinite(diameter_mm) and diameter_mm > 0):
+        raise InputError("diameter_mm", f"must be a finite number > 0, got {diameter_mm}")
+    with fields_named({"width_mm": "diameter_mm", "height_mm": "diameter_mm"}):
+        check_geometry(diameter_mm, diameter_mm, rmin_mm, radius_ratio)
+
+
 def brazilian_disk(diameter_mm: float = 50.0, rmin_mm: float = 0.25, radius_ratio: float = 1.65,
                    seed: int = 1, genesis: Genesis | None = None) -> Specimen:
     """A disk of the given diameter carved from a square packing of the same size."""
-    if not (np.isfinite(diameter_mm) and diameter_mm > 0):
-        raise InputError("diameter_mm", f"must be a finite number > 0, got {diameter_mm}")
+    check_disk(diameter_mm, rmin_mm, radius_ratio)
     spec = random_packing(diameter_mm, diameter_mm, rmin_mm, radius_ratio, seed, genesis)
     r = 0.5e-3 * diameter_mm
     keep = inside_circle(spec.pos, spec.radius, (r, r), r)
@@ -123,3 +132,23 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
         steps=state.step, wall_s=time.perf_counter() - started, curve=curve,
         positions=state.pos.copy(), radius=radius,
         cracks=measure.cracks(state.bond_state, state.bond_break_xy))
+
+
+def _check(s: dict) -> None:
+    check_disk(s["diameter_mm"], s["rmin_mm"], s["radius_ratio"])
+
+
+def _specimen(s: dict) -> Specimen:
+    return brazilian_disk(s["diameter_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
+
+
+def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BrazilianResult:
+    return simulate_brazilian(params, specimen, progress=progress)
+
+
+TEST = LabTest(
+    name="brazilian",
+    responses=(Response("sigma_t_MPa", "MPa"), Response("P_max_kN_per_m", "kN/m", target=False),
+               Response("displacement_at_peak_mm", "mm", target=False)),
+    settings=("diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS),
+    check=_check, make=_specimen, run=_run, reading=load_reading)

@@ -18,8 +18,9 @@ import numpy as np
 from rockcal.dem import measure
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.simulate import BOTTOM, TOP, THICKNESS_M, advance, new_state
-from rockcal.dem.specimen import Specimen, random_packing
+from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError
+from rockcal.labtests.kind import GENESIS, LabTest, Response, genesis_of
 from rockcal.labtests.loading import DISTRIBUTED_DAMAGE, Loading
 from rockcal.params import MicroParams, make_params
 
@@ -125,3 +126,27 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
         n_broken_shear=state.n_broken(BROKEN_SHEAR), steps=state.step,
         wall_s=time.perf_counter() - started, curve=curve, positions=state.pos.copy(),
         radius=radius, cracks=measure.cracks(state.bond_state, state.bond_break_xy))
+
+
+def _check(s: dict) -> None:
+    check_geometry(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"])
+
+
+def _specimen(s: dict) -> Specimen:
+    return random_packing(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"],
+                          genesis_of(s))
+
+
+def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> UCSResult:
+    return simulate_ucs(params, specimen, strain=s["strain"], stop_fraction=s["stop_fraction"],
+                        progress=progress)
+
+
+TEST = LabTest(
+    name="ucs",
+    responses=(Response("E_GPa", "GPa"), Response("nu", ""), Response("ucs_MPa", "MPa"),
+               Response("peak_axial_strain", "", target=False)),
+    settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
+              "stop_fraction"),
+    check=_check, make=_specimen, run=_run,
+    reading=lambda strain, stress_MPa: f"strain {100 * strain:.3f} %, {stress_MPa:.1f} MPa")

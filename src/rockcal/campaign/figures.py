@@ -1,0 +1,185 @@
+"""The report's figures, each drawn from the campaign's result and the runs in the store into
+its PNG file. A figure whose piece the result or the store lacks (no sensitivity study, a failed
+validation run) is left out, and says why in a note; drawing one never raises.
+"""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from rockcal import plots
+from rockcal.campaign.forward import specimen_of
+from rockcal.campaign.result import CalibrationResult
+from rockcal.campaign.store import RunStore, StoredRun
+from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
+
+logger = logging.getLogger(__name__)
+
+
+# Each figure draws into `path` and returns None, or returns why it was left out.
+
+def _range_analysis(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    """Range R of each factor per response, from the sensitivity study."""
+    sensitivity = result.sensitivity
+    if sensitivity is None:
+        return ("No sensitivity study in this campaign (no [sensitivity] section): the "
+                "parameters to invert were named in [search].bounds.")
+    R = {r: {f: e.R for f, e in effects.items()} for r, effects in sensitivity.responses.items()}
+    plots.range_bars(R, sensitivity.chosen, path)
+    return None
+
+
+def _paired(rows: list, response: str) -> tuple[list, list]:
+    """DEM and surrogate values of `response` over (dem, predicted) dicts that both have it."""
+    kept = [(d[response], p[response]) for d, p in rows if d and p and response in d and response in p]
+    return [d for d, _ in kept], [p for _, p in kept]
+
+
+def _parity(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    """Surrogate against DEM at the check points and the verification points."""
+    check = result.surrogate_check
+    rows = {"check points": list(zip(check.dem, check.predicted)),
+            "verification points": [(it.verified, it.predicted) for it in result.iterations]}
+    points = {r: {label: _paired(pairs, r) for label, pairs in rows.items() if _paired(pairs, r)[0]}
+              for r in result.targets}
+    points = {r: series for r, series in points.items() if series}
+    if not points:
+        return "No point has both a DEM value and a surrogate prediction."
+    plots.parity(points, check.tolerance, path)
+    return None
+
+
+def _convergence(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    """ACO history of the search that gave the result (the best iteration, else the last)."""
+    iterations = result.iterations
+    if not iterations:
+        return "No ant colony search was run."
+    k = min(result.best_iteration, len(iterations) - 1)
+    if not iterations[k].history_fun:
+        return "The ant colony search kept no history."
+    plots.aco_convergence(iterations[k].history_fun, iterations[k].history_x, result.parameters, path,
+                          f"Ant colony search on the surrogate (loop iteration {k + 1})")
+    return None
+
+
+def _loop(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    """Relative errors of the verified responses per loop iteration."""
+    iterations = result.iterations
+    if not any(it.errors for it in iterations):
+        return "No verification run succeeded."
+    errors = {r: [(it.errors or {}).get(r) for it in iterations] for r in result.targets}
+    plots.loop_errors(errors, result.tolerance, path)
+    return None
+
+
+def _missing(run: StoredRun | None, what: str) -> str | None:
+    """Why a stored run cannot be drawn, or None when it can."""
+    if run is None:
+        return f"The {what} is not in the run store."
+    if run.status != "ok" or run.curve is None:
+        return f"The {what} {run.status}: {run.message}"
+    return None
+
+
+def _stress_strain(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    """The stress-strain curve at the identified parameters, and the measured one if given."""
+    run = store.run(result.final_ucs_run_key)
+    if (why := _missing(run, "UCS run at the identified parameters")) is not None:
+        return why
+    measured = result.measured_curve
+    fit = result.curve_fit
+    title = "UCS test at the identified parameters"
+    if fit:
+        title += f"\nRE {fit.RE:.3f}, CC {fit.CC:.3f}"
+    plots.calibrated_curve(run.curve, None if measured is None else np.asarray(measured, dtype=float),
+                           path, title)
+    return None
+
+
+def _cracks(key: str, what: str, store: RunStore, path: Path) -> str | None:
+    """Broken bonds of a stored run over its undeformed specimen."""
+    run = store.run(key)
+    if (why := _missing(run, what)) is not None:
+        return why
+    if run.cracks is None:
+        return f"The {what} kept no cracks."
+    specimen = specimen_of(run.kind, tuple(run.specimen.items()))
+    modes = {"tension": run.cracks[run.cracks[:, 2] == BROKEN_TENSION, :2],
+             "shear": run.cracks[run.cracks[:, 2] == BROKEN_SHEAR, :2]}
+    plots.crack_pattern(specimen.pos, specimen.radius, modes, path,
+                        f"{what[0].upper()}{what[1:]} —\nbroken bonds (undeformed specimen)")
+    return None
+
+
+def _ucs_cracks(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    """Crack pattern of the UCS specimen at the identified parameters."""
+    return _cracks(result.final_ucs_run_key, "UCS run at the identified parameters", store, path)
+
+
+def _bending_cracks(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    """Crack pattern of the notched beam of the validation."""
+    if result.validation is None:
+        return NO_VALIDATION
+    return _cracks(result.validation.run_key, "notched-beam bending run", store, path)
+
+
+def _bending_curve(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    """Load-displacement curve of the validation's bending test."""
+    if result.validation is None:
+        return NO_VALIDATION
+    run = store.run(result.validation.run_key)
+    if (why := _missing(run, "notched-beam bending run")) is not None:
+        return why
+    plots.load_displacement(run.curve, path, "Three-point bending at the identified parameters")
+    return None
+
+
+def _parameter_draws(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    u = result.uncertainty
+    if u is None:
+        return "No intervals in this campaign (no lab spread in [targets.ucs], or [uncertainty] off)."
+    plots.parameter_draws(u.samples, result.parameters, result.bounds, result.identified, path)
+    return None
+
+
+NO_VALIDATION = "No bending validation in this campaign (no [targets.bending])."
+Figure = Callable[[CalibrationResult, RunStore, Path], "str | None"]
+FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
+    ("Range analysis", "range_analysis.png",
+     "R = max k<sub>i</sub> − min k<sub>i</sub> of each factor, per response.", _range_analysis),
+    ("Surrogate parity", "surrogate_parity.png",
+     "RBF surrogate prediction against the DEM at the check points and the verification points.",
+     _parity),
+    ("Ant colony convergence", "aco_convergence.png",
+     "Best objective and best parameters per ACO iteration, in the search that gave the result.",
+     _convergence),
+    ("Verification loop", "loop_errors.png",
+     "Relative error of the DEM responses at each optimum found on the surrogate.", _loop),
+    ("Parameter intervals", "parameter_draws.png",
+     "Each point: the parameters the surrogate gives for one target set drawn from the lab's "
+     "spread and the model's scatter over packings; +: the identified point.", _parameter_draws),
+    ("Stress–strain curve", "stress_strain.png",
+     "UCS test at the identified parameters; the measured curve when one was given.", _stress_strain),
+    ("Crack pattern, UCS", "cracks_ucs.png",
+     "Broken bonds: tension red, shear blue.", _ucs_cracks),
+    ("Crack pattern, bending", "cracks_bending.png",
+     "Broken bonds: tension red, shear blue.", _bending_cracks),
+    ("Load–displacement, bending", "bending_curve.png",
+     "Load per metre of thickness against the load-point displacement.", _bending_curve),
+)
+
+
+def draw(name: str, figure: Figure, result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    """Draw one figure; an error is logged and becomes the figure's note."""
+    try:
+        note = figure(result, store, path)
+    except Exception as exc:  # a figure that cannot be drawn must not lose the report
+        logger.warning("report figure %s not drawn", name, exc_info=True)
+        note = f"This figure could not be drawn ({type(exc).__name__}: {exc})."
+    if note is not None:
+        path.unlink(missing_ok=True)
+    return note

@@ -1,0 +1,197 @@
+"""What a calibration campaign found, as one typed result, and its record (record.json).
+
+The one schema here is what the procedure writes and what the report, the CLI and the export
+read back, so they cannot drift apart. A record it does not fit (written by another version,
+or edited by hand) is an InputError naming the field.
+"""
+
+from __future__ import annotations
+
+import json
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from rockcal.campaign.config import SpecimenSettings
+from rockcal.errors import InputError, from_validation_error
+from rockcal.inverse.uncertainty import Interval
+
+RECORD_NAME = "record.json"
+
+Values = dict[str, float]  # by parameter or response name
+Responses = dict[str, float | int]  # of a forward run, as its lab test reports them
+
+
+def _absent():
+    """A piece a campaign may lack: None, and then left out of the record."""
+    return Field(None, exclude_if=lambda value: value is None)
+
+
+class _Part(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class FailedRun(_Part):
+    stage: str
+    message: str
+
+
+class Effect(_Part):
+    """One factor's effect on one response: its levels, the response's sum K and mean k at
+    each level, and their range R."""
+
+    levels: list[float]
+    K: list[float]
+    k: list[float]
+    R: float
+
+
+class Sensitivity(_Part):
+    """Step 2: the orthogonal array's runs and responses (None: failed, then imputed) and
+    their range analysis."""
+
+    array: str
+    runs: list[Values]
+    run_responses: list[Responses | None]
+    imputed_runs: list[int]
+    responses: dict[str, dict[str, Effect]]
+    ranking: dict[str, list[str]]
+    chosen: list[str]
+
+
+class Samples(_Part):
+    """Step 3: the Latin hypercube points and their DEM responses (None: failed)."""
+
+    x: list[list[float]]
+    responses: list[Responses | None]
+
+
+class SurrogateCheck(_Part):
+    """Step 3: the surrogate against the DEM at fresh random points."""
+
+    x: list[list[float]]
+    dem: list[Responses | None]
+    predicted: list[Values]
+    max_relative_error: Values | None  # None: no check run succeeded
+    trusted: bool | None
+    tolerance: float
+    epsilon: Values
+
+
+class Iteration(_Part):
+    """Steps 4-6, one loop: the search's optimum on the surrogate and its DEM verification."""
+
+    x: list[float]
+    objective_surrogate: float
+    predicted: Values
+    verified: Responses | None  # None: the verification run failed
+    errors: Values | None
+    history_fun: list[float]
+    history_x: list[list[float]]
+    nfev: int
+
+
+class Uncertainty(_Part):
+    """The identified parameters' intervals: the model's scatter over packings, the lab's
+    spread (an sd, or [min, max]) and the parameters solved for each drawn target set."""
+
+    seeds: list[int]
+    run_keys: list[str]
+    packing_responses: list[Responses]
+    scatter: Values
+    spread: dict[str, float | list[float]]
+    draws: int
+    intervals: dict[str, Interval]
+    samples: list[list[float]]
+    drawn_targets: dict[str, list[float]]
+
+
+class CurveFit(_Part):
+    """Step 7: RE and CC of the stress-strain curve against the measured one."""
+
+    RE: float
+    CC: float
+
+
+class Validation(BaseModel):
+    """Step 8: the bending test at the identified parameters over packings, against the lab's
+    K_IC. Each other response's mean and sd over the packings (`name`, `name_std`) comes too."""
+
+    model_config = ConfigDict(extra="allow")
+
+    lab_K_IC_MPa_sqrt_m: float
+    seeds: list[int]
+    run_keys: list[str]
+    status: str
+    run_key: str
+    ok_seeds: list[int] | None = _absent()
+    K_IC_per_seed: list[float] | None = _absent()
+    K_IC_MPa_sqrt_m: float | None = _absent()
+    K_IC_MPa_sqrt_m_std: float | None = _absent()
+    P_max_kN_per_m: float | None = _absent()
+    displacement_at_peak_mm: float | None = _absent()
+    K_IC_error: float | None = _absent()
+    message: str | None = _absent()  # why the run did not give a result
+    warning: str | None = _absent()  # the lab's P_max and K_IC disagree
+
+
+class CalibrationResult(_Part):
+    """A campaign's result (SPEC steps 2-8), in the order the procedure finds it: its inputs,
+    each step's outcome, then the identified parameters (`identified`; every micro-parameter
+    in `identified_params`), their verified responses and errors, and the validation."""
+
+    rock: str
+    targets: Values
+    specimen: SpecimenSettings
+    measured_curve: list[list[float]] | None = _absent()
+    failed_runs: list[FailedRun]
+    ucs_specimen: Responses  # particles, porosity, contacts and bonds per particle
+    sensitivity: Sensitivity | None = _absent()
+    parameters: list[str]  # the inverted ones
+    bounds: dict[str, tuple[float, float]]
+    fixed: Values
+    samples: Samples
+    surrogate_check: SurrogateCheck
+    iterations: list[Iteration]
+    accepted: bool
+    identified: Values
+    identified_params: Values
+    verified: Responses
+    errors: Values
+    tolerance: float
+    objective: str
+    dem_runs: int
+    best_iteration: int
+    dem_run_keys: list[str]
+    uncertainty: Uncertainty | None = _absent()
+    final_ucs_run_key: str
+    curve_fit: CurveFit | None = _absent()
+    validation: Validation | None = _absent()
+    executed_runs: int | None = _absent()  # by this call of `rockcal calibrate`
+
+    def to_json(self, indent: int | None = None) -> str:
+        """The record."""
+        return json.dumps(self.model_dump(mode="json"), indent=indent)
+
+    @classmethod
+    def from_json(cls, text: str) -> CalibrationResult:
+        """The result a record holds; InputError naming the field that does not fit."""
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise InputError(RECORD_NAME, f"not valid JSON: {exc}") from None
+        try:
+            return cls.model_validate(data)
+        except ValidationError as exc:
+            error = from_validation_error(exc)
+            raise InputError(error.field, f"{error.problem} (in {RECORD_NAME})") from None
+
+
+def read_result(store) -> CalibrationResult | None:
+    """The result of the campaign in a run store, or None when it has not finished."""
+    text = store.document(RECORD_NAME)
+    return None if text is None else CalibrationResult.from_json(text)
+
+
+def save_result(store, result: CalibrationResult) -> None:
+    """Keep a campaign's result in its run store."""
+    store.save_document(RECORD_NAME, result.to_json())

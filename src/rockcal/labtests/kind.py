@@ -1,0 +1,64 @@
+"""A kind of lab test as a campaign runs it: its name, its responses, the specimen settings
+its specimen is made from, and how the specimen is made and the test run.
+
+Each test module declares its kind as `TEST`; `rockcal.labtests.registry` lists them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from rockcal.dem.genesis import Genesis
+
+GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_mpa
+
+
+@dataclass(frozen=True)
+class Response:
+    """A response a test reports, its unit ("" when it has none), and whether a lab measures
+    it too (a target a calibration can fit)."""
+
+    name: str
+    unit: str
+    target: bool = True
+
+
+@dataclass(frozen=True)
+class LabTest:
+    """A kind of lab test. `settings` are the specimen settings a run depends on (in this
+    order they key its stored run); from a dict of them, `check` rejects what no specimen can
+    be made of (an InputError naming the setting) and `make` makes the specimen;
+    `run(params, specimen, settings, progress)` runs the test and returns its result, which
+    has each response as an attribute; `reading(x, y)` puts what `progress` gets into words."""
+
+    name: str
+    responses: tuple[Response, ...]
+    settings: tuple[str, ...]
+    check: Callable[[dict], None]
+    make: Callable[[dict], Any]
+    run: Callable[..., Any]
+    reading: Callable[[float, float], str]
+
+    @property
+    def targets(self) -> tuple[str, ...]:
+        """The responses a lab measures too."""
+        return tuple(r.name for r in self.responses if r.target)
+
+    def settings_of(self, specimen_settings) -> dict:
+        """This test's settings, in their order, from an object that has them as attributes."""
+        return {name: getattr(specimen_settings, name) for name in self.settings}
+
+    def responses_of(self, result) -> dict:
+        """The declared responses of a test's result, in their declared order."""
+        return {r.name: getattr(result, r.name) for r in self.responses}
+
+
+def genesis_of(settings: dict) -> Genesis:
+    """The genesis part of a test's specimen settings."""
+    return Genesis(**{name: settings[name] for name in GENESIS})
+
+
+def load_reading(displacement_mm: float, load_kN_per_m: float) -> str:
+    """A running load-displacement test's reading in words."""
+    return f"{displacement_mm:.3f} mm, {load_kN_per_m:.2f} kN/m"

@@ -1,0 +1,22 @@
+"""The kinds of lab test a campaign can run, by name. A new test is a module declaring its
+`TEST` (`rockcal.labtests.kind.LabTest`) and one line here."""
+
+from __future__ import annotations
+
+from rockcal.errors import InputError
+from rockcal.labtests import bending, brazilian, ucs
+from rockcal.labtests.kind import LabTest
+
+LAB_TESTS: dict[str, LabTest] = {test.name: test for test in (
+    ucs.TEST,
+    bending.TEST,
+    brazilian.TEST,
+)}
+
+
+def lab_test(name: str) -> LabTest:
+    """The lab test of that name; InputError for a name no test has."""
+    try:
+        return LAB_TESTS[name]
+    except KeyError:
+        raise InputError("test", f"no lab test named {name!r}; known: {', '.join(LAB_TESTS)}") from None

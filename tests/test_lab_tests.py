@@ -1,0 +1,61 @@
+"""The registry of lab tests: each kind declares its responses and specimen settings, a run of
+any kind goes through the same forward path, and an unknown kind is a clear error."""
+
+from types import SimpleNamespace
+
+import pytest
+
+from rockcal.campaign.config import RESPONSES, SpecimenSettings, UCSTargets
+from rockcal.campaign.forward import SPECIMEN_KEYS, execute, run_spec
+from rockcal.errors import InputError
+from rockcal.labtests.registry import LAB_TESTS, lab_test
+
+
+def test_every_test_is_registered_under_its_name():
+    assert list(LAB_TESTS) == ["ucs", "bending", "brazilian"]
+    assert all(lab_test(name).name == name for name in LAB_TESTS)
+
+
+def test_an_unknown_test_is_an_error_naming_the_known_ones():
+    with pytest.raises(InputError, match="no lab test named 'triaxial'; known: ucs, bending, brazilian"):
+        run_spec("triaxial", SpecimenSettings(), {})
+
+
+def test_the_ucs_targets_are_the_ucs_tests_measured_responses():
+    assert RESPONSES == ("E_GPa", "nu", "ucs_MPa")
+    assert set(RESPONSES) <= set(UCSTargets.model_fields)
+
+
+def test_run_keys_name_the_specimen_settings_in_their_order():
+    """The order keys the store: it must not change."""
+    assert [n for n, _ in run_spec("bending", SpecimenSettings(), {}).specimen] == [
+        "beam_length_mm", "beam_height_mm", "notch_mm", "notch_width_mm", "span_mm", "rmin_mm",
+        "radius_ratio", "seed", "install_gap", "cloud_porosity", "pressure_mpa"]
+    assert [n for n, _ in run_spec("ucs", SpecimenSettings(), {}).specimen] == [
+        "width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", "install_gap", "cloud_porosity",
+        "pressure_mpa", "strain", "stop_fraction"]
+
+
+def test_a_brazilian_run_goes_through_the_forward_path():
+    settings = SimpleNamespace(diameter_mm=10.0, rmin_mm=0.5, radius_ratio=1.65, seed=2,
+                               **SpecimenSettings().model_dump(include={"install_gap", "cloud_porosity",
+                                                                        "pressure_mpa"}))
+    result = execute(run_spec("brazilian", settings, {}))
+    assert result.status == "ok", result.message
+    assert list(result.responses)[:3] == ["sigma_t_MPa", "P_max_kN_per_m", "displacement_at_peak_mm"]
+    assert set(SPECIMEN_KEYS) <= set(result.responses) and result.curve.shape[1] == 2
+
+
+@pytest.mark.parametrize("name, settings, field", [
+    ("ucs", {"width_mm": 1.0}, "width_mm"),
+    ("bending", {"beam_length_mm": 2.0}, "beam_length_mm"),
+    ("bending", {"notch_mm": 60.0}, "notch_mm"),
+    ("brazilian", {"diameter_mm": 2.0}, "diameter_mm"),
+])
+def test_a_specimen_that_cannot_be_made_names_its_setting(name, settings, field):
+    test = lab_test(name)
+    values = test.settings_of(SpecimenSettings()) if name != "brazilian" else {
+        "diameter_mm": 50.0, "rmin_mm": 0.25, "radius_ratio": 1.65}
+    with pytest.raises(InputError) as error:
+        test.check(values | settings)
+    assert error.value.field == field
