@@ -70,7 +70,7 @@ def main() -> None:
     finally:
         executor.close()
     elapsed = time.perf_counter() - started
-    described = specimen_of("ucs", specs[0].specimen)[0].description()
+    described = specimen_of("ucs", specs[0].specimen).description()
 
     print(f"specimen: {json.dumps({n: getattr(specimen, n) for n in SETTINGS})}; set: {extra}")
     print(f"  {described['n_particles']} grains, porosity {described['porosity']:.4f}, contacts "

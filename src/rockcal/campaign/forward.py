@@ -36,9 +36,11 @@ ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
 def run_spec(kind: str, specimen_settings, params: dict) -> RunSpec:
     """The spec of a run of the lab test `kind`: its specimen settings, and `params` completed
     with the defaults so the key is total."""
-    specimen = tuple(lab_test(kind).settings_of(specimen_settings).items())
+    test = lab_test(kind)
+    specimen = tuple(test.settings_of(specimen_settings).items())
     full = make_params(params).key()
-    return RunSpec(kind, specimen, tuple(sorted(full.items())), ENGINE)
+    engine = ENGINE if test.revision == 1 else f"{ENGINE}, {kind} test revision {test.revision}"
+    return RunSpec(kind, specimen, tuple(sorted(full.items())), engine)
 
 
 @lru_cache(maxsize=4)

