@@ -106,7 +106,8 @@ class Calibration:
                 self.dem_runs.append(spec.key)
         self.failed_runs += failed
         if failed and all(r is None for r in responses):
-            raise CalibrationFailed(f"every forward run of stage '{stage}' failed; first: {failed[0].message}")
+            raise CalibrationFailed(f"every forward run of stage '{stage}' failed; "
+                                    f"first: {failed[0].message}")
         return responses
 
     # -- the steps ------------------------------------------------------------------------

@@ -150,4 +150,5 @@ TEST = LabTest(
               "stop_fraction"),
     check=_check, make=_specimen, run=_run,
     reading=lambda strain, stress_MPa: f"strain {100 * strain:.3f} %, {stress_MPa:.1f} MPa",
-    outline=lambda s: Outline(f"UCS {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"], s["height_mm"]))
+    outline=lambda s: Outline(f"UCS {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"],
+                              s["height_mm"]))
