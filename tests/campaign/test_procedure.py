@@ -122,7 +122,9 @@ def test_joint_targets_free_more_parameters_and_are_recovered(tmp_path):
 
 def test_a_failed_run_of_one_test_fails_its_parameter_set(tmp_path):
     text = JOINT.replace('tests = ["brazilian"]', 'tests = ["bending"]').replace(
-        "sigma_t_MPa = 10.0", "sigma_t_MPa = 10.0\nweights = { sigma_t_MPa = 2 }")
+        "sigma_t_MPa = 10.0",
+        "sigma_t_MPa = 10.0\nweights = { sigma_t_MPa = 2 }\nspread = { sigma_t_MPa = 0.5 }",
+    ) + "[uncertainty]\ndraws = 10\npackings = 2\n"
     record = Calibration(parse_campaign(text, tmp_path), JointExecutor()).run()
     assert record.target_tests == {"ucs": ["E_GPa", "nu", "ucs_MPa"], "brazilian": ["sigma_t_MPa"]}
     assert record.weights == {"sigma_t_MPa": 2.0} and "sigma_t_MPa 2" in record.objective
@@ -130,3 +132,5 @@ def test_a_failed_run_of_one_test_fails_its_parameter_set(tmp_path):
     assert len(record.sensitivity.imputed_runs) == 1
     assert record.accepted and abs(record.errors["sigma_t_MPa"]) <= 0.05
     assert record.validation is not None and record.checks is None
+    u = record.uncertainty  # on: the Brazilian target gives a spread
+    assert u.spread == {"sigma_t_MPa": 0.5} and len(u.run_keys) == 4 and set(u.scatter) == set(record.targets)
