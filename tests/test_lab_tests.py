@@ -34,10 +34,19 @@ def test_run_keys_name_the_specimen_settings_in_their_order():
     assert [n for n, _ in run_spec("ucs", SpecimenSettings(), {}).specimen] == [
         "width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", "install_gap", "cloud_porosity",
         "pressure_mpa", "strain", "stop_fraction"]
+    assert [n for n, _ in run_spec("brazilian", SpecimenSettings(), {}).specimen] == [
+        "disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", "install_gap", "cloud_porosity",
+        "pressure_mpa"]
+
+
+def test_the_target_responses_of_the_tests_have_distinct_names():
+    """A parameter set's responses over several tests make one dict."""
+    names = [r for test in LAB_TESTS.values() for r in test.targets]
+    assert len(names) == len(set(names))
 
 
 def test_a_brazilian_run_goes_through_the_forward_path():
-    settings = SimpleNamespace(diameter_mm=10.0, rmin_mm=0.5, radius_ratio=1.65, seed=2,
+    settings = SimpleNamespace(disk_diameter_mm=10.0, rmin_mm=0.5, radius_ratio=1.65, seed=2,
                                **SpecimenSettings().model_dump(include={"install_gap", "cloud_porosity",
                                                                         "pressure_mpa"}))
     result = execute(run_spec("brazilian", settings, {}))
@@ -50,12 +59,12 @@ def test_a_brazilian_run_goes_through_the_forward_path():
     ("ucs", {"width_mm": 1.0}, "width_mm"),
     ("bending", {"beam_length_mm": 2.0}, "beam_length_mm"),
     ("bending", {"notch_mm": 60.0}, "notch_mm"),
-    ("brazilian", {"diameter_mm": 2.0}, "diameter_mm"),
+    ("brazilian", {"disk_diameter_mm": 2.0}, "disk_diameter_mm"),
 ])
 def test_a_specimen_that_cannot_be_made_names_its_setting(name, settings, field):
     test = lab_test(name)
     values = test.settings_of(SpecimenSettings()) if name != "brazilian" else {
-        "diameter_mm": 50.0, "rmin_mm": 0.25, "radius_ratio": 1.65}
+        "disk_diameter_mm": 50.0, "rmin_mm": 0.25, "radius_ratio": 1.65}
     with pytest.raises(InputError) as error:
         test.check(values | settings)
     assert error.value.field == field

@@ -96,6 +96,30 @@ CAMPAIGNS = [  # (case, campaign text, the key the error must name)
      "targets.ucs.spread.ucs_MPa"),
     ("spread sd 0", edit("ucs_MPa = 40.0", "ucs_MPa = 40.0\nspread = { E_GPa = 0 }"),
      "targets.ucs.spread.E_GPa"),
+    ("Brazilian target 0", edit("[specimen]", "[targets.brazilian]\nsigma_t_MPa = 0\n[specimen]"),
+     "targets.brazilian.sigma_t_MPa"),
+    ("Brazilian section without its target", edit("[specimen]", "[targets.brazilian]\n[specimen]"),
+     "targets.brazilian.sigma_t_MPa"),
+    ("misspelt Brazilian key", edit("[specimen]", "[targets.brazilian]\nsigma_t_MPa = 9.0\nweight = 2\n"
+                                    "[specimen]"), "targets.brazilian.weight:"),
+    ("weight 0", edit("ucs_MPa = 40.0", "ucs_MPa = 40.0\nweights = { E_GPa = 0 }"),
+     "targets.ucs.weights.E_GPa"),
+    ("weight of a response not targeted", edit("ucs_MPa = 40.0", "ucs_MPa = 40.0\nweights = { nu = 2 }"),
+     "targets.ucs.weights.nu"),
+    ("Brazilian spread of a UCS response", edit("[specimen]", "[targets.brazilian]\nsigma_t_MPa = 9.0\n"
+                                                "spread = { E_GPa = 1.0 }\n[specimen]"),
+     "targets.brazilian.spread.E_GPa"),
+    ("validation by an unknown test", CAMPAIGN + "[validation]\ntests = ['triaxial']\n", "validation.tests"),
+    ("UCS as a validation check", CAMPAIGN + "[validation]\ntests = ['ucs']\n", "validation.tests"),
+    ("validation without its targets", CAMPAIGN + "[validation]\ntests = ['brazilian']\n",
+     "validation.tests"),
+    ("weights of a validation check", edit("[specimen]", "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0\n"
+                                           "weights = { K_IC_MPa_sqrt_m = 2 }\n[specimen]"),
+     "targets.bending.weights"),
+    ("disk narrower than its particles", edit("[specimen]", "[targets.brazilian]\nsigma_t_MPa = 9.0\n"
+                                              "[specimen]\ndisk_diameter_mm = 2"), "specimen.disk_diameter_mm"),
+    ("disk diameter 0", edit("height_mm = 16", "height_mm = 16\ndisk_diameter_mm = 0"),
+     "specimen.disk_diameter_mm"),
     ("too few draws", CAMPAIGN + "[uncertainty]\ndraws = 2\n", "uncertainty.draws"),
     ("no packings", CAMPAIGN + "[uncertainty]\npackings = 0\n", "uncertainty.packings"),
 ]

@@ -40,3 +40,26 @@ packings = 4
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=2)
     assert "about 12940 grains" in lines[0]
     assert lines[-1].startswith("expected: about ") and "27 UCS and 2 bending runs" in lines[-1]
+
+
+def test_each_stage_runs_every_test_calibrated_against(tmp_path):
+    campaign = parse_campaign("""
+[targets.ucs]
+E_GPa = 20.0
+[targets.brazilian]
+sigma_t_MPa = 9.0
+[specimen]
+disk_diameter_mm = 40
+[search]
+bounds = { E_c = [10, 30] }
+[surrogate]
+samples = 12
+checks = 2
+""", tmp_path)
+    assert stages(campaign) == [("samples", "ucs", 12), ("samples", "brazilian", 12),
+                                ("surrogate check", "ucs", 2), ("surrogate check", "brazilian", 2),
+                                ("verification", "ucs", 1), ("verification", "brazilian", 1)]
+    lines = describe(campaign, RunStore(tmp_path / "out"), workers=1)
+    assert "; disk D 40 mm, about 3252 grains" in lines[0]
+    assert lines[1].endswith("each parameter set runs UCS and Brazilian")
+    assert "15 UCS and 15 Brazilian runs" in lines[-1]

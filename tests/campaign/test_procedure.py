@@ -64,3 +64,73 @@ def test_a_failed_sensitivity_run_is_filled_in_and_the_campaign_recovers_the_par
     truth["kn_ks"] = (0.2 - 0.0002 * truth["E_c"]) / 0.1
     for name, value in truth.items():
         assert record.identified[name] == pytest.approx(value, rel=0.05)
+
+
+JOINT = CAMPAIGN.replace("[sensitivity]", """[targets.brazilian]
+sigma_t_MPa = 10.0
+[targets.bending]
+K_IC_MPa_sqrt_m = 1.2
+[validation]
+tests = ["brazilian"]
+[sensitivity]""").replace("ucs_MPa = 120.0", "ucs_MPa = 150.0")
+
+
+def joint_responses(kind: str, p: dict) -> dict:
+    """The stand-in for each test: UCS as above but mostly from the bond cohesion; the Brazilian
+    test's tensile strength from the bond tensile strength; K_IC from both."""
+    if kind == "brazilian":
+        return {"sigma_t_MPa": 0.25 * p["sigma_c"] + 0.01 * p["tau_c"], "P_max_kN_per_m": 1.0,
+                "displacement_at_peak_mm": 0.1}
+    if kind == "bending":
+        return {"K_IC_MPa_sqrt_m": 0.02 * p["sigma_c"] + 0.005 * p["tau_c"], "P_max_kN_per_m": 2.0,
+                "displacement_at_peak_mm": 0.2}
+    return responses(p) | {"ucs_MPa": 1.5 * p["tau_c"] + 0.5 * p["sigma_c"]}
+
+
+class JointExecutor(SyntheticExecutor):
+    """Every test over `joint_responses`; the Brazilian run at E_c 15, mu 0.3 fails."""
+
+    def run(self, specs, progress=None):
+        out = []
+        for spec in specs:
+            p = dict(spec.params)
+            if spec.kind == "brazilian" and p["E_c"] == 15 and p["mu"] == 0.3:
+                out.append(RunResult("failed", {}, None, 0.0, "ValueError: unstable"))
+            else:
+                out.append(RunResult("ok", joint_responses(spec.kind, p), None, 0.0))
+        return out
+
+
+def test_joint_targets_free_more_parameters_and_are_recovered(tmp_path):
+    """UCS, Brazilian and bending targets: range analysis picks tau_c as well, the loop fits
+    every response, the Brazilian test (listed in [validation]) is a check only."""
+    record = Calibration(parse_campaign(JOINT, tmp_path), JointExecutor()).run()
+    assert record.target_tests == {"ucs": ["E_GPa", "nu", "ucs_MPa"], "bending": ["K_IC_MPa_sqrt_m"]}
+    assert record.sensitivity.chosen == ["E_c", "kn_ks", "sigma_c", "tau_c"]
+    assert record.failed_runs == []  # the Brazilian test runs only at the identified point
+    assert record.accepted and set(record.errors) == {"E_GPa", "nu", "ucs_MPa", "K_IC_MPa_sqrt_m"}
+    p = record.identified_params
+    for name, target in (("K_IC_MPa_sqrt_m", 1.2), ("ucs_MPa", 150.0)):
+        assert joint_responses("bending" if name.startswith("K") else "ucs", p)[name] == \
+            pytest.approx(target, rel=0.05)
+    [check] = record.checks
+    assert check.test == "brazilian" and check.lab == {"sigma_t_MPa": 10.0}
+    sigma_t = joint_responses("brazilian", p)["sigma_t_MPa"]
+    assert check.errors["sigma_t_MPa"] == pytest.approx(sigma_t / 10 - 1)
+    assert record.validation is None
+
+
+def test_a_failed_run_of_one_test_fails_its_parameter_set(tmp_path):
+    text = JOINT.replace('tests = ["brazilian"]', 'tests = ["bending"]').replace(
+        "sigma_t_MPa = 10.0",
+        "sigma_t_MPa = 10.0\nweights = { sigma_t_MPa = 2 }\nspread = { sigma_t_MPa = 0.5 }",
+    ) + "[uncertainty]\ndraws = 10\npackings = 2\n"
+    record = Calibration(parse_campaign(text, tmp_path), JointExecutor()).run()
+    assert record.target_tests == {"ucs": ["E_GPa", "nu", "ucs_MPa"], "brazilian": ["sigma_t_MPa"]}
+    assert record.weights == {"sigma_t_MPa": 2.0} and "sigma_t_MPa 2" in record.objective
+    assert record.failed_runs == [FailedRun(stage="sensitivity (brazilian)", message="ValueError: unstable")]
+    assert len(record.sensitivity.imputed_runs) == 1
+    assert record.accepted and abs(record.errors["sigma_t_MPa"]) <= 0.05
+    assert record.validation is not None and record.checks is None
+    u = record.uncertainty  # on: the Brazilian target gives a spread
+    assert u.spread == {"sigma_t_MPa": 0.5} and len(u.run_keys) == 4 and set(u.scatter) == set(record.targets)

@@ -14,7 +14,7 @@ from rockcal.campaign.forward import Executor
 from rockcal.campaign.procedure import Calibration
 from rockcal.campaign.figures import FIGURES
 from rockcal.campaign.report import write_report
-from rockcal.campaign.result import CalibrationResult, FailedRun, Validation
+from rockcal.campaign.result import CalibrationResult, Check, FailedRun, Validation
 from rockcal.campaign.store import RunStore
 
 TOML = '''
@@ -165,3 +165,18 @@ def test_the_record_reads_back_as_the_result(campaign):
     text = record.to_json()
     assert CalibrationResult.from_json(text) == record
     assert CalibrationResult.from_json(text).to_json() == text
+
+
+def test_weights_and_other_validation_checks_are_shown(campaign):
+    record, store, folder = campaign
+    checked = record.model_copy(update={
+        "weights": {"nu": 2.0},
+        "checks": [Check(test="brazilian", lab={"sigma_t_MPa": 9.0}, run_key="k", status="ok",
+                         responses={"sigma_t_MPa": 9.45}, errors={"sigma_t_MPa": 0.05}),
+                   Check(test="brazilian", lab={"sigma_t_MPa": 9.0}, run_key="j", status="failed",
+                         message="ValueError: no reading")]})
+    page = write_report(checked, store, folder / "checks").read_text(encoding="utf-8")
+    assert "<th>weight</th>" in page and "<td>UCS</td><td>nu</td>" in page and "<td>2</td></tr>" in page
+    assert page.count("<h3>Validation: Brazilian test</h3>") == 2 and "disk D 50 mm" in page
+    assert "<td>sigma_t_MPa</td><td>9</td><td>9.45</td><td>+5.0 %</td>" in page
+    assert "The run failed: ValueError: no reading" in page

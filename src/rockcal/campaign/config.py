@@ -14,8 +14,10 @@ from pathlib import Path
 from typing import Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import Field, ValidationError, field_validator, model_validator
 
+from rockcal.campaign.targets import LabTargets, Section, Targets, ValidationTests
+from rockcal.campaign.targets import UCSTargets  # noqa: F401  (the UCS section, here too)
 from rockcal.dem.genesis import Genesis
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.labtests.registry import lab_test
@@ -25,62 +27,15 @@ from rockcal.params import NAMES, make_params
 RESPONSES = lab_test("ucs").targets  # what a UCS run gives and the calibration can fit
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-class Rock(_Strict):
+class Rock(Section):
     name: str = "rock"
     density_kg_m3: float = Field(2622.0, gt=0)
 
 
-class UCSTargets(_Strict):
-    """Lab results of the uniaxial compression test (at least one response)."""
-
-    E_GPa: float | None = Field(None, gt=0)
-    nu: float | None = Field(None, gt=0, lt=0.5)
-    ucs_MPa: float | None = Field(None, gt=0)
-    curve: Path | None = None  # CSV: axial strain, axial stress (MPa)
-    # the lab's spread of a response: its sd, or the [min, max] of the lab's samples
-    spread: dict[str, float | tuple[float, float]] = {}
-
-    def scalars(self) -> dict[str, float]:
-        return {k: getattr(self, k) for k in RESPONSES if getattr(self, k) is not None}
-
-    @model_validator(mode="after")
-    def _spread(self):
-        from_curve = ("E_GPa", "ucs_MPa") if self.curve is not None else ()
-        for name, s in self.spread.items():
-            value = getattr(self, name, None) if name in RESPONSES else None
-            if value is None and name not in from_curve:
-                raise ValueError(f"spread.{name}: not a target given here ({', '.join(self.scalars())})")
-            if isinstance(s, tuple):
-                holds = value is None or s[0] <= value <= s[1]
-                if not (math.isfinite(s[0]) and math.isfinite(s[1]) and s[0] < s[1] and holds):
-                    raise ValueError(f"spread.{name}: [min, max] must hold the target {value}, got {list(s)}")
-            elif not (math.isfinite(s) and s > 0):
-                raise ValueError(f"spread.{name}: an sd must be > 0, got {s}")
-        return self
-
-
-class BendingTargets(_Strict):
-    """Lab results of the notched three-point bending test (the validation)."""
-
-    K_IC_MPa_sqrt_m: float = Field(gt=0)
-    P_max_kN: float | None = Field(None, gt=0)  # of the lab's round bar, to cross-check K_IC
-    diameter_mm: float = Field(50.0, gt=0)
-    notch_mm: float = Field(18.0, gt=0)
-    span_mm: float = Field(160.0, gt=0)
-
-
-class Targets(_Strict):
-    ucs: UCSTargets
-    bending: BendingTargets | None = None
-
-
 class SpecimenSettings(Genesis):
-    """Resolution, size and genesis of the virtual specimens and how the UCS test reads them
-    (defaults: the source's; the genesis keys are `rockcal.dem.genesis.Genesis`'s)."""
+    """Resolution, size and genesis of the virtual specimens (UCS, Brazilian disk, notched
+    beam: one genesis for all) and how the UCS test reads them (defaults: the source's; the
+    genesis keys are `rockcal.dem.genesis.Genesis`'s)."""
 
     rmin_mm: float = Field(0.25, gt=0)
     radius_ratio: float = Field(1.65, ge=1, le=10)
@@ -92,6 +47,7 @@ class SpecimenSettings(Genesis):
     notch_mm: float = Field(18.0, gt=0)
     notch_width_mm: float = Field(2.0, ge=0)  # 0: a cut (bonds across the notch line removed)
     span_mm: float = Field(160.0, gt=0)
+    disk_diameter_mm: float = Field(50.0, gt=0)  # the Brazilian test's disk
     bending_seeds: int = Field(1, ge=1)  # validation K_IC: mean over packings seed, seed + 1, ...
     strain: Literal["gauge", "platen"] = DEFAULT_STRAIN  # the UCS test's axial strain reading
     stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1)  # UCS stop: stress < this x peak
@@ -103,7 +59,7 @@ def _check_names(values: dict) -> None:
             raise ValueError(f"{name}: unknown parameter; known: {', '.join(NAMES)}")
 
 
-class Sensitivity(_Strict):
+class Sensitivity(Section):
     array: str = "L16(4^5)"
     levels: dict[str, list[float]]
     threshold: float | None = Field(None, gt=0, le=1)  # also invert factors with R >= threshold x max R
@@ -118,7 +74,7 @@ class Sensitivity(_Strict):
         return levels
 
 
-class Search(_Strict):
+class Search(Section):
     bounds: dict[str, tuple[float, float]] = {}
     fixed: dict[str, float] = {}
 
@@ -138,14 +94,14 @@ class Search(_Strict):
         return fixed
 
 
-class Surrogate(_Strict):
+class Surrogate(Section):
     samples: int = Field(30, ge=4)
     checks: int = Field(3, ge=1)
     tolerance: float = Field(0.05, gt=0)  # the surrogate is trusted within this relative error
     seed: int = 1
 
 
-class Optimizer(_Strict):
+class Optimizer(Section):
     method: Literal["aco", "ant-system", "acor"] = "aco"
     ants: int = Field(50, ge=2)
     iterations: int = Field(200, ge=1)
@@ -155,21 +111,21 @@ class Optimizer(_Strict):
     seed: int = 1
 
 
-class Acceptance(_Strict):
+class Acceptance(Section):
     tolerance: float = Field(0.05, gt=0, lt=1)
     max_dem_runs: int = Field(80, ge=1)
 
 
-class Uncertainty(_Strict):
+class Uncertainty(Section):
     """Intervals of the identified parameters (Monte Carlo on the surrogate)."""
 
-    enabled: bool | None = None  # None: on when [targets.ucs] gives a spread
+    enabled: bool | None = None  # None: on when a calibration target gives a spread
     draws: int = Field(200, ge=10)
     packings: int = Field(3, ge=1)  # UCS packings at the identified point for the model scatter
     seed: int = 1
 
 
-class Campaign(_Strict):
+class Campaign(Section):
     """A whole calibration campaign, as read from its TOML file."""
 
     rock: Rock = Rock()
@@ -181,6 +137,7 @@ class Campaign(_Strict):
     optimizer: Optimizer = Optimizer()
     acceptance: Acceptance = Acceptance()
     uncertainty: Uncertainty = Uncertainty()
+    validation: ValidationTests = ValidationTests()
 
     @model_validator(mode="after")
     def _consistent(self):
@@ -191,15 +148,34 @@ class Campaign(_Strict):
         both = set(self.search.bounds) & set(self.search.fixed)
         if both:
             raise ValueError(f"search.fixed: {sorted(both)[0]!r} is also in search.bounds")
+        given = self.targets.given()
+        if "tests" in self.validation.model_fields_set:
+            for test in self.validation.tests:
+                if test not in given:
+                    raise ValueError(f"validation.tests: {test} has no [targets.{test}] to check against")
+        for test in self.validation_tests():
+            for key in ("spread", "weights"):
+                if getattr(given[test], key):
+                    raise ValueError(f"targets.{test}.{key}: {test} is a validation check only "
+                                     "([validation] tests), not fitted")
         return self
 
     def wants_uncertainty(self) -> bool:
         u = self.uncertainty.enabled
-        return bool(self.targets.ucs.spread) if u is None else u
+        return any(s.spread for s in self.target_sections().values()) if u is None else u
+
+    def target_sections(self) -> dict[str, LabTargets]:
+        """The lab tests calibrated against, by name, with their targets: UCS, and each other
+        test given in [targets] that [validation] does not name."""
+        return {t: s for t, s in self.targets.given().items() if t not in self.validation.tests}
+
+    def validation_tests(self) -> list[str]:
+        """The tests given in [targets] that are validation checks only."""
+        return [t for t in self.targets.given() if t in self.validation.tests]
 
     def tests(self) -> list[str]:
-        """The lab tests the campaign runs: UCS, and bending when it validates with one."""
-        return ["ucs"] + (["bending"] if self.targets.bending is not None else [])
+        """The lab tests the campaign runs: those given in [targets]."""
+        return list(self.targets.given())
 
     def fixed_params(self) -> dict[str, float]:
         """Parameters held constant: the density of the rock, then [search].fixed."""

@@ -3,7 +3,8 @@
 A run's time is the mean of the UCS runs on the same specimen that the store already holds;
 without any, it is scaled from the full-size granite UCS run of docs/benchmarks.md. Work per
 step grows with the grains, and the steps of a test with its rows of grains (the loading speed
-is set per row), so a run's time goes as grains x rows; a bending run is scaled likewise.
+is set per row), so a run's time goes as grains x rows; a bending or Brazilian run is scaled
+likewise.
 """
 
 from __future__ import annotations
@@ -41,23 +42,34 @@ def array_runs(name: str) -> int:
     return int(re.match(r"L(\d+)", name).group(1))
 
 
+def specimen_size(test: str, s: SpecimenSettings) -> tuple[str, int, float]:
+    """A test's specimen in words, its grains and its work (grains x rows)."""
+    kind = lab_test(test)
+    o = kind.outline(kind.settings_of(s))
+    grains = round(o.share * grain_count(o.width_mm, o.height_mm, s))
+    return o.text, grains, o.share * work(o.width_mm, o.height_mm, s)
+
+
 def stages(campaign: Campaign) -> list[tuple[str, str, int]]:
-    """(stage, test, runs) in the order they run; the verification loop counts its first run."""
-    out = []
+    """(stage, test, runs) in the order they run: each stage of the calibration runs every test
+    calibrated against; the verification loop counts its first run."""
+    points = []
     if campaign.sensitivity is not None:
-        out.append(("sensitivity", "ucs", array_runs(campaign.sensitivity.array)))
-    out += [("samples", "ucs", campaign.surrogate.samples),
-            ("surrogate check", "ucs", campaign.surrogate.checks), ("verification", "ucs", 1)]
+        points.append(("sensitivity", array_runs(campaign.sensitivity.array)))
+    points += [("samples", campaign.surrogate.samples), ("surrogate check", campaign.surrogate.checks),
+               ("verification", 1)]
     if campaign.wants_uncertainty():
-        out.append(("uncertainty (packings)", "ucs", campaign.uncertainty.packings - 1))
-    if campaign.targets.bending is not None:
-        out.append(("validation (bending)", "bending", campaign.specimen.bending_seeds))
+        points.append(("uncertainty (packings)", campaign.uncertainty.packings - 1))
+    out = [(stage, test, n) for stage, n in points for test in campaign.target_sections()]
+    for test in campaign.validation_tests():
+        n = campaign.specimen.bending_seeds if test == "bending" else 1
+        out.append((f"validation ({test})", test, n))
     return out
 
 
-def stored_runs(campaign: Campaign, store) -> int:
-    """How many of the campaign's sensitivity, sample and check runs the store holds: those
-    known before it runs (the samples only when [search] gives the bounds)."""
+def stored_runs(campaign: Campaign, store) -> dict[str, int]:
+    """How many of the campaign's sensitivity, sample and check runs the store holds, by test:
+    those known before it runs (the samples only when [search] gives the bounds)."""
     fixed, rows = campaign.fixed_params(), []
     bounds = campaign.search.bounds
     if campaign.sensitivity is not None:
@@ -70,8 +82,8 @@ def stored_runs(campaign: Campaign, store) -> int:
         names = list(bounds)
         x, checks = sample_points(np.array([bounds[n] for n in names], float), campaign.surrogate)
         rows += [fixed | dict(zip(names, row)) for row in np.vstack([x, checks])]
-    specs = [run_spec("ucs", campaign.specimen, campaign.fixed_params() | row) for row in rows]
-    return sum(store.get(spec) is not None for spec in specs)
+    return {test: sum(store.get(run_spec(test, campaign.specimen, campaign.fixed_params() | row)) is not None
+                      for row in rows) for test in campaign.target_sections()}
 
 
 def stored_ucs_runs_s(store, specimen: SpecimenSettings) -> list[float]:
@@ -83,34 +95,32 @@ def stored_ucs_runs_s(store, specimen: SpecimenSettings) -> list[float]:
 def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
     """The lines of the first screen: specimens, stages and run counts, expected time."""
     s = campaign.specimen
-    ucs_grains = grain_count(s.width_mm, s.height_mm, s)
-    beam_grains = grain_count(s.beam_length_mm, s.beam_height_mm, s)
+    tests = campaign.tests()
+    sizes = {test: specimen_size(test, s) for test in tests}
     measured = stored_ucs_runs_s(store, s)
-    ucs_work = work(s.width_mm, s.height_mm, s)
+    ucs_work = sizes["ucs"][2]
     ucs_s = float(np.mean(measured)) if measured else REFERENCE_RUN_S * ucs_work / REFERENCE_WORK
-    beam_s = ucs_s * work(s.beam_length_mm, s.beam_height_mm, s) / ucs_work
     plan = stages(campaign)
     done = stored_runs(campaign, store)
-    ucs_runs = sum(n for _, test, n in plan if test == "ucs") - done
-    beam_runs = sum(n for _, test, n in plan if test == "bending")
-    total_s = ucs_runs * ucs_s + beam_runs * beam_s
-    beam = (f"; beam {s.beam_length_mm:g} x {s.beam_height_mm:g} mm, about {beam_grains} grains"
-            if campaign.targets.bending is not None else "")
+    runs = {test: sum(n for _, t, n in plan if t == test) - done.get(test, 0) for test in tests}
+    titles = [lab_test(test).title for test in campaign.target_sections()]
+    total_s = sum(n * ucs_s * sizes[test][2] / ucs_work for test, n in runs.items())
     lines = [
-        f"specimens: UCS {s.width_mm:g} x {s.height_mm:g} mm, about {ucs_grains} grains{beam} "
-        f"(R {s.rmin_mm:g} to {s.rmin_mm * s.radius_ratio:.3g} mm)",
-        "stages: " + ", ".join(f"{name} {n}" for name, _, n in plan)
-        + f" (then more verifications if needed, at most {campaign.acceptance.max_dem_runs} UCS runs)",
-        f"runs of this campaign already in the store: {done} (a run in the store is never run "
-        "again)",
+        "specimens: " + "; ".join(f"{text}, about {grains} grains" for text, grains, _ in sizes.values())
+        + f" (R {s.rmin_mm:g} to {s.rmin_mm * s.radius_ratio:.3g} mm)",
+        "stages: " + ", ".join(f"{name} {n}" for name, n in dict((name, n) for name, _, n in plan).items())
+        + f" (then more verifications if needed, at most {campaign.acceptance.max_dem_runs} UCS runs)"
+        + (f"; each parameter set runs {' and '.join(titles)}" if len(titles) > 1 else ""),
+        f"runs of this campaign already in the store: {sum(done.values())} (a run in the store is "
+        "never run again)",
     ]
     basis = ("the mean of this store's UCS runs" if measured else
              "scaled from the full-size granite run on a reference machine; ±2x between machines")
     if workers:
         lines.append(f"expected: about {_duration(total_s / workers)} on {workers} "
                      f"worker{'s' if workers > 1 else ''} "
-                     f"for the {ucs_runs} UCS and {beam_runs} bending runs still to do "
-                     f"({_duration(ucs_s)} per UCS run on one worker: {basis})")
+                     f"for the {' and '.join(f'{n} {lab_test(t).title}' for t, n in runs.items())} runs "
+                     f"still to do ({_duration(ucs_s)} per UCS run on one worker: {basis})")
     return lines
 
 

@@ -1,7 +1,11 @@
 """The inverse procedure end to end (SPEC steps 1-8): sensitivity runs and range analysis,
 Latin hypercube runs, Gaussian RBF surrogate and its check, ant colony search on the
 surrogate, DEM verification and the adaptive loop, the intervals of the identified parameters
-(when the lab gives a spread), then the bending validation.
+(when the lab gives a spread), then the validation checks.
+
+Each parameter set is run in every lab test calibrated against (UCS, and the Brazilian or
+bending test when they are targets), and their responses make one dict: the steps see one
+forward model whatever the tests behind it.
 
 Every forward run goes through the executor and its store, and every other step is seeded,
 so running a campaign again (after a kill, or to rebuild a report) gives the same answer and
@@ -14,14 +18,15 @@ from typing import Callable
 
 import numpy as np
 
-from rockcal.campaign.config import Campaign, read_curve
+from rockcal.campaign.config import Campaign, SpecimenSettings, read_curve
 from rockcal.campaign.forward import SPECIMEN_KEYS, Executor, run_spec
-from rockcal.campaign.result import (CalibrationResult, CurveFit, FailedRun, Iteration, Samples, Sensitivity,
-                                     SurrogateCheck, Uncertainty, Validation)
+from rockcal.campaign.result import (CalibrationResult, Check, CurveFit, FailedRun, Iteration, Samples,
+                                     Sensitivity, SurrogateCheck, Uncertainty, Validation)
 from rockcal.inverse import (RBFSurrogate, Objective, ant_colony, curve_fit, design, latin_hypercube,
                              range_analysis)
 from rockcal.inverse.uncertainty import parameter_intervals
 from rockcal.labtests.kic import pmax_kic_disagreement
+from rockcal.labtests.registry import lab_test
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
 from rockcal.dem.measure import secant_at_half_peak
 from rockcal.params import make_params
@@ -59,28 +64,51 @@ class Calibration:
         self.campaign = campaign
         self.executor = executor
         self.progress = progress or (lambda stage, done, total: None)
-        self.targets, self.curve = ucs_targets(campaign)
+        sections = campaign.target_sections()
+        ucs, self.curve = ucs_targets(campaign)
+        self.tests = {t: list(ucs) if t == "ucs" else list(s.scalars()) for t, s in sections.items()}
+        self.targets = ucs | {r: v for t, s in sections.items() if t != "ucs" for r, v in s.scalars().items()}
+        self.weights = {r: w for s in sections.values() for r, w in s.weights.items()}
+        self.spread = {r: list(v) if isinstance(v, tuple) else v
+                       for s in sections.values() for r, v in s.spread.items()}
         self.fixed = campaign.fixed_params()
-        self.dem_runs: list[str] = []  # keys of the distinct UCS runs the procedure used
+        self.dem_runs: list[str] = []  # keys of the distinct UCS runs: one per parameter set
         self.failed_runs: list[FailedRun] = []
         self.ucs_specimen: dict | None = None  # of the first UCS run that succeeded
 
     # -- forward runs ---------------------------------------------------------------------
-    def _ucs(self, stage: str, rows: list[dict]) -> list[dict | None]:
-        """UCS responses of each parameter set (None for a failed run)."""
-        specs = [run_spec("ucs", self.campaign.specimen, self.fixed | row) for row in rows]
-        results = self.executor.run(specs, lambda done, total: self.progress(stage, done, total))
-        for spec in specs:
+    def _forward(self, stage: str, points: list[tuple[SpecimenSettings, dict]]):
+        """Every target test at each (specimen settings, parameters) point: the responses of
+        each point (None when a run of it failed), the specs of each test, the failed runs."""
+        specs = {t: [run_spec(t, settings, self.fixed | row) for settings, row in points] for t in self.tests}
+        results = self.executor.run([spec for t in self.tests for spec in specs[t]],
+                                    lambda done, total: self.progress(stage, done, total))
+        n = len(points)
+        by_test = {t: results[k * n:(k + 1) * n] for k, t in enumerate(self.tests)}
+        responses, failed = [], []
+        for i in range(n):
+            runs = {t: by_test[t][i] for t in self.tests}
+            failed += [FailedRun(stage=stage if t == "ucs" else f"{stage} ({t})", message=r.message)
+                       for t, r in runs.items() if r.status != "ok"]
+            ok = all(r.status == "ok" for r in runs.values())
+            responses.append(merge_responses({t: r.responses for t, r in runs.items()}) if ok else None)
+        if self.ucs_specimen is None and any(r.status == "ok" for r in by_test["ucs"]):
+            done = next(r.responses for r in by_test["ucs"] if r.status == "ok")
+            self.ucs_specimen = {k: done[k] for k in SPECIMEN_KEYS if k in done}
+        return responses, specs, failed
+
+    def _evaluate(self, stage: str, rows: list[dict]) -> list[dict | None]:
+        """The responses of each parameter set on the campaign's specimens (None for a failed
+        run); every run counts against the budget and a failure is recorded."""
+        responses, specs, failed = self._forward(stage, [(self.campaign.specimen, row) for row in rows])
+        for spec in specs["ucs"]:
             if spec.key not in self.dem_runs:
                 self.dem_runs.append(spec.key)
-        failed = [r.message for r in results if r.status != "ok"]
-        self.failed_runs += [FailedRun(stage=stage, message=m) for m in failed]
-        if failed and len(failed) == len(results):
-            raise CalibrationFailed(f"every forward run of stage '{stage}' failed; first: {failed[0]}")
-        if self.ucs_specimen is None:
-            done = next(r.responses for r in results if r.status == "ok")
-            self.ucs_specimen = {k: done[k] for k in SPECIMEN_KEYS if k in done}
-        return [r.responses if r.status == "ok" else None for r in results]
+        self.failed_runs += failed
+        if failed and all(r is None for r in responses):
+            raise CalibrationFailed(f"every forward run of stage '{stage}' failed; "
+                                    f"first: {failed[0].message}")
+        return responses
 
     # -- the steps ------------------------------------------------------------------------
     def sensitivity(self) -> tuple[dict[str, tuple[float, float]], Sensitivity | None]:
@@ -93,7 +121,7 @@ class Calibration:
         runs = design(settings.array, settings.levels)
         n = len(next(iter(runs.values())))
         rows = [{f: float(v[i]) for f, v in runs.items()} for i in range(n)]
-        responses = self._ucs("sensitivity", rows)  # the array's values override [search].fixed
+        responses = self._evaluate("sensitivity", rows)  # the array's values override [search].fixed
         names = list(self.targets)
         table = _fill_failed({r: [None if v is None else v[r] for v in responses] for r in names})
         analysis = range_analysis({f: np.array(v) for f, v in runs.items()}, table)
@@ -118,8 +146,8 @@ class Calibration:
 
         # step 3: Latin hypercube runs, surrogate, check on fresh random points
         x, checks = sample_points(box, s)
-        y = self._ucs("samples", [dict(zip(names, row)) for row in x])
-        y_checks = self._ucs("surrogate check", [dict(zip(names, row)) for row in checks])
+        y = self._evaluate("samples", [dict(zip(names, row)) for row in x])
+        y_checks = self._evaluate("surrogate check", [dict(zip(names, row)) for row in checks])
         train_x, train_y = _usable(x, y)
         surrogate = self._fit(train_x, train_y, box)
         check_x, check_y = _usable(checks, y_checks)
@@ -138,10 +166,10 @@ class Calibration:
         iterations, accepted = [], None
         while True:
             surrogate = self._fit(train_x, train_y, box)
-            objective = Objective(surrogate.predict, self.targets)
+            objective = Objective(surrogate.predict, self.targets, weights=self.weights or None)
             opt = self._optimise(objective, box)
             x_best = _round(opt.x)
-            verified = self._ucs("verification", [dict(zip(names, x_best))])[0]
+            verified = self._evaluate("verification", [dict(zip(names, x_best))])[0]
             errors = None if verified is None else {
                 r: verified[r] / t - 1 for r, t in self.targets.items()}
             iterations.append(Iteration(
@@ -165,7 +193,8 @@ class Calibration:
             if self.campaign.wants_uncertainty() else None
         final_ucs_run_key, curve_fit = self._curve_fit(identified)
         return CalibrationResult(
-            rock=self.campaign.rock.name, targets=self.targets, specimen=self.campaign.specimen,
+            rock=self.campaign.rock.name, targets=self.targets, target_tests=self.tests,
+            weights=self.weights or None, specimen=self.campaign.specimen,
             measured_curve=None if self.curve is None else self.curve.tolist(),
             failed_runs=self.failed_runs, ucs_specimen=self.ucs_specimen, sensitivity=sensitivity,
             parameters=names, bounds=bounds, fixed=fixed,
@@ -175,7 +204,7 @@ class Calibration:
             verified=iterations[best].verified, errors=iterations[best].errors, tolerance=tolerance,
             objective=objective.describe(), dem_runs=len(dem_run_keys), best_iteration=best,
             dem_run_keys=dem_run_keys, uncertainty=uncertainty, final_ucs_run_key=final_ucs_run_key,
-            curve_fit=curve_fit, validation=self._validate(identified))
+            curve_fit=curve_fit, validation=self._validate(identified), checks=self._checks(identified))
 
     def _fit(self, x, y, box) -> RBFSurrogate:
         return RBFSurrogate(x, {r: np.array([v[r] for v in y]) for r in self.targets}, box)
@@ -194,10 +223,9 @@ class Calibration:
         that scatter (`rockcal.inverse.uncertainty`), each solved on the surrogate."""
         u, settings = self.campaign.uncertainty, self.campaign.specimen
         seeds = seed_list(settings.seed, u.packings)
-        specs = [run_spec("ucs", settings.model_copy(update={"seed": s}), self.fixed | identified)
-                 for s in seeds]
-        results = self.executor.run(specs, lambda d, t: self.progress("uncertainty (packings)", d, t))
-        ok = [r.responses for r in results if r.status == "ok"]
+        points = [(settings.model_copy(update={"seed": s}), identified) for s in seeds]
+        responses, specs, _ = self._forward("uncertainty (packings)", points)
+        ok = [r for r in responses if r is not None]
         scatter = {r: float(np.std([v[r] for v in ok], ddof=1) / abs(np.mean([v[r] for v in ok])))
                    if len(ok) > 1 else 0.0 for r in self.targets}
         done = [0]
@@ -205,14 +233,12 @@ class Calibration:
         def solve(targets: dict) -> np.ndarray:
             done[0] += 1
             self.progress("uncertainty (draws)", done[0], u.draws)
-            return self._optimise(Objective(surrogate.predict, targets), box).x
+            return self._optimise(Objective(surrogate.predict, targets, weights=self.weights or None), box).x
 
-        spread = {r: list(s) if isinstance(s, tuple) else s
-                  for r, s in self.campaign.targets.ucs.spread.items()}
         return Uncertainty(
-            seeds=seeds, run_keys=[spec.key for spec in specs], packing_responses=ok,
-            scatter=scatter, spread=spread, draws=u.draws,
-            **parameter_intervals(solve, self.targets, spread, scatter, box, names,
+            seeds=seeds, run_keys=[spec.key for t in self.tests for spec in specs[t]],
+            packing_responses=ok, scatter=scatter, spread=self.spread, draws=u.draws,
+            **parameter_intervals(solve, self.targets, self.spread, scatter, box, names,
                                   draws=u.draws, seed=u.seed))
 
     def _curve_fit(self, identified: dict) -> tuple[str, CurveFit | None]:
@@ -230,9 +256,9 @@ class Calibration:
 
     def _validate(self, identified: dict) -> Validation | None:
         """Step 8: the notched-beam bending test with the identified parameters, K_IC averaged
-        over `specimen.bending_seeds` packings (None without [targets.bending])."""
+        over `specimen.bending_seeds` packings (None unless bending is a validation check)."""
         bending = self.campaign.targets.bending
-        if bending is None:
+        if "bending" not in self.campaign.validation_tests():
             return None
         settings = self.campaign.specimen
         seeds = seed_list(settings.seed, settings.bending_seeds)
@@ -256,6 +282,35 @@ class Calibration:
                 1e3 * bending.P_max_kN, 1e6 * bending.K_IC_MPa_sqrt_m, 1e-3 * bending.diameter_mm,
                 1e-3 * bending.notch_mm, 1e-3 * bending.span_mm)
         return Validation(**found)
+
+
+    def _checks(self, identified: dict) -> list[Check] | None:
+        """Step 8 for each other validation test: its run at the identified parameters against
+        the lab's values (None when there is none)."""
+        tests = [t for t in self.campaign.validation_tests() if t != "bending"]
+        checks = []
+        for test in tests:
+            lab = self.campaign.targets.given()[test].scalars()
+            spec = run_spec(test, self.campaign.specimen, self.fixed | identified)
+            run = self.executor.run([spec], lambda d, t: self.progress(f"validation ({test})", d, t))[0]
+            found = {"test": test, "lab": lab, "run_key": spec.key, "status": run.status}
+            if run.status == "ok":
+                found |= {"responses": run.responses,
+                          "errors": {r: run.responses[r] / v - 1 for r, v in lab.items()}}
+            else:
+                found["message"] = run.message
+            checks.append(Check(**found))
+        return checks or None
+
+
+def merge_responses(by_test: dict[str, dict]) -> dict:
+    """One parameter set's responses: the UCS test's whole (its other readings too), and the
+    target responses of each other test."""
+    merged = dict(by_test["ucs"])
+    for test, responses in by_test.items():
+        if test != "ucs":
+            merged |= {r: responses[r] for r in lab_test(test).targets}
+    return merged
 
 
 def _fill_failed(table: dict[str, list]) -> dict[str, np.ndarray]:

@@ -16,6 +16,7 @@ from rockcal.campaign.config import SpecimenSettings
 from rockcal.campaign.figures import FIGURES, draw
 from rockcal.campaign.result import CalibrationResult, SurrogateCheck
 from rockcal.campaign.store import RunStore
+from rockcal.labtests.registry import lab_test
 
 REPORT_NAME = "report.html"
 
@@ -46,22 +47,26 @@ def _overview(result: CalibrationResult) -> str:
     verdict = (f"accepted: every response within ±{100 * tolerance:g} %" if result.accepted else
                f"not accepted: no verification within ±{100 * tolerance:g} %; the closest "
                f"(loop iteration {_num(result.best_iteration + 1)}) is reported")
+    titles = [lab_test(test).title for test in result.responses_by_test()]
+    runs = "DEM runs used (UCS)" if titles == ["UCS"] else \
+        f"DEM runs used (parameter sets, each run in {' and '.join(titles)})"
     rows = [["rock", result.rock], ["result", verdict], ["objective", result.objective],
-            ["DEM runs used (UCS)", result.dem_runs],
+            [runs, result.dem_runs],
             ["surrogate check", _check_text(result.surrogate_check)]]
     fit = result.curve_fit
     if fit:
         rows.append(["stress–strain fit", f"RE {fit.RE:.3f}, CC {fit.CC:.3f}"])
-    rows.append(["specimens", _specimen_text(result.specimen)])
+    tests = [*result.responses_by_test(), *(c.test for c in result.checks or [])]
+    rows.append(["specimens", _specimen_text(result.specimen, "brazilian" in tests)])
     return _table(None, rows)
 
 
-def _specimen_text(s: SpecimenSettings) -> str:
-    """The virtual specimens in a line (mm)."""
+def _specimen_text(s: SpecimenSettings, disk: bool) -> str:
+    """The virtual specimens in a line (mm); the Brazilian disk when the campaign runs it."""
     return (f"UCS {s.width_mm:g} × {s.height_mm:g} mm; beam {s.beam_length_mm:g} × "
             f"{s.beam_height_mm:g} mm, notch {s.notch_mm:g} × {s.notch_width_mm:g} mm, "
-            f"span {s.span_mm:g} mm; radii {s.rmin_mm:g} to "
-            f"{s.rmin_mm * s.radius_ratio:.3g} mm, packing seed {s.seed}")
+            f"span {s.span_mm:g} mm; " + (f"disk D {s.disk_diameter_mm:g} mm; " if disk else "")
+            + f"radii {s.rmin_mm:g} to {s.rmin_mm * s.radius_ratio:.3g} mm, packing seed {s.seed}")
 
 
 def _check_text(check: SurrogateCheck) -> str:
@@ -75,15 +80,20 @@ def _check_text(check: SurrogateCheck) -> str:
 
 
 def _responses(result: CalibrationResult) -> str:
-    """Targets, surrogate and verified DEM responses, and their errors against the tolerance."""
+    """Each test's targets, surrogate and verified DEM responses, their errors against the
+    tolerance, and their weights when some are not 1."""
     tolerance, verified, errors = result.tolerance, result.verified, result.errors
-    iterations, best = result.iterations, result.best_iteration
+    iterations, best, weights = result.iterations, result.best_iteration, result.weights
     predicted = iterations[best].predicted if best < len(iterations) else {}
-    rows = [[r, _num(t), _num(predicted.get(r)), _num(verified.get(r)), _pct(errors.get(r)),
-             "—" if errors.get(r) is None else ("yes" if abs(errors[r]) <= tolerance else "no")]
-            for r, t in result.targets.items()]
-    return _table(["response", "target", "surrogate", "DEM (verified)", "relative error",
-                   f"within ±{100 * tolerance:g} %"], rows)
+    rows = []
+    for test, names in result.responses_by_test().items():
+        for r in names:
+            rows.append([lab_test(test).title, r, _num(result.targets[r]), _num(predicted.get(r)),
+                         _num(verified.get(r)), _pct(errors.get(r)),
+                         "—" if errors.get(r) is None else ("yes" if abs(errors[r]) <= tolerance else "no")]
+                        + ([_num(weights.get(r, 1.0))] if weights else []))
+    return _table(["test", "response", "target", "surrogate", "DEM (verified)", "relative error",
+                   f"within ±{100 * tolerance:g} %"] + (["weight"] if weights else []), rows)
 
 
 def _parameters(result: CalibrationResult) -> str:
@@ -118,7 +128,8 @@ def _validation(result: CalibrationResult) -> str:
     """Simulated K_IC against the lab's, or why there is none; the P_max/K_IC warning."""
     v = result.validation
     if v is None:
-        return "<p class='note'>No bending validation in this campaign.</p>"
+        fitted = " (K_IC is calibrated against)" if "bending" in result.responses_by_test() else ""
+        return f"<p class='note'>No bending validation in this campaign{fitted}.</p>"
     if v.status != "ok":
         text = f"<p class='note'>The bending run {html.escape(v.status)}: " \
                f"{html.escape(v.message or '')}</p>"
@@ -133,6 +144,19 @@ def _validation(result: CalibrationResult) -> str:
     if v.warning:
         text += f"<p class='warn'>{html.escape(v.warning)}</p>"
     return text
+
+
+def _checks(result: CalibrationResult) -> str:
+    """Each other validation test: its lab and simulated responses and their errors."""
+    out = ""
+    for c in result.checks or []:
+        out += f"<h3>Validation: {html.escape(lab_test(c.test).title)} test</h3>"
+        if c.status != "ok":
+            out += f"<p class='note'>The run {html.escape(c.status)}: {html.escape(c.message or '')}</p>"
+            continue
+        out += _table(["response", "lab", "simulated", "error"],
+                      [[r, _num(v), _num(c.responses[r]), _pct(c.errors[r])] for r, v in c.lab.items()])
+    return out
 
 
 def _failed(result: CalibrationResult) -> str:
@@ -169,7 +193,8 @@ def write_report(result: CalibrationResult, store: RunStore, out: Path) -> Path:
             f"</title><style>{CSS}</style></head><body><h1>Calibration of {rock}</h1>"
             f"\n<h2>Summary</h2>{_overview(result)}\n<h3>Responses</h3>{_responses(result)}"
             f"\n<h3>Identified parameters</h3>{_parameters(result)}"
-            f"\n<h3>Validation: notched-beam bending</h3>{_validation(result)}\n{_failed(result)}"
+            f"\n<h3>Validation: notched-beam bending</h3>{_validation(result)}\n{_checks(result)}"
+            f"\n{_failed(result)}"
             f"\n{figures}\n</body></html>\n")
     path = out / REPORT_NAME
     path.write_text(page, encoding="utf-8")

@@ -134,13 +134,30 @@ class Validation(BaseModel):
     warning: str | None = _absent()  # the lab's P_max and K_IC disagree
 
 
+class Check(_Part):
+    """Step 8 for a validation test other than bending (whose check is `Validation`): the
+    test at the identified parameters, on the packing `specimen.seed`, against the lab."""
+
+    test: str
+    lab: Values
+    run_key: str
+    status: str
+    responses: Responses | None = _absent()
+    errors: Values | None = _absent()
+    message: str | None = _absent()  # why the run did not give a result
+
+
 class CalibrationResult(_Part):
     """A campaign's result (SPEC steps 2-8), in the order the procedure finds it: its inputs,
     each step's outcome, then the identified parameters (`identified`; every micro-parameter
-    in `identified_params`), their verified responses and errors, and the validation."""
+    in `identified_params`), their verified responses and errors, and the validation. A
+    parameter set's responses are those of every test calibrated against, in one dict; the
+    UCS test's come with its other readings."""
 
     rock: str
-    targets: Values
+    targets: Values  # of every test calibrated against
+    target_tests: dict[str, list[str]] | None = _absent()  # each test's targets; None: UCS only
+    weights: Values | None = _absent()  # the responses weighed otherwise than 1 in the objective
     specimen: SpecimenSettings
     measured_curve: list[list[float]] | None = _absent()
     failed_runs: list[FailedRun]
@@ -166,7 +183,12 @@ class CalibrationResult(_Part):
     final_ucs_run_key: str
     curve_fit: CurveFit | None = _absent()
     validation: Validation | None = _absent()
+    checks: list[Check] | None = _absent()
     executed_runs: int | None = _absent()  # by this call of `rockcal calibrate`
+
+    def responses_by_test(self) -> dict[str, list[str]]:
+        """The target responses of each lab test calibrated against."""
+        return self.target_tests or {"ucs": list(self.targets)}
 
     def to_json(self, indent: int | None = None) -> str:
         """The record."""

@@ -109,7 +109,10 @@ def _write_report(result: CalibrationResult, store, out: Path) -> Path:
 def _planned_runs(campaign) -> dict[str, int]:
     from rockcal.campaign.plan import stages
 
-    return {name: n for name, _, n in stages(campaign)}
+    planned: dict[str, int] = {}
+    for name, _, n in stages(campaign):  # a stage runs each test calibrated against
+        planned[name] = planned.get(name, 0) + n
+    return planned
 
 
 def _print_plan(campaign, store, executor) -> None:
@@ -163,7 +166,9 @@ class _stage_progress:
 
 
 def summary(result: CalibrationResult) -> dict:
-    """What `--json` prints: identified parameters, verified responses and errors, K_IC, runs."""
+    """What `--json` prints: identified parameters, verified responses and errors (of every
+    test calibrated against, each test's named in `target_tests`), K_IC, other validation
+    checks, runs."""
     v, u = result.validation, result.uncertainty
 
     def validation(name: str):
@@ -172,6 +177,7 @@ def summary(result: CalibrationResult) -> dict:
     return {
         "rock": result.rock, "accepted": result.accepted, "identified": result.identified,
         "identified_params": result.identified_params, "targets": result.targets,
+        "target_tests": result.responses_by_test(), "weights": result.weights,
         "verified": {r: result.verified[r] for r in result.targets},
         "relative_errors": result.errors, "tolerance": result.tolerance,
         "objective": result.objective,
@@ -183,11 +189,14 @@ def summary(result: CalibrationResult) -> dict:
         "K_IC_error": validation("K_IC_error"), "warning": validation("warning"),
         "dem_runs": result.dem_runs, "executed_runs": result.executed_runs,
         "failed_runs": len(result.failed_runs),
+        "checks": [c.model_dump(mode="json") for c in result.checks or []],
         "intervals": None if u is None else {n: i.to_dict() for n, i in u.intervals.items()},
     }
 
 
 def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None:
+    from rockcal.labtests.registry import lab_test
+
     s = summary(result)
     if as_json:
         typer.echo(json.dumps(s | {"report": str(html)}))
@@ -203,14 +212,23 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None
         spread = "" if i is None else f"  (5–95 %: {i['p5']:.4g}–{i['p95']:.4g}" + (
             ")" if i["pinned"] else ", not pinned down)")
         table.add_row(name, f"{value:.4g}{spread}", "", "")
-    for name, target in s["targets"].items():
-        value, error = (s["verified"] or {}).get(name), (s["relative_errors"] or {}).get(name)
-        table.add_row(name, "–" if value is None else f"{value:.4g}", f"{target:.4g}",
-                      "–" if error is None else f"{100 * error:+.1f} %")
+    for test, names in s["target_tests"].items():
+        for name in names:
+            value, error = (s["verified"] or {}).get(name), (s["relative_errors"] or {}).get(name)
+            label = name if test == "ucs" else f"{name} ({lab_test(test).title})"
+            table.add_row(label, "–" if value is None else f"{value:.4g}", f"{s['targets'][name]:.4g}",
+                          "–" if error is None else f"{100 * error:+.1f} %")
     if s["K_IC_MPa_sqrt_m"] is not None:
         table.add_row(f"K_IC (validation, {len(s['K_IC_per_seed'])} packings)",
                       f"{s['K_IC_MPa_sqrt_m']:.3f} ± {s['K_IC_seed_std']:.3f}",
                       f"{s['lab_K_IC_MPa_sqrt_m']:.3f}", f"{100 * s['K_IC_error']:+.1f} %")
+    for check in s["checks"]:
+        for name, lab in check["lab"].items():
+            value = (check.get("responses") or {}).get(name)
+            error = (check.get("errors") or {}).get(name)
+            table.add_row(f"{name} (validation, {lab_test(check['test']).title})",
+                          check["status"] if value is None else f"{value:.4g}", f"{lab:.4g}",
+                          "–" if error is None else f"{100 * error:+.1f} %")
     console.print(table)
     if s["warning"]:
         console.print(f"[yellow]warning:[/] {s['warning']}")

@@ -95,6 +95,8 @@ class Objective:
         terms = {"relative": "((y_c - y_m) / y_m)^2", "normalised": "((y_c - y_m) / s)^2",
                  "absolute": "(y_c - y_m)^2"}[self.form]
         text = f"F = sum over {', '.join(self.measured)} of w * {terms}"
+        if self.weights:
+            text += "; w: " + ", ".join(f"{n} {self.weights.get(n, 1.0):g}" for n in self.measured)
         if self.curves:
             text += f" + sum over curves {', '.join(self.curves)} of w * RE^2"
         return text

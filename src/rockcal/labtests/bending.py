@@ -23,7 +23,7 @@ from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kic import senb_kic
-from rockcal.labtests.kind import GENESIS, LabTest, Response, genesis_of, load_reading
+from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of, load_reading
 from rockcal.labtests.loading import DISTRIBUTED_DAMAGE, Loading
 from rockcal.params import MicroParams, make_params
 
@@ -256,10 +256,12 @@ def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BendingR
 
 
 TEST = LabTest(
-    name="bending",
+    name="bending", title="bending",
     responses=(Response("K_IC_MPa_sqrt_m", "MPa·m^0.5"),
                Response("P_max_kN_per_m", "kN/m", target=False),
                Response("displacement_at_peak_mm", "mm", target=False)),
     settings=(*BEAM_SETTINGS.values(), "rmin_mm", "radius_ratio", "seed", *GENESIS),
     check=_check, make=_specimen, run=_run, reading=load_reading,
+    outline=lambda s: Outline(f"beam {s['beam_length_mm']:g} x {s['beam_height_mm']:g} mm",
+                              s["beam_length_mm"], s["beam_height_mm"]),
     revision=2)  # 2: the pin slowed by the bonds breaking, not 8x from the first break on

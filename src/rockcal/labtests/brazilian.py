@@ -23,7 +23,7 @@ from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.bending import PAST_PEAK_FRACTION, POST_PEAK_FRACTION
-from rockcal.labtests.kind import GENESIS, LabTest, Response, genesis_of, load_reading
+from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of, load_reading
 from rockcal.labtests.loading import LOCALISED_DAMAGE, Loading
 from rockcal.labtests.ucs import RAMP_STEPS_PER_ROW, STRAIN_PER_STEP_PER_ROW
 from rockcal.params import MicroParams, make_params
@@ -135,11 +135,12 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
 
 
 def _check(s: dict) -> None:
-    check_disk(s["diameter_mm"], s["rmin_mm"], s["radius_ratio"])
+    with fields_named({"diameter_mm": "disk_diameter_mm"}):
+        check_disk(s["disk_diameter_mm"], s["rmin_mm"], s["radius_ratio"])
 
 
 def _specimen(s: dict) -> Specimen:
-    return brazilian_disk(s["diameter_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
+    return brazilian_disk(s["disk_diameter_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
 
 
 def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BrazilianResult:
@@ -147,8 +148,10 @@ def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> Brazilia
 
 
 TEST = LabTest(
-    name="brazilian",
+    name="brazilian", title="Brazilian",
     responses=(Response("sigma_t_MPa", "MPa"), Response("P_max_kN_per_m", "kN/m", target=False),
                Response("displacement_at_peak_mm", "mm", target=False)),
-    settings=("diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS),
-    check=_check, make=_specimen, run=_run, reading=load_reading)
+    settings=("disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS),
+    check=_check, make=_specimen, run=_run, reading=load_reading,
+    outline=lambda s: Outline(f"disk D {s['disk_diameter_mm']:g} mm", s["disk_diameter_mm"],
+                              s["disk_diameter_mm"], share=np.pi / 4))

@@ -25,12 +25,24 @@ class Response:
 
 
 @dataclass(frozen=True)
+class Outline:
+    """A test's specimen as a plan sees it: in words, and the packing it is cut from (width and
+    height, mm) with the share of that packing's grains it keeps."""
+
+    text: str
+    width_mm: float
+    height_mm: float
+    share: float = 1.0
+
+
+@dataclass(frozen=True)
 class LabTest:
     """A kind of lab test. `settings` are the specimen settings a run depends on (in this
     order they key its stored run); from a dict of them, `check` rejects what no specimen can
     be made of (an InputError naming the setting) and `make` makes the specimen;
     `run(params, specimen, settings, progress)` runs the test and returns its result, which
-    has each response as an attribute; `reading(x, y)` puts what `progress` gets into words.
+    has each response as an attribute; `reading(x, y)` puts what `progress` gets into words;
+    `outline(settings)` is the specimen's `Outline`; `title` names the test in a sentence.
     `revision` counts changes of the test's procedure within one engine version: a stored run
     of an earlier revision is not reused."""
 
@@ -41,6 +53,8 @@ class LabTest:
     make: Callable[[dict], Any]
     run: Callable[..., Any]
     reading: Callable[[float, float], str]
+    outline: Callable[[dict], Outline]
+    title: str  # the test's name in a sentence
     revision: int = 1
 
     @property

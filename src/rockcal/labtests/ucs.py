@@ -20,7 +20,7 @@ from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.simulate import BOTTOM, TOP, THICKNESS_M, advance, new_state
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError
-from rockcal.labtests.kind import GENESIS, LabTest, Response, genesis_of
+from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of
 from rockcal.labtests.loading import DISTRIBUTED_DAMAGE, Loading
 from rockcal.params import MicroParams, make_params
 
@@ -143,10 +143,12 @@ def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> UCSResul
 
 
 TEST = LabTest(
-    name="ucs",
+    name="ucs", title="UCS",
     responses=(Response("E_GPa", "GPa"), Response("nu", ""), Response("ucs_MPa", "MPa"),
                Response("peak_axial_strain", "", target=False)),
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
               "stop_fraction"),
     check=_check, make=_specimen, run=_run,
-    reading=lambda strain, stress_MPa: f"strain {100 * strain:.3f} %, {stress_MPa:.1f} MPa")
+    reading=lambda strain, stress_MPa: f"strain {100 * strain:.3f} %, {stress_MPa:.1f} MPa",
+    outline=lambda s: Outline(f"UCS {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"],
+                              s["height_mm"]))
