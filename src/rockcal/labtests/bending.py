@@ -25,6 +25,7 @@ from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kic import senb_kic
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of, load_reading
 from rockcal.labtests.loading import DISTRIBUTED_DAMAGE, Loading
+from rockcal.labtests.result import LabResult
 from rockcal.params import MicroParams, make_params
 
 PIN_RADIUS_MM = 5.0
@@ -90,30 +91,15 @@ def check_beam(beam: Beam, rmin_mm: float, radius_ratio: float) -> None:
 
 
 @dataclass
-class BendingResult:
-    """Responses of a notched-beam three-point bending test, the curve and the cracked beam."""
+class BendingResult(LabResult):
+    """Responses of a notched-beam three-point bending test; its curve's columns: pin displacement
+    mm, load kN per m."""
 
     K_IC_MPa_sqrt_m: float
     P_max_kN_per_m: float
     displacement_at_peak_mm: float
-    n_particles: int
-    n_bonds: int
-    n_broken_tension: int
-    n_broken_shear: int
-    steps: int
-    wall_s: float
     beam: Beam
-    curve: np.ndarray = field(repr=False)  # columns: pin displacement mm, load kN per m
-    positions: np.ndarray = field(repr=False)
-    radius: np.ndarray = field(repr=False)
-    cracks: dict = field(repr=False)
     first_break_xy: np.ndarray = field(repr=False)  # where the first bonds broke (m)
-
-    def summary(self) -> dict:
-        """The scalar responses, as JSON-ready numbers."""
-        keys = ("K_IC_MPa_sqrt_m", "P_max_kN_per_m", "displacement_at_peak_mm", "n_particles",
-                "n_bonds", "n_broken_tension", "n_broken_shear", "steps", "wall_s")
-        return {k: getattr(self, k) for k in keys} | {"beam": vars(self.beam)}
 
     @property
     def notch_tip_m(self) -> tuple[float, float]:

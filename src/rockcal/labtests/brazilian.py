@@ -10,7 +10,7 @@ with P the peak load per metre of thickness.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -25,6 +25,7 @@ from rockcal.errors import InputError, fields_named
 from rockcal.labtests.bending import PAST_PEAK_FRACTION, POST_PEAK_FRACTION
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of, load_reading
 from rockcal.labtests.loading import LOCALISED_DAMAGE, Loading
+from rockcal.labtests.result import LabResult
 from rockcal.labtests.ucs import RAMP_STEPS_PER_ROW, STRAIN_PER_STEP_PER_ROW
 from rockcal.params import MicroParams, make_params
 
@@ -35,29 +36,13 @@ DEFAULT_MAX_STRAIN = 0.02  # platen closure / diameter at which the test stops a
 
 
 @dataclass
-class BrazilianResult:
-    """Responses of a Brazilian test, the load-displacement curve and the split disk."""
+class BrazilianResult(LabResult):
+    """Responses of a Brazilian test; its curve's columns: platen closure mm, load kN per m."""
 
     sigma_t_MPa: float
     P_max_kN_per_m: float
     displacement_at_peak_mm: float
     diameter_mm: float
-    n_particles: int
-    n_bonds: int
-    n_broken_tension: int
-    n_broken_shear: int
-    steps: int
-    wall_s: float
-    curve: np.ndarray = field(repr=False)  # columns: platen closure mm, load kN per m
-    positions: np.ndarray = field(repr=False)
-    radius: np.ndarray = field(repr=False)
-    cracks: dict = field(repr=False)
-
-    def summary(self) -> dict:
-        """The scalar responses, as JSON-ready numbers."""
-        keys = ("sigma_t_MPa", "P_max_kN_per_m", "displacement_at_peak_mm", "diameter_mm",
-                "n_particles", "n_bonds", "n_broken_tension", "n_broken_shear", "steps", "wall_s")
-        return {k: getattr(self, k) for k in keys}
 
 
 def check_disk(diameter_mm: float, rmin_mm: float, radius_ratio: float) -> None:

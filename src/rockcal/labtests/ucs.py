@@ -10,7 +10,7 @@ below a fraction of the peak (FISHTank's ct_loadFac), or at the maximum axial st
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -22,6 +22,7 @@ from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of
 from rockcal.labtests.loading import DISTRIBUTED_DAMAGE, Loading
+from rockcal.labtests.result import LabResult
 from rockcal.params import MicroParams, make_params
 
 POST_PEAK_FRACTION = 0.7
@@ -37,30 +38,14 @@ RAMP_STEPS_PER_ROW = 10
 
 
 @dataclass
-class UCSResult:
-    """Responses of a UCS test, the curve and the failed specimen."""
+class UCSResult(LabResult):
+    """Responses of a UCS test; its curve's columns: axial strain, lateral strain, stress MPa."""
 
     E_GPa: float
     nu: float
     strain: str  # how the axial strain was read: "gauge" or "platen"
     ucs_MPa: float
     peak_axial_strain: float
-    n_particles: int
-    n_bonds: int
-    n_broken_tension: int
-    n_broken_shear: int
-    steps: int
-    wall_s: float
-    curve: np.ndarray = field(repr=False)  # columns: axial strain, lateral strain, stress MPa
-    positions: np.ndarray = field(repr=False)
-    radius: np.ndarray = field(repr=False)
-    cracks: dict = field(repr=False)
-
-    def summary(self) -> dict:
-        """The scalar responses, as JSON-ready numbers."""
-        keys = ("E_GPa", "nu", "strain", "ucs_MPa", "peak_axial_strain", "n_particles", "n_bonds",
-                "n_broken_tension", "n_broken_shear", "steps", "wall_s")
-        return {k: getattr(self, k) for k in keys}
 
 
 def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | None = None, *,
