@@ -101,6 +101,9 @@ def test_summary_shows_the_identified_parameters_and_the_validation(campaign):
     assert v.ok_seeds == [1, 2] and v.K_IC_MPa_sqrt_m == pytest.approx(np.mean(v.K_IC_per_seed))
     assert all(f"{seed}: {k:.4g}" in page for seed, k in zip(v.ok_seeds, v.K_IC_per_seed))
     assert "Ouchterlony" in page  # the lab's P_max and K_IC disagree: the warning is shown
+    reproduced = abs(v.K_IC_error) <= record.tolerance
+    assert ("reproduces the rock's fracture toughness" in page) == reproduced
+    assert ("does not reproduce the rock's fracture toughness" in page) != reproduced
     assert f"RE {record.curve_fit.RE:.3f}, CC {record.curve_fit.CC:.3f}" in page
     assert f"{record.dem_runs}</td>" in page
 

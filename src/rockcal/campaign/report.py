@@ -141,9 +141,31 @@ def _validation(result: CalibrationResult) -> str:
                         f"{_num(v.K_IC_MPa_sqrt_m)} ± {_num(v.K_IC_MPa_sqrt_m_std)}",
                         _pct(v.K_IC_error), _num(v.P_max_kN_per_m), _num(v.displacement_at_peak_mm),
                         ", ".join(f"{s}: {_num(k)}" for s, k in zip(seeds, v.K_IC_per_seed or []))]])
+        text += _verdict(result)
     if v.warning:
         text += f"<p class='warn'>{html.escape(v.warning)}</p>"
     return text
+
+
+def _verdict(result: CalibrationResult) -> str:
+    """What the validation says of the model, in plain words: does it reproduce the rock's
+    toughness, and if not, how its UCS / K_IC ratio compares with the rock's."""
+    v, tolerance = result.validation, result.tolerance
+    if abs(v.K_IC_error) <= tolerance:
+        return (f"<p>The calibrated model reproduces the rock's fracture toughness: K_IC within "
+                f"{_pct(v.K_IC_error)} of the lab's (tolerance {100 * tolerance:.0f} %).</p>")
+    text = (f"<p class='warn'>The calibrated model does not reproduce the rock's fracture "
+            f"toughness: its K_IC is {_pct(v.K_IC_error)} from the lab's, beyond the "
+            f"{100 * tolerance:.0f} % tolerance.")
+    ucs, lab_ucs = result.verified.get("ucs_MPa"), result.targets.get("ucs_MPa")
+    if ucs and lab_ucs:
+        text += (f" Its UCS / K_IC is {ucs / v.K_IC_MPa_sqrt_m:.0f} m^-0.5 against the rock's "
+                 f"{lab_ucs / v.lab_K_IC_MPa_sqrt_m:.0f}: the model is "
+                 f"{'tougher' if v.K_IC_error > 0 else 'more brittle'} for its compressive "
+                 "strength than this rock (docs/benchmarks.md, \"What moves K_IC and UCS apart\").")
+    return text + (" Use these parameters where the UCS responses matter; where fracture "
+                   "matters, calibrate with K_IC as a target ([targets.bending] with "
+                   "[validation] tests = []) and weigh the two fits.</p>")
 
 
 def _checks(result: CalibrationResult) -> str:
