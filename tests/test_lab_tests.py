@@ -6,7 +6,8 @@ from types import SimpleNamespace
 import pytest
 
 from rockcal.campaign.config import RESPONSES, SpecimenSettings, UCSTargets
-from rockcal.campaign.forward import SPECIMEN_KEYS, execute, run_spec
+from rockcal.campaign.forward import ENGINE, SPECIMEN_KEYS, execute, run_spec
+from rockcal.campaign.store import RunSpec
 from rockcal.errors import InputError
 from rockcal.labtests.registry import LAB_TESTS, lab_test
 
@@ -19,6 +20,16 @@ def test_every_test_is_registered_under_its_name():
 def test_an_unknown_test_is_an_error_naming_the_known_ones():
     with pytest.raises(InputError, match="no lab test named 'triaxial'; known: ucs, bending, brazilian"):
         run_spec("triaxial", SpecimenSettings(), {})
+
+
+def test_a_tests_revision_keys_only_its_own_runs():
+    """A changed procedure (bending revision 2) makes new keys for its runs, not for the others'."""
+    settings = SpecimenSettings()
+    assert run_spec("ucs", settings, {}).engine == ENGINE
+    bending = run_spec("bending", settings, {})
+    assert lab_test("bending").revision == 2
+    assert bending.engine == f"{ENGINE}, bending test revision 2"
+    assert bending.key != RunSpec(bending.kind, bending.specimen, bending.params, ENGINE).key
 
 
 def test_the_ucs_targets_are_the_ucs_tests_measured_responses():
