@@ -28,5 +28,8 @@ class LabResult:
         """The scalar responses, the test's own first, as JSON-ready values."""
         shown = [f.name for f in fields(self) if f.repr]
         shared = [f.name for f in fields(LabResult) if f.repr]
-        names = [n for n in shown if n not in shared] + shared
-        return {n: vars(v) if is_dataclass(v) else v for n in names for v in [getattr(self, n)]}
+        summary = {}
+        for name in [n for n in shown if n not in shared] + shared:
+            value = getattr(self, name)
+            summary[name] = vars(value) if is_dataclass(value) else value  # e.g. the Beam
+        return summary
