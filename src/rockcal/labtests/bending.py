@@ -15,33 +15,29 @@ from typing import Callable
 
 import numpy as np
 
-from rockcal.dem import measure
 from rockcal.dem.carving import cut_bonds, keep_particles, outside_rectangle
-from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
-from rockcal.dem.simulate import advance, new_state
+from rockcal.dem.simulate import new_state
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kic import senb_kic
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of, load_reading
-from rockcal.labtests.loading import DISTRIBUTED_DAMAGE, Loading
-from rockcal.labtests.result import LabResult
+from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
+                                      load_to_failure)
+from rockcal.labtests.result import LabResult, run_fields
 from rockcal.params import MicroParams, make_params
 
 PIN_RADIUS_MM = 5.0
 # Quasi-static loading: the pin moves PIN_STEP_PER_RADIUS mean particle radii per time step.
 # Peak deflection and the beam's flexural period both scale as S^2/W, so a pin step
 # proportional to the particle size (whose time step sets the clock) keeps the same number of
-# flexural periods to the peak for any beam size. Ramped in over RAMP_STEPS_PER_ROW x rows.
+# flexural periods to the peak for any beam size. Ramped in over RAMP_STEPS_PER_ROW x rows;
+# slower where bonds break, full speed again once P_max is known (`rockcal.labtests.loading`).
 PIN_STEP_PER_RADIUS = 2e-6
-RAMP_STEPS_PER_ROW = 10
 DEFAULT_MAX_DISPLACEMENT_MM = 1.0
 # The crack runs unstably from the peak on; the test goes on until the load has fallen below
 # this fraction of the peak, so that the crack path is there to be seen.
 POST_PEAK_FRACTION = 0.3
-# Once the load has fallen below PAST_PEAK_FRACTION of the peak, the peak is known and the pin
-# goes back to full speed (the slow-down where bonds break serves the peak only).
-PAST_PEAK_FRACTION = 0.8
 
 
 @dataclass(frozen=True)
@@ -178,44 +174,33 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
                       bond_draws=specimen.bond_draws)
 
     rows = specimen.height_m / (2 * radius.mean())
-    step = rate_factor * PIN_STEP_PER_RADIUS * radius.mean()
-    chunk = max(10, int(rows / 4))
-    ramp_steps = RAMP_STEPS_PER_ROW * rows
+    pin_step = rate_factor * PIN_STEP_PER_RADIUS * radius.mean()
     pin_y0 = state.pos[is_pin, 1].mean()
-
-    rows_out = [(0.0, 0.0)]
-    loading = Loading(ramp_steps, DISTRIBUTED_DAMAGE)
     first_break = np.empty((0, 2))
-    past_peak = False
-    while True:
-        factor = loading.speed(state.step, np.count_nonzero(state.bond_state), chunk, past_peak)
-        state.vel[is_pin, 1] = -step * factor / state.dt
-        advance(state, chunk)
+
+    def move(factor: float) -> None:
+        state.vel[is_pin, 1] = -pin_step * factor / state.dt
+
+    def read() -> Reading:
+        nonlocal first_break
         if not len(first_break) and state.bond_state.any():
             first_break = state.bond_break_xy[state.bond_state > 0]
         displacement = pin_y0 - state.pos[is_pin, 1].mean()
         load = 0.5 * (state.force[is_pin, 1].sum() + -state.force[is_support, 1].sum())
-        rows_out.append((1e3 * displacement, load / 1e3))
-        loading.update(state.step, load)
-        past_peak = past_peak or (loading.fallen_below(PAST_PEAK_FRACTION, load) and state.bond_state.any())
-        if progress:
-            progress(1e3 * displacement, load / 1e3)
-        if (loading.fallen_below(POST_PEAK_FRACTION, load) and state.bond_state.any()) or \
-                displacement >= 1e-3 * max_displacement_mm:
-            break
+        return Reading(load, displacement, (1e3 * displacement, load / 1e3))
 
-    curve = np.array(rows_out)
+    def crack_has_run(reading: Reading) -> bool:
+        return loading.fallen_below(POST_PEAK_FRACTION, reading.load) and state.bond_state.any()
+
+    loading = Loading(RAMP_STEPS_PER_ROW * rows, DISTRIBUTED_DAMAGE)
+    curve = load_to_failure(state, loading, max(10, int(rows / 4)), move, read, crack_has_run,
+                            1e-3 * max_displacement_mm, full_speed_past_peak=True, progress=progress)
     k = int(np.argmax(curve[:, 1]))
     P_max = 1e3 * curve[k, 1]
     K_IC = senb_kic(P_max, 1e-3 * beam.span_mm, 1e-3 * beam.height_mm, 1e-3 * beam.notch_mm)
-    bond_state, bond_xy = state.bond_state, state.bond_break_xy
-    return BendingResult(
-        K_IC_MPa_sqrt_m=K_IC / 1e6, P_max_kN_per_m=P_max / 1e3,
-        displacement_at_peak_mm=float(curve[k, 0]), n_particles=n, n_bonds=len(specimen.bonds),
-        n_broken_tension=state.n_broken(BROKEN_TENSION), n_broken_shear=state.n_broken(BROKEN_SHEAR),
-        steps=state.step, wall_s=time.perf_counter() - started, beam=beam, curve=curve,
-        positions=state.pos[:n].copy(), radius=radius, cracks=measure.cracks(bond_state, bond_xy),
-        first_break_xy=first_break)
+    return BendingResult(K_IC_MPa_sqrt_m=K_IC / 1e6, P_max_kN_per_m=P_max / 1e3,
+                         displacement_at_peak_mm=float(curve[k, 0]), beam=beam, curve=curve,
+                         first_break_xy=first_break, **run_fields(state, specimen, started))
 
 
 # The specimen setting of each of the Beam's fields.

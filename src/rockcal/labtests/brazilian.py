@@ -1,10 +1,11 @@
 """Virtual Brazilian (splitting tensile) test: a disk between two frictionless platens.
 
-The disk is carved from a square packing; the platens are the UCS test's walls, closing at the
-same quasi-static speed (slower where bonds break, full speed again past the peak; the test stops
-when the load has fallen below POST_PEAK_FRACTION of the peak, as in the bending test: a bond
-breaking under a platen drops the load for a while without splitting the disk). Tensile strength sigma_t = 2 P / (pi D t) (ISRM 1978; ASTM D3967)
-with P the peak load per metre of thickness.
+The disk is carved from a square packing; the platens are the UCS test's
+(`rockcal.labtests.platens`), closing at the same quasi-static speed (slower where bonds break,
+full speed again past the peak; the test stops when the load has fallen below
+POST_PEAK_FRACTION of the peak, as in the bending test: a bond breaking under a platen drops the
+load for a while without splitting the disk). Tensile strength sigma_t = 2 P / (pi D t)
+(ISRM 1978; ASTM D3967) with P the peak load per metre of thickness.
 """
 
 from __future__ import annotations
@@ -15,24 +16,23 @@ from typing import Callable
 
 import numpy as np
 
-from rockcal.dem import measure
 from rockcal.dem.carving import inside_circle, keep_particles
-from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
-from rockcal.dem.simulate import BOTTOM, THICKNESS_M, TOP, advance, new_state
+from rockcal.dem.simulate import BOTTOM, THICKNESS_M, TOP
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
-from rockcal.labtests.bending import PAST_PEAK_FRACTION, POST_PEAK_FRACTION
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of, load_reading
-from rockcal.labtests.loading import LOCALISED_DAMAGE, Loading
-from rockcal.labtests.result import LabResult
-from rockcal.labtests.ucs import RAMP_STEPS_PER_ROW, STRAIN_PER_STEP_PER_ROW
+from rockcal.labtests.loading import (LOCALISED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
+                                      load_to_failure)
+from rockcal.labtests.platens import Platens
+from rockcal.labtests.result import LabResult, run_fields
 from rockcal.params import MicroParams, make_params
 
 DEFAULT_MAX_STRAIN = 0.02  # platen closure / diameter at which the test stops at the latest
 # A platen first bears on one or two particles; when their bonds break the load drops and comes
-# back. The disk counts as split only when the load stays below POST_PEAK_FRACTION of the peak
-# while the platens close by one more mean particle radius.
+# back. The disk counts as split only once the load has fallen below POST_PEAK_FRACTION of the
+# peak (as in the bending test) with the platens closed by one more mean particle radius since.
+POST_PEAK_FRACTION = 0.3
 
 
 @dataclass
@@ -77,46 +77,28 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
     if not 0 < max_strain <= 0.5:
         raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
     specimen = specimen or brazilian_disk()
-    pos, radius = specimen.pos, specimen.radius
-    bottom, top = (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()
+    platens = Platens(specimen, params, rate_factor)
+    state, bottom, top = platens.state, platens.bottom, platens.top
     diameter = top - bottom
-    state = new_state(pos, radius, specimen.bonds, params, walls=(0.0, 0.0, bottom, top),
-                      wall_active=(False, False, True, True), bond_draws=specimen.bond_draws)
-    rows = diameter / (2 * radius.mean())
-    speed = 0.5 * rate_factor * STRAIN_PER_STEP_PER_ROW / rows * diameter / state.dt
-    chunk = max(5, int(rows / 8))
 
-    rows_out = [(0.0, 0.0)]
-    loading, closure_at_peak = Loading(RAMP_STEPS_PER_ROW * rows, LOCALISED_DAMAGE), 0.0
-    past_peak = False
-    while True:
-        factor = loading.speed(state.step, np.count_nonzero(state.bond_state), chunk, past_peak)
-        state.wall_vel[BOTTOM], state.wall_vel[TOP] = speed * factor, -speed * factor
-        advance(state, chunk)
+    def read() -> Reading:
         closure = (state.walls[BOTTOM] - bottom) + (top - state.walls[TOP])
-        f = state.total_wall_force()
-        load = 0.5 * (f[BOTTOM] + f[TOP])
-        rows_out.append((1e3 * closure, load / 1e3))
-        if loading.update(state.step, load):
-            closure_at_peak = closure
-        past_peak = past_peak or (loading.fallen_below(PAST_PEAK_FRACTION, load) and state.bond_state.any())
-        if progress:
-            progress(1e3 * closure, load / 1e3)
-        split = loading.fallen_below(POST_PEAK_FRACTION, load) and closure > closure_at_peak + radius.mean()
-        if (split and state.bond_state.any()) or closure >= max_strain * diameter:
-            break
+        load = platens.load()
+        return Reading(load, closure, (1e3 * closure, load / 1e3))
 
-    curve = np.array(rows_out)
+    def split(reading: Reading) -> bool:
+        return (loading.fallen_below(POST_PEAK_FRACTION, reading.load) and state.bond_state.any()
+                and reading.travel > loading.peak_travel + specimen.radius.mean())
+
+    loading = Loading(RAMP_STEPS_PER_ROW * platens.rows, LOCALISED_DAMAGE)
+    curve = load_to_failure(state, loading, platens.chunk, platens.move, read, split,
+                            max_strain * diameter, full_speed_past_peak=True, progress=progress)
     k = int(np.argmax(curve[:, 1]))
     P_max = 1e3 * curve[k, 1]
     return BrazilianResult(
         sigma_t_MPa=2 * P_max / (np.pi * diameter * THICKNESS_M) / 1e6, P_max_kN_per_m=P_max / 1e3,
-        displacement_at_peak_mm=float(curve[k, 0]), diameter_mm=1e3 * diameter,
-        n_particles=specimen.n_particles, n_bonds=len(specimen.bonds),
-        n_broken_tension=state.n_broken(BROKEN_TENSION), n_broken_shear=state.n_broken(BROKEN_SHEAR),
-        steps=state.step, wall_s=time.perf_counter() - started, curve=curve,
-        positions=state.pos.copy(), radius=radius,
-        cracks=measure.cracks(state.bond_state, state.bond_break_xy))
+        displacement_at_peak_mm=float(curve[k, 0]), diameter_mm=1e3 * diameter, curve=curve,
+        **run_fields(state, specimen, started))
 
 
 def _check(s: dict) -> None:

@@ -16,13 +16,27 @@ break agree within 1.3 % in K_IC, with a third of the steps). The Brazilian disk
 the platens long before it splits, and there the loading runs at the slowest speed from the
 first broken bond on (LOCALISED_DAMAGE). Where the test no longer needs the peak (bending and
 Brazilian tests once the load has fallen well past it) it may run at full speed.
+
+`load_to_failure` is the loop every test runs with its own boundary, readings and stop rule.
 """
 
 from __future__ import annotations
 
+from typing import Callable, NamedTuple
+
+import numpy as np
+
+from rockcal.dem.simulate import State, advance
+
 SLOWEST = 8.0
 DISTRIBUTED_DAMAGE = 2.0  # breaks_at_half_speed
 LOCALISED_DAMAGE = 0.0  # slowest from the first break
+# The loading is ramped in over RAMP_STEPS_PER_ROW x (rows of particles across the loaded
+# direction) steps, so the same number of wave transits for every specimen size.
+RAMP_STEPS_PER_ROW = 10
+# Once the load has fallen below PAST_PEAK_FRACTION of the peak with bonds broken, the peak is
+# known: a test that goes on for its crack path may go back to full speed.
+PAST_PEAK_FRACTION = 0.8
 
 
 class Loading:
@@ -42,6 +56,7 @@ class Loading:
         self.factor = 0.0
         self.settled_from = ramp_steps
         self.peak = 0.0
+        self.peak_travel = 0.0  # the travel at which the settled peak was read
         self.settled = False
         self._broken = [(0, 0)]  # (step, bonds broken so far), over the last ramp_steps
 
@@ -63,11 +78,12 @@ class Loading:
         self.factor = target
         return target
 
-    def update(self, step: int, load: float) -> bool:
-        """Record a load read at `step`; whether it is a new settled peak."""
+    def update(self, step: int, load: float, travel: float = 0.0) -> bool:
+        """Record a load read at `step` (and the loading's travel there); whether it is a new
+        settled peak."""
         self.settled = step >= self.settled_from
         if self.settled and load > self.peak:
-            self.peak = load
+            self.peak, self.peak_travel = load, travel
             return True
         return False
 
@@ -75,3 +91,41 @@ class Loading:
         """Whether the load, read where the loading has settled, has fallen below `fraction` of
         the settled peak."""
         return self.settled and self.peak > 0 and load < fraction * self.peak
+
+
+class Reading(NamedTuple):
+    """What a test reads after a chunk of steps."""
+
+    load: float  # the load whose peak the test is after (N per m, or Pa)
+    travel: float  # how far the loading has gone (m, or a strain), in the unit of its limit
+    sample: tuple  # the curve's row: the travel's reading first, the load's last
+
+
+def load_to_failure(state: State, loading: Loading, chunk: int, move: Callable[[float], None],
+                    read: Callable[[], Reading], may_stop: Callable[[Reading], bool],
+                    max_travel: float, *, full_speed_past_peak: bool = False,
+                    progress: Callable[[float, float], None] | None = None) -> np.ndarray:
+    """Load the specimen quasi-statically until the test may stop; its curve.
+
+    The test configures what differs: `move(factor)` sets its boundary's speed (the platens',
+    the pin's) at `loading`'s speed factor; `read()` reads the specimen after each `chunk` of
+    steps; `may_stop(reading)` is its stop rule (asking `loading` about the settled peak);
+    `max_travel` stops it at the latest. With `full_speed_past_peak` the loading goes back to
+    full speed once the peak is known: the load has fallen below PAST_PEAK_FRACTION of it with
+    bonds broken. progress(first, last value of the sample) is called after each chunk. The
+    curve is the samples after a first row of zeros, the specimen unloaded.
+    """
+    samples, past_peak = [], False
+    while True:
+        move(loading.speed(state.step, np.count_nonzero(state.bond_state), chunk, past_peak))
+        advance(state, chunk)
+        reading = read()
+        samples.append(reading.sample)
+        loading.update(state.step, reading.load, reading.travel)
+        if full_speed_past_peak:
+            past_peak = past_peak or (loading.fallen_below(PAST_PEAK_FRACTION, reading.load)
+                                      and state.bond_state.any())
+        if progress:
+            progress(reading.sample[0], reading.sample[-1])
+        if may_stop(reading) or reading.travel >= max_travel:
+            return np.array([(0.0,) * len(reading.sample), *samples])

@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field, fields, is_dataclass
 
 import numpy as np
+
+from rockcal.dem import measure
+from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 
 
 @dataclass
@@ -33,3 +37,15 @@ class LabResult:
             value = getattr(self, name)
             summary[name] = vars(value) if is_dataclass(value) else value  # e.g. the Beam
         return summary
+
+
+def run_fields(state, specimen, started: float) -> dict:
+    """The fields every result takes from the test's final engine state: the specimen is its
+    first `specimen.n_particles` particles (any after them are the test's rig); `started` is
+    the test's `time.perf_counter()` at its start."""
+    n = specimen.n_particles
+    return dict(n_particles=n, n_bonds=len(specimen.bonds),
+                n_broken_tension=state.n_broken(BROKEN_TENSION),
+                n_broken_shear=state.n_broken(BROKEN_SHEAR), steps=state.step,
+                wall_s=time.perf_counter() - started, positions=state.pos[:n].copy(),
+                radius=specimen.radius, cracks=measure.cracks(state.bond_state, state.bond_break_xy))

@@ -3,8 +3,10 @@
 Readings as PFC users make them: UCS = peak axial stress; E and nu secant at half the peak;
 nu from the lateral displacement of the sides. The axial strain is read from the platen
 separation (FISHTank's wall-based strain, "platen") or from the specimen's own top and bottom
-particles, like gauges on a lab sample ("gauge"). The test stops once the stress has fallen
-below a fraction of the peak (FISHTank's ct_loadFac), or at the maximum axial strain.
+particles, like gauges on a lab sample ("gauge"). The platens (`rockcal.labtests.platens`)
+close at a quasi-static speed, slower where bonds break (`rockcal.labtests.loading`); the test
+stops once the stress has fallen below a fraction of the peak (FISHTank's ct_loadFac), or at
+the maximum axial strain.
 """
 
 from __future__ import annotations
@@ -13,28 +15,21 @@ import time
 from dataclasses import dataclass
 from typing import Callable
 
-import numpy as np
-
 from rockcal.dem import measure
-from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
-from rockcal.dem.simulate import BOTTOM, TOP, THICKNESS_M, advance, new_state
+from rockcal.dem.simulate import BOTTOM, TOP, THICKNESS_M
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of
-from rockcal.labtests.loading import DISTRIBUTED_DAMAGE, Loading
-from rockcal.labtests.result import LabResult
+from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
+                                      load_to_failure)
+from rockcal.labtests.platens import Platens
+from rockcal.labtests.result import LabResult, run_fields
 from rockcal.params import MicroParams, make_params
 
 POST_PEAK_FRACTION = 0.7
 STRAIN_READINGS = ("gauge", "platen")
 DEFAULT_STRAIN = "gauge"
 DEFAULT_MAX_AXIAL_STRAIN = 0.02
-# Quasi-static loading: axial strain per step = STRAIN_PER_STEP_PER_ROW / (rows of particles),
-# so the number of wave transits to the peak is the same for every specimen size, ramped in
-# over RAMP_STEPS_PER_ROW x rows steps. The elastic part is rate-insensitive; where bonds break
-# the platens slow down (`rockcal.labtests.loading`).
-STRAIN_PER_STEP_PER_ROW = 2e-5
-RAMP_STEPS_PER_ROW = 10
 
 
 @dataclass
@@ -68,49 +63,29 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
     if not 0 < stop_fraction < 1:
         raise InputError("stop_fraction", f"must be in (0, 1), got {stop_fraction}")
     specimen = specimen or random_packing(50.0, 100.0)
-    pos, radius = specimen.pos, specimen.radius
-    bottom, top = (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()
-    state = new_state(pos, radius, specimen.bonds, params, walls=(0.0, 0.0, bottom, top),
-                      wall_active=(False, False, True, True), bond_draws=specimen.bond_draws)
-    rows = (top - bottom) / (2 * radius.mean())
-    strain_per_step = rate_factor * STRAIN_PER_STEP_PER_ROW / rows
-    speed = 0.5 * strain_per_step * (top - bottom) / state.dt
-    chunk = max(5, int(rows / 8))
-
-    sets = measure.boundary_sets(pos, radius, 0.5 * radius.min())
+    platens = Platens(specimen, params, rate_factor)
+    state, bottom, top = platens.state, platens.bottom, platens.top
+    sets = measure.boundary_sets(specimen.pos, specimen.radius, 0.5 * specimen.radius.min())
     width0, height0 = measure.gauge_lengths(state.pos, sets)
     area = specimen.width_m * THICKNESS_M
-    rows_out = [(0.0, 0.0, 0.0)]
-    loading = Loading(RAMP_STEPS_PER_ROW * rows, DISTRIBUTED_DAMAGE)
-    while True:
-        factor = loading.speed(state.step, np.count_nonzero(state.bond_state), chunk)
-        state.wall_vel[BOTTOM], state.wall_vel[TOP] = speed * factor, -speed * factor
-        advance(state, chunk)
+
+    def read() -> Reading:
         width, height = measure.gauge_lengths(state.pos, sets)
         if strain == "platen":
             axial = 1.0 - (state.walls[TOP] - state.walls[BOTTOM]) / (top - bottom)
         else:
             axial = (height0 - height) / height0
-        lateral = (width - width0) / width0
-        f = state.total_wall_force()
-        stress = 0.5 * (f[BOTTOM] + f[TOP]) / area
-        rows_out.append((axial, lateral, stress / 1e6))
-        loading.update(state.step, stress)
-        if progress:
-            progress(axial, stress / 1e6)
-        if loading.fallen_below(stop_fraction, stress) or axial >= max_axial_strain:
-            break
+        stress = platens.load() / area
+        return Reading(stress, axial, (axial, (width - width0) / width0, stress / 1e6))
 
-    curve = np.array(rows_out)
+    loading = Loading(RAMP_STEPS_PER_ROW * platens.rows, DISTRIBUTED_DAMAGE)
+    curve = load_to_failure(state, loading, platens.chunk, platens.move, read,
+                            lambda reading: loading.fallen_below(stop_fraction, reading.load),
+                            max_axial_strain, progress=progress)
     E_MPa, nu, k = measure.secant_at_half_peak(curve[:, 0], curve[:, 1], curve[:, 2])
-    return UCSResult(
-        E_GPa=E_MPa / 1e3, nu=nu, strain=strain, ucs_MPa=float(curve[k, 2]),
-        peak_axial_strain=float(curve[k, 0]),
-        n_particles=specimen.n_particles, n_bonds=len(specimen.bonds),
-        n_broken_tension=state.n_broken(BROKEN_TENSION),
-        n_broken_shear=state.n_broken(BROKEN_SHEAR), steps=state.step,
-        wall_s=time.perf_counter() - started, curve=curve, positions=state.pos.copy(),
-        radius=radius, cracks=measure.cracks(state.bond_state, state.bond_break_xy))
+    return UCSResult(E_GPa=E_MPa / 1e3, nu=nu, strain=strain, ucs_MPa=float(curve[k, 2]),
+                     peak_axial_strain=float(curve[k, 0]), curve=curve,
+                     **run_fields(state, specimen, started))
 
 
 def _check(s: dict) -> None:

@@ -1,0 +1,43 @@
+"""Two frictionless platens closing on a specimen at a quasi-static speed: the loading of the
+UCS and Brazilian tests.
+
+The platens close at an axial strain per step of STRAIN_PER_STEP_PER_ROW / (rows of particles
+between them), so the number of wave transits to the peak is the same for every specimen size.
+The elastic part is rate-insensitive; `rockcal.labtests.loading` ramps the platens in and slows
+them down where bonds break.
+"""
+
+from __future__ import annotations
+
+from rockcal.dem.simulate import BOTTOM, TOP, new_state
+from rockcal.dem.specimen import Specimen
+from rockcal.params import MicroParams
+
+STRAIN_PER_STEP_PER_ROW = 2e-5
+
+
+class Platens:
+    """A specimen between a bottom and a top platen that touch it: the engine `state`, the
+    platens' starting heights `bottom` and `top` (m), the `rows` of particles between them and
+    the `chunk` of steps between readings."""
+
+    def __init__(self, specimen: Specimen, params: MicroParams, rate_factor: float):
+        pos, radius = specimen.pos, specimen.radius
+        self.bottom, self.top = (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()
+        self.state = new_state(pos, radius, specimen.bonds, params,
+                               walls=(0.0, 0.0, self.bottom, self.top),
+                               wall_active=(False, False, True, True), bond_draws=specimen.bond_draws)
+        height = self.top - self.bottom
+        self.rows = height / (2 * radius.mean())
+        self.speed = 0.5 * rate_factor * STRAIN_PER_STEP_PER_ROW / self.rows * height / self.state.dt
+        self.chunk = max(5, int(self.rows / 8))
+
+    def move(self, factor: float) -> None:
+        """Close the platens at `factor` x the full speed."""
+        state = self.state
+        state.wall_vel[BOTTOM], state.wall_vel[TOP] = self.speed * factor, -self.speed * factor
+
+    def load(self) -> float:
+        """The force on the platens (mean of the two), N per m of thickness."""
+        f = self.state.total_wall_force()
+        return 0.5 * (f[BOTTOM] + f[TOP])
