@@ -44,6 +44,14 @@ CLOUD_POROSITY = typer.Option(GENESIS_DEFAULTS.cloud_porosity,
                               help="Cloud porosity: sets the grain count (PFC pk_nc).")
 PRESSURE_MPA = typer.Option(GENESIS_DEFAULTS.pressure_mpa,
                             help="Material pressure of the packing, MPa (PFC pk_Pm).")
+# The options every test shares (typer reads each command's signature: one Option serves many).
+SET = typer.Option([], "--set", help=SET_HELP)
+RMIN_MM = typer.Option(0.25, help="Smallest radius, mm.")
+RADIUS_RATIO = typer.Option(1.65, help="Largest / smallest radius.")
+SEED = typer.Option(1, help="Packing seed.")
+SEEDS = typer.Option(1, help="Average over this many packings (seed, seed + 1, ...): mean and spread.")
+AS_JSON = typer.Option(False, "--json", help="Print one JSON object.")
+OUT = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here.")
 
 
 def genesis_of(install_gap: float, cloud_porosity: float, pressure_mpa: float) -> Genesis:
@@ -62,13 +70,13 @@ def finite(name: str, value: float, low: float = 0.0) -> float:
 
 @app.command()
 def ucs(
-    set_: list[str] = typer.Option([], "--set", help=SET_HELP),
+    set_: list[str] = SET,
     packing: Packing = typer.Option(Packing.random, help="Specimen packing."),
     rmin_mm: float = typer.Option(0.25, help="Smallest radius (hexagonal: the radius), mm."),
-    radius_ratio: float = typer.Option(1.65, help="Largest / smallest radius."),
+    radius_ratio: float = RADIUS_RATIO,
     width_mm: float = typer.Option(50.0, help="Specimen width, mm."),
     height_mm: float = typer.Option(100.0, help="Specimen height, mm."),
-    seed: int = typer.Option(1, help="Packing seed."),
+    seed: int = SEED,
     install_gap: float = INSTALL_GAP,
     cloud_porosity: float = CLOUD_POROSITY,
     pressure_mpa: float = PRESSURE_MPA,
@@ -77,8 +85,8 @@ def ucs(
     stop_fraction: float = typer.Option(POST_PEAK_FRACTION, help="Stop once past the peak the "
                                         "stress is below this fraction of it (PFC ct_loadFac)."),
     max_axial_strain: float = typer.Option(0.02, help="Stop at this axial strain at the latest."),
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
-    out: Optional[Path] = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here."),
+    as_json: bool = AS_JSON,
+    out: Optional[Path] = OUT,
 ) -> None:
     """Uniaxial compression test: E and nu (secant at half peak), UCS, stress-strain curve."""
     from rockcal.dem.specimen import hexagonal, random_packing
@@ -184,26 +192,23 @@ def _write_load_curve(out: Path, name: str, result, summary: dict, crack_title: 
     plots.load_displacement(result.curve, out / f"{name}_curve.png", f"{name} test")
 
 
-SEEDS_HELP = "Average over this many packings (seed, seed + 1, ...): mean and spread."
-
-
 @app.command()
 def bending(
-    set_: list[str] = typer.Option([], "--set", help=SET_HELP),
-    rmin_mm: float = typer.Option(0.25, help="Smallest radius, mm."),
-    radius_ratio: float = typer.Option(1.65, help="Largest / smallest radius."),
+    set_: list[str] = SET,
+    rmin_mm: float = RMIN_MM,
+    radius_ratio: float = RADIUS_RATIO,
     length_mm: float = typer.Option(220.0, help="Beam length, mm."),
     height_mm: float = typer.Option(50.0, help="Beam depth W, mm."),
     notch_mm: float = typer.Option(18.0, help="Notch depth a, mm (bottom edge, mid-span)."),
     notch_width_mm: float = typer.Option(2.0, help="Notch width, mm; 0 cuts the bonds (sharp crack)."),
     span_mm: float = typer.Option(160.0, help="Distance S between the supports, mm."),
-    seed: int = typer.Option(1, help="Packing seed."),
-    seeds: int = typer.Option(1, help=SEEDS_HELP),
+    seed: int = SEED,
+    seeds: int = SEEDS,
     install_gap: float = INSTALL_GAP,
     cloud_porosity: float = CLOUD_POROSITY,
     pressure_mpa: float = PRESSURE_MPA,
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
-    out: Optional[Path] = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here."),
+    as_json: bool = AS_JSON,
+    out: Optional[Path] = OUT,
 ) -> None:
     """Three-point bending of a notched beam: peak load, load-displacement curve, K_IC."""
     from rockcal.labtests.bending import (DEFAULT_MAX_DISPLACEMENT_MM, Beam, check_beam, notched_beam,
@@ -235,17 +240,17 @@ def bending(
 
 @app.command()
 def brazilian(
-    set_: list[str] = typer.Option([], "--set", help=SET_HELP),
-    rmin_mm: float = typer.Option(0.25, help="Smallest radius, mm."),
-    radius_ratio: float = typer.Option(1.65, help="Largest / smallest radius."),
+    set_: list[str] = SET,
+    rmin_mm: float = RMIN_MM,
+    radius_ratio: float = RADIUS_RATIO,
     diameter_mm: float = typer.Option(50.0, help="Disk diameter D, mm."),
-    seed: int = typer.Option(1, help="Packing seed."),
-    seeds: int = typer.Option(1, help=SEEDS_HELP),
+    seed: int = SEED,
+    seeds: int = SEEDS,
     install_gap: float = INSTALL_GAP,
     cloud_porosity: float = CLOUD_POROSITY,
     pressure_mpa: float = PRESSURE_MPA,
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
-    out: Optional[Path] = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here."),
+    as_json: bool = AS_JSON,
+    out: Optional[Path] = OUT,
 ) -> None:
     """Brazilian test of a disk between platens: sigma_t = 2P/(pi D t), load-closure curve."""
     from rockcal.labtests.brazilian import DEFAULT_MAX_STRAIN, brazilian_disk, check_disk, simulate_brazilian
