@@ -49,10 +49,13 @@ def phases(state, steps: int) -> dict:
     n, pairs = state.n_particles, len(state.pi)
     bonds = state.bonds()
     return {
-        "pair forces": per_step(lambda: laws.add_pair_forces(
-            0, pairs, state.pos, state.vel, state.spin, state.radius, state.pi, state.pj,
-            state.contact_shear, bonds, state.n_bonds, state.laws, state.dt, state.force,
-            state.moment), steps),
+        "bond forces": per_step(lambda: laws.add_bond_forces(
+            0, state.n_bonds, state.pos, state.vel, state.spin, state.radius, state.pi, state.pj,
+            state.contact_shear, bonds, state.laws, state.dt, state.force, state.moment), steps),
+        "near unbonded pairs": per_step(lambda: laws.add_contact_forces(
+            state.n_bonds, pairs, state.pos, state.vel, state.spin, state.radius, state.pi,
+            state.pj, state.contact_shear, state.laws, state.dt, state.force, state.moment),
+            steps),
         "walls": per_step(lambda: laws.add_wall_forces(
             0, n, state.pos, state.radius, state.walls, state.wall_active, state.k_wall,
             state.force, state.wall_force), steps),

@@ -25,6 +25,13 @@ import numpy as np
 from numba import njit
 
 INTACT, BROKEN_TENSION, BROKEN_SHEAR = 0, 1, 2
+# squared centre distance / squared contact distance above which a pair surely does not touch
+APART = 1.0 + 1e-9
+TILE = 128  # bonds whose law runs as one vector loop
+# rows of a tile: data gathered from the bonds' particles, then what the law hands back
+DX, DY, RI, RJ, DVX, DVY, SPIN_I, SPIN_J = range(8)
+SHEAR, BOND_FN, BOND_FS, BOND_M, MODE, FX, FY, MI, MJ = range(8, 17)
+TILE_ROWS = 17
 
 
 class Laws(NamedTuple):
@@ -55,98 +62,205 @@ class Bonds(NamedTuple):
 
 
 @njit(cache=True, error_model="numpy")
-def add_pair_forces(first, last, pos, vel, spin, radius, pi, pj, contact_shear, bonds, n_bonds,
-                    laws, dt, force, moment):
-    """Add the forces and moments of pairs first..last-1 to their particles (a pair's force on i
-    is taken from j); bonds that exceed a strength break. Thickness t = 1 m."""
+def add_bond_forces(first, last, pos, vel, spin, radius, pi, pj, contact_shear, bonds, laws, dt,
+                    force, moment):
+    """Add the forces and moments of bonded pairs first..last-1 (pair p is bond p) to their
+    particles (a pair's force on i is taken from j); intact bonds that exceed a strength break,
+    broken ones act as contacts with their reference overlap. Thickness t = 1 m.
+
+    Tile by tile: the particles' data are gathered, the law runs without branches over the
+    tile (so that it compiles to vector instructions), and the forces are scattered in pair
+    order, so every sum is the one a pair-by-pair loop would make."""
+    tile = np.empty((TILE_ROWS, TILE))
+    for start in range(first, last, TILE):
+        count = min(TILE, last - start)
+        _gather(start, count, pos, vel, spin, radius, pi, pj, tile)
+        _bond_law(start, count, contact_shear, bonds, laws, dt, tile)
+        _scatter(start, count, pos, radius, pi, pj, tile, contact_shear, bonds, force, moment)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _gather(start, count, pos, vel, spin, radius, pi, pj, tile):
+    for q in range(count):
+        i = pi[start + q]
+        j = pj[start + q]
+        tile[DX, q] = pos[j, 0] - pos[i, 0]
+        tile[DY, q] = pos[j, 1] - pos[i, 1]
+        tile[RI, q] = radius[i]
+        tile[RJ, q] = radius[j]
+        tile[DVX, q] = vel[j, 0] - vel[i, 0]
+        tile[DVY, q] = vel[j, 1] - vel[i, 1]
+        tile[SPIN_I, q] = spin[i]
+        tile[SPIN_J, q] = spin[j]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _bond_law(start, count, contact_shear, bonds, laws, dt, tile):
+    """The law of bonds start..start+count-1 from their gathered data in `tile`; it writes
+    their new shear and bond forces, the mode they broke in (0: none) and the force and
+    moments on their particles to `tile`, as selections rather than branches."""
+    for q in range(count):
+        p = start + q
+        dx = tile[DX, q]
+        dy = tile[DY, q]
+        dist = np.sqrt(dx * dx + dy * dy)
+        ri = tile[RI, q]
+        rj = tile[RJ, q]
+        length = ri + rj
+        surface_overlap = length - dist
+        overlap = surface_overlap - bonds.ref_overlap[p]
+        intact = bonds.state[p] == INTACT
+        inv_dist = 1.0 / dist
+        nx = dx * inv_dist  # unit normal from i to j; tangent t = (-ny, nx)
+        ny = dy * inv_dist
+        rmin = min(ri, rj)
+        inv_length = 1.0 / length
+        arm_i = ri - 0.5 * surface_overlap  # the contact point is mid-gap (or mid-overlap)
+        arm_j = rj - 0.5 * surface_overlap
+        w = tile[SPIN_I, q] * arm_i + tile[SPIN_J, q] * arm_j
+        rvx = tile[DVX, q] + w * ny
+        rvy = tile[DVY, q] - w * nx
+        vn = rvx * nx + rvy * ny
+        vs = rvy * nx - rvx * ny
+
+        touching = (overlap > 0.0) & (laws.E_c > 0.0)
+        kn = 2.0 * rmin * laws.E_c * inv_length
+        shear = contact_shear[p] + kn * laws.ks_per_kn * vs * dt
+        cap = laws.mu * kn * overlap
+        shear = cap if shear > cap else shear
+        shear = -cap if shear < -cap else shear
+        shear = shear if touching else 0.0
+        fn = -kn * overlap if touching else 0.0  # along n on i: negative pushes i away from j
+        fs = shear  # along t on i
+        mi = arm_i * fs
+        mj = arm_j * fs
+
+        rb = laws.lam * rmin
+        area = 2.0 * rb
+        k_area_dt = laws.Ebar_c * inv_length * area * dt  # k̄n Ā dt; Ī = Ā R̄² / 3
+        bfn = bonds.fn[p] + k_area_dt * vn
+        bfs = bonds.fs[p] + k_area_dt * laws.ksbar_per_knbar * vs
+        bm = bonds.m[p] + k_area_dt * rb * rb / 3.0 * (tile[SPIN_J, q] - tile[SPIN_I, q])
+        inv_area = 1.0 / area
+        sigma = (bfn + laws.mcf * 3.0 * abs(bm) / rb) * inv_area  # |M| R̄ / Ī = 3 |M| / (R̄ Ā)
+        tau = abs(bfs) * inv_area
+        tension = sigma > bonds.ten[p]
+        holds = intact & ~tension & ~(tau > bonds.coh[p] - bfn * inv_area * laws.tan_phi)
+        broke = intact & ~holds
+        tile[MODE, q] = (BROKEN_TENSION if tension else BROKEN_SHEAR) if broke else INTACT
+        tile[SHEAR, q] = shear
+        tile[BOND_FN, q] = bfn if holds else (0.0 if broke else bonds.fn[p])
+        tile[BOND_FS, q] = bfs if holds else (0.0 if broke else bonds.fs[p])
+        tile[BOND_M, q] = bm if holds else (0.0 if broke else bonds.m[p])
+        fn = fn + bfn if holds else fn
+        fs = fs + bfs if holds else fs
+        tile[MI, q] = mi + (arm_i * bfs + bm) if holds else mi
+        tile[MJ, q] = mj + (arm_j * bfs - bm) if holds else mj
+        tile[FX, q] = fn * nx - fs * ny
+        tile[FY, q] = fn * ny + fs * nx
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _scatter(start, count, pos, radius, pi, pj, tile, contact_shear, bonds, force, moment):
+    """Store the tile's bond states and add its forces to the particles, pair by pair. A pair
+    apart and unbonded adds zeros, which change no sum (a force is never -0.0)."""
+    for q in range(count):
+        p = start + q
+        i = pi[p]
+        j = pj[p]
+        contact_shear[p] = tile[SHEAR, q]
+        bonds.fn[p] = tile[BOND_FN, q]
+        bonds.fs[p] = tile[BOND_FS, q]
+        bonds.m[p] = tile[BOND_M, q]
+        if tile[MODE, q] != INTACT:
+            bonds.state[p] = int(tile[MODE, q])
+            _record_break(p, i, j, pos, radius, bonds.break_xy)
+        fx = tile[FX, q]
+        fy = tile[FY, q]
+        force[i, 0] += fx
+        force[i, 1] += fy
+        force[j, 0] -= fx
+        force[j, 1] -= fy
+        moment[i] += tile[MI, q]
+        moment[j] += tile[MJ, q]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _record_break(p, i, j, pos, radius, break_xy):
+    """Where bond p broke: its contact point, mid-gap between the surfaces."""
+    dx = pos[j, 0] - pos[i, 0]
+    dy = pos[j, 1] - pos[i, 1]
+    dist = np.sqrt(dx * dx + dy * dy)
+    inv_dist = 1.0 / dist
+    arm_i = radius[i] - 0.5 * (radius[i] + radius[j] - dist)
+    break_xy[p, 0] = pos[i, 0] + dx * inv_dist * arm_i
+    break_xy[p, 1] = pos[i, 1] + dy * inv_dist * arm_i
+
+
+@njit(cache=True, error_model="numpy")
+def add_contact_forces(first, last, pos, vel, spin, radius, pi, pj, contact_shear, laws, dt,
+                       force, moment):
+    """Add the forces and moments of unbonded pairs first..last-1 to their particles; most are
+    not touching and cost one squared distance."""
     for p in range(first, last):
         i = pi[p]
         j = pj[p]
         dx = pos[j, 0] - pos[i, 0]
         dy = pos[j, 1] - pos[i, 1]
-        dist = np.sqrt(dx * dx + dy * dy)
-        inv_dist = 1.0 / dist
-        nx = dx * inv_dist  # unit normal from i to j; tangent t = (-ny, nx)
-        ny = dy * inv_dist
+        dist_sq = dx * dx + dy * dy
         ri = radius[i]
         rj = radius[j]
         length = ri + rj
-        surface_overlap = length - dist
-        overlap = surface_overlap
-        intact = False
-        if p < n_bonds:
-            overlap -= bonds.ref_overlap[p]
-            intact = bonds.state[p] == INTACT
-        if overlap <= 0.0 and not intact:
+        if dist_sq > APART * length * length:  # surely apart, whatever the rounding
             contact_shear[p] = 0.0
             continue
-        rmin = min(ri, rj)
-        inv_length = 1.0 / length
-        arm_i = ri - 0.5 * surface_overlap  # the contact point is mid-gap (or mid-overlap)
-        arm_j = rj - 0.5 * surface_overlap
+        dist = np.sqrt(dist_sq)
+        overlap = length - dist
+        if overlap <= 0.0:
+            contact_shear[p] = 0.0
+            continue
+        inv_dist = 1.0 / dist
+        nx = dx * inv_dist
+        ny = dy * inv_dist
+        arm_i = ri - 0.5 * overlap
+        arm_j = rj - 0.5 * overlap
         w = spin[i] * arm_i + spin[j] * arm_j
         rvx = vel[j, 0] - vel[i, 0] + w * ny
         rvy = vel[j, 1] - vel[i, 1] - w * nx
-        vn = rvx * nx + rvy * ny
         vs = rvy * nx - rvx * ny
+        fn, fs = _contact_force(p, overlap, min(ri, rj), 1.0 / length, vs, contact_shear, laws,
+                                dt)
+        _add_pair_force(i, j, nx, ny, fn, fs, arm_i * fs, arm_j * fs, force, moment)
 
-        fn = 0.0  # along n on i: negative pushes i away from j
-        fs = 0.0  # along t on i
-        if overlap > 0.0 and laws.E_c > 0.0:
-            kn = 2.0 * rmin * laws.E_c * inv_length
-            shear = contact_shear[p] + kn * laws.ks_per_kn * vs * dt
-            cap = laws.mu * kn * overlap
-            if shear > cap:
-                shear = cap
-            elif shear < -cap:
-                shear = -cap
-            contact_shear[p] = shear
-            fn = -kn * overlap
-            fs = shear
-        else:
-            contact_shear[p] = 0.0
-        mi = arm_i * fs
-        mj = arm_j * fs
 
-        if intact:
-            rb = laws.lam * rmin
-            area = 2.0 * rb
-            k_area_dt = laws.Ebar_c * inv_length * area * dt  # k̄n Ā dt; Ī = Ā R̄² / 3
-            bfn = bonds.fn[p] + k_area_dt * vn
-            bfs = bonds.fs[p] + k_area_dt * laws.ksbar_per_knbar * vs
-            bm = bonds.m[p] + k_area_dt * rb * rb / 3.0 * (spin[j] - spin[i])
-            inv_area = 1.0 / area
-            sigma = (bfn + laws.mcf * 3.0 * abs(bm) / rb) * inv_area  # |M| R̄ / Ī = 3 |M| / (R̄ Ā)
-            tau = abs(bfs) * inv_area
-            mode = INTACT
-            if sigma > bonds.ten[p]:
-                mode = BROKEN_TENSION
-            elif tau > bonds.coh[p] - bfn * inv_area * laws.tan_phi:
-                mode = BROKEN_SHEAR
-            if mode != INTACT:
-                bonds.state[p] = mode
-                bonds.break_xy[p, 0] = pos[i, 0] + nx * arm_i
-                bonds.break_xy[p, 1] = pos[i, 1] + ny * arm_i
-                bonds.fn[p] = 0.0
-                bonds.fs[p] = 0.0
-                bonds.m[p] = 0.0
-            else:
-                bonds.fn[p] = bfn
-                bonds.fs[p] = bfs
-                bonds.m[p] = bm
-                fn += bfn
-                fs += bfs
-                mi += arm_i * bfs + bm
-                mj += arm_j * bfs - bm
+@njit(cache=True, error_model="numpy", inline="always")
+def _contact_force(p, overlap, rmin, inv_length, vs, contact_shear, laws, dt):
+    """Normal and shear force of pair p's linear contact on i (along n and t), updating its
+    shear force."""
+    if overlap > 0.0 and laws.E_c > 0.0:
+        kn = 2.0 * rmin * laws.E_c * inv_length
+        shear = contact_shear[p] + kn * laws.ks_per_kn * vs * dt
+        cap = laws.mu * kn * overlap
+        if shear > cap:
+            shear = cap
+        elif shear < -cap:
+            shear = -cap
+        contact_shear[p] = shear
+        return -kn * overlap, shear  # fn along n on i: negative pushes i away from j
+    contact_shear[p] = 0.0
+    return 0.0, 0.0
 
-        fx = fn * nx - fs * ny
-        fy = fn * ny + fs * nx
-        force[i, 0] += fx
-        force[i, 1] += fy
-        force[j, 0] -= fx
-        force[j, 1] -= fy
-        moment[i] += mi
-        moment[j] += mj
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _add_pair_force(i, j, nx, ny, fn, fs, mi, mj, force, moment):
+    fx = fn * nx - fs * ny
+    fy = fn * ny + fs * nx
+    force[i, 0] += fx
+    force[i, 1] += fy
+    force[j, 0] -= fx
+    force[j, 1] -= fy
+    moment[i] += mi
+    moment[j] += mj
 
 
 @njit(cache=True, error_model="numpy")

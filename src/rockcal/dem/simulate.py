@@ -243,16 +243,15 @@ def _advance(n_steps, pos, vel, spin, radius, inv_mass, inv_inertia, pi, pj, con
                 force[k, 0] = 0.0
                 force[k, 1] = 0.0
                 moment[k] = 0.0
-            laws.add_pair_forces(bond_offsets[b], bond_offsets[b + 1], pos, vel, spin, radius,
-                                 pi, pj, contact_shear, bonds, n_bonds, law, dt, force, moment)
-            laws.add_pair_forces(contact_offsets[b], contact_offsets[b + 1], pos, vel, spin,
-                                 radius, pi, pj, contact_shear, bonds, n_bonds, law, dt, force,
-                                 moment)
+            laws.add_bond_forces(bond_offsets[b], bond_offsets[b + 1], pos, vel, spin, radius,
+                                 pi, pj, contact_shear, bonds, law, dt, force, moment)
+            laws.add_contact_forces(contact_offsets[b], contact_offsets[b + 1], pos, vel, spin,
+                                    radius, pi, pj, contact_shear, law, dt, force, moment)
         # then the pairs across block borders
-        laws.add_pair_forces(bond_offsets[blocks], bond_offsets[blocks + 1], pos, vel, spin,
-                             radius, pi, pj, contact_shear, bonds, n_bonds, law, dt, force, moment)
-        laws.add_pair_forces(contact_offsets[blocks], contact_offsets[blocks + 1], pos, vel, spin,
-                             radius, pi, pj, contact_shear, bonds, n_bonds, law, dt, force, moment)
+        laws.add_bond_forces(bond_offsets[blocks], bond_offsets[blocks + 1], pos, vel, spin,
+                             radius, pi, pj, contact_shear, bonds, law, dt, force, moment)
+        laws.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], pos, vel,
+                                spin, radius, pi, pj, contact_shear, law, dt, force, moment)
         for b in prange(blocks):
             laws.add_wall_forces(starts[b], starts[b + 1], pos, radius, walls, wall_active,
                                  k_wall, force, wall_force)
