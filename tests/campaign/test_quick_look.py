@@ -37,7 +37,9 @@ def test_a_quick_look_doubles_rmin_and_keeps_one_beam_of_the_granite():
     assert (granite.specimen.bending_seeds, quick.specimen.bending_seeds) == (3, 1)
     unchanged = {"rmin_mm", "bending_seeds"}
     assert quick.specimen.model_dump(exclude=unchanged) == granite.specimen.model_dump(exclude=unchanged)
-    assert quick.model_dump(exclude={"specimen"}) == granite.model_dump(exclude={"specimen"})
+    assert (granite.uncertainty.draws, quick.uncertainty.draws) == (200, 50)
+    assert quick.model_dump(exclude={"specimen", "uncertainty"}) == \
+        granite.model_dump(exclude={"specimen", "uncertainty"})
     note = quick_look_note(quick)
     assert "R_min 0.5 mm" in note and "one validation beam" in note
     assert "not the full-resolution calibration" in note

@@ -26,6 +26,7 @@ from rockcal.params import NAMES, make_params
 
 RESPONSES = lab_test("ucs").targets  # what a UCS run gives and the calibration can fit
 QUICK_RESOLUTION = 2  # `--quick`: R_min this many times the campaign's
+QUICK_DRAWS = 50  # `--quick`: at most this many target draws for the parameters' intervals
 
 
 class Rock(Section):
@@ -184,11 +185,13 @@ class Campaign(Section):
 
 
 def quick_look(campaign: Campaign) -> Campaign:
-    """The campaign as a first look in minutes: R_min doubled (a quarter of the grains) and one
-    validation beam. Its numbers are not the full-resolution calibration."""
+    """The campaign as a first look in minutes: R_min doubled (a quarter of the grains), one
+    validation beam and at most QUICK_DRAWS searches for the intervals. Its numbers are not the
+    full-resolution calibration."""
     s = campaign.specimen
     specimen = s.model_copy(update={"rmin_mm": QUICK_RESOLUTION * s.rmin_mm, "bending_seeds": 1})
-    return campaign.model_copy(update={"specimen": specimen})
+    uncertainty = campaign.uncertainty.model_copy(update={"draws": min(campaign.uncertainty.draws, QUICK_DRAWS)})
+    return campaign.model_copy(update={"specimen": specimen, "uncertainty": uncertainty})
 
 
 def quick_look_note(quick: Campaign) -> str:

@@ -30,7 +30,8 @@ def calibrate(
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     resume: bool = typer.Option(False, "--resume", help="Go on with the campaign already in --out."),
     quick: bool = typer.Option(False, "--quick", help="A first look in minutes: the campaign at half "
-                               "resolution (R_min doubled) with one validation beam; not the calibration."),
+                               "resolution (R_min doubled) with one validation beam and 50 draws for the "
+                               "intervals; not the calibration."),
 ) -> None:
     """Identify BPM micro-parameters from lab results (SPEC steps 1-8), with a report."""
     from rockcal.campaign.config import load_campaign, quick_look, quick_look_note
