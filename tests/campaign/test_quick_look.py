@@ -9,24 +9,24 @@ from rockcal.campaign.config import load_campaign, parse_campaign, quick_look, q
 from rockcal.campaign.procedure import Calibration
 from rockcal.campaign.report import write_report
 from rockcal.campaign.result import CalibrationResult
-from rockcal.campaign.store import STORE_NAME, RunResult, RunStore
+from rockcal.campaign.store import STORE_NAME, RunStore
 from rockcal.cli.calibrate import QUICK_LOOK, summary
+from test_procedure import Workers  # a deterministic stand-in for the DEM
 
 TINY = """
 [rock]
 name = "tiny"
 [targets.ucs]
 E_GPa = 20.0
-ucs_MPa = 40.0
+[surrogate]
+samples = 4
+checks = 1
+[search]
+bounds = { E_c = [10, 30] }
 [specimen]
-rmin_mm = 0.2
 width_mm = 8
 height_mm = 16
-[search]
-bounds = { E_c = [10, 30], sigma_c = [20, 60] }
-[surrogate]
-samples = 6
-checks = 1
+rmin_mm = 0.2
 """
 
 
@@ -69,23 +69,10 @@ def test_the_first_screen_says_quick_look_and_its_folder_is_its_own(tmp_path):
     assert again.returncode == 2 and again.stderr.startswith("rockcal: error: --quick: ")
 
 
-class Linear:
-    """An executor over a linear stand-in for the DEM (no runs stored)."""
-
-    class store:
-        @staticmethod
-        def get(spec):
-            return None
-
-    def run(self, specs, progress=None):
-        return [RunResult("ok", {"E_GPa": p["E_c"], "ucs_MPa": p["sigma_c"]}, None, 0.0)
-                for p in (dict(spec.params) for spec in specs)]
-
-
 def test_the_report_and_json_of_a_quick_look_say_so(tmp_path):
     quick = quick_look(parse_campaign(TINY, tmp_path))
     note = quick_look_note(quick)
-    result = Calibration(quick, Linear()).run().model_copy(update={"quick_look": note})
+    result = Calibration(quick, Workers(1, lambda p: {"E_GPa": p["E_c"]})).run().model_copy(update={"quick_look": note})
     assert summary(result)["quick_look"] == note
     assert CalibrationResult.from_json(result.to_json()).quick_look == note
     store = RunStore(tmp_path / "out")
