@@ -246,8 +246,9 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None
             table.add_row(label, "–" if value is None else f"{value:.4g}", f"{s['targets'][name]:.4g}",
                           "–" if error is None else f"{100 * error:+.1f} %")
     if s["K_IC_MPa_sqrt_m"] is not None:
-        table.add_row(f"K_IC (validation, {len(s['K_IC_per_seed'])} packings)",
-                      f"{s['K_IC_MPa_sqrt_m']:.3f} ± {s['K_IC_seed_std']:.3f}",
+        n = len(s["K_IC_per_seed"])
+        table.add_row(f"K_IC (validation, {n} packing{'s' if n > 1 else ''})",
+                      f"{s['K_IC_MPa_sqrt_m']:.3f}" + (f" ± {s['K_IC_seed_std']:.3f}" if n > 1 else ""),
                       f"{s['lab_K_IC_MPa_sqrt_m']:.3f}", f"{100 * s['K_IC_error']:+.1f} %")
     for check in s["checks"]:
         for name, lab in check["lab"].items():
