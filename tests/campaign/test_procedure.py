@@ -134,3 +134,71 @@ def test_a_failed_run_of_one_test_fails_its_parameter_set(tmp_path):
     assert record.validation is not None and record.checks is None
     u = record.uncertainty  # on: the Brazilian target gives a spread
     assert u.spread == {"sigma_t_MPa": 0.5} and len(u.run_keys) == 4 and set(u.scatter) == set(record.targets)
+
+
+SEARCH = """
+[targets.ucs]
+E_GPa = 50.0
+nu = 0.2
+ucs_MPa = 120.0
+[search]
+bounds = { E_c = [15, 35], kn_ks = [1, 3], sigma_c = [20, 60] }
+fixed = { tau_c = 90, mu = 0.5 }
+[surrogate]
+samples = 12
+checks = 2
+[optimizer]
+iterations = 60
+"""
+
+
+def two_valleys(p: dict) -> dict:
+    """A stand-in whose targets are met at two points: kn/ks 1.5 and 2.5."""
+    return {"E_GPa": 2.0 * p["E_c"], "nu": 0.1 + 0.4 * (p["kn_ks"] - 2) ** 2,
+            "ucs_MPa": 3.0 * p["sigma_c"] + 0.1 * p["kn_ks"] ** 3}
+
+
+class Workers:
+    """A deterministic executor over `model` that runs `workers` parameter sets at once; it
+    keeps the parameter sets of each call of `run`."""
+
+    class store:
+        @staticmethod
+        def get(spec):
+            return None
+
+    def __init__(self, workers: int, model=two_valleys):
+        self.workers, self.model, self.calls = workers, model, []
+
+    def run(self, specs, progress=None):
+        self.calls.append([dict(spec.params) for spec in specs])
+        return [RunResult("ok", self.model(dict(spec.params)), None, 0.0) for spec in specs]
+
+
+def test_optima_verified_in_parallel_give_the_serial_loops_accepted_point(tmp_path):
+    """Two workers verify both distinct optima at once; the point accepted is the serial
+    loop's (the search's own optimum), within the tolerance of every target."""
+    campaign = parse_campaign(SEARCH, tmp_path)
+    serial, parallel = Workers(1), Workers(2)
+    one, two = (Calibration(campaign, ex).run() for ex in (serial, parallel))
+    assert two.accepted and two.identified == one.identified
+    assert two.iterations[two.best_iteration].x == one.iterations[one.best_iteration].x
+    verified_together = parallel.calls[-1]
+    assert len(verified_together) == 2 and len(serial.calls[-1]) == 1
+    kn_ks = sorted(p["kn_ks"] for p in verified_together)
+    assert kn_ks == pytest.approx([1.5, 2.5], abs=0.05)  # the two valleys, not one point twice
+    assert all(abs(e) <= two.tolerance for it in two.iterations for e in it.errors.values())
+
+
+def test_a_sensitivity_run_trains_the_surrogate_only_when_it_is_a_run_of_the_search(tmp_path):
+    """Of the L16 runs, only the one at the fixed tau_c and mu and inside the box is reused."""
+    text = SEARCH.replace("E_c = [15, 35]", "E_c = [15, 30]").replace("[search]", """[sensitivity]
+array = "L16(4^5)"
+levels = { E_c = [15, 20, 25, 30], kn_ks = [1.0, 1.67, 2.33, 3.0], sigma_c = [20, 30, 40, 50], tau_c = [50, 70, 90, 110], mu = [0.3, 0.4, 0.5, 0.6] }
+[search]""")
+    record = Calibration(parse_campaign(text, tmp_path), Workers(1, responses)).run()
+    [i] = record.samples.reused_sensitivity_runs
+    assert record.sensitivity.runs[i] == {"E_c": 15.0, "kn_ks": 2.33, "sigma_c": 40.0, "tau_c": 90.0, "mu": 0.5}
+    narrow = text.replace("E_c = [15, 30]", "E_c = [20, 30]")  # that run is now outside the box
+    assert Calibration(parse_campaign(narrow, tmp_path), Workers(1, responses)).run() \
+        .samples.reused_sensitivity_runs is None

@@ -25,6 +25,8 @@ from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
 from rockcal.params import NAMES, make_params
 
 RESPONSES = lab_test("ucs").targets  # what a UCS run gives and the calibration can fit
+QUICK_RESOLUTION = 2  # `--quick`: R_min this many times the campaign's
+QUICK_DRAWS = 50  # `--quick`: at most this many target draws for the parameters' intervals
 
 
 class Rock(Section):
@@ -180,6 +182,25 @@ class Campaign(Section):
     def fixed_params(self) -> dict[str, float]:
         """Parameters held constant: the density of the rock, then [search].fixed."""
         return {"density": self.rock.density_kg_m3} | dict(self.search.fixed)
+
+
+def quick_look(campaign: Campaign) -> Campaign:
+    """The campaign as a first look in minutes: R_min doubled (a quarter of the grains), one
+    validation beam and at most QUICK_DRAWS searches for the intervals. Its numbers are not the
+    full-resolution calibration."""
+    s = campaign.specimen
+    specimen = s.model_copy(update={"rmin_mm": QUICK_RESOLUTION * s.rmin_mm, "bending_seeds": 1})
+    uncertainty = campaign.uncertainty.model_copy(update={"draws": min(campaign.uncertainty.draws, QUICK_DRAWS)})
+    return campaign.model_copy(update={"specimen": specimen, "uncertainty": uncertainty})
+
+
+def quick_look_note(quick: Campaign) -> str:
+    """What a quick look is, in the words of the first screen, the report and the JSON."""
+    rmin = quick.specimen.rmin_mm
+    beam = " and one validation beam" if "bending" in quick.validation_tests() else ""
+    return (f"quick look: half resolution (R_min {rmin:g} mm, the campaign's "
+            f"{rmin / QUICK_RESOLUTION:g} mm doubled){beam}; its numbers are a first look, not the "
+            "full-resolution calibration")
 
 
 def default_text() -> str:

@@ -6,13 +6,12 @@ from __future__ import annotations
 
 import csv
 import json
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from rockcal.campaign.config import Campaign, SpecimenSettings
+from rockcal.campaign.config import SpecimenSettings
 from rockcal.campaign.forward import ENGINE
 from rockcal.campaign.result import read_result
 from rockcal.errors import InputError
@@ -34,11 +33,10 @@ class Calibrated:
 
 def read_calibration(store, folder: Path) -> Calibrated:
     """The identified material of the campaign in `store`; InputError if it has not finished."""
-    result, campaign_text = read_result(store), store.document("campaign.toml")
-    if result is None or campaign_text is None:
+    result = read_result(store)
+    if result is None:
         raise InputError("OUT", f"the campaign in {folder} has not finished; run "
                                 f"`rockcal calibrate --resume --out {folder}`")
-    campaign = Campaign.model_validate(tomllib.loads(campaign_text))
     final_run = store.run(result.final_ucs_run_key)
     u = result.uncertainty
     origin = {"rock": result.rock, "campaign": str(folder), "accepted": result.accepted,
@@ -46,7 +44,9 @@ def read_calibration(store, folder: Path) -> Calibrated:
               "identified": result.identified,
               "intervals": {} if u is None else {n: i.to_dict() for n, i in u.intervals.items()},
               "engine": final_run.engine if final_run else ENGINE}
-    return Calibrated(make_params(result.identified_params), campaign.specimen, origin)
+    if result.quick_look:
+        origin["quick_look"] = result.quick_look
+    return Calibrated(make_params(result.identified_params), result.specimen, origin)
 
 
 def pfc_parameters(params: MicroParams, specimen: SpecimenSettings) -> dict[str, float]:
@@ -91,6 +91,8 @@ def header_lines(calibrated: Calibrated) -> list[str]:
     lines = [f"rockcal calibration of {o['rock']}: {verdict}, {o['dem_runs']} DEM runs",
              f"campaign: {o['campaign']}; engine: {o['engine']}",
              "targets: " + ", ".join(f"{k} {v:g}" for k, v in o["targets"].items())]
+    if o.get("quick_look"):
+        lines.insert(1, o["quick_look"])
     if o["verified"]:
         lines.append("verified: " + ", ".join(f"{k} {o['verified'][k]:.4g}" for k in o["targets"]))
     lines.append("identified: " + ", ".join(f"{k} {v:.4g}" for k, v in o["identified"].items()))

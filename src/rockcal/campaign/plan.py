@@ -1,10 +1,11 @@
 """What a campaign will run and about how long it will take: shown before it starts.
 
-A run's time is the mean of the UCS runs on the same specimen that the store already holds;
+A run's time is the mean of the test's runs on the same specimen that the store already holds;
 without any, it is scaled from the full-size granite UCS run of docs/benchmarks.md. Work per
 step grows with the grains, and the steps of a test with its rows of grains (the loading speed
-is set per row), so a run's time goes as grains x rows; a bending or Brazilian run is scaled
-likewise.
+is set per row), so a run's time goes about as (grains x rows)^0.87 (per-step costs that do not
+grow with the grains); a bending run about 5 times slower than that (its steps grow with span² /
+height). A stage runs in rounds of one run per worker.
 """
 
 from __future__ import annotations
@@ -21,6 +22,9 @@ from rockcal.labtests.registry import lab_test
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
 REFERENCE_RUN_S = 128.0  # its mean UCS run on one thread (the L16 table with the spread, engine 0.2)
+WORK_EXPONENT = 0.87  # run time ~ work^0.87: at half resolution the L16 runs take 1/6.0 of the time, not 1/8
+SLOWER_THAN_WORK = {"bending": 5.4}  # a run's time over the work-scaled UCS run's, measured (docs/benchmarks.md)
+DRAW_S = 0.4  # one search on the surrogate for the parameters' intervals (main process)
 
 
 def grain_count(width_mm: float, height_mm: float, s: SpecimenSettings) -> int:
@@ -86,41 +90,72 @@ def stored_runs(campaign: Campaign, store) -> dict[str, int]:
                       for row in rows) for test in campaign.target_sections()}
 
 
-def stored_ucs_runs_s(store, specimen: SpecimenSettings) -> list[float]:
-    """Wall times of the finished UCS runs on this specimen in the store."""
-    wanted = lab_test("ucs").settings_of(specimen)
-    return [wall for settings, wall in store.wall_times("ucs") if settings == wanted]
+def stored_runs_s(store, test: str, specimen: SpecimenSettings) -> list[float]:
+    """Wall times of the finished runs of a test on this specimen in the store."""
+    wanted = lab_test(test).settings_of(specimen)
+    return [wall for settings, wall in store.wall_times(test) if settings == wanted]
+
+
+def run_times(campaign: Campaign, store, sizes: dict) -> tuple[dict[str, float], bool]:
+    """Expected time of one run of each test on one worker, and whether the UCS run's is
+    measured (the mean of this store's runs) rather than scaled from the reference run."""
+    s = campaign.specimen
+    measured = {test: stored_runs_s(store, test, s) for test in sizes}
+    ucs_work = sizes["ucs"][2]
+    ucs_s = float(np.mean(measured["ucs"])) if measured["ucs"] else \
+        REFERENCE_RUN_S * (ucs_work / REFERENCE_WORK) ** WORK_EXPONENT
+    times = {test: float(np.mean(measured[test])) if measured[test] else
+             ucs_s * (size[2] / ucs_work) ** WORK_EXPONENT * SLOWER_THAN_WORK.get(test, 1.0)
+             for test, size in sizes.items()}
+    return times, bool(measured["ucs"])
+
+
+def runs_to_do(campaign: Campaign, store) -> list[tuple[str, str, int]]:
+    """The stages (stage, test, runs) less the runs the store already holds, from the first."""
+    left = dict(stored_runs(campaign, store))
+    todo = []
+    for stage, test, n in stages(campaign):
+        skip = min(n, left.get(test, 0))
+        left[test] = left.get(test, 0) - skip
+        todo.append((stage, test, n - skip))
+    return todo
+
+
+def expected_s(campaign: Campaign, store, sizes: dict, workers: int) -> float:
+    """The campaign's expected wall time: each stage in rounds of one run per worker, and the
+    searches for the parameters' intervals (without the specimens' genesis)."""
+    times, _ = run_times(campaign, store, sizes)
+    total = sum(-(-n // workers) * times[test] for _, test, n in runs_to_do(campaign, store))
+    return total + (campaign.uncertainty.draws * DRAW_S if campaign.wants_uncertainty() else 0.0)
 
 
 def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
     """The lines of the first screen: specimens, stages and run counts, expected time."""
     s = campaign.specimen
-    tests = campaign.tests()
-    sizes = {test: specimen_size(test, s) for test in tests}
-    measured = stored_ucs_runs_s(store, s)
-    ucs_work = sizes["ucs"][2]
-    ucs_s = float(np.mean(measured)) if measured else REFERENCE_RUN_S * ucs_work / REFERENCE_WORK
+    sizes = {test: specimen_size(test, s) for test in campaign.tests()}
     plan = stages(campaign)
-    done = stored_runs(campaign, store)
-    runs = {test: sum(n for _, t, n in plan if t == test) - done.get(test, 0) for test in tests}
+    runs: dict[str, int] = {}
+    for _, test, n in runs_to_do(campaign, store):
+        runs[test] = runs.get(test, 0) + n
     titles = [lab_test(test).title for test in campaign.target_sections()]
-    total_s = sum(n * ucs_s * sizes[test][2] / ucs_work for test, n in runs.items())
     lines = [
         "specimens: " + "; ".join(f"{text}, about {grains} grains" for text, grains, _ in sizes.values())
         + f" (R {s.rmin_mm:g} to {s.rmin_mm * s.radius_ratio:.3g} mm)",
         "stages: " + ", ".join(f"{name} {n}" for name, n in dict((name, n) for name, _, n in plan).items())
         + f" (then more verifications if needed, at most {campaign.acceptance.max_dem_runs} UCS runs)"
         + (f"; each parameter set runs {' and '.join(titles)}" if len(titles) > 1 else ""),
-        f"runs of this campaign already in the store: {sum(done.values())} (a run in the store is "
-        "never run again)",
+        f"runs of this campaign already in the store: {sum(stored_runs(campaign, store).values())} "
+        "(a run in the store is never run again)",
     ]
-    basis = ("the mean of this store's UCS runs" if measured else
-             "scaled from the full-size granite run on a reference machine; ±2x between machines")
     if workers:
-        lines.append(f"expected: about {_duration(total_s / workers)} on {workers} "
-                     f"worker{'s' if workers > 1 else ''} "
+        times, measured = run_times(campaign, store, sizes)
+        basis = ("the mean of this store's UCS runs" if measured else
+                 "scaled from the full-size granite run on a reference machine; ±2x between machines")
+        lines.append(f"expected: about {_duration(expected_s(campaign, store, sizes, workers))} on "
+                     f"{workers} worker{'s' if workers > 1 else ''} "
                      f"for the {' and '.join(f'{n} {lab_test(t).title}' for t, n in runs.items())} runs "
-                     f"still to do ({_duration(ucs_s)} per UCS run on one worker: {basis})")
+                     f"still to do ({_duration(times['ucs'])} per UCS run on one worker: {basis}), "
+                     "plus the specimens' genesis the first time on this machine")
     return lines
 
 

@@ -32,6 +32,8 @@ from rockcal.dem.measure import secant_at_half_peak
 from rockcal.params import make_params
 
 SIGNIFICANT_DIGITS = 4  # parameters of verification runs are rounded to this (stable store keys)
+DISTINCT = 0.05  # optima closer than this (box-normalised distance) are one optimum
+SEARCHES_PER_CANDIDATE = 2  # searches tried for each other candidate optimum before giving up
 
 Stage = Callable[[str, int, int], None]  # progress(stage, done, total)
 
@@ -144,11 +146,14 @@ class Calibration:
         fixed = dict(self.fixed)
         s = self.campaign.surrogate
 
-        # step 3: Latin hypercube runs, surrogate, check on fresh random points
+        # step 3: Latin hypercube runs (with the sensitivity runs that are runs of the search),
+        # surrogate, check on fresh random points
         x, checks = sample_points(box, s)
         y = self._evaluate("samples", [dict(zip(names, row)) for row in x])
         y_checks = self._evaluate("surrogate check", [dict(zip(names, row)) for row in checks])
-        train_x, train_y = _usable(x, y)
+        reused = self._reusable(sensitivity, names, box)
+        train_x, train_y = _usable(np.vstack([x, _points(sensitivity, reused, names)]),
+                                   y + [sensitivity.run_responses[i] for i in reused])
         surrogate = self._fit(train_x, train_y, box)
         check_x, check_y = _usable(checks, y_checks)
         validation = surrogate.validate(check_x, {r: np.array([v[r] for v in check_y]) for r in self.targets},
@@ -161,30 +166,28 @@ class Calibration:
         train_x = np.vstack([train_x, check_x])
         train_y = train_y + check_y
 
-        # steps 4-6: search on the surrogate, verify with the DEM, refit, until accepted
+        # steps 4-6: search on the surrogate, verify with the DEM (the search's optimum and other
+        # distinct optima on the free workers), refit, until a verified point is accepted
         tolerance = self.campaign.acceptance.tolerance
         iterations, accepted = [], None
-        while True:
+        for loop in range(self.campaign.acceptance.max_dem_runs):
             surrogate = self._fit(train_x, train_y, box)
             objective = Objective(surrogate.predict, self.targets, weights=self.weights or None)
-            opt = self._optimise(objective, box)
-            x_best = _round(opt.x)
-            verified = self._evaluate("verification", [dict(zip(names, x_best))])[0]
-            errors = None if verified is None else {
-                r: verified[r] / t - 1 for r, t in self.targets.items()}
-            iterations.append(Iteration(
-                x=x_best.tolist(), objective_surrogate=float(opt.fun),
-                predicted=surrogate.predict(x_best), verified=verified, errors=errors,
-                history_fun=list(map(float, opt.history_fun)),
-                history_x=[list(map(float, h)) for h in opt.history_x], nfev=int(opt.nfev)))
-            repeated = any(np.allclose(x_best, row) for row in train_x)
-            if verified is not None and not repeated:
-                train_x = np.vstack([train_x, x_best])
-                train_y = train_y + [verified]
-            if errors is not None and all(abs(e) <= tolerance for e in errors.values()):
-                accepted = len(iterations) - 1
+            found = self._candidates(objective, surrogate, box)
+            xs = [_round(opt.x) for opt in found]
+            verified = self._evaluate("verification", [dict(zip(names, x_best)) for x_best in xs])
+            start = len(iterations)
+            iterations += [self._iteration(opt, x_best, surrogate, v, loop)
+                           for opt, x_best, v in zip(found, xs, verified)]
+            new = [(x_best, v) for x_best, v in zip(xs, verified)
+                   if v is not None and not any(np.allclose(x_best, row) for row in train_x)]
+            train_x = np.vstack([train_x, *[x_best for x_best, _ in new]])
+            train_y = train_y + [v for _, v in new]
+            passed = [i for i in range(start, len(iterations)) if _within(iterations[i].errors, tolerance)]
+            if passed:
+                accepted = passed[0]  # the first in the order searched: the serial loop's answer
                 break
-            if len(self.dem_runs) >= self.campaign.acceptance.max_dem_runs or repeated:
+            if len(self.dem_runs) >= self.campaign.acceptance.max_dem_runs or not new:
                 break
         best = accepted if accepted is not None else _closest(iterations)
         identified = dict(zip(names, iterations[best].x))
@@ -198,7 +201,8 @@ class Calibration:
             measured_curve=None if self.curve is None else self.curve.tolist(),
             failed_runs=self.failed_runs, ucs_specimen=self.ucs_specimen, sensitivity=sensitivity,
             parameters=names, bounds=bounds, fixed=fixed,
-            samples=Samples(x=x.tolist(), responses=y), surrogate_check=surrogate_check,
+            samples=Samples(x=x.tolist(), responses=y, reused_sensitivity_runs=reused or None),
+            surrogate_check=surrogate_check,
             iterations=iterations, accepted=accepted is not None, identified=identified,
             identified_params=make_params(self.fixed | identified).key(),
             verified=iterations[best].verified, errors=iterations[best].errors, tolerance=tolerance,
@@ -206,16 +210,62 @@ class Calibration:
             dem_run_keys=dem_run_keys, uncertainty=uncertainty, final_ucs_run_key=final_ucs_run_key,
             curve_fit=curve_fit, validation=self._validate(identified), checks=self._checks(identified))
 
+    def _reusable(self, study: Sensitivity | None, names: list[str], box: np.ndarray) -> list[int]:
+        """The sensitivity runs that are runs of the search: inside the box, with every other
+        parameter at its fixed value (the very run a sample at that point would be)."""
+        if study is None:
+            return []
+        keep = []
+        for i, (row, responses) in enumerate(zip(study.runs, study.run_responses)):
+            point = {n: row[n] for n in names if n in row}
+            same = len(point) == len(names) and \
+                make_params(self.fixed | row).key() == make_params(self.fixed | point).key()
+            if responses is not None and same and _inside(point, names, box):
+                keep.append(i)
+        return keep
+
+    def _candidates(self, objective: Objective, surrogate: RBFSurrogate, box: np.ndarray) -> list:
+        """The search's optimum on the surrogate, then other distinct optima, one per free
+        worker: the searches with the next seeds whose optimum the surrogate predicts within
+        the tolerance of every target (none when the surrogate has a single optimum)."""
+        first = self._optimise(objective, box)
+        found, wanted = [first], self._free_workers()
+        tolerance, seed = self.campaign.acceptance.tolerance, self.campaign.optimizer.seed
+        for k in range(1, SEARCHES_PER_CANDIDATE * (wanted - 1) + 1):
+            if len(found) >= wanted:
+                break
+            opt = self._optimise(objective, box, seed=seed + k)
+            predicted = surrogate.predict(_round(opt.x))
+            close = _within({r: predicted[r] / t - 1 for r, t in self.targets.items()}, tolerance)
+            if close and all(_distinct(opt.x, other.x, box) for other in found):
+                found.append(opt)
+        return found
+
+    def _free_workers(self) -> int:
+        """Parameter sets the executor runs at once (each runs every test calibrated against),
+        within the run budget left."""
+        workers = getattr(self.executor, "workers", 1) // len(self.tests)
+        left = self.campaign.acceptance.max_dem_runs - len(self.dem_runs)
+        return max(1, min(workers, left))
+
+    def _iteration(self, opt, x_best, surrogate: RBFSurrogate, verified: dict | None, loop: int) -> Iteration:
+        errors = None if verified is None else {r: verified[r] / t - 1 for r, t in self.targets.items()}
+        return Iteration(
+            x=x_best.tolist(), objective_surrogate=float(opt.fun), predicted=surrogate.predict(x_best),
+            verified=verified, errors=errors, history_fun=list(map(float, opt.history_fun)),
+            history_x=[list(map(float, h)) for h in opt.history_x], nfev=int(opt.nfev), loop=loop)
+
     def _fit(self, x, y, box) -> RBFSurrogate:
         return RBFSurrogate(x, {r: np.array([v[r] for v in y]) for r in self.targets}, box)
 
-    def _optimise(self, objective, box):
+    def _optimise(self, objective, box, seed: int | None = None):
         o = self.campaign.optimizer
+        seed = o.seed if seed is None else seed
         if o.method == "acor":
             return ant_colony(objective, box, method="acor", ants=o.ants, iterations=o.iterations,
-                              seed=o.seed, vectorized=True)
+                              seed=seed, vectorized=True)
         return ant_colony(objective, box, method="ant-system", ants=o.ants, iterations=o.iterations,
-                          alpha=o.alpha, beta=o.beta, rho=o.rho, seed=o.seed, vectorized=True)
+                          alpha=o.alpha, beta=o.beta, rho=o.rho, seed=seed, vectorized=True)
 
     def _uncertainty(self, identified: dict, surrogate: RBFSurrogate, box, names) -> Uncertainty:
         """The model's scatter over packings at the identified point (relative sd of each
@@ -339,6 +389,25 @@ def _round_rows(x: np.ndarray) -> np.ndarray:
 def _usable(x: np.ndarray, y: list) -> tuple[np.ndarray, list]:
     keep = [i for i, v in enumerate(y) if v is not None]
     return x[keep].reshape(len(keep), x.shape[1]), [y[i] for i in keep]
+
+
+def _points(study: Sensitivity | None, runs: list[int], names: list[str]) -> np.ndarray:
+    """The search-box points of some sensitivity runs, as rows."""
+    return np.array([[study.runs[i][n] for n in names] for i in runs]).reshape(len(runs), len(names))
+
+
+def _inside(point: dict, names: list[str], box: np.ndarray) -> bool:
+    return all(low <= point[n] <= high for n, (low, high) in zip(names, box))
+
+
+def _within(errors: dict | None, tolerance: float) -> bool:
+    """The source's acceptance rule: every response within the tolerance of its target."""
+    return errors is not None and all(abs(e) <= tolerance for e in errors.values())
+
+
+def _distinct(a: np.ndarray, b: np.ndarray, box: np.ndarray) -> bool:
+    """Two optima further apart than DISTINCT of the box (box-normalised distance)."""
+    return float(np.linalg.norm((np.asarray(a) - b) / (box[:, 1] - box[:, 0]))) > DISTINCT
 
 
 def _closest(iterations: list[Iteration]) -> int:

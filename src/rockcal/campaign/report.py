@@ -204,6 +204,15 @@ text-align:left;vertical-align:top}th{background:#eee}img{max-width:100%}
 .note{color:#666;font-style:italic}.warn{color:#a60}figcaption{color:#555;font-size:90%}"""
 
 
+def _title(result: CalibrationResult) -> str:
+    return "Quick look at" if result.quick_look else "Calibration of"
+
+
+def _quick_look(result: CalibrationResult) -> str:
+    """The quick look's label, first thing on the page (nothing for a calibration)."""
+    return f"<p class='warn'><b>{html.escape(result.quick_look)}.</b></p>" if result.quick_look else ""
+
+
 def write_report(result: CalibrationResult, store: RunStore, out: Path) -> Path:
     """Write the figures and OUT/report.html of a calibration; returns the HTML path."""
     out = Path(out)
@@ -212,7 +221,7 @@ def write_report(result: CalibrationResult, store: RunStore, out: Path) -> Path:
                       for title, name, caption, figure in FIGURES)
     rock = html.escape(result.rock)
     page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>rockcal calibration — {rock}"
-            f"</title><style>{CSS}</style></head><body><h1>Calibration of {rock}</h1>"
+            f"</title><style>{CSS}</style></head><body><h1>{_title(result)} {rock}</h1>{_quick_look(result)}"
             f"\n<h2>Summary</h2>{_overview(result)}\n<h3>Responses</h3>{_responses(result)}"
             f"\n<h3>Identified parameters</h3>{_parameters(result)}"
             f"\n<h3>Validation: notched-beam bending</h3>{_validation(result)}\n{_checks(result)}"

@@ -59,10 +59,12 @@ class Sensitivity(_Part):
 
 
 class Samples(_Part):
-    """Step 3: the Latin hypercube points and their DEM responses (None: failed)."""
+    """Step 3: the Latin hypercube points and their DEM responses (None: failed), and the
+    sensitivity runs that train the surrogate too (by index)."""
 
     x: list[list[float]]
     responses: list[Responses | None]
+    reused_sensitivity_runs: list[int] | None = _absent()  # also train the surrogate: runs of the search
 
 
 class SurrogateCheck(_Part):
@@ -78,7 +80,7 @@ class SurrogateCheck(_Part):
 
 
 class Iteration(_Part):
-    """Steps 4-6, one loop: the search's optimum on the surrogate and its DEM verification."""
+    """Steps 4-6, one verification: an optimum of the search on the surrogate and its DEM run."""
 
     x: list[float]
     objective_surrogate: float
@@ -88,6 +90,7 @@ class Iteration(_Part):
     history_fun: list[float]
     history_x: list[list[float]]
     nfev: int
+    loop: int | None = _absent()  # the loop round; several distinct optima are verified in one
 
 
 class Uncertainty(_Part):
@@ -185,6 +188,7 @@ class CalibrationResult(_Part):
     validation: Validation | None = _absent()
     checks: list[Check] | None = _absent()
     executed_runs: int | None = _absent()  # by this call of `rockcal calibrate`
+    quick_look: str | None = _absent()  # what the quick look (`--quick`) was; None: the calibration
 
     def responses_by_test(self) -> dict[str, list[str]]:
         """The target responses of each lab test calibrated against."""

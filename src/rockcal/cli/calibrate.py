@@ -18,26 +18,34 @@ if TYPE_CHECKING:
     from rockcal.campaign.result import CalibrationResult
 
 DEFAULT_OUT = Path("runs")
+QUICK_LOOK = "quick look"  # the store's document naming what the quick look was ("": not one)
 
 
 def calibrate(
     config: Optional[Path] = typer.Argument(None, help="Campaign file (TOML); none: the embedded granite."),
-    out: Optional[Path] = typer.Option(None, help="Output folder (run store, report); default runs/<rock name>."),
+    out: Optional[Path] = typer.Option(None, help="Output folder (run store, report); default runs/<rock name>, runs/<rock name>-quick with --quick."),
     workers: int = typer.Option(0, help="Parallel forward runs on this machine (0: one per core)."),
     scheduler: Optional[str] = typer.Option(None, help="Dask scheduler: tcp://HOST:PORT, or local:N for N local workers."),
     time_limit_s: Optional[float] = typer.Option(None, help="Wall-time limit of one forward run, s; a run past it is recorded as timed out."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     resume: bool = typer.Option(False, "--resume", help="Go on with the campaign already in --out."),
+    quick: bool = typer.Option(False, "--quick", help="A first look in minutes: the campaign at half "
+                               "resolution (R_min doubled) with one validation beam and 50 draws for the "
+                               "intervals; not the calibration."),
 ) -> None:
     """Identify BPM micro-parameters from lab results (SPEC steps 1-8), with a report."""
-    from rockcal.campaign.config import load_campaign
+    from rockcal.campaign.config import load_campaign, quick_look, quick_look_note
     from rockcal.campaign.executors import make_executor
     from rockcal.campaign.procedure import Calibration, CalibrationFailed
     from rockcal.campaign.result import save_result
     from rockcal.campaign.store import STORE_NAME, RunStore
 
     campaign, text = load_campaign(config)
-    out = out if out is not None else DEFAULT_OUT / campaign.rock.name
+    note = None
+    if quick:
+        campaign = quick_look(campaign)
+        note = quick_look_note(campaign)
+    out = out if out is not None else default_out(campaign.rock.name, quick)
     if workers < 0:
         raise InputError("--workers", f"must be >= 0, got {workers}")
     if time_limit_s is not None and not time_limit_s > 0:
@@ -54,6 +62,7 @@ def calibrate(
     new_store = not (out / STORE_NAME).exists()
     store = RunStore(out)
     try:
+        check_same_kind(store, quick, out)
         try:
             executor = make_executor(store, workers=workers, scheduler=scheduler, time_limit_s=time_limit_s)
         except InputError:  # e.g. an unreachable scheduler: leave no empty store behind
@@ -63,8 +72,9 @@ def calibrate(
             raise
         try:
             store.save_document("campaign.toml", text)
+            store.save_document(QUICK_LOOK, note or "")
             if not as_json:
-                _print_plan(campaign, store, executor)
+                _print_plan(campaign, store, executor, note)
             with _stage_progress(as_json, _planned_runs(campaign)) as progress:
                 executor.on_live = progress.live
                 result = Calibration(campaign, executor, progress).run()
@@ -73,12 +83,26 @@ def calibrate(
             raise typer.Exit(1)
         finally:
             executor.close()
-        result = result.model_copy(update={"executed_runs": executor.executed})
+        result = result.model_copy(update={"executed_runs": executor.executed, "quick_look": note})
         save_result(store, result)
         html = _write_report(result, store, out)
     finally:
         store.close()
     _print_summary(result, html, as_json)
+
+
+def default_out(rock: str, quick: bool) -> Path:
+    """runs/<rock>, or runs/<rock>-quick for a quick look: never the calibration's folder."""
+    return DEFAULT_OUT / (f"{rock}-quick" if quick else rock)
+
+
+def check_same_kind(store, quick: bool, out: Path) -> None:
+    """A quick look and a calibration never share a run store."""
+    stored = store.document(QUICK_LOOK)
+    if stored is not None and bool(stored) != quick:
+        was = "a quick look (--quick)" if stored else "a full-resolution calibration"
+        raise InputError("--quick", f"the campaign in {out} is {was}; "
+                                    f"{'add' if stored else 'leave out'} --quick, or choose another --out")
 
 
 def report(out: Path = typer.Argument(..., help="Output folder of a campaign.")) -> None:
@@ -115,11 +139,13 @@ def _planned_runs(campaign) -> dict[str, int]:
     return planned
 
 
-def _print_plan(campaign, store, executor) -> None:
+def _print_plan(campaign, store, executor, note: str | None) -> None:
     from rockcal.campaign.plan import describe
 
     console = Console(stderr=True)
-    console.print(f"[bold]Calibrating {campaign.rock.name}[/]")
+    console.print(f"[bold]Calibrating {campaign.rock.name}[/]" + (" [yellow](quick look)[/]" if note else ""))
+    if note:
+        console.print(f"  {note}", highlight=False)
     for line in describe(campaign, store, getattr(executor, "workers", None)):
         console.print("  " + line, highlight=False)
 
@@ -175,7 +201,7 @@ def summary(result: CalibrationResult) -> dict:
         return None if v is None else getattr(v, name)
 
     return {
-        "rock": result.rock, "accepted": result.accepted, "identified": result.identified,
+        "rock": result.rock, "quick_look": result.quick_look, "accepted": result.accepted, "identified": result.identified,
         "identified_params": result.identified_params, "targets": result.targets,
         "target_tests": result.responses_by_test(), "weights": result.weights,
         "verified": {r: result.verified[r] for r in result.targets},
@@ -203,7 +229,8 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None
         return
     console = Console()
     verdict = "accepted" if s["accepted"] else "NOT accepted (closest shown)"
-    table = Table(title=f"Calibration of {s['rock']}: {verdict}, {s['dem_runs']} DEM runs")
+    kind = "Quick look at" if s["quick_look"] else "Calibration of"
+    table = Table(title=f"{kind} {s['rock']}: {verdict}, {s['dem_runs']} DEM runs")
     for column in ("", "value", "target", "error"):
         table.add_column(column)
     intervals = s["intervals"] or {}
@@ -219,8 +246,9 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None
             table.add_row(label, "–" if value is None else f"{value:.4g}", f"{s['targets'][name]:.4g}",
                           "–" if error is None else f"{100 * error:+.1f} %")
     if s["K_IC_MPa_sqrt_m"] is not None:
-        table.add_row(f"K_IC (validation, {len(s['K_IC_per_seed'])} packings)",
-                      f"{s['K_IC_MPa_sqrt_m']:.3f} ± {s['K_IC_seed_std']:.3f}",
+        n = len(s["K_IC_per_seed"])
+        table.add_row(f"K_IC (validation, {n} packing{'s' if n > 1 else ''})",
+                      f"{s['K_IC_MPa_sqrt_m']:.3f}" + (f" ± {s['K_IC_seed_std']:.3f}" if n > 1 else ""),
                       f"{s['lab_K_IC_MPa_sqrt_m']:.3f}", f"{100 * s['K_IC_error']:+.1f} %")
     for check in s["checks"]:
         for name, lab in check["lab"].items():
@@ -230,6 +258,8 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None
                           check["status"] if value is None else f"{value:.4g}", f"{lab:.4g}",
                           "–" if error is None else f"{100 * error:+.1f} %")
     console.print(table)
+    if s["quick_look"]:
+        console.print(f"[yellow]{s['quick_look']}[/]")
     if s["warning"]:
         console.print(f"[yellow]warning:[/] {s['warning']}")
     console.print(f"objective: {s['objective']}\nreport: {html}")
