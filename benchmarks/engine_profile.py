@@ -32,7 +32,7 @@ def ucs_state():
     state = simulate.new_state(pos, radius, spec.bonds, make_params(SOURCE_POINT),
                                walls=(0, 0, (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()),
                                wall_active=(False, False, True, True), bond_draws=spec.bond_draws)
-    state.vel[:] = np.random.default_rng(0).normal(0, 1e-4, state.vel.shape)
+    state.particles.vel[:] = np.random.default_rng(0).normal(0, 1e-4, (len(pos), 2))
     return state
 
 
@@ -46,22 +46,21 @@ def per_step(fn, steps: int) -> float:
 
 def phases(state, steps: int) -> dict:
     """Seconds per step of each phase, run one by one on all pairs and particles (one thread)."""
-    n, pairs = state.n_particles, len(state.pi)
-    bonds = state.bonds()
+    p, pairs, walls = state.particles, state.neighbours, state.walls
+    n, nb = state.n_particles, pairs.n_bonds
     return {
         "bond forces": per_step(lambda: laws.add_bond_forces(
-            0, state.n_bonds, state.pos, state.vel, state.spin, state.radius, state.pi, state.pj,
-            state.contact_shear, bonds, state.laws, state.dt, state.force, state.moment), steps),
+            0, nb, p.pos, p.vel, p.spin, p.radius, pairs.pi, pairs.pj, pairs.shear, state.bonds,
+            state.laws, state.dt, p.force, p.moment), steps),
         "near unbonded pairs": per_step(lambda: laws.add_contact_forces(
-            state.n_bonds, pairs, state.pos, state.vel, state.spin, state.radius, state.pi,
-            state.pj, state.contact_shear, state.laws, state.dt, state.force, state.moment),
-            steps),
+            nb, len(pairs.pi), p.pos, p.vel, p.spin, p.radius, pairs.pi, pairs.pj, pairs.shear,
+            state.laws, state.dt, p.force, p.moment), steps),
         "walls": per_step(lambda: laws.add_wall_forces(
-            0, n, state.pos, state.radius, state.walls, state.wall_active, state.k_wall,
-            state.force, state.wall_force), steps),
+            0, n, p.pos, p.radius, walls.pos, walls.active, walls.stiffness, p.force,
+            walls.force), steps),
         "damping and motion": per_step(lambda: simulate._move(
-            0, n, state.pos, state.vel, state.spin, state.force, state.moment, state.inv_mass,
-            state.inv_inertia, state.damping, state.dt, state.pos_at_build), steps),
+            0, n, p.pos, p.vel, p.spin, p.force, p.moment, p.inv_mass, p.inv_inertia,
+            state.damping, state.dt, pairs.pos_at_build), steps),
         "neighbour list (per rebuild)": per_step(lambda: simulate.rebuild_neighbours(state), 5),
     }
 
@@ -92,7 +91,7 @@ def main() -> None:
     args = parser.parse_args()
     cap = numba.config.NUMBA_NUM_THREADS
     state = ucs_state()
-    n, nb = state.n_particles, state.n_bonds
+    n, nb = state.n_particles, state.neighbours.n_bonds
     print(f"full-size UCS specimen: {n} disks, {nb} bonds, {len(simulate.neighbours.block_starts(n)) - 1} blocks")
 
     numba.set_num_threads(1)

@@ -57,7 +57,7 @@ def bonded_pair(params: dict):
     state = new_state(np.array([[0.0, 0.0], [2 * R, 0.0]]), np.array([R, R]), [[0, 1]],
                       make_params({"E_c": 0.0, "Ebar_c": 20.0, "kn_ks": 1.0} | params),
                       driven=np.array([True, False]))  # the time step of a free disk 1
-    state.inv_mass[1] = state.inv_inertia[1] = 0.0
+    state.particles.inv_mass[1] = state.particles.inv_inertia[1] = 0.0
     return state
 
 
@@ -66,12 +66,12 @@ def drive(state, velocity, spin: float = 0.0, steps: int = 1):
     moment of the last step it was intact."""
     last = None
     for _ in range(steps):
-        state.vel[1] = velocity
-        state.spin[1] = spin
+        state.particles.vel[1] = velocity
+        state.particles.spin[1] = spin
         advance(state, 1)
-        if state.bond_state[0] != INTACT:
+        if state.bonds.state[0] != INTACT:
             break
-        last = (state.bond_fn[0] / (2 * R), state.bond_fs[0] / (2 * R), state.bond_m[0])
+        last = (state.bonds.fn[0] / (2 * R), state.bonds.fs[0] / (2 * R), state.bonds.m[0])
     return last
 
 
@@ -85,11 +85,11 @@ def test_shear_strength_rises_with_compression_by_the_friction_angle():
         assert sigma == pytest.approx(-10e6, rel=1e-6)
         shear_step = 1e-3 * 20e6 / kbn  # 0.1 % of the cohesion per step
         taus = []
-        while state.bond_state[0] == INTACT:
+        while state.bonds.state[0] == INTACT:
             last = drive(state, (0.0, shear_step / state.dt))
             if last is not None:
                 taus.append(abs(last[1]))
-        assert state.bond_state[0] == BROKEN_SHEAR
+        assert state.bonds.state[0] == BROKEN_SHEAR
         strength = 20e6 - sigma * np.tan(np.radians(phi))
         assert taus[-1] <= strength <= taus[-1] + 1.5 * (taus[-1] - taus[-2]), phi
 
@@ -104,9 +104,9 @@ def test_moment_contribution_factor_scales_the_bending_stress():
         inertia = 2 / 3 * R**3
         spin = 1e-3 * 20e6 * inertia / R / (kbn * inertia) / state.dt  # 0.1 % of sigma_c per step
         last = None
-        while state.bond_state[0] == INTACT:
+        while state.bonds.state[0] == INTACT:
             last = drive(state, (0.0, 0.0), spin=spin) or last
-        assert state.bond_state[0] == BROKEN_TENSION
+        assert state.bonds.state[0] == BROKEN_TENSION
         moment = abs(last[2])
         assert mcf * moment * R / inertia == pytest.approx(20e6, rel=0.01)
         moments[mcf] = moment

@@ -7,7 +7,7 @@ import pytest
 from rockcal import make_params
 from rockcal.dem.genesis import Genesis, vessel_contacts
 from rockcal.dem.packing import PRESSURE_TOLERANCE
-from rockcal.dem.simulate import advance, new_state
+from rockcal.dem.simulate import advance, new_state, rebuild_neighbours
 from rockcal.dem.specimen import random_packing
 
 WIDTH_MM, HEIGHT_MM, RMIN_MM, RATIO = 10.0, 20.0, 0.25, 1.65
@@ -50,23 +50,23 @@ def test_a_specimen_leaves_the_vessel_at_rest(specimen):
     """Bonds installed at overlapping pairs take the overlap as reference: no locked-in force."""
     state = new_state(specimen.pos, specimen.radius, specimen.bonds, make_params({}))
     advance(state, 200)
-    assert np.abs(state.pos - specimen.pos).max() < 1e-12
-    assert np.abs(state.force).max() < 1e-9
+    assert np.abs(state.particles.pos - specimen.pos).max() < 1e-12
+    assert np.abs(state.particles.force).max() < 1e-9
 
 
 def test_two_overlapping_disks_bonded_carry_no_force():
     pos = np.array([[0.0, 0.0], [1.9e-3, 0.0]])
     state = new_state(pos, np.array([1e-3, 1e-3]), [[0, 1]], make_params({}))
     advance(state, 100)
-    assert state.bond_ref_overlap[0] == pytest.approx(1e-4)
-    np.testing.assert_allclose(state.pos, pos, atol=1e-15)
+    assert state.bonds.ref_overlap[0] == pytest.approx(1e-4)
+    np.testing.assert_allclose(state.particles.pos, pos, atol=1e-15)
     # moved 1 um closer (not through a velocity, so the incremental bond does not see it),
     # the contact pushes with kn x 1 um: only the overlap added since bonding counts
-    state.pos[1, 0] -= 1e-6
-    state.pos_at_build[:] = state.pos
+    state.particles.pos[1, 0] -= 1e-6
+    rebuild_neighbours(state)
     advance(state, 1)
     kn = 2 * 1e-3 * 21.65e9 / 2e-3
-    assert -state.force[0, 0] == pytest.approx(kn * 1e-6, rel=1e-3)
+    assert -state.particles.force[0, 0] == pytest.approx(kn * 1e-6, rel=1e-3)
 
 
 def test_genesis_is_deterministic_and_cached():

@@ -34,10 +34,10 @@ def test_lattice_in_equilibrium_without_rotation():
                       walls=(0, 0, (spec.pos[:, 1] - spec.radius).min(),
                              (spec.pos[:, 1] + spec.radius).max()),
                       wall_active=(False, False, True, True))
-    state.walls[TOP] -= 2e-6  # 0.02 % strain, then let it settle
+    state.walls.pos[TOP] -= 2e-6  # 0.02 % strain, then let it settle
     advance(state, 20000)
-    f = state.total_wall_force()
+    f = state.walls.total_force()
     assert f[TOP] > 0
     assert f[BOTTOM] == pytest.approx(f[TOP], rel=1e-3)
-    assert np.abs(state.force).max() < 1e-4 * f[TOP]
-    assert np.abs(state.spin).max() * state.dt < 1e-12
+    assert np.abs(state.particles.force).max() < 1e-4 * f[TOP]
+    assert np.abs(state.particles.spin).max() * state.dt < 1e-12

@@ -30,17 +30,17 @@ def contact_pair(r0, r1, centre_distance, angle=0.0, **params):
     values = {"E_c": 10.0, "kn_ks": 2.0, "mu": 0.5, "damping": 0.0} | params
     state = new_state(pos, np.array([r0, r1]), np.empty((0, 2), int), make_params(values),
                       driven=np.array([0]))
-    state.inv_mass[:] = 0.0
-    state.inv_inertia[:] = 0.0
+    state.particles.inv_mass[:] = 0.0
+    state.particles.inv_inertia[:] = 0.0
     return state, n
 
 
 def step(state, vel1=(0.0, 0.0), spin1=0.0):
     """One step with disk 0 at rest and disk 1 moving as prescribed."""
-    state.vel[0] = 0.0
-    state.spin[0] = 0.0
-    state.vel[1] = vel1
-    state.spin[1] = spin1
+    state.particles.vel[0] = 0.0
+    state.particles.spin[0] = 0.0
+    state.particles.vel[1] = vel1
+    state.particles.spin[1] = spin1
     advance(state, 1)
 
 
@@ -57,9 +57,9 @@ def test_normal_force_is_kn_times_overlap(r0, r1, angle):
     state, n = contact_pair(r0, r1, r0 + r1 - overlap, angle, E_c=7.5)
     step(state)
     fn = kn_of(r0, r1, 7.5) * overlap
-    np.testing.assert_allclose(state.force[0], -fn * n, rtol=1e-9, atol=1e-12 * fn)
-    np.testing.assert_allclose(state.force[1], fn * n, rtol=1e-9, atol=1e-12 * fn)
-    np.testing.assert_allclose(state.moment, 0.0, atol=1e-12 * fn * r0)
+    np.testing.assert_allclose(state.particles.force[0], -fn * n, rtol=1e-9, atol=1e-12 * fn)
+    np.testing.assert_allclose(state.particles.force[1], fn * n, rtol=1e-9, atol=1e-12 * fn)
+    np.testing.assert_allclose(state.particles.moment, 0.0, atol=1e-12 * fn * r0)
 
 
 def test_normal_force_is_linear_in_overlap():
@@ -71,7 +71,7 @@ def test_normal_force_is_linear_in_overlap():
     forces = []
     for _ in range(5):
         step(state, vel1=-speed * n)
-        forces.append(-state.force[0] @ n)
+        forces.append(-state.particles.force[0] @ n)
     expected = kn * (1e-7 + 1e-7 * np.arange(5))
     np.testing.assert_allclose(forces, expected, rtol=1e-9)
 
@@ -82,20 +82,20 @@ def test_no_tension_and_no_force_across_a_gap():
     r = 1e-3
     state, n = contact_pair(r, 1.2 * r, 2.2 * r + 0.1 * r)  # gap 0.1 R
     step(state)
-    assert np.all(state.force == 0.0) and np.all(state.moment == 0.0)
+    assert np.all(state.particles.force == 0.0) and np.all(state.particles.moment == 0.0)
 
     state, n = contact_pair(r, 1.2 * r, 2.2 * r - 1e-6)
     step(state, vel1=2e-6 / state.dt * n)  # force at overlap 1 um, then moved to a 1 um gap
-    assert -state.force[0] @ n > 0
+    assert -state.particles.force[0] @ n > 0
     step(state)
-    assert np.all(state.force == 0.0) and np.all(state.moment == 0.0)
+    assert np.all(state.particles.force == 0.0) and np.all(state.particles.moment == 0.0)
 
 
 def test_zero_contact_modulus_means_no_contact_force():
     """E_c = 0 (bonds only): overlapping, unbonded disks do not interact."""
     state, _ = contact_pair(1e-3, 1e-3, 2e-3 - 5e-6, E_c=0.0, Ebar_c=10.0)
     step(state)
-    assert np.all(state.force == 0.0) and np.all(state.moment == 0.0)
+    assert np.all(state.particles.force == 0.0) and np.all(state.particles.moment == 0.0)
 
 
 @pytest.mark.parametrize("r0, r1, angle", [(1e-3, 1e-3, 0.3), (1.5e-3, 0.9e-3, 2.0)])
@@ -112,15 +112,15 @@ def test_shear_force_increments_by_ks_vs_dt(r0, r1, angle):
     vs = 1e-3 * fn / (ks * state.dt)  # 0.1 % of Fn per step: far below mu Fn
     arm_tol = overlap / min(r0, r1)
     for k in range(1, 21):
-        d = state.pos[1] - state.pos[0]
+        d = state.particles.pos[1] - state.particles.pos[0]
         n = d / np.linalg.norm(d)  # at the positions where the step evaluates the law
         t = np.array([-n[1], n[0]])
         step(state, vel1=vs * t)
         f0 = -fn * n + ks * vs * state.dt * k * t
-        np.testing.assert_allclose(state.force[0], f0, rtol=1e-6, atol=1e-6 * fn)
-        np.testing.assert_allclose(state.force[1], -f0, rtol=1e-6, atol=1e-6 * fn)
-        assert state.moment[0] == pytest.approx(cross(r0 * n, f0), rel=arm_tol)
-        assert state.moment[1] == pytest.approx(cross(-r1 * n, -f0), rel=arm_tol)
+        np.testing.assert_allclose(state.particles.force[0], f0, rtol=1e-6, atol=1e-6 * fn)
+        np.testing.assert_allclose(state.particles.force[1], -f0, rtol=1e-6, atol=1e-6 * fn)
+        assert state.particles.moment[0] == pytest.approx(cross(r0 * n, f0), rel=arm_tol)
+        assert state.particles.moment[1] == pytest.approx(cross(-r1 * n, -f0), rel=arm_tol)
 
 
 def test_spinning_disk_drags_its_neighbour_along_its_surface():
@@ -135,9 +135,9 @@ def test_spinning_disk_drags_its_neighbour_along_its_surface():
     omega = 1e-3 * kn * overlap / (ks * r1 * state.dt)
     for k in range(1, 11):
         step(state, spin1=omega)
-        assert state.force[0] @ t == pytest.approx(ks * (-omega * r1) * state.dt * k,
-                                                   rel=overlap / r1)
-        assert -state.force[0] @ n == pytest.approx(kn * overlap, rel=1e-12)
+        assert state.particles.force[0] @ t == pytest.approx(ks * (-omega * r1) * state.dt * k,
+                                                             rel=overlap / r1)
+        assert -state.particles.force[0] @ n == pytest.approx(kn * overlap, rel=1e-12)
 
 
 def test_shear_force_is_capped_by_coulomb_friction_and_unloads_elastically():
@@ -156,7 +156,7 @@ def test_shear_force_is_capped_by_coulomb_friction_and_unloads_elastically():
     history = []
     for _ in range(60):
         step(state, spin1=omega)
-        history.append(state.force[0] @ t)
+        history.append(state.particles.force[0] @ t)
     history = np.array(history)
     elastic = -increment * np.arange(1, 61)
     sliding = elastic < -cap
@@ -164,10 +164,11 @@ def test_shear_force_is_capped_by_coulomb_friction_and_unloads_elastically():
     np.testing.assert_allclose(history[~sliding], elastic[~sliding], rtol=arm_tol)
     np.testing.assert_allclose(history[sliding], -cap, rtol=1e-12)
     assert np.count_nonzero(sliding) > 20
-    assert -state.force[0] @ n == pytest.approx(kn * overlap, rel=1e-12)
+    assert -state.particles.force[0] @ n == pytest.approx(kn * overlap, rel=1e-12)
     for k in range(1, 11):
         step(state, spin1=-omega)
-        assert state.force[0] @ t == pytest.approx(-cap + k * increment, abs=arm_tol * cap)
+        assert state.particles.force[0] @ t == pytest.approx(-cap + k * increment,
+                                                             abs=arm_tol * cap)
 
 
 def test_contact_that_opens_forgets_its_shear_force():
@@ -178,15 +179,15 @@ def test_contact_that_opens_forgets_its_shear_force():
     kn = kn_of(r, r, 10.0)
     for _ in range(10):
         step(state, spin1=1e-3 * kn * overlap / (kn / 2 * r * state.dt))
-    assert abs(state.force[0] @ t) > 0
+    assert abs(state.particles.force[0] @ t) > 0
     away = 2 * overlap / state.dt * n
     for _ in range(2):
         step(state, vel1=away)
     for _ in range(2):
         step(state, vel1=-away)
     step(state)
-    assert -state.force[0] @ n == pytest.approx(kn * overlap, rel=1e-6)
-    assert abs(state.force[0] @ t) < 1e-9 * kn * overlap
+    assert -state.particles.force[0] @ n == pytest.approx(kn * overlap, rel=1e-6)
+    assert abs(state.particles.force[0] @ t) < 1e-9 * kn * overlap
 
 
 @pytest.mark.parametrize("E_c, Ebar_c", [(8.0, None), (0.0, 12.0)])
@@ -202,21 +203,22 @@ def test_walls_are_frictionless_springs_of_stiffness_2_t_E(E_c, Ebar_c):
     state = new_state(pos, np.array([r, r]), np.empty((0, 2), int), make_params(values),
                       walls=(0.0, 10e-3, 0.0, 5e-3), wall_active=(True, True, False, True),
                       driven=np.array([0]))
-    state.inv_mass[:] = 0.0
-    state.inv_inertia[:] = 0.0
+    state.particles.inv_mass[:] = 0.0
+    state.particles.inv_inertia[:] = 0.0
     advance(state, 1)
-    np.testing.assert_allclose(state.force[0], [k_wall * d_left, -k_wall * d_top], rtol=1e-9)
-    np.testing.assert_allclose(state.wall_force[0], [k_wall * d_left, 0, 0, k_wall * d_top],
+    np.testing.assert_allclose(state.particles.force[0], [k_wall * d_left, -k_wall * d_top],
                                rtol=1e-9)
-    np.testing.assert_allclose(state.force[1], 0.0)
-    assert state.moment[0] == 0.0  # frictionless
-    np.testing.assert_allclose(state.wall_force.sum(axis=0),
+    np.testing.assert_allclose(state.walls.force[0], [k_wall * d_left, 0, 0, k_wall * d_top],
+                               rtol=1e-9)
+    np.testing.assert_allclose(state.particles.force[1], 0.0)
+    assert state.particles.moment[0] == 0.0  # frictionless
+    np.testing.assert_allclose(state.walls.force.sum(axis=0),
                                [k_wall * d_left, 0, 0, k_wall * d_top], rtol=1e-9)
     # the top wall pushes down 0.1 um per step
     dv = 1e-7 / state.dt
-    state.wall_vel[3] = -dv
-    top = state.walls[3]
+    state.walls.vel[3] = -dv
+    top = state.walls.pos[3]
     for k in range(1, 6):
         advance(state, 1)
-        assert state.wall_force[0, 3] == pytest.approx(k_wall * (d_top + (k - 1) * 1e-7), rel=1e-9)
-    assert state.walls[3] == pytest.approx(top - 5 * 1e-7, rel=1e-12)
+        assert state.walls.force[0, 3] == pytest.approx(k_wall * (d_top + (k - 1) * 1e-7), rel=1e-9)
+    assert state.walls.pos[3] == pytest.approx(top - 5 * 1e-7, rel=1e-12)

@@ -34,10 +34,10 @@ def oscillator(r0, r1, speed, hold_0=False, **params):
                       driven=np.array([0]) if hold_0 else None)
     m0, m1 = mass(r0), mass(r1)
     if hold_0:
-        state.vel[1, 0] = speed
+        state.particles.vel[1, 0] = speed
     else:
-        state.vel[0, 0] = -speed * m1 / (m0 + m1)
-        state.vel[1, 0] = speed * m0 / (m0 + m1)
+        state.particles.vel[0, 0] = -speed * m1 / (m0 + m1)
+        state.particles.vel[1, 0] = speed * m0 / (m0 + m1)
     lam = values.get("lambda", 1.0)
     k = EBAR * GPA / (r0 + r1) * 2 * lam * min(r0, r1) * T
     m_eff = m1 if hold_0 else m0 * m1 / (m0 + m1)
@@ -47,12 +47,12 @@ def oscillator(r0, r1, speed, hold_0=False, **params):
 def run(state, steps):
     """Single steps: (bond normal force F_n, velocities v_(n+1/2)) per step, with v_(-1/2)."""
     fn = np.empty(steps)
-    vel = np.empty((steps + 1, state.pos.shape[0], 2))
-    vel[0] = state.vel
+    vel = np.empty((steps + 1, state.particles.pos.shape[0], 2))
+    vel[0] = state.particles.vel
     for s in range(steps):
         advance(state, 1)
-        fn[s] = state.bond_fn[0]
-        vel[s + 1] = state.vel
+        fn[s] = state.bonds.fn[0]
+        vel[s + 1] = state.particles.vel
     return fn, vel
 
 
@@ -62,9 +62,10 @@ def test_particles_are_solid_disks_of_unit_thickness():
     pos = np.array([[0.0, 0.0], [5e-3, 0.0], [0.0, 5e-3]])
     state = new_state(pos, r, np.empty((0, 2), int), make_params({"density": DENSITY}),
                       driven=np.array([2]))
-    np.testing.assert_allclose(1 / state.inv_mass[:2], mass(r[:2]), rtol=1e-12)
-    np.testing.assert_allclose(1 / state.inv_inertia[:2], 0.5 * mass(r[:2]) * r[:2]**2, rtol=1e-12)
-    assert state.inv_mass[2] == 0.0 and state.inv_inertia[2] == 0.0
+    np.testing.assert_allclose(1 / state.particles.inv_mass[:2], mass(r[:2]), rtol=1e-12)
+    np.testing.assert_allclose(1 / state.particles.inv_inertia[:2], 0.5 * mass(r[:2]) * r[:2]**2,
+                               rtol=1e-12)
+    assert state.particles.inv_mass[2] == 0.0 and state.particles.inv_inertia[2] == 0.0
 
 
 def test_leapfrog_invariant_of_the_oscillator_is_exact():
@@ -150,8 +151,8 @@ def cluster(seed, damping=0.0):
     params = make_params({"E_c": 10.0, "Ebar_c": 10.0, "mu": 0.4, "sigma_c": 3.0, "tau_c": 3.0,
                           "damping": damping, "density": DENSITY})
     state = new_state(pos, r, bonds, params)
-    state.vel[:] = rng.normal(0, 0.5, (16, 2))
-    state.spin[:] = rng.normal(0, 300.0, 16)
+    state.particles.vel[:] = rng.normal(0, 0.5, (16, 2))
+    state.particles.spin[:] = rng.normal(0, 300.0, 16)
     return state
 
 
@@ -159,18 +160,18 @@ def test_momentum_of_a_free_system_is_conserved():
     """No external force: total momentum sum m v is constant to round-off while bonds stretch,
     break and disks collide and slide; the centre of mass moves uniformly."""
     state = cluster(3)
-    m = mass(state.radius)
-    p0 = (m[:, None] * state.vel).sum(axis=0)
-    com0 = (m[:, None] * state.pos).sum(axis=0) / m.sum()
-    scale = (m[:, None] * np.abs(state.vel)).sum()
+    m = mass(state.particles.radius)
+    p0 = (m[:, None] * state.particles.vel).sum(axis=0)
+    com0 = (m[:, None] * state.particles.pos).sum(axis=0) / m.sum()
+    scale = (m[:, None] * np.abs(state.particles.vel)).sum()
     steps = 4000
     advance(state, steps)
-    assert np.count_nonzero(state.bond_state != INTACT) > 0  # something happened
-    p = (m[:, None] * state.vel).sum(axis=0)
+    assert np.count_nonzero(state.bonds.state != INTACT) > 0  # something happened
+    p = (m[:, None] * state.particles.vel).sum(axis=0)
     np.testing.assert_allclose(p, p0, atol=1e-11 * scale)
-    com = (m[:, None] * state.pos).sum(axis=0) / m.sum()
+    com = (m[:, None] * state.particles.pos).sum(axis=0) / m.sum()
     np.testing.assert_allclose(com, com0 + p0 / m.sum() * steps * state.dt,
-                               atol=1e-9 * np.abs(state.pos).max())
+                               atol=1e-9 * np.abs(state.particles.pos).max())
 
 
 def test_driven_disks_move_exactly_as_prescribed():
@@ -180,13 +181,14 @@ def test_driven_disks_move_exactly_as_prescribed():
     pos = np.array([[0.0, 0.0], [2 * r - 1e-6, 0.0]])
     state = new_state(pos, np.array([r, r]), np.empty((0, 2), int),
                       make_params({"damping": 0.0}), driven=np.array([0]))
-    state.vel[0] = (3.0, -1.0)
-    state.spin[0] = 50.0
+    state.particles.vel[0] = (3.0, -1.0)
+    state.particles.spin[0] = 50.0
     advance(state, 10)
-    np.testing.assert_allclose(state.vel[0], (3.0, -1.0))
-    assert state.spin[0] == 50.0
-    np.testing.assert_allclose(state.pos[0], 10 * state.dt * np.array([3.0, -1.0]), rtol=1e-12)
-    assert state.vel[1, 0] > 0
+    np.testing.assert_allclose(state.particles.vel[0], (3.0, -1.0))
+    assert state.particles.spin[0] == 50.0
+    np.testing.assert_allclose(state.particles.pos[0], 10 * state.dt * np.array([3.0, -1.0]),
+                               rtol=1e-12)
+    assert state.particles.vel[1, 0] > 0
 
 
 @pytest.mark.parametrize("gap_fraction", [
@@ -208,13 +210,14 @@ def test_angular_momentum_of_a_free_spinning_pair_is_conserved(gap_fraction):
     omega = 200.0
 
     def momentum():
-        rel = state.pos - (m[:, None] * state.pos).sum(axis=0) / m.sum()
-        return (m * (rel[:, 0] * state.vel[:, 1] - rel[:, 1] * state.vel[:, 0])).sum() \
-            + (inertia * state.spin).sum()
+        pos, vel = state.particles.pos, state.particles.vel
+        rel = pos - (m[:, None] * pos).sum(axis=0) / m.sum()
+        return (m * (rel[:, 0] * vel[:, 1] - rel[:, 1] * vel[:, 0])).sum() \
+            + (inertia * state.particles.spin).sum()
 
     rel = pos - (m[:, None] * pos).sum(axis=0) / m.sum()
-    state.vel[:] = omega * np.column_stack([-rel[:, 1], rel[:, 0]])
-    state.spin[:] = omega
+    state.particles.vel[:] = omega * np.column_stack([-rel[:, 1], rel[:, 0]])
+    state.particles.spin[:] = omega
     l0 = momentum()
     chunk = int(np.ceil(1.2 / (omega * state.dt) / 20))  # 1.2 rad in all
     history = []

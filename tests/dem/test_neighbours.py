@@ -5,6 +5,7 @@ contact and keeps the shear force of lasting contacts across rebuilds."""
 import numpy as np
 import pytest
 
+from rockcal.dem import neighbours
 from rockcal.dem.neighbours import near_pairs
 from rockcal.dem.simulate import advance, new_state
 from rockcal.params import make_params
@@ -61,6 +62,41 @@ def test_near_pairs_in_a_dense_pile_and_a_line():
     assert len(pi) == 0
 
 
+def test_neighbour_list_value_against_brute_force():
+    """`allocate` lists the bonds (in block layout) and then the unbonded near pairs; `update`
+    after random moves lists the same bonds and the new near pairs, carries the shear force of
+    pairs that stay listed, and `needs_update` turns true only past half the skin."""
+    rng = np.random.default_rng(4)
+    pos, radius = random_disks(rng, 400, 0.025)
+    skin = 0.5 * radius.min()
+    bi, bj = brute_force_pairs(pos, radius, 0.0)
+    bonds = np.column_stack([bi, bj])[rng.permutation(len(bi))[:len(bi) // 2]]
+    nlist, order = neighbours.allocate(pos, radius, bonds, skin)
+    nb = nlist.n_bonds
+    assert nb == len(bonds)
+    np.testing.assert_array_equal(np.column_stack([nlist.pi[:nb], nlist.pj[:nb]]), bonds[order])
+    bond_keys = set(map(tuple, bonds))
+    for _ in range(3):
+        near = set(zip(*brute_force_pairs(pos, radius, skin)))
+        listed = list(zip(nlist.pi[nb:], nlist.pj[nb:]))
+        assert len(listed) == len(set(listed))
+        assert set(listed) == near - bond_keys
+        assert nlist.contact_offsets[0] == nb and nlist.contact_offsets[-1] == len(nlist.pi)
+        assert not neighbours.needs_update(nlist, pos)
+        nlist.shear[:] = rng.normal(size=len(nlist.shear))
+        moved = pos.copy()
+        moved[0] += (0.51 * skin, 0.0)
+        assert neighbours.needs_update(nlist, moved)
+        new = neighbours.update(nlist, moved, radius)
+        np.testing.assert_array_equal(new.pi[:nb], nlist.pi[:nb])
+        np.testing.assert_array_equal(new.shear[:nb], nlist.shear[:nb])
+        old = dict(zip(listed, nlist.shear[nb:]))
+        for pair, shear in zip(zip(new.pi[nb:], new.pj[nb:]), new.shear[nb:]):
+            assert shear == old.get(pair, 0.0)
+        pos = pos + rng.uniform(-1, 1, pos.shape) * radius.min()
+        nlist = neighbours.update(nlist, pos, radius)
+
+
 def gas(seed, n=36):
     """Frictionless disks (history-free forces) in a walled box, fast enough to cross the
     neighbour skin every few tens of steps."""
@@ -76,7 +112,7 @@ def gas(seed, n=36):
     params = make_params({"E_c": 5.0, "mu": 0.0, "damping": 0.0})
     state = new_state(np.array(pos), np.array(radius), np.empty((0, 2), int), params,
                       walls=(0.0, box, 0.0, box), wall_active=(True,) * 4)
-    state.vel[:] = rng.normal(0.0, 1.0, (n, 2)) * 0.03e-3 / state.dt  # ~0.03 mm per step
+    state.particles.vel[:] = rng.normal(0.0, 1.0, (n, 2)) * 0.03e-3 / state.dt  # ~0.03 mm per step
     return state
 
 
@@ -104,23 +140,23 @@ def test_no_contact_is_missed_during_a_long_run():
     contact is found while the disks travel many skins (5 R_min) and collide many times."""
     state = gas(5)
     rng = np.random.default_rng(11)
-    start = state.pos.copy()
-    travelled = np.zeros(len(state.pos))
+    start = state.particles.pos.copy()
+    travelled = np.zeros(len(state.particles.pos))
     contacts = 0
     scale = 2 * T * 5 * GPA * 1e-6  # the force of a 1 um overlap
     for _ in range(150):
-        before = state.pos.copy()
+        before = state.particles.pos.copy()
         advance(state, int(rng.integers(1, 40)))
-        at = state.pos.copy()
+        at = state.particles.pos.copy()
         travelled += np.hypot(*(at - before).T)
         advance(state, 1)
-        expected = brute_force_forces(at, state.radius, state.walls, 5 * GPA)
-        np.testing.assert_allclose(state.force, expected, rtol=1e-9, atol=1e-9 * scale)
+        expected = brute_force_forces(at, state.particles.radius, state.walls.pos, 5 * GPA)
+        np.testing.assert_allclose(state.particles.force, expected, rtol=1e-9, atol=1e-9 * scale)
         contacts += np.count_nonzero(np.any(expected != 0, axis=1))
     assert contacts > 100
-    rmin = state.radius.min()  # the default skin is rmin / 2
+    rmin = state.particles.radius.min()  # the default skin is rmin / 2
     assert np.median(travelled) > 5 * rmin
-    assert np.abs(state.pos - start).max() > 2 * rmin
+    assert np.abs(state.particles.pos - start).max() > 2 * rmin
 
 
 def test_shear_force_survives_neighbour_list_rebuilds():
@@ -130,20 +166,20 @@ def test_shear_force_survives_neighbour_list_rebuilds():
     pos = np.array([[0.0, 0.0], [2 * r - overlap, 0.0], [20e-3, 0.0]])
     params = make_params({"E_c": 10.0, "kn_ks": 2.0, "mu": 0.5, "damping": 0.0})
     state = new_state(pos, np.full(3, r), np.empty((0, 2), int), params, driven=np.array([0]))
-    state.inv_mass[:] = 0.0
-    state.inv_inertia[:] = 0.0
+    state.particles.inv_mass[:] = 0.0
+    state.particles.inv_inertia[:] = 0.0
     kn = 2 * r * T * 10 * GPA / (2 * r)
     ks = kn / 2.0
     omega = 0.01 * kn * overlap / (ks * r * state.dt)
-    state.spin[1] = omega
+    state.particles.spin[1] = omega
     advance(state, 20)  # shear force on disk 0: 20 ks (-omega r) dt along y
-    state.spin[1] = 0.0
+    state.particles.spin[1] = 0.0
     advance(state, 1)
-    before = state.force[0].copy()
+    before = state.particles.force[0].copy()
     assert before[1] == pytest.approx(20 * ks * (-omega * r) * state.dt, rel=overlap / r)
-    state.vel[2] = (0.0, 0.05 * r / state.dt)  # 10 R in all: many skins
+    state.particles.vel[2] = (0.0, 0.05 * r / state.dt)  # 10 R in all: many skins
     advance(state, 200)
-    state.vel[2] = 0.0
+    state.particles.vel[2] = 0.0
     advance(state, 1)
-    assert state.pos[2, 1] > 9 * r
-    np.testing.assert_allclose(state.force[0], before, rtol=1e-12)
+    assert state.particles.pos[2, 1] > 9 * r
+    np.testing.assert_allclose(state.particles.force[0], before, rtol=1e-12)

@@ -29,8 +29,8 @@ def bonded_pair(r0, r1, angle=0.0, gap=0.0, **params):
               "tau_c": 60.0, "damping": 0.0} | params
     state = new_state(pos, np.array([r0, r1]), [[0, 1]], make_params(values),
                       driven=np.array([0]))
-    state.inv_mass[:] = 0.0
-    state.inv_inertia[:] = 0.0
+    state.particles.inv_mass[:] = 0.0
+    state.particles.inv_inertia[:] = 0.0
     return state, n
 
 
@@ -42,8 +42,8 @@ def geometry(r0, r1, lam=0.8, ebar=EBAR, ratio=1.6):
 
 
 def step(state, vel=((0.0, 0.0), (0.0, 0.0)), spin=(0.0, 0.0)):
-    state.vel[:] = vel
-    state.spin[:] = spin
+    state.particles.vel[:] = vel
+    state.particles.spin[:] = spin
     advance(state, 1)
 
 
@@ -58,19 +58,19 @@ def test_normal_force_is_kbn_A_times_the_separation(direction):
     r0, r1 = 1e-3, 1.3e-3
     state, n = bonded_pair(r0, r1, angle=0.9)
     kbn, _, area, _, _ = geometry(r0, r1)
-    d0 = np.linalg.norm(state.pos[1] - state.pos[0])
+    d0 = np.linalg.norm(state.particles.pos[1] - state.particles.pos[0])
     speed = direction * 1e-8 / state.dt
     for _ in range(7):
         step(state, vel=((0, 0), tuple(speed * n)))
     step(state)  # evaluate at the final positions
-    dn = np.linalg.norm(state.pos[1] - state.pos[0]) - d0
+    dn = np.linalg.norm(state.particles.pos[1] - state.particles.pos[0]) - d0
     assert dn == pytest.approx(direction * 7e-8, rel=1e-6)
     fn = kbn * area * dn
-    assert state.bond_fn[0] == pytest.approx(fn, rel=1e-9)
-    np.testing.assert_allclose(state.force[0], fn * n, rtol=1e-9, atol=1e-12 * abs(fn))
-    np.testing.assert_allclose(state.force[1], -fn * n, rtol=1e-9, atol=1e-12 * abs(fn))
-    assert state.bond_fs[0] == 0.0 and state.bond_m[0] == 0.0
-    np.testing.assert_allclose(state.moment, 0.0, atol=1e-12 * abs(fn) * r0)
+    assert state.bonds.fn[0] == pytest.approx(fn, rel=1e-9)
+    np.testing.assert_allclose(state.particles.force[0], fn * n, rtol=1e-9, atol=1e-12 * abs(fn))
+    np.testing.assert_allclose(state.particles.force[1], -fn * n, rtol=1e-9, atol=1e-12 * abs(fn))
+    assert state.bonds.fs[0] == 0.0 and state.bonds.m[0] == 0.0
+    np.testing.assert_allclose(state.particles.moment, 0.0, atol=1e-12 * abs(fn) * r0)
 
 
 def test_shear_force_from_equal_spins_without_bending():
@@ -86,12 +86,12 @@ def test_shear_force_from_equal_spins_without_bending():
         step(state, spin=(omega, omega))
     ds = -omega * (r0 + r1) * 9 * state.dt
     fs = kbs * area * ds
-    assert state.bond_fs[0] == pytest.approx(fs, rel=1e-9)
-    assert state.bond_m[0] == 0.0
-    assert abs(state.bond_fn[0]) < 1e-12 * abs(fs)
-    np.testing.assert_allclose(state.force[0], fs * t, rtol=1e-9, atol=1e-12 * abs(fs))
-    np.testing.assert_allclose(state.force[1], -fs * t, rtol=1e-9, atol=1e-12 * abs(fs))
-    np.testing.assert_allclose(state.moment, [r0 * fs, r1 * fs], rtol=1e-9)
+    assert state.bonds.fs[0] == pytest.approx(fs, rel=1e-9)
+    assert state.bonds.m[0] == 0.0
+    assert abs(state.bonds.fn[0]) < 1e-12 * abs(fs)
+    np.testing.assert_allclose(state.particles.force[0], fs * t, rtol=1e-9, atol=1e-12 * abs(fs))
+    np.testing.assert_allclose(state.particles.force[1], -fs * t, rtol=1e-9, atol=1e-12 * abs(fs))
+    np.testing.assert_allclose(state.particles.moment, [r0 * fs, r1 * fs], rtol=1e-9)
 
 
 def test_moment_from_relative_rotation():
@@ -106,10 +106,10 @@ def test_moment_from_relative_rotation():
     for _ in range(6):
         step(state, spin=(omega0, omega1))
     m = kbn * inertia * (omega1 - omega0) * 6 * state.dt
-    assert state.bond_m[0] == pytest.approx(m, rel=1e-9)
-    assert abs(state.bond_fs[0]) < 1e-9 * m / r0 and state.bond_fn[0] == 0.0
-    np.testing.assert_allclose(state.moment, [m, -m], rtol=1e-9)
-    np.testing.assert_allclose(state.force, 0.0, atol=1e-9 * m / r0)
+    assert state.bonds.m[0] == pytest.approx(m, rel=1e-9)
+    assert abs(state.bonds.fs[0]) < 1e-9 * m / r0 and state.bonds.fn[0] == 0.0
+    np.testing.assert_allclose(state.particles.moment, [m, -m], rtol=1e-9)
+    np.testing.assert_allclose(state.particles.force, 0.0, atol=1e-9 * m / r0)
 
 
 def one_step_load(state, fn, moment, r0, r1, fs=0.0, lam=0.8):
@@ -118,7 +118,8 @@ def one_step_load(state, fn, moment, r0, r1, fs=0.0, lam=0.8):
     radii, so the bond's ends do not slide)."""
     assert r0 == r1
     kbn, kbs, area, inertia, _ = geometry(r0, r1, lam=lam)
-    n = (state.pos[1] - state.pos[0]) / np.linalg.norm(state.pos[1] - state.pos[0])
+    d = state.particles.pos[1] - state.particles.pos[0]
+    n = d / np.linalg.norm(d)
     v = fn / (kbn * area * state.dt) * n + fs / (kbs * area * state.dt) * tangent(n)
     w = moment / (2 * kbn * inertia * state.dt)
     return ((0.0, 0.0), tuple(v)), (-w, w)
@@ -140,17 +141,17 @@ def test_tension_failure_at_sigma_c(mcf, moment_share, factor, broken):
     vel, spin = one_step_load(state, fn, m, r, r)
     step(state, vel, spin)
     if not broken:
-        assert state.bond_state[0] == INTACT
-        assert state.bond_fn[0] == pytest.approx(fn, rel=1e-9)
-        assert state.bond_m[0] == pytest.approx(m, rel=1e-9, abs=1e-20)
-        assert state.bond_fn[0] / area + mcf * abs(state.bond_m[0]) * rb / inertia < sigma_c * MPA
+        assert state.bonds.state[0] == INTACT
+        assert state.bonds.fn[0] == pytest.approx(fn, rel=1e-9)
+        assert state.bonds.m[0] == pytest.approx(m, rel=1e-9, abs=1e-20)
+        assert state.bonds.fn[0] / area + mcf * abs(state.bonds.m[0]) * rb / inertia < sigma_c * MPA
     else:
-        assert state.bond_state[0] == BROKEN_TENSION
-        assert state.bond_fn[0] == state.bond_fs[0] == state.bond_m[0] == 0.0
-        assert np.all(state.force == 0.0) and np.all(state.moment == 0.0)
+        assert state.bonds.state[0] == BROKEN_TENSION
+        assert state.bonds.fn[0] == state.bonds.fs[0] == state.bonds.m[0] == 0.0
+        assert np.all(state.particles.force == 0.0) and np.all(state.particles.moment == 0.0)
         step(state, vel, spin)  # stays broken and carries nothing
-        assert state.bond_state[0] == BROKEN_TENSION
-        assert np.all(state.force == 0.0) and np.all(state.moment == 0.0)
+        assert state.bonds.state[0] == BROKEN_TENSION
+        assert np.all(state.particles.force == 0.0) and np.all(state.particles.moment == 0.0)
 
 
 def test_bending_alone_breaks_a_bond_in_tension_whatever_the_sign():
@@ -163,7 +164,7 @@ def test_bending_alone_breaks_a_bond_in_tension_whatever_the_sign():
             m = sign * factor * 25.0 * MPA * inertia / (0.8 * rb)
             vel, spin = one_step_load(state, 0.0, m, r, r)
             step(state, vel, spin)
-            assert state.bond_state[0] == mode, (sign, factor)
+            assert state.bonds.state[0] == mode, (sign, factor)
 
 
 @pytest.mark.parametrize("phi_b", [0.0, 35.0])
@@ -180,17 +181,17 @@ def test_shear_failure_at_cohesion_minus_normal_stress_tan_phi(phi_b, sigma_mpa,
     _, _, area, _, _ = geometry(r, r)
     vel, spin = one_step_load(state, sigma_mpa * MPA * area, 0.0, r, r)
     step(state, vel, spin)
-    assert state.bond_fn[0] / area == pytest.approx(sigma_mpa * MPA, rel=1e-9, abs=1e-3)
+    assert state.bonds.fn[0] / area == pytest.approx(sigma_mpa * MPA, rel=1e-9, abs=1e-3)
     strength = (tau_c - sigma_mpa * np.tan(np.radians(phi_b))) * MPA
     fs = factor * strength * area
     step(state, *one_step_load(state, 0.0, 0.0, r, r, fs=fs))
     if not broken:
-        assert state.bond_state[0] == INTACT
-        assert abs(state.bond_fs[0]) == pytest.approx(fs, rel=1e-9)
+        assert state.bonds.state[0] == INTACT
+        assert abs(state.bonds.fs[0]) == pytest.approx(fs, rel=1e-9)
     else:
-        assert state.bond_state[0] == BROKEN_SHEAR
-        assert state.bond_fn[0] == state.bond_fs[0] == state.bond_m[0] == 0.0
-        assert np.all(state.force == 0.0) and np.all(state.moment == 0.0)
+        assert state.bonds.state[0] == BROKEN_SHEAR
+        assert state.bonds.fn[0] == state.bonds.fs[0] == state.bonds.m[0] == 0.0
+        assert np.all(state.particles.force == 0.0) and np.all(state.particles.moment == 0.0)
 
 
 def test_tension_is_checked_before_shear():
@@ -199,7 +200,7 @@ def test_tension_is_checked_before_shear():
     state, n = bonded_pair(r, r, sigma_c=10.0, tau_c=10.0)
     _, _, area, _, _ = geometry(r, r)
     step(state, *one_step_load(state, 12.0 * MPA * area, 0.0, r, r, fs=12.0 * MPA * area))
-    assert state.bond_state[0] == BROKEN_TENSION
+    assert state.bonds.state[0] == BROKEN_TENSION
 
 
 def test_bond_installed_at_an_overlap_locks_in_no_force_and_acts_in_parallel_with_contact():
@@ -213,23 +214,23 @@ def test_bond_installed_at_an_overlap_locks_in_no_force_and_acts_in_parallel_wit
     kn = 2 * r * T * e_c * GPA / (2 * r)
     kbn, _, area, _, _ = geometry(r, r)
     step(state)
-    assert np.all(state.force == 0.0) and np.all(state.moment == 0.0)
+    assert np.all(state.particles.force == 0.0) and np.all(state.particles.moment == 0.0)
     dn = 1e-7
     speed = dn / state.dt
     step(state, vel=((0, 0), tuple(-speed * n)))
     step(state)
-    np.testing.assert_allclose(state.force[0], -(kn + kbn * area) * dn * n, rtol=1e-6)
+    np.testing.assert_allclose(state.particles.force[0], -(kn + kbn * area) * dn * n, rtol=1e-6)
     # pull apart until the bond breaks in tension
-    while state.bond_state[0] == INTACT:
+    while state.bonds.state[0] == INTACT:
         step(state, vel=((0, 0), tuple(speed * n)))
-    assert state.bond_state[0] == BROKEN_TENSION
+    assert state.bonds.state[0] == BROKEN_TENSION
     step(state)
-    assert np.all(state.force == 0.0)  # beyond the reference: no tension
-    d = np.linalg.norm(state.pos[1] - state.pos[0])
+    assert np.all(state.particles.force == 0.0)  # beyond the reference: no tension
+    d = np.linalg.norm(state.particles.pos[1] - state.particles.pos[0])
     back = d - (2 * r - overlap0 - dn)  # to dn past the reference
     step(state, vel=((0, 0), tuple(-back / state.dt * n)))
     step(state)
-    np.testing.assert_allclose(state.force[0], -kn * dn * n, rtol=1e-5)
+    np.testing.assert_allclose(state.particles.force[0], -kn * dn * n, rtol=1e-5)
 
 
 @pytest.mark.parametrize("gap_fraction", [
@@ -243,14 +244,14 @@ def test_rigid_rotation_of_a_bonded_pair_loads_nothing(gap_fraction):
     r = 1e-3
     state, n = bonded_pair(r, 1.2 * r, angle=0.2, gap=gap_fraction * r)
     kbn, kbs, area, _, _ = geometry(r, 1.2 * r)
-    centre = state.pos.mean(axis=0)
+    centre = state.particles.pos.mean(axis=0)
     omega = 1e-5 / state.dt
     steps = 1000  # theta = 0.01 rad
     for _ in range(steps):
-        rel = state.pos - centre
+        rel = state.particles.pos - centre
         step(state, vel=omega * np.column_stack([-rel[:, 1], rel[:, 0]]), spin=(omega, omega))
     theta = omega * steps * state.dt
     scale = kbs * area * r * theta  # the shear force of a slip r theta
-    assert abs(state.bond_fs[0]) < 1e-4 * scale
-    assert abs(state.bond_fn[0]) < 1e-4 * kbn * area * r * theta
-    assert state.bond_m[0] == 0.0
+    assert abs(state.bonds.fs[0]) < 1e-4 * scale
+    assert abs(state.bonds.fn[0]) < 1e-4 * kbn * area * r * theta
+    assert state.bonds.m[0] == 0.0

@@ -1,8 +1,10 @@
 """Neighbour search: a cell grid gives the Verlet list of near, unbonded pairs.
 
-The pair list is the permanent bonded pairs followed by the unbonded pairs closer than
-R_i + R_j + skin. It is rebuilt only when some particle has moved more than skin / 2 since
-the last build, so new contacts are never missed.
+The pair list (`NeighbourList`) is the permanent bonded pairs followed by the unbonded pairs
+closer than R_i + R_j + skin. It is a value: `allocate` makes one, `update` makes the next from
+new positions, and `needs_update` tells when that is due (JAX MD's `partition.neighbor_list`
+is the model): when some particle has moved more than skin / 2 since the last build, so new
+contacts are never missed.
 
 Parallel and deterministic: particles are split into blocks of consecutive indices (specimens
 number them strip by strip, so a block is a band of the specimen). Pairs are grouped by block
@@ -11,10 +13,81 @@ are summed in parallel without write races, the border pairs after them, always 
 order whatever the number of threads.
 """
 
+from dataclasses import dataclass
+
 import numpy as np
 from numba import njit
 
 PARTICLES_PER_BLOCK = 2000
+
+
+@dataclass(frozen=True)
+class NeighbourList:
+    """Pairs i < j: the bonds (pair p < n_bonds is bond p), then the near unbonded pairs; each
+    part grouped by block (`block_layout`), pairs across a block border last.
+
+    `shear` is the contact shear force of each pair (N): the force laws update it in place,
+    and `update` carries it over for the pairs that stay listed, so it lives with the pairs.
+    """
+
+    pi: np.ndarray
+    pj: np.ndarray
+    n_bonds: int
+    shear: np.ndarray
+    block_starts: np.ndarray  # first particle of each block, and n
+    bond_offsets: np.ndarray  # bonds of block b: bond_offsets[b]:[b + 1]; border bonds last
+    contact_offsets: np.ndarray  # the same for the unbonded pairs (from n_bonds on)
+    pos_at_build: np.ndarray  # particle positions when the list was built
+    skin: float  # listed: gap below the skin
+
+    @property
+    def rebuild_distance_sq(self) -> float:
+        """The squared displacement beyond which the list must be rebuilt, (skin / 2)^2."""
+        return (0.5 * self.skin) ** 2
+
+
+def allocate(pos: np.ndarray, radius: np.ndarray, bonds: np.ndarray, skin: float):
+    """A list with the bonded pairs `bonds` (i < j) and the near unbonded pairs at `pos`, and
+    the order of the bonds in it (its bond k is bonds[order[k]]): sorted by (i, j), grouped
+    by block. Every pair starts with zero shear force."""
+    n = pos.shape[0]
+    bonds = np.asarray(bonds, np.int64).reshape(-1, 2)
+    order = np.argsort(bonds[:, 0] * n + bonds[:, 1])
+    starts = block_starts(n)
+    by_block, bond_offsets = block_layout(bonds[order, 0], bonds[order, 1], starts)
+    order = order[by_block]
+    bonded = NeighbourList(
+        pi=bonds[order, 0], pj=bonds[order, 1], n_bonds=len(bonds),
+        shear=np.zeros(len(bonds)), block_starts=starts, bond_offsets=bond_offsets,
+        contact_offsets=np.full(len(bond_offsets), len(bonds), np.int64), pos_at_build=pos,
+        skin=skin)
+    return update(bonded, pos, radius), order
+
+
+def update(nlist: NeighbourList, pos: np.ndarray, radius: np.ndarray) -> NeighbourList:
+    """The list rebuilt at `pos`: the same bonds, new near unbonded pairs; a pair already
+    listed keeps its shear force."""
+    n, nb = pos.shape[0], nlist.n_bonds
+    bond_keys = nlist.pi[:nb] * n + nlist.pj[:nb]
+    old_keys = nlist.pi[nb:] * n + nlist.pj[nb:]
+    order = np.argsort(old_keys)
+    ci, cj, shear = contact_pairs(pos, radius, nlist.skin, np.sort(bond_keys), old_keys[order],
+                                  nlist.shear[nb:][order])
+    by_block, offsets = block_layout(ci, cj, nlist.block_starts)
+    return NeighbourList(
+        pi=np.concatenate([nlist.pi[:nb], ci[by_block]]),
+        pj=np.concatenate([nlist.pj[:nb], cj[by_block]]), n_bonds=nb,
+        shear=np.concatenate([nlist.shear[:nb], shear[by_block]]),
+        block_starts=nlist.block_starts, bond_offsets=nlist.bond_offsets,
+        contact_offsets=nb + offsets, pos_at_build=pos.copy(), skin=nlist.skin)
+
+
+def needs_update(nlist: NeighbourList, pos: np.ndarray) -> bool:
+    """Whether some particle has moved more than skin / 2 since the list was built (a change
+    of radii also calls for an `update`, which this does not see)."""
+    d = pos - nlist.pos_at_build
+    return bool((d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]).max(initial=0.0)
+                > nlist.rebuild_distance_sq)
 
 
 def spatial_order(pos: np.ndarray, strip: float) -> np.ndarray:

@@ -53,7 +53,7 @@ def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed
                       wall_active=(True,) * 4)
 
     for stage in range(GROWTH_STAGES):
-        state.radius[:] = radius * (0.5 + 0.5 * (stage + 1) / GROWTH_STAGES)
+        state.particles.radius[:] = radius * (0.5 + 0.5 * (stage + 1) / GROWTH_STAGES)
         rebuild_neighbours(state)
         advance(state, STEPS_PER_STAGE)
 
@@ -63,21 +63,22 @@ def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed
     target = pressure_mpa * MPa
     stress = scale_to_pressure(state, radius, target, servo_steps)
     overlap = target / (PACKING_MODULUS_GPA * GPa)  # ~ a contact's at P_m, / R
+    particles = state.particles
     for round_ in range(FLOATER_ROUNDS):
-        grown = enlarge_floaters(state.pos, state.radius, width, height, overlap)
-        floaters = np.count_nonzero(grown != state.radius)
+        grown = enlarge_floaters(particles.pos, particles.radius, width, height, overlap)
+        floaters = np.count_nonzero(grown != particles.radius)
         log.debug("floater round %d: %d floaters, wall stress %.3g MPa", round_, floaters, stress / MPa)
         if not floaters and abs(stress - target) < PRESSURE_TOLERANCE * target:
             break
-        state.radius[:] = grown * servo_factor(stress, target)
+        particles.radius[:] = grown * servo_factor(stress, target)
         rebuild_neighbours(state)
         stress = settled_stress(state, floater_steps)
-    return state.pos.copy(), state.radius.copy(), stress / MPa
+    return particles.pos.copy(), particles.radius.copy(), stress / MPa
 
 
 def wall_stress(state, width: float, height: float) -> float:
     """Mean normal stress on the four walls of the vessel, Pa."""
-    f = state.total_wall_force()
+    f = state.walls.total_force()
     return 0.5 * ((f[LEFT] + f[RIGHT]) / height + (f[BOTTOM] + f[TOP]) / width) / THICKNESS_M
 
 
@@ -88,7 +89,8 @@ def servo_factor(stress: float, target: float) -> float:
 
 def settled_stress(state, steps: int) -> float:
     """Cycle `steps` steps; the mean wall stress over their second half, Pa."""
-    width, height = state.walls[RIGHT] - state.walls[LEFT], state.walls[TOP] - state.walls[BOTTOM]
+    at = state.walls.pos
+    width, height = at[RIGHT] - at[LEFT], at[TOP] - at[BOTTOM]
     samples = []
     for _ in range(SAMPLES_PER_SERVO):
         advance(state, steps // SAMPLES_PER_SERVO)
@@ -106,5 +108,5 @@ def scale_to_pressure(state, radius: np.ndarray, target: float, steps: int) -> f
         if abs(stress - target) < PRESSURE_TOLERANCE * target:
             break
         scale *= servo_factor(stress, target)
-        state.radius[:] = radius * scale
+        state.particles.radius[:] = radius * scale
     return stress

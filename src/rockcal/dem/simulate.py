@@ -1,8 +1,10 @@
 """Stepping in time: the state of a bonded-particle model and the explicit integrator.
 
-The state is a structure of plain arrays. `advance` runs many steps inside one compiled
-loop (force laws, walls, PFC local damping, central-difference motion) and hands back to
-Python only to rebuild the neighbour list, so the per-step cost is the arithmetic alone.
+The state is named parts of plain arrays: particles, bonds (`laws.Bonds`), walls and the
+neighbour list (`neighbours.NeighbourList`), with the law constants, damping and time step.
+`advance` runs many steps inside one compiled loop (force laws, walls, PFC local damping,
+central-difference motion) and hands back to Python only to update the neighbour list, so the
+per-step cost is the arithmetic alone.
 Each step sums the pair forces block by block in parallel, then the pairs across block
 borders, then moves the particles block by block (`neighbours.block_layout`): the order of
 every sum is fixed by the specimen, so results do not depend on the number of threads.
@@ -12,6 +14,7 @@ Everything is SI; disks have unit thickness (PFC2D convention).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import numba
@@ -26,60 +29,53 @@ TIME_STEP_SAFETY = 0.8
 LEFT, RIGHT, BOTTOM, TOP = range(4)
 
 
-@dataclass
-class State:
-    """Particles, pairs (bonds first, then near unbonded pairs; each part grouped by block),
-    walls and their forces."""
+class Particles(NamedTuple):
+    """Per-particle arrays; the engine changes them in place."""
 
-    pos: np.ndarray
-    vel: np.ndarray
-    spin: np.ndarray
-    radius: np.ndarray
+    pos: np.ndarray  # (n, 2), m
+    vel: np.ndarray  # (n, 2), m/s
+    spin: np.ndarray  # rad/s
+    radius: np.ndarray  # m
     inv_mass: np.ndarray  # 0 for driven particles, whose velocity is prescribed
     inv_inertia: np.ndarray
-    pi: np.ndarray
-    pj: np.ndarray
-    n_bonds: int
-    contact_shear: np.ndarray
-    bond_state: np.ndarray
-    bond_fn: np.ndarray
-    bond_fs: np.ndarray
-    bond_m: np.ndarray
-    bond_break_xy: np.ndarray
-    bond_ref_overlap: np.ndarray  # overlap at installation (PFC's reference gap, negated)
-    bond_ten: np.ndarray  # tensile strength of each bond, Pa
-    bond_coh: np.ndarray  # cohesion of each bond, Pa
-    walls: np.ndarray  # x_left, x_right, y_bottom, y_top
-    wall_active: np.ndarray
-    wall_vel: np.ndarray
-    wall_force: np.ndarray  # (n, 4): force of each particle on each wall
-    force: np.ndarray
+    force: np.ndarray  # (n, 2): force of the last step, N per m of thickness
     moment: np.ndarray
+
+
+class Walls(NamedTuple):
+    """The four axis-aligned walls (LEFT, RIGHT, BOTTOM, TOP); only active ones push."""
+
+    pos: np.ndarray  # x_left, x_right, y_bottom, y_top, m
+    vel: np.ndarray  # m/s
+    active: np.ndarray
+    force: np.ndarray  # (n, 4): force of each particle on each wall
+    stiffness: float  # normal stiffness of a wall contact, N/m
+
+    def total_force(self) -> np.ndarray:
+        """Force on each wall (left, right, bottom, top), compression positive, N per m."""
+        return self.force.sum(axis=0)
+
+
+@dataclass
+class State:
+    """A bonded-particle model: its particles, bonds (in the order of the first pairs of the
+    neighbour list), walls and neighbour list, the law constants, damping and time step."""
+
+    particles: Particles
+    bonds: laws.Bonds
+    walls: Walls
+    neighbours: neighbours.NeighbourList
     laws: laws.Laws
     damping: float
-    k_wall: float
-    skin: float
     dt: float
-    block_starts: np.ndarray  # first particle of each block, and n
-    bond_offsets: np.ndarray  # bonds of block b: bond_offsets[b]:[b + 1]; border bonds last
-    contact_offsets: np.ndarray | None = None  # the same for the unbonded pairs
     step: int = 0
-    pos_at_build: np.ndarray | None = None
 
     @property
     def n_particles(self) -> int:
-        return self.pos.shape[0]
-
-    def total_wall_force(self) -> np.ndarray:
-        """Force on each wall (left, right, bottom, top), compression positive, N per m."""
-        return self.wall_force.sum(axis=0)
+        return self.particles.pos.shape[0]
 
     def n_broken(self, mode: int) -> int:
-        return int(np.count_nonzero(self.bond_state == mode))
-
-    def bonds(self) -> laws.Bonds:
-        return laws.Bonds(self.bond_state, self.bond_fn, self.bond_fs, self.bond_m,
-                          self.bond_break_xy, self.bond_ref_overlap, self.bond_ten, self.bond_coh)
+        return int(np.count_nonzero(self.bonds.state == mode))
 
 
 def law_constants(params: MicroParams) -> laws.Laws:
@@ -123,54 +119,37 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
     if driven is not None:
         inv_mass[driven] = 0.0
         inv_inertia[driven] = 0.0
-    bonds = np.asarray(bonds, np.int64).reshape(-1, 2)
-    order = np.argsort(bonds[:, 0] * n + bonds[:, 1])
-    starts = neighbours.block_starts(n)
-    by_block, bond_offsets = neighbours.block_layout(bonds[order, 0], bonds[order, 1], starts)
-    order = order[by_block]
-    bonds = bonds[order]
-    ten, coh = bond_strengths(params, None if bond_draws is None else
-                              np.asarray(bond_draws, float).reshape(-1, 2)[order], len(bonds))
     pos = np.ascontiguousarray(pos, float)
-    centre_gap = np.hypot(*(pos[bonds[:, 1]] - pos[bonds[:, 0]]).T)
-    ref_overlap = np.maximum(0.0, radius[bonds[:, 0]] + radius[bonds[:, 1]] - centre_gap)
+    nlist, order = neighbours.allocate(pos, radius, bonds,
+                                       skin if skin is not None else 0.5 * radius.min())
+    nb = nlist.n_bonds
+    ten, coh = bond_strengths(params, None if bond_draws is None else
+                              np.asarray(bond_draws, float).reshape(-1, 2)[order], nb)
+    bi, bj = nlist.pi[:nb], nlist.pj[:nb]
+    centre_gap = np.hypot(*(pos[bj] - pos[bi]).T)
+    ref_overlap = np.maximum(0.0, radius[bi] + radius[bj] - centre_gap)
     laws_si = laws_si or law_constants(params)
     E_c, Ebar_c = laws_si.E_c, laws_si.Ebar_c
     state = State(
-        pos=pos.copy(), vel=np.zeros((n, 2)), spin=np.zeros(n),
-        radius=radius, inv_mass=inv_mass, inv_inertia=inv_inertia,
-        pi=bonds[:, 0].copy(), pj=bonds[:, 1].copy(), n_bonds=len(bonds),
-        contact_shear=np.zeros(len(bonds)), bond_state=np.zeros(len(bonds), np.int64),
-        bond_fn=np.zeros(len(bonds)), bond_fs=np.zeros(len(bonds)), bond_m=np.zeros(len(bonds)),
-        bond_break_xy=np.full((len(bonds), 2), np.nan), bond_ref_overlap=ref_overlap,
-        bond_ten=ten, bond_coh=coh,
-        walls=np.array(walls, float), wall_active=np.array(wall_active, np.bool_),
-        wall_vel=np.zeros(4), wall_force=np.zeros((n, 4)), force=np.zeros((n, 2)),
-        moment=np.zeros(n), laws=laws_si, damping=params.damping,
-        k_wall=2.0 * THICKNESS_M * (E_c if E_c > 0 else Ebar_c),
-        skin=skin if skin is not None else 0.5 * radius.min(), dt=0.0,
-        block_starts=starts, bond_offsets=bond_offsets,
+        particles=Particles(pos=pos.copy(), vel=np.zeros((n, 2)), spin=np.zeros(n),
+                            radius=radius, inv_mass=inv_mass, inv_inertia=inv_inertia,
+                            force=np.zeros((n, 2)), moment=np.zeros(n)),
+        bonds=laws.Bonds(state=np.zeros(nb, np.int64), fn=np.zeros(nb), fs=np.zeros(nb),
+                         m=np.zeros(nb), break_xy=np.full((nb, 2), np.nan),
+                         ref_overlap=ref_overlap, ten=ten, coh=coh),
+        walls=Walls(pos=np.array(walls, float), vel=np.zeros(4),
+                    active=np.array(wall_active, np.bool_), force=np.zeros((n, 4)),
+                    stiffness=2.0 * THICKNESS_M * (E_c if E_c > 0 else Ebar_c)),
+        neighbours=nlist, laws=laws_si, damping=params.damping, dt=0.0,
     )
-    rebuild_neighbours(state)
     state.dt = stable_time_step(state)
     return state
 
 
 def rebuild_neighbours(state: State) -> None:
-    """New list of unbonded near pairs, keeping the shear force of pairs already listed."""
-    n, nb = state.n_particles, state.n_bonds
-    bond_keys = state.pi[:nb] * n + state.pj[:nb]
-    old_keys = state.pi[nb:] * n + state.pj[nb:]
-    order = np.argsort(old_keys)
-    ci, cj, shear = neighbours.contact_pairs(state.pos, state.radius, state.skin,
-                                             np.sort(bond_keys), old_keys[order],
-                                             state.contact_shear[nb:][order])
-    by_block, offsets = neighbours.block_layout(ci, cj, state.block_starts)
-    state.pi = np.concatenate([state.pi[:nb], ci[by_block]])
-    state.pj = np.concatenate([state.pj[:nb], cj[by_block]])
-    state.contact_shear = np.concatenate([state.contact_shear[:nb], shear[by_block]])
-    state.contact_offsets = nb + offsets
-    state.pos_at_build = state.pos.copy()
+    """Rebuild the neighbour list at the particles' positions (needed after changing radii)."""
+    state.neighbours = neighbours.update(state.neighbours, state.particles.pos,
+                                         state.particles.radius)
 
 
 def stable_time_step(state: State) -> float:
@@ -179,27 +158,28 @@ def stable_time_step(state: State) -> float:
     Stiffness sums count every listed pair (as if touching) and the walls, as PFC does.
     """
     E_c, ks_per_kn, _, Ebar_c, ksbar_per_knbar, lam = state.laws[:6]
-    ri, rj = state.radius[state.pi], state.radius[state.pj]
+    p, pairs = state.particles, state.neighbours
+    ri, rj = p.radius[pairs.pi], p.radius[pairs.pj]
     length = ri + rj
     rmin = np.minimum(ri, rj)
     kn = 2 * rmin * THICKNESS_M * E_c / length
     ks = kn * ks_per_kn
     bonded = np.zeros(len(ri), bool)
-    bonded[:state.n_bonds] = True
+    bonded[:pairs.n_bonds] = True
     rb = lam * rmin
     kbn = np.where(bonded, Ebar_c / length * 2 * rb * THICKNESS_M, 0.0)
     kbs = kbn * ksbar_per_knbar
     kbr = np.where(bonded, Ebar_c / length * 2 / 3 * rb**3 * THICKNESS_M, 0.0)
     n = state.n_particles
-    k_trans = np.full(n, state.k_wall)
+    k_trans = np.full(n, state.walls.stiffness)
     k_rot = np.zeros(n)
-    for idx, r in ((state.pi, ri), (state.pj, rj)):
+    for idx, r in ((pairs.pi, ri), (pairs.pj, rj)):
         np.add.at(k_trans, idx, np.maximum(kn, ks) + np.maximum(kbn, kbs))
         np.add.at(k_rot, idx, (ks + kbs) * r**2 + kbr)
-    free = state.inv_mass > 0
+    free = p.inv_mass > 0
     with np.errstate(divide="ignore"):
-        dt_t = np.sqrt(1.0 / (state.inv_mass[free] * k_trans[free]))
-        dt_r = np.sqrt(1.0 / (state.inv_inertia[free] * np.maximum(k_rot[free], 1e-300)))
+        dt_t = np.sqrt(1.0 / (p.inv_mass[free] * k_trans[free]))
+        dt_r = np.sqrt(1.0 / (p.inv_inertia[free] * np.maximum(k_rot[free], 1e-300)))
     return TIME_STEP_SAFETY * float(min(dt_t.min(), dt_r.min()))
 
 
@@ -272,7 +252,7 @@ def advance(state: State, n_steps: int) -> None:
     over it would cost more in synchronisation than it saves.
     """
     cap = numba.get_num_threads()
-    numba.set_num_threads(max(1, min(cap, len(state.block_starts) - 1)))
+    numba.set_num_threads(max(1, min(cap, len(state.neighbours.block_starts) - 1)))
     try:
         _advance_all(state, n_steps)
     finally:
@@ -280,15 +260,16 @@ def advance(state: State, n_steps: int) -> None:
 
 
 def _advance_all(state: State, n_steps: int) -> None:
+    p, w = state.particles, state.walls
     done = 0
     while done < n_steps:
+        pairs = state.neighbours
         done_now, rebuild = _advance(
-            n_steps - done, state.pos, state.vel, state.spin, state.radius, state.inv_mass,
-            state.inv_inertia, state.pi, state.pj, state.contact_shear, state.bonds(),
-            state.n_bonds, state.block_starts, state.bond_offsets, state.contact_offsets,
-            state.force, state.moment, state.walls, state.wall_active, state.wall_vel,
-            state.wall_force, state.k_wall, state.pos_at_build, (0.5 * state.skin) ** 2,
-            state.laws, state.damping, state.dt)
+            n_steps - done, p.pos, p.vel, p.spin, p.radius, p.inv_mass, p.inv_inertia, pairs.pi,
+            pairs.pj, pairs.shear, state.bonds, pairs.n_bonds, pairs.block_starts,
+            pairs.bond_offsets, pairs.contact_offsets, p.force, p.moment, w.pos, w.active, w.vel,
+            w.force, w.stiffness, pairs.pos_at_build, pairs.rebuild_distance_sq, state.laws,
+            state.damping, state.dt)
         done += done_now
         state.step += done_now
         if rebuild:

@@ -175,22 +175,23 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
 
     rows = specimen.height_m / (2 * radius.mean())
     pin_step = rate_factor * PIN_STEP_PER_RADIUS * radius.mean()
-    pin_y0 = state.pos[is_pin, 1].mean()
+    particles, bonds = state.particles, state.bonds
+    pin_y0 = particles.pos[is_pin, 1].mean()
     first_break = np.empty((0, 2))
 
     def move(factor: float) -> None:
-        state.vel[is_pin, 1] = -pin_step * factor / state.dt
+        particles.vel[is_pin, 1] = -pin_step * factor / state.dt
 
     def read() -> Reading:
         nonlocal first_break
-        if not len(first_break) and state.bond_state.any():
-            first_break = state.bond_break_xy[state.bond_state > 0]
-        displacement = pin_y0 - state.pos[is_pin, 1].mean()
-        load = 0.5 * (state.force[is_pin, 1].sum() + -state.force[is_support, 1].sum())
+        if not len(first_break) and bonds.state.any():
+            first_break = bonds.break_xy[bonds.state > 0]
+        displacement = pin_y0 - particles.pos[is_pin, 1].mean()
+        load = 0.5 * (particles.force[is_pin, 1].sum() + -particles.force[is_support, 1].sum())
         return Reading(load, displacement, (1e3 * displacement, load / 1e3))
 
     def crack_has_run(reading: Reading) -> bool:
-        return loading.fallen_below(POST_PEAK_FRACTION, reading.load) and state.bond_state.any()
+        return loading.fallen_below(POST_PEAK_FRACTION, reading.load) and bonds.state.any()
 
     loading = Loading(RAMP_STEPS_PER_ROW * rows, DISTRIBUTED_DAMAGE)
     curve = load_to_failure(state, loading, max(10, int(rows / 4)), move, read, crack_has_run,

@@ -82,12 +82,12 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
     diameter = top - bottom
 
     def read() -> Reading:
-        closure = (state.walls[BOTTOM] - bottom) + (top - state.walls[TOP])
+        closure = (state.walls.pos[BOTTOM] - bottom) + (top - state.walls.pos[TOP])
         load = platens.load()
         return Reading(load, closure, (1e3 * closure, load / 1e3))
 
     def split(reading: Reading) -> bool:
-        return (loading.fallen_below(POST_PEAK_FRACTION, reading.load) and state.bond_state.any()
+        return (loading.fallen_below(POST_PEAK_FRACTION, reading.load) and state.bonds.state.any()
                 and reading.travel > loading.peak_travel + specimen.radius.mean())
 
     loading = Loading(RAMP_STEPS_PER_ROW * platens.rows, LOCALISED_DAMAGE)

@@ -117,14 +117,14 @@ def load_to_failure(state: State, loading: Loading, chunk: int, move: Callable[[
     """
     samples, past_peak = [], False
     while True:
-        move(loading.speed(state.step, np.count_nonzero(state.bond_state), chunk, past_peak))
+        move(loading.speed(state.step, np.count_nonzero(state.bonds.state), chunk, past_peak))
         advance(state, chunk)
         reading = read()
         samples.append(reading.sample)
         loading.update(state.step, reading.load, reading.travel)
         if full_speed_past_peak:
             past_peak = past_peak or (loading.fallen_below(PAST_PEAK_FRACTION, reading.load)
-                                      and state.bond_state.any())
+                                      and state.bonds.state.any())
         if progress:
             progress(reading.sample[0], reading.sample[-1])
         if may_stop(reading) or reading.travel >= max_travel:

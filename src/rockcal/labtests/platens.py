@@ -35,9 +35,9 @@ class Platens:
     def move(self, factor: float) -> None:
         """Close the platens at `factor` x the full speed."""
         state = self.state
-        state.wall_vel[BOTTOM], state.wall_vel[TOP] = self.speed * factor, -self.speed * factor
+        state.walls.vel[BOTTOM], state.walls.vel[TOP] = self.speed * factor, -self.speed * factor
 
     def load(self) -> float:
         """The force on the platens (mean of the two), N per m of thickness."""
-        f = self.state.total_wall_force()
+        f = self.state.walls.total_force()
         return 0.5 * (f[BOTTOM] + f[TOP])

@@ -47,5 +47,6 @@ def run_fields(state, specimen, started: float) -> dict:
     return dict(n_particles=n, n_bonds=len(specimen.bonds),
                 n_broken_tension=state.n_broken(BROKEN_TENSION),
                 n_broken_shear=state.n_broken(BROKEN_SHEAR), steps=state.step,
-                wall_s=time.perf_counter() - started, positions=state.pos[:n].copy(),
-                radius=specimen.radius, cracks=measure.cracks(state.bond_state, state.bond_break_xy))
+                wall_s=time.perf_counter() - started, positions=state.particles.pos[:n].copy(),
+                radius=specimen.radius,
+                cracks=measure.cracks(state.bonds.state, state.bonds.break_xy))

@@ -66,13 +66,13 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
     platens = Platens(specimen, params, rate_factor)
     state, bottom, top = platens.state, platens.bottom, platens.top
     sets = measure.boundary_sets(specimen.pos, specimen.radius, 0.5 * specimen.radius.min())
-    width0, height0 = measure.gauge_lengths(state.pos, sets)
+    width0, height0 = measure.gauge_lengths(state.particles.pos, sets)
     area = specimen.width_m * THICKNESS_M
 
     def read() -> Reading:
-        width, height = measure.gauge_lengths(state.pos, sets)
+        width, height = measure.gauge_lengths(state.particles.pos, sets)
         if strain == "platen":
-            axial = 1.0 - (state.walls[TOP] - state.walls[BOTTOM]) / (top - bottom)
+            axial = 1.0 - (state.walls.pos[TOP] - state.walls.pos[BOTTOM]) / (top - bottom)
         else:
             axial = (height0 - height) / height0
         stress = platens.load() / area
