@@ -23,13 +23,14 @@ def test_an_unknown_test_is_an_error_naming_the_known_ones():
 
 
 def test_a_tests_revision_keys_only_its_own_runs():
-    """A changed procedure (bending revision 2) makes new keys for its runs, not for the others'."""
+    """A changed procedure (bending revision 3) makes new keys for its runs, not for the others'."""
     settings = SpecimenSettings()
     assert run_spec("ucs", settings, {}).engine == ENGINE
     bending = run_spec("bending", settings, {})
-    assert lab_test("bending").revision == 2
-    assert bending.engine == f"{ENGINE}, bending test revision 2"
-    assert bending.key != RunSpec(bending.kind, bending.specimen, bending.params, ENGINE).key
+    assert lab_test("bending").revision == 3
+    assert bending.engine == f"{ENGINE}, bending test revision 3"
+    for earlier in (ENGINE, f"{ENGINE}, bending test revision 2"):
+        assert bending.key != RunSpec(bending.kind, bending.specimen, bending.params, earlier).key
 
 
 def test_the_ucs_targets_are_the_ucs_tests_measured_responses():

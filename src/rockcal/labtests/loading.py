@@ -47,17 +47,22 @@ class Loading:
     bonds break in the first steps, and that fall looked like failure (a granite UCS of 2 MPa).
     So a test may stop, and its deciding peak counts, only on loads read `ramp_steps` or more
     after the loading last slowed down (by however little); the reported peak is the largest
-    of the curve.
+    of the curve. A specimen that rings longer than that (a beam swings at its flexural period
+    about the load the pin's travel gives) needs a fall below the peak to last: it counts once
+    every settled reading for `confirm_steps` has been below (0: at once).
     """
 
-    def __init__(self, ramp_steps: float, breaks_at_half_speed: float):
+    def __init__(self, ramp_steps: float, breaks_at_half_speed: float, confirm_steps: float = 0.0):
         self.ramp_steps = ramp_steps
         self.breaks_at_half_speed = breaks_at_half_speed
+        self.confirm_steps = confirm_steps
         self.factor = 0.0
         self.settled_from = ramp_steps
         self.peak = 0.0
         self.peak_travel = 0.0  # the travel at which the settled peak was read
         self.settled = False
+        self.step = 0  # of the last load read
+        self._below_since: dict[float, int] = {}  # fraction: step of the first reading below
         self._broken = [(0, 0)]  # (step, bonds broken so far), over the last ramp_steps
 
     def speed(self, step: int, broken: int, chunk: int, full_speed: bool = False) -> float:
@@ -81,16 +86,26 @@ class Loading:
     def update(self, step: int, load: float, travel: float = 0.0) -> bool:
         """Record a load read at `step` (and the loading's travel there); whether it is a new
         settled peak."""
+        self.step = step
         self.settled = step >= self.settled_from
         if self.settled and load > self.peak:
             self.peak, self.peak_travel = load, travel
             return True
         return False
 
+    def wait(self, step: int, steps: float) -> None:
+        """Loads read in the `steps` after `step` do not count: a change the loading did not make
+        itself (the pin touching the beam) leaves a transient too."""
+        self.settled_from = max(self.settled_from, step + steps)
+
     def fallen_below(self, fraction: float, load: float) -> bool:
         """Whether the load, read where the loading has settled, has fallen below `fraction` of
-        the settled peak."""
-        return self.settled and self.peak > 0 and load < fraction * self.peak
+        the settled peak and stayed there, settled, for `confirm_steps`."""
+        if not (self.settled and self.peak > 0 and load < fraction * self.peak):
+            self._below_since.pop(fraction, None)
+            return False
+        since = self._below_since.setdefault(fraction, self.step)
+        return self.step - since >= self.confirm_steps
 
 
 class Reading(NamedTuple):
