@@ -25,7 +25,18 @@ def specimen():
 def test_no_floaters_and_the_material_pressure(specimen):
     contacts = vessel_contacts(specimen.pos, specimen.radius, specimen.width_m, specimen.height_m)
     assert contacts.min() >= 3
+    assert specimen.floaters == 0 and specimen.description()["floaters"] == 0
     assert specimen.pressure_mpa == pytest.approx(0.1, rel=PRESSURE_TOLERANCE)
+
+
+def test_floaters_left_when_the_rounds_run_out_are_counted(monkeypatch, caplog):
+    from rockcal.dem import packing
+
+    monkeypatch.setattr(packing, "FLOATER_ROUNDS", 0)
+    specimen = random_packing(WIDTH_MM, HEIGHT_MM, 2 * RMIN_MM, RATIO, seed=2, cache=False)
+    contacts = vessel_contacts(specimen.pos, specimen.radius, specimen.width_m, specimen.height_m)
+    assert specimen.floaters == np.count_nonzero(contacts < 3) > 0
+    assert f"{specimen.floaters} of {specimen.n_particles} grains" in caplog.text
 
 
 def test_grain_count_follows_the_cloud_porosity():

@@ -29,7 +29,7 @@ from rockcal.params import make_params
 POOL_RESTARTS = 3
 LIVE_INTERVAL_S = 1.0  # a running test reports its reading at most this often
 _live = None  # where a running test reports to: a worker's queue, or the serial executor
-SPECIMEN_KEYS = ("n_particles", "porosity", "coordination", "bonds_per_particle")  # of each run
+SPECIMEN_KEYS = ("n_particles", "porosity", "coordination", "bonds_per_particle", "floaters")  # of each run
 ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
 
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rockcal.dem.genesis import Genesis, install_bonds
+from rockcal.dem.genesis import MIN_CONTACTS, Genesis, install_bonds, vessel_contacts
 from rockcal.dem.neighbours import spatial_order
 from rockcal.errors import InputError
 
@@ -38,6 +38,7 @@ class Specimen:
     label: str
     bond_draws: np.ndarray | None = None  # None: every bond at the mean strengths
     pressure_mpa: float = float("nan")  # mean wall stress at the end of packing
+    floaters: int = 0  # grains the genesis left with fewer than 3 contacts (its rounds ran out)
 
     @property
     def n_particles(self) -> int:
@@ -59,7 +60,8 @@ class Specimen:
     def description(self) -> dict:
         """What a PFC user reports of a specimen."""
         return {"n_particles": self.n_particles, "porosity": self.porosity,
-                "coordination": self.coordination(), "bonds_per_particle": self.bonds_per_particle()}
+                "coordination": self.coordination(), "bonds_per_particle": self.bonds_per_particle(),
+                "floaters": self.floaters}
 
 
 def check_geometry(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float) -> None:
@@ -126,7 +128,9 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
             os.replace(tmp, path)
     bonds = install_bonds(pos, radius, genesis.install_gap * rmin_mm * 1e-3)
     draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
-    return Specimen(pos, radius, bonds, width_mm * 1e-3, height_mm * 1e-3, label, draws, pressure)
+    floaters = vessel_contacts(pos, radius, width_mm * 1e-3, height_mm * 1e-3) < MIN_CONTACTS
+    return Specimen(pos, radius, bonds, width_mm * 1e-3, height_mm * 1e-3, label, draws, pressure,
+                    int(np.count_nonzero(floaters)))
 
 
 def cache_dir() -> Path:
