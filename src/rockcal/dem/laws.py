@@ -32,10 +32,15 @@ TILE = 128  # bonds whose law runs as one vector loop
 # one cache line), and its load row: the force and moment summed on it
 X, Y, VX, VY, SPIN, RADIUS, INV_MASS, INV_INERTIA = range(8)
 FORCE_X, FORCE_Y, MOMENT = range(3)
-# rows of a tile: data gathered from the bonds' particles, then what the law hands back
+# a bond's row (64 bytes, one cache line): its forces and moment, reference overlap, strengths
+FN, FS, M, REF_OVERLAP, TEN, COH = range(6)
+BOND_ROW = 8
+# rows of a tile: data gathered from the bonds' particles and from the bonds, then what the
+# law hands back
 DX, DY, RI, RJ, DVX, DVY, SPIN_I, SPIN_J = range(8)
-SHEAR, BOND_FN, BOND_FS, BOND_M, MODE, FX, FY, MI, MJ = range(8, 17)
-TILE_ROWS = 17
+LAST_SHEAR, LAST_FN, LAST_FS, LAST_M, REF, TENSILE, COHESION = range(8, 15)
+SHEAR, BOND_FN, BOND_FS, BOND_M, MODE, FX, FY, MI, MJ = range(15, 24)
+TILE_ROWS = 24
 
 
 class Laws(NamedTuple):
@@ -53,7 +58,8 @@ class Laws(NamedTuple):
 
 
 class Bonds(NamedTuple):
-    """Per-bond arrays, in the order of the first pairs of the pair list."""
+    """Per-bond arrays, in the order of the first pairs of the pair list. fn to coh are views
+    into `rows`, one row per bond (columns FN to COH), which the force loop reads."""
 
     state: np.ndarray  # INTACT, BROKEN_TENSION or BROKEN_SHEAR
     fn: np.ndarray  # normal force, tension positive, N
@@ -63,6 +69,18 @@ class Bonds(NamedTuple):
     ref_overlap: np.ndarray  # overlap at installation (PFC's reference gap, negated), m
     ten: np.ndarray  # tensile strength, Pa
     coh: np.ndarray  # cohesion, Pa
+    rows: np.ndarray
+
+
+def new_bonds(ref_overlap, ten, coh, rows: np.ndarray) -> Bonds:
+    """Intact bonds at zero force, kept in `rows` (zeros of shape (n_bonds, BOND_ROW))."""
+    rows[:, REF_OVERLAP] = ref_overlap
+    rows[:, TEN] = ten
+    rows[:, COH] = coh
+    return Bonds(state=np.zeros(len(rows), np.int64), fn=rows[:, FN], fs=rows[:, FS],
+                 m=rows[:, M], break_xy=np.full((len(rows), 2), np.nan),
+                 ref_overlap=rows[:, REF_OVERLAP], ten=rows[:, TEN], coh=rows[:, COH],
+                 rows=rows)
 
 
 @njit(cache=True, error_model="numpy")
@@ -78,7 +96,8 @@ def add_bond_forces(first, last, disks, pi, pj, contact_shear, bonds, laws, dt, 
     for start in range(first, last, TILE):
         count = min(TILE, last - start)
         _gather(start, count, disks, pi, pj, tile)
-        _bond_law(start, count, contact_shear, bonds, laws, dt, tile)
+        _gather_bonds(start, count, contact_shear, bonds.rows, tile)
+        _bond_law(start, count, bonds.state, laws, dt, tile)
         _scatter(start, count, disks, pi, pj, tile, contact_shear, bonds, loads)
 
 
@@ -98,7 +117,20 @@ def _gather(start, count, disks, pi, pj, tile):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _bond_law(start, count, contact_shear, bonds, laws, dt, tile):
+def _gather_bonds(start, count, contact_shear, rows, tile):
+    for q in range(count):
+        p = start + q
+        tile[LAST_SHEAR, q] = contact_shear[p]
+        tile[LAST_FN, q] = rows[p, FN]
+        tile[LAST_FS, q] = rows[p, FS]
+        tile[LAST_M, q] = rows[p, M]
+        tile[REF, q] = rows[p, REF_OVERLAP]
+        tile[TENSILE, q] = rows[p, TEN]
+        tile[COHESION, q] = rows[p, COH]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _bond_law(start, count, bond_state, laws, dt, tile):
     """The law of bonds start..start+count-1 from their gathered data in `tile`; it writes
     their new shear and bond forces, the mode they broke in (0: none) and the force and
     moments on their particles to `tile`, as selections rather than branches."""
@@ -111,8 +143,8 @@ def _bond_law(start, count, contact_shear, bonds, laws, dt, tile):
         rj = tile[RJ, q]
         length = ri + rj
         surface_overlap = length - dist
-        overlap = surface_overlap - bonds.ref_overlap[p]
-        intact = bonds.state[p] == INTACT
+        overlap = surface_overlap - tile[REF, q]
+        intact = bond_state[p] == INTACT
         inv_dist = 1.0 / dist
         nx = dx * inv_dist  # unit normal from i to j; tangent t = (-ny, nx)
         ny = dy * inv_dist
@@ -128,7 +160,7 @@ def _bond_law(start, count, contact_shear, bonds, laws, dt, tile):
 
         touching = (overlap > 0.0) & (laws.E_c > 0.0)
         kn = 2.0 * rmin * laws.E_c * inv_length
-        shear = contact_shear[p] + kn * laws.ks_per_kn * vs * dt
+        shear = tile[LAST_SHEAR, q] + kn * laws.ks_per_kn * vs * dt
         cap = laws.mu * kn * overlap
         shear = cap if shear > cap else shear
         shear = -cap if shear < -cap else shear
@@ -141,20 +173,20 @@ def _bond_law(start, count, contact_shear, bonds, laws, dt, tile):
         rb = laws.lam * rmin
         area = 2.0 * rb
         k_area_dt = laws.Ebar_c * inv_length * area * dt  # k̄n Ā dt; Ī = Ā R̄² / 3
-        bfn = bonds.fn[p] + k_area_dt * vn
-        bfs = bonds.fs[p] + k_area_dt * laws.ksbar_per_knbar * vs
-        bm = bonds.m[p] + k_area_dt * rb * rb / 3.0 * (tile[SPIN_J, q] - tile[SPIN_I, q])
+        bfn = tile[LAST_FN, q] + k_area_dt * vn
+        bfs = tile[LAST_FS, q] + k_area_dt * laws.ksbar_per_knbar * vs
+        bm = tile[LAST_M, q] + k_area_dt * rb * rb / 3.0 * (tile[SPIN_J, q] - tile[SPIN_I, q])
         inv_area = 1.0 / area
         sigma = (bfn + laws.mcf * 3.0 * abs(bm) / rb) * inv_area  # |M| R̄ / Ī = 3 |M| / (R̄ Ā)
         tau = abs(bfs) * inv_area
-        tension = sigma > bonds.ten[p]
-        holds = intact & ~tension & ~(tau > bonds.coh[p] - bfn * inv_area * laws.tan_phi)
+        tension = sigma > tile[TENSILE, q]
+        holds = intact & ~tension & ~(tau > tile[COHESION, q] - bfn * inv_area * laws.tan_phi)
         broke = intact & ~holds
         tile[MODE, q] = (BROKEN_TENSION if tension else BROKEN_SHEAR) if broke else INTACT
         tile[SHEAR, q] = shear
-        tile[BOND_FN, q] = bfn if holds else (0.0 if broke else bonds.fn[p])
-        tile[BOND_FS, q] = bfs if holds else (0.0 if broke else bonds.fs[p])
-        tile[BOND_M, q] = bm if holds else (0.0 if broke else bonds.m[p])
+        tile[BOND_FN, q] = bfn if holds else (0.0 if broke else tile[LAST_FN, q])
+        tile[BOND_FS, q] = bfs if holds else (0.0 if broke else tile[LAST_FS, q])
+        tile[BOND_M, q] = bm if holds else (0.0 if broke else tile[LAST_M, q])
         fn = fn + bfn if holds else fn
         fs = fs + bfs if holds else fs
         tile[MI, q] = mi + (arm_i * bfs + bm) if holds else mi
@@ -172,9 +204,9 @@ def _scatter(start, count, disks, pi, pj, tile, contact_shear, bonds, loads):
         i = pi[p]
         j = pj[p]
         contact_shear[p] = tile[SHEAR, q]
-        bonds.fn[p] = tile[BOND_FN, q]
-        bonds.fs[p] = tile[BOND_FS, q]
-        bonds.m[p] = tile[BOND_M, q]
+        bonds.rows[p, FN] = tile[BOND_FN, q]
+        bonds.rows[p, FS] = tile[BOND_FS, q]
+        bonds.rows[p, M] = tile[BOND_M, q]
         if tile[MODE, q] != INTACT:
             bonds.state[p] = int(tile[MODE, q])
             _record_break(p, i, j, disks, bonds.break_xy)
