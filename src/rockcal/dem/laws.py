@@ -89,9 +89,9 @@ def add_bond_forces(first, last, disks, pi, pj, contact_shear, bonds, laws, dt, 
     particles (a pair's force on i is taken from j); intact bonds that exceed a strength break,
     broken ones act as contacts with their reference overlap. Thickness t = 1 m.
 
-    Tile by tile: the particles' data are gathered, the law runs without branches over the
-    tile (so that it compiles to vector instructions), and the forces are scattered in pair
-    order, so every sum is the one a pair-by-pair loop would make."""
+    Tile by tile: the rows of the particles and bonds are gathered, the law runs without
+    branches over the tile (so that it compiles to vector instructions), and the forces are
+    scattered in pair order, so every sum is the one a pair-by-pair loop would make."""
     tile = np.empty((TILE_ROWS, TILE))
     for start in range(first, last, TILE):
         count = min(TILE, last - start)
