@@ -50,17 +50,16 @@ def phases(state, steps: int) -> dict:
     n, nb = state.n_particles, pairs.n_bonds
     return {
         "bond forces": per_step(lambda: laws.add_bond_forces(
-            0, nb, p.pos, p.vel, p.spin, p.radius, pairs.pi, pairs.pj, pairs.shear, state.bonds,
-            state.laws, state.dt, p.force, p.moment), steps),
+            0, nb, p.disks, pairs.pi, pairs.pj, pairs.shear, state.bonds, state.laws, state.dt,
+            p.loads), steps),
         "near unbonded pairs": per_step(lambda: laws.add_contact_forces(
-            nb, len(pairs.pi), p.pos, p.vel, p.spin, p.radius, pairs.pi, pairs.pj, pairs.shear,
-            state.laws, state.dt, p.force, p.moment), steps),
+            nb, len(pairs.pi), p.disks, pairs.pi, pairs.pj, pairs.shear, state.laws, state.dt,
+            p.loads), steps),
         "walls": per_step(lambda: laws.add_wall_forces(
-            0, n, p.pos, p.radius, walls.pos, walls.active, walls.stiffness, p.force,
-            walls.force), steps),
+            0, n, p.disks, walls.pos, walls.active, walls.stiffness, p.loads, walls.force),
+            steps),
         "damping and motion": per_step(lambda: simulate._move(
-            0, n, p.pos, p.vel, p.spin, p.force, p.moment, p.inv_mass, p.inv_inertia,
-            state.damping, state.dt, pairs.pos_at_build), steps),
+            0, n, p.disks, p.loads, state.damping, state.dt, pairs.pos_at_build), steps),
         "neighbour list (per rebuild)": per_step(lambda: simulate.rebuild_neighbours(state), 5),
     }
 

@@ -28,10 +28,19 @@ INTACT, BROKEN_TENSION, BROKEN_SHEAR = 0, 1, 2
 # squared centre distance / squared contact distance above which a pair surely does not touch
 APART = 1.0 + 1e-9
 TILE = 128  # bonds whose law runs as one vector loop
-# rows of a tile: data gathered from the bonds' particles, then what the law hands back
+# a disk's row: all the force loops gather of it, and its inverse mass and inertia (64 bytes,
+# one cache line), and its load row: the force and moment summed on it
+X, Y, VX, VY, SPIN, RADIUS, INV_MASS, INV_INERTIA = range(8)
+FORCE_X, FORCE_Y, MOMENT = range(3)
+# a bond's row (64 bytes, one cache line): its forces and moment, reference overlap, strengths
+FN, FS, M, REF_OVERLAP, TEN, COH = range(6)
+BOND_ROW = 8
+# rows of a tile: data gathered from the bonds' particles and from the bonds, then what the
+# law hands back
 DX, DY, RI, RJ, DVX, DVY, SPIN_I, SPIN_J = range(8)
-SHEAR, BOND_FN, BOND_FS, BOND_M, MODE, FX, FY, MI, MJ = range(8, 17)
-TILE_ROWS = 17
+LAST_SHEAR, LAST_FN, LAST_FS, LAST_M, REF, TENSILE, COHESION = range(8, 15)
+SHEAR, BOND_FN, BOND_FS, BOND_M, MODE, FX, FY, MI, MJ = range(15, 24)
+TILE_ROWS = 24
 
 
 class Laws(NamedTuple):
@@ -49,7 +58,8 @@ class Laws(NamedTuple):
 
 
 class Bonds(NamedTuple):
-    """Per-bond arrays, in the order of the first pairs of the pair list."""
+    """Per-bond arrays, in the order of the first pairs of the pair list. fn to coh are views
+    into `rows`, one row per bond (columns FN to COH), which the force loop reads."""
 
     state: np.ndarray  # INTACT, BROKEN_TENSION or BROKEN_SHEAR
     fn: np.ndarray  # normal force, tension positive, N
@@ -59,43 +69,68 @@ class Bonds(NamedTuple):
     ref_overlap: np.ndarray  # overlap at installation (PFC's reference gap, negated), m
     ten: np.ndarray  # tensile strength, Pa
     coh: np.ndarray  # cohesion, Pa
+    rows: np.ndarray
+
+
+def new_bonds(ref_overlap, ten, coh, rows: np.ndarray) -> Bonds:
+    """Intact bonds at zero force, kept in `rows` (zeros of shape (n_bonds, BOND_ROW))."""
+    rows[:, REF_OVERLAP] = ref_overlap
+    rows[:, TEN] = ten
+    rows[:, COH] = coh
+    return Bonds(state=np.zeros(len(rows), np.int64), fn=rows[:, FN], fs=rows[:, FS],
+                 m=rows[:, M], break_xy=np.full((len(rows), 2), np.nan),
+                 ref_overlap=rows[:, REF_OVERLAP], ten=rows[:, TEN], coh=rows[:, COH],
+                 rows=rows)
 
 
 @njit(cache=True, error_model="numpy")
-def add_bond_forces(first, last, pos, vel, spin, radius, pi, pj, contact_shear, bonds, laws, dt,
-                    force, moment):
+def add_bond_forces(first, last, disks, pi, pj, contact_shear, bonds, laws, dt, loads):
     """Add the forces and moments of bonded pairs first..last-1 (pair p is bond p) to their
     particles (a pair's force on i is taken from j); intact bonds that exceed a strength break,
     broken ones act as contacts with their reference overlap. Thickness t = 1 m.
 
-    Tile by tile: the particles' data are gathered, the law runs without branches over the
-    tile (so that it compiles to vector instructions), and the forces are scattered in pair
-    order, so every sum is the one a pair-by-pair loop would make."""
+    Tile by tile: the rows of the particles and bonds are gathered, the law runs without
+    branches over the tile (so that it compiles to vector instructions), and the forces are
+    scattered in pair order, so every sum is the one a pair-by-pair loop would make."""
     tile = np.empty((TILE_ROWS, TILE))
     for start in range(first, last, TILE):
         count = min(TILE, last - start)
-        _gather(start, count, pos, vel, spin, radius, pi, pj, tile)
-        _bond_law(start, count, contact_shear, bonds, laws, dt, tile)
-        _scatter(start, count, pos, radius, pi, pj, tile, contact_shear, bonds, force, moment)
+        _gather(start, count, disks, pi, pj, tile)
+        _gather_bonds(start, count, contact_shear, bonds.rows, tile)
+        _bond_law(start, count, bonds.state, laws, dt, tile)
+        _scatter(start, count, disks, pi, pj, tile, contact_shear, bonds, loads)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _gather(start, count, pos, vel, spin, radius, pi, pj, tile):
+def _gather(start, count, disks, pi, pj, tile):
     for q in range(count):
         i = pi[start + q]
         j = pj[start + q]
-        tile[DX, q] = pos[j, 0] - pos[i, 0]
-        tile[DY, q] = pos[j, 1] - pos[i, 1]
-        tile[RI, q] = radius[i]
-        tile[RJ, q] = radius[j]
-        tile[DVX, q] = vel[j, 0] - vel[i, 0]
-        tile[DVY, q] = vel[j, 1] - vel[i, 1]
-        tile[SPIN_I, q] = spin[i]
-        tile[SPIN_J, q] = spin[j]
+        tile[DX, q] = disks[j, X] - disks[i, X]
+        tile[DY, q] = disks[j, Y] - disks[i, Y]
+        tile[RI, q] = disks[i, RADIUS]
+        tile[RJ, q] = disks[j, RADIUS]
+        tile[DVX, q] = disks[j, VX] - disks[i, VX]
+        tile[DVY, q] = disks[j, VY] - disks[i, VY]
+        tile[SPIN_I, q] = disks[i, SPIN]
+        tile[SPIN_J, q] = disks[j, SPIN]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _bond_law(start, count, contact_shear, bonds, laws, dt, tile):
+def _gather_bonds(start, count, contact_shear, rows, tile):
+    for q in range(count):
+        p = start + q
+        tile[LAST_SHEAR, q] = contact_shear[p]
+        tile[LAST_FN, q] = rows[p, FN]
+        tile[LAST_FS, q] = rows[p, FS]
+        tile[LAST_M, q] = rows[p, M]
+        tile[REF, q] = rows[p, REF_OVERLAP]
+        tile[TENSILE, q] = rows[p, TEN]
+        tile[COHESION, q] = rows[p, COH]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _bond_law(start, count, bond_state, laws, dt, tile):
     """The law of bonds start..start+count-1 from their gathered data in `tile`; it writes
     their new shear and bond forces, the mode they broke in (0: none) and the force and
     moments on their particles to `tile`, as selections rather than branches."""
@@ -108,8 +143,8 @@ def _bond_law(start, count, contact_shear, bonds, laws, dt, tile):
         rj = tile[RJ, q]
         length = ri + rj
         surface_overlap = length - dist
-        overlap = surface_overlap - bonds.ref_overlap[p]
-        intact = bonds.state[p] == INTACT
+        overlap = surface_overlap - tile[REF, q]
+        intact = bond_state[p] == INTACT
         inv_dist = 1.0 / dist
         nx = dx * inv_dist  # unit normal from i to j; tangent t = (-ny, nx)
         ny = dy * inv_dist
@@ -125,7 +160,7 @@ def _bond_law(start, count, contact_shear, bonds, laws, dt, tile):
 
         touching = (overlap > 0.0) & (laws.E_c > 0.0)
         kn = 2.0 * rmin * laws.E_c * inv_length
-        shear = contact_shear[p] + kn * laws.ks_per_kn * vs * dt
+        shear = tile[LAST_SHEAR, q] + kn * laws.ks_per_kn * vs * dt
         cap = laws.mu * kn * overlap
         shear = cap if shear > cap else shear
         shear = -cap if shear < -cap else shear
@@ -138,20 +173,20 @@ def _bond_law(start, count, contact_shear, bonds, laws, dt, tile):
         rb = laws.lam * rmin
         area = 2.0 * rb
         k_area_dt = laws.Ebar_c * inv_length * area * dt  # k̄n Ā dt; Ī = Ā R̄² / 3
-        bfn = bonds.fn[p] + k_area_dt * vn
-        bfs = bonds.fs[p] + k_area_dt * laws.ksbar_per_knbar * vs
-        bm = bonds.m[p] + k_area_dt * rb * rb / 3.0 * (tile[SPIN_J, q] - tile[SPIN_I, q])
+        bfn = tile[LAST_FN, q] + k_area_dt * vn
+        bfs = tile[LAST_FS, q] + k_area_dt * laws.ksbar_per_knbar * vs
+        bm = tile[LAST_M, q] + k_area_dt * rb * rb / 3.0 * (tile[SPIN_J, q] - tile[SPIN_I, q])
         inv_area = 1.0 / area
         sigma = (bfn + laws.mcf * 3.0 * abs(bm) / rb) * inv_area  # |M| R̄ / Ī = 3 |M| / (R̄ Ā)
         tau = abs(bfs) * inv_area
-        tension = sigma > bonds.ten[p]
-        holds = intact & ~tension & ~(tau > bonds.coh[p] - bfn * inv_area * laws.tan_phi)
+        tension = sigma > tile[TENSILE, q]
+        holds = intact & ~tension & ~(tau > tile[COHESION, q] - bfn * inv_area * laws.tan_phi)
         broke = intact & ~holds
         tile[MODE, q] = (BROKEN_TENSION if tension else BROKEN_SHEAR) if broke else INTACT
         tile[SHEAR, q] = shear
-        tile[BOND_FN, q] = bfn if holds else (0.0 if broke else bonds.fn[p])
-        tile[BOND_FS, q] = bfs if holds else (0.0 if broke else bonds.fs[p])
-        tile[BOND_M, q] = bm if holds else (0.0 if broke else bonds.m[p])
+        tile[BOND_FN, q] = bfn if holds else (0.0 if broke else tile[LAST_FN, q])
+        tile[BOND_FS, q] = bfs if holds else (0.0 if broke else tile[LAST_FS, q])
+        tile[BOND_M, q] = bm if holds else (0.0 if broke else tile[LAST_M, q])
         fn = fn + bfn if holds else fn
         fs = fs + bfs if holds else fs
         tile[MI, q] = mi + (arm_i * bfs + bm) if holds else mi
@@ -161,7 +196,7 @@ def _bond_law(start, count, contact_shear, bonds, laws, dt, tile):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _scatter(start, count, pos, radius, pi, pj, tile, contact_shear, bonds, force, moment):
+def _scatter(start, count, disks, pi, pj, tile, contact_shear, bonds, loads):
     """Store the tile's bond states and add its forces to the particles, pair by pair. A pair
     apart and unbonded adds zeros, which change no sum (a force is never -0.0)."""
     for q in range(count):
@@ -169,47 +204,46 @@ def _scatter(start, count, pos, radius, pi, pj, tile, contact_shear, bonds, forc
         i = pi[p]
         j = pj[p]
         contact_shear[p] = tile[SHEAR, q]
-        bonds.fn[p] = tile[BOND_FN, q]
-        bonds.fs[p] = tile[BOND_FS, q]
-        bonds.m[p] = tile[BOND_M, q]
+        bonds.rows[p, FN] = tile[BOND_FN, q]
+        bonds.rows[p, FS] = tile[BOND_FS, q]
+        bonds.rows[p, M] = tile[BOND_M, q]
         if tile[MODE, q] != INTACT:
             bonds.state[p] = int(tile[MODE, q])
-            _record_break(p, i, j, pos, radius, bonds.break_xy)
+            _record_break(p, i, j, disks, bonds.break_xy)
         fx = tile[FX, q]
         fy = tile[FY, q]
-        force[i, 0] += fx
-        force[i, 1] += fy
-        force[j, 0] -= fx
-        force[j, 1] -= fy
-        moment[i] += tile[MI, q]
-        moment[j] += tile[MJ, q]
+        loads[i, FORCE_X] += fx
+        loads[i, FORCE_Y] += fy
+        loads[j, FORCE_X] -= fx
+        loads[j, FORCE_Y] -= fy
+        loads[i, MOMENT] += tile[MI, q]
+        loads[j, MOMENT] += tile[MJ, q]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _record_break(p, i, j, pos, radius, break_xy):
+def _record_break(p, i, j, disks, break_xy):
     """Where bond p broke: its contact point, mid-gap between the surfaces."""
-    dx = pos[j, 0] - pos[i, 0]
-    dy = pos[j, 1] - pos[i, 1]
+    dx = disks[j, X] - disks[i, X]
+    dy = disks[j, Y] - disks[i, Y]
     dist = np.sqrt(dx * dx + dy * dy)
     inv_dist = 1.0 / dist
-    arm_i = radius[i] - 0.5 * (radius[i] + radius[j] - dist)
-    break_xy[p, 0] = pos[i, 0] + dx * inv_dist * arm_i
-    break_xy[p, 1] = pos[i, 1] + dy * inv_dist * arm_i
+    arm_i = disks[i, RADIUS] - 0.5 * (disks[i, RADIUS] + disks[j, RADIUS] - dist)
+    break_xy[p, 0] = disks[i, X] + dx * inv_dist * arm_i
+    break_xy[p, 1] = disks[i, Y] + dy * inv_dist * arm_i
 
 
 @njit(cache=True, error_model="numpy")
-def add_contact_forces(first, last, pos, vel, spin, radius, pi, pj, contact_shear, laws, dt,
-                       force, moment):
+def add_contact_forces(first, last, disks, pi, pj, contact_shear, laws, dt, loads):
     """Add the forces and moments of unbonded pairs first..last-1 to their particles; most are
     not touching and cost one squared distance."""
     for p in range(first, last):
         i = pi[p]
         j = pj[p]
-        dx = pos[j, 0] - pos[i, 0]
-        dy = pos[j, 1] - pos[i, 1]
+        dx = disks[j, X] - disks[i, X]
+        dy = disks[j, Y] - disks[i, Y]
         dist_sq = dx * dx + dy * dy
-        ri = radius[i]
-        rj = radius[j]
+        ri = disks[i, RADIUS]
+        rj = disks[j, RADIUS]
         length = ri + rj
         if dist_sq > APART * length * length:  # surely apart, whatever the rounding
             contact_shear[p] = 0.0
@@ -224,13 +258,13 @@ def add_contact_forces(first, last, pos, vel, spin, radius, pi, pj, contact_shea
         ny = dy * inv_dist
         arm_i = ri - 0.5 * overlap
         arm_j = rj - 0.5 * overlap
-        w = spin[i] * arm_i + spin[j] * arm_j
-        rvx = vel[j, 0] - vel[i, 0] + w * ny
-        rvy = vel[j, 1] - vel[i, 1] - w * nx
+        w = disks[i, SPIN] * arm_i + disks[j, SPIN] * arm_j
+        rvx = disks[j, VX] - disks[i, VX] + w * ny
+        rvy = disks[j, VY] - disks[i, VY] - w * nx
         vs = rvy * nx - rvx * ny
         fn, fs = _contact_force(p, overlap, min(ri, rj), 1.0 / length, vs, contact_shear, laws,
                                 dt)
-        _add_pair_force(i, j, nx, ny, fn, fs, arm_i * fs, arm_j * fs, force, moment)
+        _add_pair_force(i, j, nx, ny, fn, fs, arm_i * fs, arm_j * fs, loads)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -252,38 +286,40 @@ def _contact_force(p, overlap, rmin, inv_length, vs, contact_shear, laws, dt):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _add_pair_force(i, j, nx, ny, fn, fs, mi, mj, force, moment):
+def _add_pair_force(i, j, nx, ny, fn, fs, mi, mj, loads):
     fx = fn * nx - fs * ny
     fy = fn * ny + fs * nx
-    force[i, 0] += fx
-    force[i, 1] += fy
-    force[j, 0] -= fx
-    force[j, 1] -= fy
-    moment[i] += mi
-    moment[j] += mj
+    loads[i, FORCE_X] += fx
+    loads[i, FORCE_Y] += fy
+    loads[j, FORCE_X] -= fx
+    loads[j, FORCE_Y] -= fy
+    loads[i, MOMENT] += mi
+    loads[j, MOMENT] += mj
 
 
 @njit(cache=True, error_model="numpy")
-def add_wall_forces(first, last, pos, radius, walls, wall_active, k_wall, force, wall_force):
+def add_wall_forces(first, last, disks, walls, wall_active, k_wall, loads, wall_force):
     """Frictionless axis-aligned walls (left, right, bottom, top) on particles first..last-1:
     normal force k_wall * overlap. walls holds x_left, x_right, y_bottom, y_top; wall_force[k, w]
     receives the force particle k exerts on wall w along its outward normal (compression
     positive)."""
     for k in range(first, last):
-        r = radius[k]
+        x = disks[k, X]
+        y = disks[k, Y]
+        r = disks[k, RADIUS]
         for w in range(4):
             f = 0.0
             if wall_active[w]:
                 if w == 0:
-                    f = k_wall * (walls[0] - (pos[k, 0] - r))
+                    f = k_wall * (walls[0] - (x - r))
                 elif w == 1:
-                    f = k_wall * ((pos[k, 0] + r) - walls[1])
+                    f = k_wall * ((x + r) - walls[1])
                 elif w == 2:
-                    f = k_wall * (walls[2] - (pos[k, 1] - r))
+                    f = k_wall * (walls[2] - (y - r))
                 else:
-                    f = k_wall * ((pos[k, 1] + r) - walls[3])
+                    f = k_wall * ((y + r) - walls[3])
             if f < 0.0:
                 f = 0.0
             wall_force[k, w] = f
-        force[k, 0] += wall_force[k, 0] - wall_force[k, 1]
-        force[k, 1] += wall_force[k, 2] - wall_force[k, 3]
+        loads[k, FORCE_X] += wall_force[k, 0] - wall_force[k, 1]
+        loads[k, FORCE_Y] += wall_force[k, 2] - wall_force[k, 3]

@@ -22,6 +22,8 @@ from numba import njit, prange
 from scipy import special
 
 from rockcal.dem import laws, neighbours
+from rockcal.dem.laws import (FORCE_X, FORCE_Y, INV_INERTIA, INV_MASS, MOMENT, RADIUS, SPIN, VX,
+                              VY, X, Y)
 from rockcal.params import GPa, MPa, MicroParams
 
 THICKNESS_M = 1.0
@@ -30,7 +32,10 @@ LEFT, RIGHT, BOTTOM, TOP = range(4)
 
 
 class Particles(NamedTuple):
-    """Per-particle arrays; the engine changes them in place."""
+    """Per-particle arrays; the engine changes them in place. They are views into the two
+    arrays the engine works on, one row per disk: `disks` (columns `laws.X` to
+    `laws.INV_INERTIA`, 64 bytes: what a force loop gathers of a disk is one cache line) and
+    `loads` (`laws.FORCE_X`, `laws.FORCE_Y`, `laws.MOMENT`)."""
 
     pos: np.ndarray  # (n, 2), m
     vel: np.ndarray  # (n, 2), m/s
@@ -40,6 +45,31 @@ class Particles(NamedTuple):
     inv_inertia: np.ndarray
     force: np.ndarray  # (n, 2): force of the last step, N per m of thickness
     moment: np.ndarray
+    disks: np.ndarray
+    loads: np.ndarray
+
+
+def new_particles(pos, radius, inv_mass, inv_inertia) -> Particles:
+    """Particles at rest, their rows aligned on cache lines."""
+    n = pos.shape[0]
+    disks = _aligned_zeros(n, 8)
+    loads = _aligned_zeros(n, 4)
+    disks[:, X:Y + 1] = pos
+    disks[:, RADIUS] = radius
+    disks[:, INV_MASS] = inv_mass
+    disks[:, INV_INERTIA] = inv_inertia
+    return Particles(pos=disks[:, X:Y + 1], vel=disks[:, VX:VY + 1],
+                     spin=disks[:, SPIN], radius=disks[:, RADIUS],
+                     inv_mass=disks[:, INV_MASS], inv_inertia=disks[:, INV_INERTIA],
+                     force=loads[:, FORCE_X:FORCE_Y + 1], moment=loads[:, MOMENT],
+                     disks=disks, loads=loads)
+
+
+def _aligned_zeros(n: int, width: int) -> np.ndarray:
+    """Zeros of shape (n, width) float64 starting on a 64-byte boundary."""
+    buffer = np.zeros(n * width + 8)
+    skip = (-buffer.ctypes.data % 64) // 8
+    return buffer[skip:skip + n * width].reshape(n, width)
 
 
 class Walls(NamedTuple):
@@ -131,12 +161,8 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
     laws_si = laws_si or law_constants(params)
     E_c, Ebar_c = laws_si.E_c, laws_si.Ebar_c
     state = State(
-        particles=Particles(pos=pos.copy(), vel=np.zeros((n, 2)), spin=np.zeros(n),
-                            radius=radius, inv_mass=inv_mass, inv_inertia=inv_inertia,
-                            force=np.zeros((n, 2)), moment=np.zeros(n)),
-        bonds=laws.Bonds(state=np.zeros(nb, np.int64), fn=np.zeros(nb), fs=np.zeros(nb),
-                         m=np.zeros(nb), break_xy=np.full((nb, 2), np.nan),
-                         ref_overlap=ref_overlap, ten=ten, coh=coh),
+        particles=new_particles(pos, radius, inv_mass, inv_inertia),
+        bonds=laws.new_bonds(ref_overlap, ten, coh, _aligned_zeros(nb, laws.BOND_ROW)),
         walls=Walls(pos=np.array(walls, float), vel=np.zeros(4),
                     active=np.array(wall_active, np.bool_), force=np.zeros((n, 4)),
                     stiffness=2.0 * THICKNESS_M * (E_c if E_c > 0 else Ebar_c)),
@@ -184,24 +210,25 @@ def stable_time_step(state: State) -> float:
 
 
 @njit(cache=True, error_model="numpy")
-def _move(first, last, pos, vel, spin, force, moment, inv_mass, inv_inertia, damping, dt,
-          pos_at_build):
+def _move(first, last, disks, loads, damping, dt, pos_at_build):
     """PFC local damping (force reduced by damping*|F| against the velocity), then leapfrog, of
     particles first..last-1. Returns their largest squared displacement since the neighbour
     list was built."""
     moved = 0.0
     for k in range(first, last):
-        if inv_mass[k] > 0.0:
+        inv_mass = disks[k, INV_MASS]
+        if inv_mass > 0.0:
             for a in range(2):
-                f = force[k, a]
-                f -= damping * abs(f) * np.sign(vel[k, a])
-                vel[k, a] += f * inv_mass[k] * dt
-            m = moment[k] - damping * abs(moment[k]) * np.sign(spin[k])
-            spin[k] += m * inv_inertia[k] * dt
-        pos[k, 0] += vel[k, 0] * dt
-        pos[k, 1] += vel[k, 1] * dt
-        dx = pos[k, 0] - pos_at_build[k, 0]
-        dy = pos[k, 1] - pos_at_build[k, 1]
+                f = loads[k, FORCE_X + a]
+                f -= damping * abs(f) * np.sign(disks[k, VX + a])
+                disks[k, VX + a] += f * inv_mass * dt
+            moment = loads[k, MOMENT]
+            m = moment - damping * abs(moment) * np.sign(disks[k, SPIN])
+            disks[k, SPIN] += m * disks[k, INV_INERTIA] * dt
+        disks[k, X] += disks[k, VX] * dt
+        disks[k, Y] += disks[k, VY] * dt
+        dx = disks[k, X] - pos_at_build[k, 0]
+        dy = disks[k, Y] - pos_at_build[k, 1]
         moved = max(moved, dx * dx + dy * dy)
     return moved
 
@@ -209,10 +236,9 @@ def _move(first, last, pos, vel, spin, force, moment, inv_mass, inv_inertia, dam
 # numba caches this kernel with the law kernels compiled into it, keyed by this file alone:
 # after editing laws.py in a checkout, clear the caches (__pycache__/*.nbi, *.nbc).
 @njit(parallel=True, cache=True, error_model="numpy")
-def _advance(n_steps, pos, vel, spin, radius, inv_mass, inv_inertia, pi, pj, contact_shear,
-             bonds, n_bonds, starts, bond_offsets, contact_offsets, force, moment, walls,
-             wall_active, wall_vel, wall_force, k_wall, pos_at_build, half_skin_sq, law,
-             damping, dt):
+def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets,
+             contact_offsets, walls, wall_active, wall_vel, wall_force, k_wall, pos_at_build,
+             half_skin_sq, law, damping, dt):
     """Run up to n_steps; stop early when the list must be rebuilt. Returns the steps done
     and whether the list must be rebuilt."""
     blocks = starts.shape[0] - 1
@@ -220,23 +246,22 @@ def _advance(n_steps, pos, vel, spin, radius, inv_mass, inv_inertia, pi, pj, con
     for s in range(n_steps):  # no array expressions: each would be a parallel region
         for b in prange(blocks):  # explicit loops: an array expression here would nest parfors
             for k in range(starts[b], starts[b + 1]):
-                force[k, 0] = 0.0
-                force[k, 1] = 0.0
-                moment[k] = 0.0
-            laws.add_bond_forces(bond_offsets[b], bond_offsets[b + 1], pos, vel, spin, radius,
-                                 pi, pj, contact_shear, bonds, law, dt, force, moment)
-            laws.add_contact_forces(contact_offsets[b], contact_offsets[b + 1], pos, vel, spin,
-                                    radius, pi, pj, contact_shear, law, dt, force, moment)
+                loads[k, FORCE_X] = 0.0
+                loads[k, FORCE_Y] = 0.0
+                loads[k, MOMENT] = 0.0
+            laws.add_bond_forces(bond_offsets[b], bond_offsets[b + 1], disks, pi, pj,
+                                 contact_shear, bonds, law, dt, loads)
+            laws.add_contact_forces(contact_offsets[b], contact_offsets[b + 1], disks, pi, pj,
+                                    contact_shear, law, dt, loads)
         # then the pairs across block borders
-        laws.add_bond_forces(bond_offsets[blocks], bond_offsets[blocks + 1], pos, vel, spin,
-                             radius, pi, pj, contact_shear, bonds, law, dt, force, moment)
-        laws.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], pos, vel,
-                                spin, radius, pi, pj, contact_shear, law, dt, force, moment)
+        laws.add_bond_forces(bond_offsets[blocks], bond_offsets[blocks + 1], disks, pi, pj,
+                             contact_shear, bonds, law, dt, loads)
+        laws.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], disks, pi,
+                                pj, contact_shear, law, dt, loads)
         for b in prange(blocks):
-            laws.add_wall_forces(starts[b], starts[b + 1], pos, radius, walls, wall_active,
-                                 k_wall, force, wall_force)
-            moved[b] = _move(starts[b], starts[b + 1], pos, vel, spin, force, moment, inv_mass,
-                             inv_inertia, damping, dt, pos_at_build)
+            laws.add_wall_forces(starts[b], starts[b + 1], disks, walls, wall_active, k_wall,
+                                 loads, wall_force)
+            moved[b] = _move(starts[b], starts[b + 1], disks, loads, damping, dt, pos_at_build)
         for w in range(4):
             walls[w] += wall_vel[w] * dt
         for b in range(blocks):
@@ -265,11 +290,10 @@ def _advance_all(state: State, n_steps: int) -> None:
     while done < n_steps:
         pairs = state.neighbours
         done_now, rebuild = _advance(
-            n_steps - done, p.pos, p.vel, p.spin, p.radius, p.inv_mass, p.inv_inertia, pairs.pi,
-            pairs.pj, pairs.shear, state.bonds, pairs.n_bonds, pairs.block_starts,
-            pairs.bond_offsets, pairs.contact_offsets, p.force, p.moment, w.pos, w.active, w.vel,
-            w.force, w.stiffness, pairs.pos_at_build, pairs.rebuild_distance_sq, state.laws,
-            state.damping, state.dt)
+            n_steps - done, p.disks, p.loads, pairs.pi, pairs.pj, pairs.shear, state.bonds,
+            pairs.block_starts, pairs.bond_offsets, pairs.contact_offsets, w.pos, w.active,
+            w.vel, w.force, w.stiffness, pairs.pos_at_build, pairs.rebuild_distance_sq,
+            state.laws, state.damping, state.dt)
         done += done_now
         state.step += done_now
         if rebuild:
