@@ -163,6 +163,10 @@ def _verdict(result: CalibrationResult) -> str:
                  f"{lab_ucs / v.lab_K_IC_MPa_sqrt_m:.0f}: the model is "
                  f"{'tougher' if v.K_IC_error > 0 else 'more brittle'} for its compressive "
                  "strength than this rock (docs/benchmarks.md, \"What moves K_IC and UCS apart\").")
+        if v.K_IC_error > 0:
+            text += (" Constant bond strengths, a wider installation gap and a cut notch raise "
+                     "UCS / K_IC (for the granite: K_IC +99 % -> +24 %, "
+                     "docs/campaigns/granite-tough.toml).")
     return text + (" Use these parameters where the UCS responses matter; where fracture "
                    "matters, calibrate with K_IC as a target ([targets.bending] with "
                    "[validation] tests = []) and weigh the two fits.</p>")
