@@ -80,6 +80,11 @@ def vessel_contacts(pos: np.ndarray, radius: np.ndarray, width: float, height: f
     return grain_contacts(pos, radius) + touching.sum(axis=1)
 
 
+def floaters(pos: np.ndarray, radius: np.ndarray, width: float, height: float) -> np.ndarray:
+    """True for the grains with fewer than MIN_CONTACTS contacts in the vessel, walls counted."""
+    return vessel_contacts(pos, radius, width, height) < MIN_CONTACTS
+
+
 def enlarge_floaters(pos: np.ndarray, radius: np.ndarray, width: float, height: float,
                      overlap: float) -> np.ndarray:
     """Radii with every floater (fewer than MIN_CONTACTS contacts in the vessel, walls counted)
@@ -88,7 +93,7 @@ def enlarge_floaters(pos: np.ndarray, radius: np.ndarray, width: float, height: 
     (Potyondy & Cundall 2004 enlarge floaters, they do not delete them)."""
     radius = radius.copy()
     walls = wall_gaps(pos, radius, width, height)
-    for k in np.flatnonzero(vessel_contacts(pos, radius, width, height) < MIN_CONTACTS):
+    for k in np.flatnonzero(floaters(pos, radius, width, height)):
         gaps = np.hypot(*(pos - pos[k]).T) - radius - radius[k]
         gaps[k] = np.inf
         nearest = np.partition(np.concatenate([gaps, walls[k]]), MIN_CONTACTS - 1)

@@ -38,7 +38,7 @@ def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed
              cloud_porosity: float, pressure_mpa: float):
     """Centres and radii (m) of the cloud packed in [0, width] x [0, height] to the pressure,
     and the mean wall stress reached (MPa)."""
-    from rockcal.dem.genesis import MIN_CONTACTS, cloud_radii, enlarge_floaters, vessel_contacts
+    from rockcal.dem.genesis import MIN_CONTACTS, cloud_radii, enlarge_floaters, floaters
 
     rng = np.random.default_rng(seed)
     radius = cloud_radii(rng, width * height, rmin, radius_ratio, cloud_porosity)
@@ -66,19 +66,18 @@ def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed
     particles = state.particles
     for round_ in range(FLOATER_ROUNDS):
         grown = enlarge_floaters(particles.pos, particles.radius, width, height, overlap)
-        floaters = np.count_nonzero(grown != particles.radius)
-        log.debug("floater round %d: %d floaters, wall stress %.3g MPa", round_, floaters, stress / MPa)
-        if not floaters and abs(stress - target) < PRESSURE_TOLERANCE * target:
+        enlarged = np.count_nonzero(grown != particles.radius)
+        log.debug("floater round %d: %d floaters, wall stress %.3g MPa", round_, enlarged, stress / MPa)
+        if not enlarged and abs(stress - target) < PRESSURE_TOLERANCE * target:
             break
         particles.radius[:] = grown * servo_factor(stress, target)
         rebuild_neighbours(state)
         stress = settled_stress(state, floater_steps)
     else:
-        contacts = vessel_contacts(particles.pos, particles.radius, width, height)
-        left = np.count_nonzero(contacts < MIN_CONTACTS)
-        log.warning("genesis of %g x %g mm, seed %d: %d of %d grains still have fewer than 3 "
+        left = np.count_nonzero(floaters(particles.pos, particles.radius, width, height))
+        log.warning("genesis of %g x %g mm, seed %d: %d of %d grains still have fewer than %d "
                     "contacts after %d floater rounds", 1e3 * width, 1e3 * height, seed, left, n,
-                    FLOATER_ROUNDS)
+                    MIN_CONTACTS, FLOATER_ROUNDS)
     return particles.pos.copy(), particles.radius.copy(), stress / MPa
 
 

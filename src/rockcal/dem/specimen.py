@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rockcal.dem.genesis import MIN_CONTACTS, Genesis, install_bonds, vessel_contacts
+from rockcal.dem.genesis import Genesis, floaters, install_bonds
 from rockcal.dem.neighbours import spatial_order
 from rockcal.errors import InputError
 
@@ -128,9 +128,9 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
             os.replace(tmp, path)
     bonds = install_bonds(pos, radius, genesis.install_gap * rmin_mm * 1e-3)
     draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
-    floaters = vessel_contacts(pos, radius, width_mm * 1e-3, height_mm * 1e-3) < MIN_CONTACTS
+    left = np.count_nonzero(floaters(pos, radius, width_mm * 1e-3, height_mm * 1e-3))
     return Specimen(pos, radius, bonds, width_mm * 1e-3, height_mm * 1e-3, label, draws, pressure,
-                    int(np.count_nonzero(floaters)))
+                    int(left))
 
 
 def cache_dir() -> Path:
