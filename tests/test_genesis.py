@@ -87,3 +87,11 @@ def test_genesis_is_deterministic_and_cached():
     np.testing.assert_array_equal(a.pos, b.pos)
     np.testing.assert_array_equal(a.bonds, b.bonds)
     np.testing.assert_array_equal(a.bond_draws, b.bond_draws)
+
+
+def test_sizes_given_as_integers_find_the_same_cached_specimen(monkeypatch, tmp_path):
+    monkeypatch.setenv("ROCKCAL_CACHE", str(tmp_path))
+    a = random_packing(WIDTH_MM, HEIGHT_MM, RMIN_MM, RATIO, seed=2)
+    b = random_packing(int(WIDTH_MM), int(HEIGHT_MM), RMIN_MM, RATIO, seed=2)
+    assert len(list(tmp_path.iterdir())) == 1
+    np.testing.assert_array_equal(a.pos, b.pos)

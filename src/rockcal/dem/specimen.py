@@ -104,8 +104,8 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
     """A specimen made by PFC's material genesis (`rockcal.dem.genesis`), cached on disk."""
     check_geometry(width_mm, height_mm, rmin_mm, radius_ratio)
     genesis = genesis or Genesis()
-    key = dict(kind="random", width_mm=width_mm, height_mm=height_mm, rmin_mm=rmin_mm,
-               radius_ratio=radius_ratio, seed=seed, version=GENERATOR_VERSION,
+    key = dict(kind="random", width_mm=float(width_mm), height_mm=float(height_mm),  # 50 and 50.0: one key
+               rmin_mm=float(rmin_mm), radius_ratio=float(radius_ratio), seed=int(seed), version=GENERATOR_VERSION,
                cloud_porosity=genesis.cloud_porosity, pressure_mpa=genesis.pressure_mpa)
     path = cache_dir() / (hashlib.sha1(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16] + ".npz")
     label = (f"random {width_mm:g}x{height_mm:g} mm, Rmin {rmin_mm:g} mm x{radius_ratio:g}, "
