@@ -37,6 +37,8 @@ FACTORS = {  # name: (micro-parameters on top of the source's point, specimen se
     "cv023_gap03": (SPREAD, {"install_gap": 0.3}),
     "cv023_gap09": (SPREAD, {"install_gap": 0.9}),
     "cv023_cut": (SPREAD, {"notch_width_mm": 0.0}),
+    "cv023_w05": (SPREAD, {"notch_width_mm": 0.5}),  # notch-tip radius 0.25 mm
+    "cv023_w1": (SPREAD, {"notch_width_mm": 1.0}),
     "cv0_gap09_cut": ({}, {"install_gap": 0.9, "notch_width_mm": 0.0}),  # the three best together
 }
 

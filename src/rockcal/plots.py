@@ -80,7 +80,7 @@ def _label(name: str, labels: dict) -> str:
     return labels.get(name, name)
 
 
-def range_bars(R: dict[str, dict[str, float]], chosen: list[str], path: Path) -> None:
+def range_bars(R: dict[str, dict[str, float]], chosen: list[str], path: Path, note: str = "") -> None:
     """Range R of each factor per response (R[response][factor]); chosen factors in colour."""
     fig, axes = plt.subplots(1, len(R), figsize=(3.6 * len(R), 3.8), squeeze=False)
     for ax, (response, by_factor) in zip(axes[0], R.items()):
@@ -94,7 +94,7 @@ def range_bars(R: dict[str, dict[str, float]], chosen: list[str], path: Path) ->
         ax.set_ylabel(f"range R of {_label(response, RESPONSE_LABELS)}", fontsize=8)
         ax.tick_params(axis="x", labelrotation=45, labelsize=7)
         ax.grid(axis="y", alpha=0.3)
-    fig.suptitle("Range analysis (orange: parameters inverted; outlined: largest R)")
+    fig.suptitle(f"Range analysis{note} (orange: parameters inverted; outlined: largest R)")
     _save(fig, path)
 
 

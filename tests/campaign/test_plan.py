@@ -63,3 +63,20 @@ checks = 2
     assert "; disk D 40 mm, about 3252 grains" in lines[0]
     assert lines[1].endswith("each parameter set runs UCS and Brazilian")
     assert "15 UCS and 15 Brazilian runs" in lines[-1]
+
+
+def test_coarser_sensitivity_runs_are_shown_and_expected_sooner(tmp_path):
+    text = """
+[targets.ucs]
+E_GPa = 20.0
+[sensitivity]
+array = "L9(3^4)"
+levels = { E_c = [10, 20, 30], sigma_c = [20, 40, 60] }
+"""
+    full = describe(parse_campaign(text, tmp_path), RunStore(tmp_path / "a"), workers=2)
+    coarse = describe(parse_campaign(text + "rmin_mm = 0.5\n", tmp_path), RunStore(tmp_path / "b"), workers=2)
+    assert "sensitivity 9 (R_min 0.5 mm), samples" in coarse[1] and "(R_min" not in full[1]
+
+    def minutes(lines):
+        return float(lines[-1].split("about ")[1].split(" min")[0])
+    assert minutes(coarse) < minutes(full)

@@ -202,3 +202,27 @@ levels = { E_c = [15, 20, 25, 30], kn_ks = [1.0, 1.67, 2.33, 3.0], sigma_c = [20
     narrow = text.replace("E_c = [15, 30]", "E_c = [20, 30]")  # that run is now outside the box
     assert Calibration(parse_campaign(narrow, tmp_path), Workers(1, responses)).run() \
         .samples.reused_sensitivity_runs is None
+
+
+class Specimens(Workers):
+    """Workers that keep the R_min of each run's specimen, by the stage's parameter sets."""
+
+    def run(self, specs, progress=None):
+        self.calls.append([dict(spec.specimen)["rmin_mm"] for spec in specs])
+        return [RunResult("ok", self.model(dict(spec.params)), None, 0.0) for spec in specs]
+
+
+def test_sensitivity_runs_at_their_own_resolution_train_no_surrogate(tmp_path):
+    """[sensitivity] rmin_mm: the array runs on coarser grains, every later run on the
+    campaign's; the one array run inside the box is then not a run of the search."""
+    text = SEARCH.replace("E_c = [15, 35]", "E_c = [15, 30]").replace("[search]", """[sensitivity]
+array = "L16(4^5)"
+levels = { E_c = [15, 20, 25, 30], kn_ks = [1.0, 1.67, 2.33, 3.0], sigma_c = [20, 30, 40, 50], tau_c = [50, 70, 90, 110], mu = [0.3, 0.4, 0.5, 0.6] }
+rmin_mm = 0.5
+[search]""")
+    executor = Specimens(1, responses)
+    record = Calibration(parse_campaign(text, tmp_path), executor).run()
+    first, *later = executor.calls
+    assert first == [0.5] * 16 and {r for call in later for r in call} == {0.25}
+    assert record.samples.reused_sensitivity_runs is None and record.accepted
+    assert record.sensitivity.rmin_mm == 0.5

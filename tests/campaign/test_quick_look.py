@@ -38,8 +38,9 @@ def test_a_quick_look_doubles_rmin_and_keeps_one_beam_of_the_granite():
     unchanged = {"rmin_mm", "bending_seeds"}
     assert quick.specimen.model_dump(exclude=unchanged) == granite.specimen.model_dump(exclude=unchanged)
     assert (granite.uncertainty.draws, quick.uncertainty.draws) == (200, 50)
-    assert quick.model_dump(exclude={"specimen", "uncertainty"}) == \
-        granite.model_dump(exclude={"specimen", "uncertainty"})
+    assert quick.model_dump(exclude={"specimen", "uncertainty", "sensitivity"}) == \
+        granite.model_dump(exclude={"specimen", "uncertainty", "sensitivity"})
+    assert granite.sensitivity_specimen().rmin_mm == 0.5 and quick.sensitivity_specimen() == quick.specimen
     note = quick_look_note(quick)
     assert "R_min 0.5 mm" in note and "one validation beam" in note
     assert "not the full-resolution calibration" in note

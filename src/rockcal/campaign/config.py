@@ -65,6 +65,7 @@ class Sensitivity(Section):
     array: str = "L16(4^5)"
     levels: dict[str, list[float]]
     threshold: float | None = Field(None, gt=0, le=1)  # also invert factors with R >= threshold x max R
+    rmin_mm: float | None = Field(None, gt=0)  # R_min of the sensitivity runs; default: the specimen's
 
     @field_validator("levels")
     @classmethod
@@ -179,6 +180,12 @@ class Campaign(Section):
         """The lab tests the campaign runs: those given in [targets]."""
         return list(self.targets.given())
 
+    def sensitivity_specimen(self) -> SpecimenSettings:
+        """The specimen settings of the sensitivity runs: the campaign's, at [sensitivity]
+        rmin_mm if given (the range analysis ranks the factors alike on coarser grains)."""
+        rmin = self.sensitivity.rmin_mm if self.sensitivity else None
+        return self.specimen if rmin is None else self.specimen.model_copy(update={"rmin_mm": rmin})
+
     def fixed_params(self) -> dict[str, float]:
         """Parameters held constant: the density of the rock, then [search].fixed."""
         return {"density": self.rock.density_kg_m3} | dict(self.search.fixed)
@@ -191,7 +198,10 @@ def quick_look(campaign: Campaign) -> Campaign:
     s = campaign.specimen
     specimen = s.model_copy(update={"rmin_mm": QUICK_RESOLUTION * s.rmin_mm, "bending_seeds": 1})
     uncertainty = campaign.uncertainty.model_copy(update={"draws": min(campaign.uncertainty.draws, QUICK_DRAWS)})
-    return campaign.model_copy(update={"specimen": specimen, "uncertainty": uncertainty})
+    update = {"specimen": specimen, "uncertainty": uncertainty}
+    if campaign.sensitivity and (campaign.sensitivity.rmin_mm or 0) <= specimen.rmin_mm:
+        update["sensitivity"] = campaign.sensitivity.model_copy(update={"rmin_mm": None})
+    return campaign.model_copy(update=update)
 
 
 def quick_look_note(quick: Campaign) -> str:

@@ -29,7 +29,8 @@ def _range_analysis(result: CalibrationResult, store: RunStore, path: Path) -> s
         return ("No sensitivity study in this campaign (no [sensitivity] section): the "
                 "parameters to invert were named in [search].bounds.")
     R = {r: {f: e.R for f, e in effects.items()} for r, effects in sensitivity.responses.items()}
-    plots.range_bars(R, sensitivity.chosen, path)
+    note = f", runs at R_min {sensitivity.rmin_mm:g} mm" if sensitivity.rmin_mm else ""
+    plots.range_bars(R, sensitivity.chosen, path, note)
     return None
 
 

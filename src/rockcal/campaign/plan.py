@@ -74,20 +74,22 @@ def stages(campaign: Campaign) -> list[tuple[str, str, int]]:
 def stored_runs(campaign: Campaign, store) -> dict[str, int]:
     """How many of the campaign's sensitivity, sample and check runs the store holds, by test:
     those known before it runs (the samples only when [search] gives the bounds)."""
-    fixed, rows = campaign.fixed_params(), []
+    fixed, points = campaign.fixed_params(), []
     bounds = campaign.search.bounds
     if campaign.sensitivity is not None:
         runs = design(campaign.sensitivity.array, campaign.sensitivity.levels)
-        rows += [{f: float(v[i]) for f, v in runs.items()} for i in range(len(next(iter(runs.values()))))]
+        specimen = campaign.sensitivity_specimen()
+        points += [(specimen, {f: float(v[i]) for f, v in runs.items()})
+                   for i in range(len(next(iter(runs.values()))))]
         for f, levels in campaign.sensitivity.levels.items():  # as the procedure does
             if f not in bounds and f not in fixed:
                 fixed[f] = float(np.mean(levels))
     if bounds:
         names = list(bounds)
         x, checks = sample_points(np.array([bounds[n] for n in names], float), campaign.surrogate)
-        rows += [fixed | dict(zip(names, row)) for row in np.vstack([x, checks])]
-    return {test: sum(store.get(run_spec(test, campaign.specimen, campaign.fixed_params() | row)) is not None
-                      for row in rows) for test in campaign.target_sections()}
+        points += [(campaign.specimen, fixed | dict(zip(names, row))) for row in np.vstack([x, checks])]
+    return {test: sum(store.get(run_spec(test, specimen, campaign.fixed_params() | row)) is not None
+                      for specimen, row in points) for test in campaign.target_sections()}
 
 
 def stored_runs_s(store, test: str, specimen: SpecimenSettings) -> list[float]:
@@ -125,7 +127,10 @@ def expected_s(campaign: Campaign, store, sizes: dict, workers: int) -> float:
     """The campaign's expected wall time: each stage in rounds of one run per worker, and the
     searches for the parameters' intervals (without the specimens' genesis)."""
     times, _ = run_times(campaign, store, sizes)
-    total = sum(-(-n // workers) * times[test] for _, test, n in runs_to_do(campaign, store))
+    coarser = {test: (specimen_size(test, campaign.sensitivity_specimen())[2] / size[2]) ** WORK_EXPONENT
+               for test, size in sizes.items()}  # the sensitivity runs' time over the others'
+    total = sum(-(-n // workers) * times[test] * (coarser[test] if stage == "sensitivity" else 1.0)
+                for stage, test, n in runs_to_do(campaign, store))
     return total + (campaign.uncertainty.draws * DRAW_S if campaign.wants_uncertainty() else 0.0)
 
 
@@ -141,7 +146,8 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
     lines = [
         "specimens: " + "; ".join(f"{text}, about {grains} grains" for text, grains, _ in sizes.values())
         + f" (R {s.rmin_mm:g} to {s.rmin_mm * s.radius_ratio:.3g} mm)",
-        "stages: " + ", ".join(f"{name} {n}" for name, n in dict((name, n) for name, _, n in plan).items())
+        "stages: " + ", ".join(f"{name} {n}" + _resolution(campaign, name)
+                               for name, n in dict((name, n) for name, _, n in plan).items())
         + f" (then more verifications if needed, at most {campaign.acceptance.max_dem_runs} UCS runs)"
         + (f"; each parameter set runs {' and '.join(titles)}" if len(titles) > 1 else ""),
         f"runs of this campaign already in the store: {sum(stored_runs(campaign, store).values())} "
@@ -157,6 +163,12 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
                      f"still to do ({_duration(times['ucs'])} per UCS run on one worker: {basis}), "
                      "plus the specimens' genesis the first time on this machine")
     return lines
+
+
+def _resolution(campaign: Campaign, stage: str) -> str:
+    """The sensitivity stage's own R_min, where it differs from the campaign's."""
+    own = campaign.sensitivity_specimen().rmin_mm
+    return f" (R_min {own:g} mm)" if stage == "sensitivity" and own != campaign.specimen.rmin_mm else ""
 
 
 def _duration(seconds: float) -> str:

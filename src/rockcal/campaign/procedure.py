@@ -94,15 +94,18 @@ class Calibration:
                        for t, r in runs.items() if r.status != "ok"]
             ok = all(r.status == "ok" for r in runs.values())
             responses.append(merge_responses({t: r.responses for t, r in runs.items()}) if ok else None)
-        if self.ucs_specimen is None and any(r.status == "ok" for r in by_test["ucs"]):
-            done = next(r.responses for r in by_test["ucs"] if r.status == "ok")
+        ours = [r for r, (settings, _) in zip(by_test["ucs"], points)
+                if r.status == "ok" and settings == self.campaign.specimen]
+        if self.ucs_specimen is None and ours:
+            done = ours[0].responses
             self.ucs_specimen = {k: done[k] for k in SPECIMEN_KEYS if k in done}
         return responses, specs, failed
 
-    def _evaluate(self, stage: str, rows: list[dict]) -> list[dict | None]:
-        """The responses of each parameter set on the campaign's specimens (None for a failed
-        run); every run counts against the budget and a failure is recorded."""
-        responses, specs, failed = self._forward(stage, [(self.campaign.specimen, row) for row in rows])
+    def _evaluate(self, stage: str, rows: list[dict], specimen: SpecimenSettings | None = None) -> list[dict | None]:
+        """The responses of each parameter set on the campaign's specimens (or `specimen`; None
+        for a failed run); every run counts against the budget and a failure is recorded."""
+        specimen = specimen or self.campaign.specimen
+        responses, specs, failed = self._forward(stage, [(specimen, row) for row in rows])
         for spec in specs["ucs"]:
             if spec.key not in self.dem_runs:
                 self.dem_runs.append(spec.key)
@@ -123,13 +126,16 @@ class Calibration:
         runs = design(settings.array, settings.levels)
         n = len(next(iter(runs.values())))
         rows = [{f: float(v[i]) for f, v in runs.items()} for i in range(n)]
-        responses = self._evaluate("sensitivity", rows)  # the array's values override [search].fixed
+        # the array's values override [search].fixed
+        specimen = self.campaign.sensitivity_specimen()
+        responses = self._evaluate("sensitivity", rows, specimen)
         names = list(self.targets)
         table = _fill_failed({r: [None if v is None else v[r] for v in responses] for r in names})
         analysis = range_analysis({f: np.array(v) for f, v in runs.items()}, table)
         chosen = analysis.chosen(settings.threshold)
         study = Sensitivity(array=settings.array, runs=rows, run_responses=responses,
                             imputed_runs=[i for i, v in enumerate(responses) if v is None],
+                            rmin_mm=specimen.rmin_mm if specimen != self.campaign.specimen else None,
                             **analysis.to_dict(settings.threshold))
         if not bounds:
             bounds = {f: (min(settings.levels[f]), max(settings.levels[f])) for f in chosen}
@@ -213,7 +219,7 @@ class Calibration:
     def _reusable(self, study: Sensitivity | None, names: list[str], box: np.ndarray) -> list[int]:
         """The sensitivity runs that are runs of the search: inside the box, with every other
         parameter at its fixed value (the very run a sample at that point would be)."""
-        if study is None:
+        if study is None or self.campaign.sensitivity_specimen() != self.campaign.specimen:
             return []
         keep = []
         for i, (row, responses) in enumerate(zip(study.runs, study.run_responses)):

@@ -56,6 +56,7 @@ class Sensitivity(_Part):
     responses: dict[str, dict[str, Effect]]
     ranking: dict[str, list[str]]
     chosen: list[str]
+    rmin_mm: float | None = _absent()  # R_min of its runs, where coarser than the campaign's
 
 
 class Samples(_Part):
