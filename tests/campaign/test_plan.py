@@ -33,8 +33,8 @@ checks = 2
 [uncertainty]
 packings = 4
 """, tmp_path)
-    assert stages(campaign) == [("sensitivity", "ucs", 9), ("samples", "ucs", 12),
-                                ("surrogate check", "ucs", 2), ("verification", "ucs", 1),
+    assert stages(campaign) == [("sensitivity", "ucs", 9), ("samples and checks", "ucs", 14),
+                                ("verification", "ucs", 1),
                                 ("uncertainty (packings)", "ucs", 3),
                                 ("validation (bending)", "bending", 2)]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=2)
@@ -56,8 +56,7 @@ bounds = { E_c = [10, 30] }
 samples = 12
 checks = 2
 """, tmp_path)
-    assert stages(campaign) == [("samples", "ucs", 12), ("samples", "brazilian", 12),
-                                ("surrogate check", "ucs", 2), ("surrogate check", "brazilian", 2),
+    assert stages(campaign) == [("samples and checks", "ucs", 14), ("samples and checks", "brazilian", 14),
                                 ("verification", "ucs", 1), ("verification", "brazilian", 1)]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=1)
     assert "; disk D 40 mm, about 3252 grains" in lines[0]

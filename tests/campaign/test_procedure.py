@@ -224,5 +224,6 @@ rmin_mm = 0.5
     record = Calibration(parse_campaign(text, tmp_path), executor).run()
     first, *later = executor.calls
     assert first == [0.5] * 16 and {r for call in later for r in call} == {0.25}
+    assert len(later[0]) == 12 + 2  # the samples and the surrogate's checks: one batch
     assert record.samples.reused_sensitivity_runs is None and record.accepted
     assert record.sensitivity.rmin_mm == 0.5

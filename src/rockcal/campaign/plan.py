@@ -16,7 +16,7 @@ import numpy as np
 
 from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.forward import run_spec
-from rockcal.campaign.procedure import sample_points
+from rockcal.campaign.procedure import SAMPLES_AND_CHECKS, sample_points
 from rockcal.inverse import design
 from rockcal.labtests.registry import lab_test
 
@@ -60,7 +60,7 @@ def stages(campaign: Campaign) -> list[tuple[str, str, int]]:
     points = []
     if campaign.sensitivity is not None:
         points.append(("sensitivity", array_runs(campaign.sensitivity.array)))
-    points += [("samples", campaign.surrogate.samples), ("surrogate check", campaign.surrogate.checks),
+    points += [(SAMPLES_AND_CHECKS, campaign.surrogate.samples + campaign.surrogate.checks),
                ("verification", 1)]
     if campaign.wants_uncertainty():
         points.append(("uncertainty (packings)", campaign.uncertainty.packings - 1))

@@ -59,6 +59,9 @@ def _round(x: np.ndarray) -> np.ndarray:
     return np.array([float(f"{v:.{SIGNIFICANT_DIGITS}g}") for v in x])
 
 
+SAMPLES_AND_CHECKS = "samples and checks"  # the stage of step 3's DEM runs
+
+
 class Calibration:
     """One campaign's run: call `run()`; the result it returns is what reports are made of."""
 
@@ -153,10 +156,10 @@ class Calibration:
         s = self.campaign.surrogate
 
         # step 3: Latin hypercube runs (with the sensitivity runs that are runs of the search),
-        # surrogate, check on fresh random points
+        # surrogate, check on fresh random points; the samples and checks run as one batch
         x, checks = sample_points(box, s)
-        y = self._evaluate("samples", [dict(zip(names, row)) for row in x])
-        y_checks = self._evaluate("surrogate check", [dict(zip(names, row)) for row in checks])
+        y_all = self._evaluate(SAMPLES_AND_CHECKS, [dict(zip(names, row)) for row in [*x, *checks]])
+        y, y_checks = y_all[:len(x)], y_all[len(x):]
         reused = self._reusable(sensitivity, names, box)
         train_x, train_y = _usable(np.vstack([x, _points(sensitivity, reused, names)]),
                                    y + [sensitivity.run_responses[i] for i in reused])
