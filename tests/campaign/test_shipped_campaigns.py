@@ -14,7 +14,7 @@ def test_the_tough_granite_differs_from_the_embedded_one_only_in_its_three_setti
     changed_specimen = {k for k, v in tough.specimen.model_dump().items()
                         if granite.specimen.model_dump()[k] != v}
     assert changed_specimen == {"install_gap", "notch_width_mm"}
-    assert (tough.specimen.install_gap, tough.specimen.notch_width_mm) == (0.9, 0.0)
+    assert (tough.specimen.install_gap, tough.specimen.notch_width_mm) == (1.1, 0.0)
     assert tough.search.fixed == {"tau_c": 90.0, "mu": 0.5}  # constant strengths
-    assert tough.sensitivity is None and tough.search.bounds["sigma_c"] == (15.0, 40.0)
+    assert tough.sensitivity is None and tough.search.bounds["sigma_c"] == (10.0, 28.0)
     assert tough.targets == granite.targets and tough.rock == granite.rock
