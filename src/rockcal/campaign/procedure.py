@@ -129,9 +129,8 @@ class Calibration:
         runs = design(settings.array, settings.levels)
         n = len(next(iter(runs.values())))
         rows = [{f: float(v[i]) for f, v in runs.items()} for i in range(n)]
-        # the array's values override [search].fixed
         specimen = self.campaign.sensitivity_specimen()
-        responses = self._evaluate("sensitivity", rows, specimen)
+        responses = self._evaluate("sensitivity", rows, specimen)  # the array's values override [search].fixed
         names = list(self.targets)
         table = _fill_failed({r: [None if v is None else v[r] for v in responses] for r in names})
         analysis = range_analysis({f: np.array(v) for f, v in runs.items()}, table)
