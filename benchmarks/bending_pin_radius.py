@@ -16,8 +16,7 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
-SOURCE_POINT = {"E_c": 21.65, "kn_ks": 1.9, "sigma_c": 36.55, "tau_c": 90.0, "mu": 0.5,
-                "sigma_c_cv": 0.23, "tau_c_cv": 0.23, "density": 2622.0}
+SOURCE_POINT = {"sigma_c_cv": 0.23, "tau_c_cv": 0.23}  # on the MicroParams defaults: the source's point
 
 
 def one_beam(job: tuple[float, float, int]) -> tuple[float, int, float, float, float]:

@@ -97,11 +97,11 @@ class Calibration:
                        for t, r in runs.items() if r.status != "ok"]
             ok = all(r.status == "ok" for r in runs.values())
             responses.append(merge_responses({t: r.responses for t, r in runs.items()}) if ok else None)
-        ours = [r for r, (settings, _) in zip(by_test["ucs"], points)
-                if r.status == "ok" and settings == self.campaign.specimen]
-        if self.ucs_specimen is None and ours:
-            done = ours[0].responses
-            self.ucs_specimen = {k: done[k] for k in SPECIMEN_KEYS if k in done}
+        if self.ucs_specimen is None:  # of the first UCS run that succeeded on the campaign's specimen
+            done = next((r.responses for r, (settings, _) in zip(by_test["ucs"], points)
+                         if r.status == "ok" and settings == self.campaign.specimen), None)
+            if done is not None:
+                self.ucs_specimen = {k: done[k] for k in SPECIMEN_KEYS if k in done}
         return responses, specs, failed
 
     def _evaluate(self, stage: str, rows: list[dict], specimen: SpecimenSettings | None = None) -> list[dict | None]:
