@@ -48,6 +48,7 @@ def phases(state, steps: int) -> dict:
     """Seconds per step of each phase, run one by one on all pairs and particles (one thread)."""
     p, pairs, walls = state.particles, state.neighbours, state.walls
     n, nb = state.n_particles, pairs.n_bonds
+    rebuild = per_step(lambda: simulate.rebuild_neighbours(state), 5)  # before the motion below
     return {
         "bond forces": per_step(lambda: laws.add_bond_forces(
             0, nb, p.disks, pairs.pi, pairs.pj, pairs.shear, state.bonds, state.laws, state.dt,
@@ -60,15 +61,20 @@ def phases(state, steps: int) -> dict:
             steps),
         "damping and motion": per_step(lambda: simulate._move(
             0, n, p.disks, p.loads, state.damping, state.dt, pairs.pos_at_build), steps),
-        "neighbour list (per rebuild)": per_step(lambda: simulate.rebuild_neighbours(state), 5),
+        "neighbour list (per rebuild)": rebuild,
     }
 
 
-def bare_loop_seconds_per_step(path: Path, n: int, steps: int) -> tuple[float, int]:
-    """The bare loop's seconds per step on n disks (one thread), and its bond count."""
+def load_bond_loop(path: Path):
     spec = importlib.util.spec_from_file_location("bond_loop", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
+    return module
+
+
+def bare_loop_seconds_per_step(module, n: int, steps: int) -> tuple[float, int]:
+    """The bare loop's seconds per step on its own lattice of n disks (one thread), and its
+    bond count."""
     argv, sys.argv = sys.argv, ["bond_loop.py", str(n), str(steps)]
     buffer = io.StringIO()
     try:
@@ -80,6 +86,23 @@ def bare_loop_seconds_per_step(path: Path, n: int, steps: int) -> tuple[float, i
     ms = float(lines[lines.index("ms/step,") - 1])
     bonds = int(lines[lines.index("bonds:") - 1].rstrip(","))
     return ms / 1e3, bonds
+
+
+def bare_loop_on_specimen(module, state, steps: int) -> float:
+    """Seconds per step of the bare loop's `step` over this specimen's own disks and bonds."""
+    p, nb = state.particles, state.neighbours.n_bonds
+    bi, bj = state.neighbours.pi[:nb].copy(), state.neighbours.pj[:nb].copy()
+    pos, radius = p.pos.copy(), p.radius.copy()
+    rest = np.hypot(*(pos[bj] - pos[bi]).T)
+    n = len(pos)
+    kn, dt = 2e10, 1e-8
+    args = (pos, np.random.default_rng(0).normal(0, 1e-4, (n, 2)), np.zeros(n), np.zeros(n),
+            np.zeros((n, 2)), np.zeros(n), bi, bj, kn, kn / 2, kn * radius.mean()**2 / 3, rest,
+            p.inv_mass.copy(), p.inv_inertia.copy(), radius, dt)
+    module.step(*args, 10)
+    started = time.perf_counter()
+    module.step(*args, steps)
+    return (time.perf_counter() - started) / steps
 
 
 def main() -> None:
@@ -105,11 +128,15 @@ def main() -> None:
               f"{n / engine[threads] / 1e6:.1f} M particle-steps/s, "
               f"{nb / engine[threads] / 1e6:.1f} M bond-steps/s")
     numba.set_num_threads(1)
-    bare, bare_bonds = bare_loop_seconds_per_step(args.bond_loop, n, 2 * args.steps)
+    module = load_bond_loop(args.bond_loop)
+    bare, bare_bonds = bare_loop_seconds_per_step(module, n, 2 * args.steps)
     print(f"bare bond loop, 1 thread: {1e3 * bare:.3f} ms/step, {n / bare / 1e6:.1f} M "
           f"particle-steps/s, {bare_bonds / bare / 1e6:.1f} M bond-steps/s ({bare_bonds} bonds)")
     print(f"ratio to the bare loop on 1 thread: {bare / engine[1]:.2f} per particle-step, "
           f"{(nb / engine[1]) / (bare_bonds / bare):.2f} per bond-step")
+    same = bare_loop_on_specimen(module, ucs_state(), 2 * args.steps)
+    print(f"bare loop's step on this specimen's {nb} bonds, 1 thread: {1e3 * same:.3f} ms/step; "
+          f"ratio {same / engine[1]:.2f}")
     if 2 in engine:
         print(f"2 threads / 1 thread: {engine[1] / engine[2]:.2f}x")
 

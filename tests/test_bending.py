@@ -165,3 +165,19 @@ def test_a_swing_of_the_beam_below_the_stop_fraction_does_not_stop_it():
     falls = [loading.update(step, 40e3) or loading.fallen_below(0.3, 40e3)
              for step in range(410, 410 + 2 * period + chunk, chunk)]
     assert not any(falls[:-1]) and falls[-1]
+
+
+def test_once_the_peak_is_known_the_end_of_the_test_counts_at_once():
+    """A fall below 0.3 of the peak ends the test for its crack path: while the peak is not yet
+    known it must last two periods; once a fall below 0.8 of it has lasted that long (the peak
+    is known, the pin back at full speed) it counts at the first reading."""
+    period = 4100
+    loading = Loading(380, DISTRIBUTED_DAMAGE, confirm_steps=2 * period)
+    loading.update(400, 150e3)
+    loading.update(410, 40e3)
+    assert not loading.fallen_below(0.3, 40e3)
+    loading.peak_known = True
+    loading.update(420, 40e3)
+    assert loading.fallen_below(0.3, 40e3)
+    loading.update(430, 50e3)
+    assert not loading.fallen_below(0.3, 50e3)  # not below: no stop, known peak or not

@@ -1,9 +1,11 @@
 """Forward runs of a campaign: a virtual lab test (`rockcal.labtests.registry`) for one
 parameter set, on many cores, through the run store (a run in the store is never run again).
 
-Workers are separate processes (spawned, so numba's threads are never forked); each sets its
-numba threads to its share of the cores and loads the specimen from the on-disk specimen cache
-once, not per run. A running test reports its reading (strain and stress, or displacement and
+Workers are separate processes (spawned, so numba's threads are never forked); each loads the
+specimen from the on-disk specimen cache once, not per run. A running test takes its share of
+the cores, counted afresh as it runs: one each while both of two workers are busy, both for
+the last run of a batch once the other worker is idle (the engine's numbers do not depend on
+its thread count). A running test reports its reading (strain and stress, or displacement and
 load) about once a second, so a long run shows that it moves.
 """
 
@@ -29,6 +31,8 @@ from rockcal.params import make_params
 POOL_RESTARTS = 3
 LIVE_INTERVAL_S = 1.0  # a running test reports its reading at most this often
 _live = None  # where a running test reports to: a worker's queue, or the serial executor
+_busy = None  # a pool's count of running tests (shared by its workers), or None
+_cores = 1
 SPECIMEN_KEYS = ("n_particles", "porosity", "coordination", "bonds_per_particle", "floaters")  # of each run
 ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
 
@@ -67,9 +71,11 @@ def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
     """Run one forward test; a run that raises is a failed result, not an exception, and a run
     past `time_limit_s` is stopped and recorded as timed out."""
     started = last = time.perf_counter()
+    _count_running(+1)
 
     def watch(x: float, y: float):
         nonlocal last
+        _take_share_of_cores()
         now = time.perf_counter()
         if time_limit_s is not None and now - started > time_limit_s:
             raise RunTimedOut(f"stopped after the run's wall-time limit of {time_limit_s:g} s")
@@ -94,6 +100,29 @@ def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
     except Exception as exc:  # a run that raises is recorded as failed, the campaign goes on
         return RunResult("failed", {}, None, time.perf_counter() - started,
                          f"{type(exc).__name__}: {exc}")
+    finally:
+        _count_running(-1)
+
+
+def threads_for(cores: int, running: int) -> int:
+    """A running test's share of the cores when `running` tests share them."""
+    return max(1, cores // max(1, running))
+
+
+def _count_running(change: int) -> None:
+    if _busy is not None:
+        with _busy.get_lock():
+            _busy.value += change
+
+
+def _take_share_of_cores() -> None:
+    """On a pool worker, run on this test's share of the cores as of now."""
+    if _busy is not None:
+        import numba
+
+        threads = threads_for(_cores, _busy.value)
+        if threads != numba.get_num_threads():
+            numba.set_num_threads(threads)
 
 
 def crack_rows(cracks: dict[str, np.ndarray]) -> np.ndarray:
@@ -102,12 +131,13 @@ def crack_rows(cracks: dict[str, np.ndarray]) -> np.ndarray:
                       for code, mode in ((BROKEN_TENSION, "tension"), (BROKEN_SHEAR, "shear"))])
 
 
-def _init_worker(threads: int, live) -> None:
+def _init_worker(cores: int, busy, live) -> None:
     import numba
 
-    global _live
-    numba.set_num_threads(threads)
-    _live = live
+    global _live, _busy, _cores
+    _live, _busy = live, busy
+    _cores = min(cores, numba.config.NUMBA_NUM_THREADS)
+    numba.set_num_threads(1)
 
 
 def live_text(readings: dict[str, tuple]) -> str:
@@ -185,11 +215,11 @@ class Executor:
 
     def _get_pool(self) -> ProcessPoolExecutor:
         if self._pool is None:
-            threads = max(1, (os.cpu_count() or 1) // self.workers)
             context = get_context("spawn")
             self._queue = context.Queue()
-            self._pool = ProcessPoolExecutor(self.workers, mp_context=context,
-                                             initializer=_init_worker, initargs=(threads, self._queue))
+            self._pool = ProcessPoolExecutor(
+                self.workers, mp_context=context, initializer=_init_worker,
+                initargs=(os.cpu_count() or 1, context.Value("i", 0), self._queue))
         return self._pool
 
     def run(self, specs: Iterable[RunSpec],

@@ -49,7 +49,9 @@ class Loading:
     after the loading last slowed down (by however little); the reported peak is the largest
     of the curve. A specimen that rings longer than that (a beam swings at its flexural period
     about the load the pin's travel gives) needs a fall below the peak to last: it counts once
-    every settled reading for `confirm_steps` has been below (0: at once).
+    every settled reading for `confirm_steps` has been below (0: at once), until the peak is
+    known (`peak_known`, set by `load_to_failure`); from then on the test runs for its crack,
+    and a fall counts at once.
     """
 
     def __init__(self, ramp_steps: float, breaks_at_half_speed: float, confirm_steps: float = 0.0):
@@ -61,6 +63,7 @@ class Loading:
         self.peak = 0.0
         self.peak_travel = 0.0  # the travel at which the settled peak was read
         self.settled = False
+        self.peak_known = False  # the load fell below PAST_PEAK_FRACTION of the peak, confirmed
         self.step = 0  # of the last load read
         self._below_since: dict[float, int] = {}  # fraction: step of the first reading below
         self._broken = [(0, 0)]  # (step, bonds broken so far), over the last ramp_steps
@@ -100,12 +103,13 @@ class Loading:
 
     def fallen_below(self, fraction: float, load: float) -> bool:
         """Whether the load, read where the loading has settled, has fallen below `fraction` of
-        the settled peak and stayed there, settled, for `confirm_steps`."""
+        the settled peak and stayed there, settled, for `confirm_steps` (at once once the peak
+        is known)."""
         if not (self.settled and self.peak > 0 and load < fraction * self.peak):
             self._below_since.pop(fraction, None)
             return False
         since = self._below_since.setdefault(fraction, self.step)
-        return self.step - since >= self.confirm_steps
+        return self.peak_known or self.step - since >= self.confirm_steps
 
 
 class Reading(NamedTuple):
@@ -126,20 +130,21 @@ def load_to_failure(state: State, loading: Loading, chunk: int, move: Callable[[
     the pin's) at `loading`'s speed factor; `read()` reads the specimen after each `chunk` of
     steps; `may_stop(reading)` is its stop rule (asking `loading` about the settled peak);
     `max_travel` stops it at the latest. With `full_speed_past_peak` the loading goes back to
-    full speed once the peak is known: the load has fallen below PAST_PEAK_FRACTION of it with
-    bonds broken. progress(first, last value of the sample) is called after each chunk. The
+    full speed once the peak is known (`loading.peak_known`): the load has fallen below
+    PAST_PEAK_FRACTION of it with bonds broken. progress(first, last value of the sample) is called after each chunk. The
     curve is the samples after a first row of zeros, the specimen unloaded.
     """
-    samples, past_peak = [], False
+    samples = []
     while True:
-        move(loading.speed(state.step, np.count_nonzero(state.bonds.state), chunk, past_peak))
+        move(loading.speed(state.step, np.count_nonzero(state.bonds.state), chunk,
+                           loading.peak_known))
         advance(state, chunk)
         reading = read()
         samples.append(reading.sample)
         loading.update(state.step, reading.load, reading.travel)
-        if full_speed_past_peak:
-            past_peak = past_peak or (loading.fallen_below(PAST_PEAK_FRACTION, reading.load)
-                                      and state.bonds.state.any())
+        if full_speed_past_peak and not loading.peak_known:
+            loading.peak_known = (loading.fallen_below(PAST_PEAK_FRACTION, reading.load)
+                                  and bool(state.bonds.state.any()))
         if progress:
             progress(reading.sample[0], reading.sample[-1])
         if may_stop(reading) or reading.travel >= max_travel:

@@ -1,0 +1,33 @@
+"""The engine's numbers do not depend on its thread count, even changed in the middle of a run
+(a campaign's pool gives the last running test both cores once the other worker is idle)."""
+
+import numba
+import numpy as np
+
+from rockcal import hexagonal, simulate_ucs
+from rockcal.dem.neighbours import block_starts
+
+PARAMS = {"E_c": 20, "kn_ks": 2.0, "sigma_c": 10, "tau_c": 20, "sigma_c_cv": 0.3, "tau_c_cv": 0.3}
+
+
+def test_a_run_switching_between_one_and_two_threads_gives_the_same_numbers():
+    specimen = hexagonal(20, 40, 0.25)
+    assert len(block_starts(len(specimen.pos))) - 1 >= 2  # blocks run in parallel
+    cap = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = simulate_ucs(PARAMS, specimen)
+        switches = []
+
+        def switch(strain, stress):
+            switches.append(strain)
+            numba.set_num_threads(1 + len(switches) % min(2, numba.config.NUMBA_NUM_THREADS))
+
+        switched = simulate_ucs(PARAMS, specimen, progress=switch)
+    finally:
+        numba.set_num_threads(cap)
+    assert one.n_broken_tension + one.n_broken_shear > 100  # it failed
+    assert len(switches) > 100
+    assert np.array_equal(one.curve, switched.curve)
+    assert (one.ucs_MPa, one.E_GPa, one.nu, one.steps) == \
+        (switched.ucs_MPa, switched.E_GPa, switched.nu, switched.steps)
