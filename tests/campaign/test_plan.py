@@ -79,3 +79,37 @@ levels = { E_c = [10, 20, 30], sigma_c = [20, 40, 60] }
     def minutes(lines):
         return float(lines[-1].split("about ")[1].split(" min")[0])
     assert minutes(coarse) < minutes(full)
+
+
+def test_a_last_short_round_shares_the_cores():
+    """Three runs on two workers of two cores: a round of two, then the third on both cores."""
+    from rockcal.campaign.plan import LONE_RUN_SPEED_UP, stage_rounds
+
+    assert stage_rounds(4, 2, cores=2) == 2
+    assert stage_rounds(3, 2, cores=2) == pytest.approx(1 + 1 / LONE_RUN_SPEED_UP)
+    assert stage_rounds(1, 2, cores=2) == pytest.approx(1 / LONE_RUN_SPEED_UP)
+    assert stage_rounds(3, 1, cores=2) == pytest.approx(3 / LONE_RUN_SPEED_UP)  # each alone
+    assert stage_rounds(3, 1, cores=1) == 3
+    assert stage_rounds(3, 2, cores=1) == 2  # no core to spare
+
+
+def test_the_campaign_bar_counts_expected_seconds_not_runs():
+    """16 coarse sensitivity runs weigh less than 2 full-size ones: after the first stage the
+    campaign's bar (and so its ETA) stands at the expected fraction of the time, and a run the
+    store already held counts as no time spent."""
+    from rockcal.cli.calibrate import _stage_progress
+
+    progress = _stage_progress(True, {"sensitivity": 16, "samples and checks": 2},
+                               {"sensitivity": (16, 60.0), "samples and checks": (2, 180.0)})
+
+    def campaign():
+        task = progress.bar.tasks[progress.campaign]
+        return task.completed, task.total, task.fields["count"]
+
+    progress("sensitivity", 0, 16)
+    progress("sensitivity", 16, 16)
+    assert campaign() == (60.0, 240.0, "16/18")
+    progress("samples and checks", 1, 2)  # one from the store
+    assert campaign() == (60.0, 150.0, "17/18")
+    progress("samples and checks", 2, 2)
+    assert campaign() == (150.0, 150.0, "18/18")

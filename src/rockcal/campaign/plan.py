@@ -5,11 +5,13 @@ without any, it is scaled from the full-size granite UCS run of docs/benchmarks.
 step grows with the grains, and the steps of a test with its rows of grains (the loading speed
 is set per row), so a run's time goes about as grains x rows (measured on idle cores); a
 full-size bending run about 4.5 times slower than that (its steps grow with span² / height).
-A stage runs in rounds of one run per worker.
+A stage runs in rounds of one run per worker; the runs of a last, short round share the
+cores (a run alone on two cores goes LONE_RUN_SPEED_UP times faster than one of two at once).
 """
 
 from __future__ import annotations
 
+import os
 import re
 
 import numpy as np
@@ -24,6 +26,7 @@ REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS speci
 REFERENCE_RUN_S = 82.0  # its mean UCS run on one thread, two at a time on idle cores (the granite campaign's 21)
 WORK_EXPONENT = 1.0  # run time ~ work: on idle cores the half-resolution UCS runs take 10.5 s, 1/7.8 of the full-size 82 s (work 1/8)
 SLOWER_THAN_WORK = {"bending": 4.5}  # a run's time over the work-scaled UCS run's, measured (docs/benchmarks.md)
+LONE_RUN_SPEED_UP = 1.4  # the granite campaign's verification, alone on 2 threads: 59 s against 85 s two at a time
 DRAW_S = 0.4  # one search on the surrogate for the parameters' intervals (main process)
 
 
@@ -123,14 +126,37 @@ def runs_to_do(campaign: Campaign, store) -> list[tuple[str, str, int]]:
     return todo
 
 
-def expected_s(campaign: Campaign, store, sizes: dict, workers: int) -> float:
-    """The campaign's expected wall time: each stage in rounds of one run per worker, and the
-    searches for the parameters' intervals (without the specimens' genesis)."""
+def stage_rounds(runs: int, workers: int, cores: int | None = None) -> float:
+    """A stage's time in runs of one thread two at a time: full rounds of one run per worker,
+    then a last round whose runs take the cores left free (the pool shares them out as it goes;
+    a single worker runs each run on all cores)."""
+    cores = cores or os.cpu_count() or 1
+    shared = 1 / LONE_RUN_SPEED_UP
+    if workers == 1:
+        return runs * (shared if cores >= 2 else 1.0)
+    full, last = divmod(runs, workers)
+    return full + (0.0 if not last else shared if cores // last >= 2 else 1.0)
+
+
+def stage_times(campaign: Campaign, store, workers: int) -> dict[str, tuple[int, float]]:
+    """Each stage's runs still to do and their expected wall time (s): in rounds of one run per
+    worker (`stage_rounds`)."""
+    sizes = {test: specimen_size(test, campaign.specimen) for test in campaign.tests()}
     times, _ = run_times(campaign, store, sizes)
     coarser = {test: (specimen_size(test, campaign.sensitivity_specimen())[2] / size[2]) ** WORK_EXPONENT
                for test, size in sizes.items()}  # the sensitivity runs' time over the others'
-    total = sum(-(-n // workers) * times[test] * (coarser[test] if stage == "sensitivity" else 1.0)
-                for stage, test, n in runs_to_do(campaign, store))
+    out: dict[str, tuple[int, float]] = {}
+    for stage, test, n in runs_to_do(campaign, store):
+        runs, seconds = out.get(stage, (0, 0.0))
+        out[stage] = (runs + n, seconds + stage_rounds(n, workers) * times[test]
+                      * (coarser[test] if stage == "sensitivity" else 1.0))
+    return out
+
+
+def expected_s(campaign: Campaign, store, workers: int) -> float:
+    """The campaign's expected wall time: its stages' runs and the searches for the parameters'
+    intervals (without the specimens' genesis)."""
+    total = sum(seconds for _, seconds in stage_times(campaign, store, workers).values())
     return total + (campaign.uncertainty.draws * DRAW_S if campaign.wants_uncertainty() else 0.0)
 
 
@@ -157,7 +183,7 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
         times, measured = run_times(campaign, store, sizes)
         basis = ("the mean of this store's UCS runs" if measured else
                  "scaled from the full-size granite run on a reference machine; ±2x between machines")
-        lines.append(f"expected: about {_duration(expected_s(campaign, store, sizes, workers))} on "
+        lines.append(f"expected: about {_duration(expected_s(campaign, store, workers))} on "
                      f"{workers} worker{'s' if workers > 1 else ''} "
                      f"for the {' and '.join(f'{n} {lab_test(t).title}' for t, n in runs.items())} runs "
                      f"still to do ({_duration(times['ucs'])} per UCS run on one worker: {basis}), "

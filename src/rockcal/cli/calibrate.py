@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Optional
 
 import typer
 from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 from rich.table import Table
 
 from rockcal.errors import InputError
@@ -36,6 +36,7 @@ def calibrate(
     """Identify BPM micro-parameters from lab results (SPEC steps 1-8), with a report."""
     from rockcal.campaign.config import load_campaign, quick_look, quick_look_note
     from rockcal.campaign.executors import make_executor
+    from rockcal.campaign.plan import stage_times
     from rockcal.campaign.procedure import Calibration, CalibrationFailed
     from rockcal.campaign.result import save_result
     from rockcal.campaign.store import STORE_NAME, RunStore
@@ -75,7 +76,8 @@ def calibrate(
             store.save_document(QUICK_LOOK, note or "")
             if not as_json:
                 _print_plan(campaign, store, executor, note)
-            with _stage_progress(as_json, _planned_runs(campaign)) as progress:
+            times = stage_times(campaign, store, getattr(executor, "workers", 1))
+            with _stage_progress(as_json, _planned_runs(campaign), times) as progress:
                 executor.on_live = progress.live
                 result = Calibration(campaign, executor, progress).run()
         except CalibrationFailed as exc:
@@ -151,18 +153,23 @@ def _print_plan(campaign, store, executor, note: str | None) -> None:
 
 
 class _stage_progress:
-    """A rich progress bar for the whole campaign (its planned runs) and one per stage (runs
-    done / to do, ETA), on stderr; the ETAs average the run rate over the last 10 minutes."""
+    """A rich progress bar for the whole campaign and one per stage (runs done / to do, ETA), on
+    stderr. The campaign's bar advances by the expected wall time of each run done
+    (`plan.stage_times`: a full-size beam weighs more than a coarse sensitivity run), so its
+    ETA, the rate over the last 10 minutes, holds from the first stage on; it shows the runs
+    done of those planned."""
 
-    def __init__(self, quiet: bool, planned_runs: dict[str, int]):
-        self.bar = Progress(TextColumn("{task.description:<24}"), BarColumn(), MofNCompleteColumn(),
+    def __init__(self, quiet: bool, planned_runs: dict[str, int], times: dict[str, tuple[int, float]]):
+        self.bar = Progress(TextColumn("{task.description:<24}"), BarColumn(), TextColumn("{task.fields[count]}"),
                             TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
                             TextColumn("{task.fields[live]}"),
                             console=Console(stderr=True), disable=quiet, speed_estimate_period=600)
         self.planned = planned_runs  # forward runs per stage (the others count no runs)
-        self.campaign = self.bar.add_task("campaign (planned runs)", total=sum(planned_runs.values()),
-                                          live="")
-        self.done: dict[str, int] = {}
+        self.to_do = {stage: runs for stage, (runs, _) in times.items()}  # of stages not begun
+        self.run_s = {stage: seconds / runs for stage, (runs, seconds) in times.items() if runs}
+        self.campaign = self.bar.add_task("campaign (planned runs)", total=sum(s for _, s in times.values()),
+                                          live="", count=f"0/{sum(planned_runs.values())}")
+        self.runs: dict[str, tuple[int, int, int]] = {}  # stage: (done when begun, done, total)
         self.tasks: dict[str, int] = {}
         self.current = None  # the stage now running
 
@@ -182,13 +189,22 @@ class _stage_progress:
         if stage not in self.tasks:
             if self.current is not None:
                 self.bar.update(self.current, live="")
-            self.tasks[stage] = self.current = self.bar.add_task(stage, total=total, live="")
-        self.bar.update(self.tasks[stage], completed=done, total=total)
+            self.tasks[stage] = self.current = self.bar.add_task(stage, total=total, live="", count="")
+            self.to_do.pop(stage, None)
+            self.runs[stage] = (done, done, total)  # the runs done at once came from the store
+        self.bar.update(self.tasks[stage], completed=done, total=total, count=f"{done}/{total}")
         if stage in self.planned:
-            self.done[stage] = done
-            overall = sum(self.done.values())
-            self.bar.update(self.campaign, completed=overall,
-                            total=max(sum(self.planned.values()), overall))
+            self.runs[stage] = (self.runs[stage][0], done, total)
+            self._update_campaign()
+
+    def _update_campaign(self) -> None:
+        run_s = self.run_s.get
+        spent = sum((done - begun) * run_s(stage, 0.0) for stage, (begun, done, _) in self.runs.items())
+        left = sum((total - done) * run_s(stage, 0.0) for stage, (_, done, total) in self.runs.items()) \
+            + sum(runs * run_s(stage, 0.0) for stage, runs in self.to_do.items())
+        done = sum(done for _, done, _ in self.runs.values())
+        self.bar.update(self.campaign, completed=spent, total=spent + left,
+                        count=f"{done}/{max(sum(self.planned.values()), done)}")
 
 
 def summary(result: CalibrationResult) -> dict:

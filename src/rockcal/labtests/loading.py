@@ -48,10 +48,12 @@ class Loading:
     So a test may stop, and its deciding peak counts, only on loads read `ramp_steps` or more
     after the loading last slowed down (by however little); the reported peak is the largest
     of the curve. A specimen that rings longer than that (a beam swings at its flexural period
-    about the load the pin's travel gives) needs a fall below the peak to last: it counts once
-    every settled reading for `confirm_steps` has been below (0: at once), until the peak is
-    known (`peak_known`, set by `load_to_failure`); from then on the test runs for its crack,
-    and a fall counts at once.
+    about the load the pin's travel gives) needs a fall below the settled peak to last instead:
+    it counts once every reading for `confirm_steps` has been below, settled or not (a
+    slow-down's transient is a few per cent of the load and passes within `ramp_steps`; a fall
+    that lasts two flexural periods is the crack's), until the peak is known (`peak_known`,
+    set by `load_to_failure`); from then on the test runs for its crack, and a fall counts at
+    once.
     """
 
     def __init__(self, ramp_steps: float, breaks_at_half_speed: float, confirm_steps: float = 0.0):
@@ -102,10 +104,11 @@ class Loading:
         self.settled_from = max(self.settled_from, step + steps)
 
     def fallen_below(self, fraction: float, load: float) -> bool:
-        """Whether the load, read where the loading has settled, has fallen below `fraction` of
-        the settled peak and stayed there, settled, for `confirm_steps` (at once once the peak
-        is known)."""
-        if not (self.settled and self.peak > 0 and load < fraction * self.peak):
+        """Whether the load has fallen below `fraction` of the settled peak: read where the
+        loading has settled (`confirm_steps` 0), or staying below for `confirm_steps` (at once
+        once the peak is known)."""
+        counts = self.settled or self.confirm_steps > 0
+        if not (counts and self.peak > 0 and load < fraction * self.peak):
             self._below_since.pop(fraction, None)
             return False
         since = self._below_since.setdefault(fraction, self.step)
