@@ -27,7 +27,7 @@ from rockcal.params import make_params, parse_assignments
 
 TABLE = Path(__file__).resolve().parents[2] / "shared" / "data" / "source_table3_l16.csv"
 GOAL = {"E": 0.05, "nu": 0.02, "ucs": 0.10}
-SETTINGS = ("rmin_mm", "install_gap", "cloud_porosity", "pressure_mpa", "strain", "seed")
+SETTINGS = ("rmin_mm", "install_gap", "cloud_porosity", "pressure_mpa", "strain", "seed", "contact_stiffness")
 
 
 def read_table(path: Path) -> list[dict]:
@@ -41,7 +41,7 @@ def main() -> None:
     parser.add_argument("--store", type=Path, default=Path("runs/source-l16"))
     for name in SETTINGS:
         parser.add_argument("--" + name.replace("_", "-"), default=None,
-                            type=str if name == "strain" else int if name == "seed" else float)
+                            type=str if name in ("strain", "contact_stiffness") else int if name == "seed" else float)
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                         help="a micro-parameter the table does not set, e.g. sigma_c_cv=0.23")
     parser.add_argument("--workers", type=int, default=2)

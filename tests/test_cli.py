@@ -21,7 +21,7 @@ def test_simulate_ucs_json_and_outputs(tmp_path):
                 "n_broken_tension", "n_broken_shear", "steps", "wall_s", "porosity",
                 "coordination", "bonds_per_particle"):
         assert key in summary
-    assert summary["strain"] == "gauge"
+    assert summary["strain"] == "gauge" and summary["contact_stiffness"] == "pfc5"
     assert summary["params"]["sigma_c"] == 30
     assert {p.name for p in tmp_path.iterdir()} >= {"ucs_curve.csv", "ucs_summary.json", "ucs_cracks.png"}
 
@@ -50,6 +50,7 @@ def test_simulate_ucs_json_and_outputs(tmp_path):
     (["--cloud-porosity", "1"], "--cloud-porosity"),
     (["--pressure-mpa", "0"], "--pressure-mpa"),
     (["--strain", "laser"], "--strain"),
+    (["--contact-stiffness", "pfc3"], "--contact-stiffness"),
     (["--stop-fraction", "1"], "--stop-fraction"),
 ])
 def test_bad_input_is_one_line_and_exit_2(args, field):

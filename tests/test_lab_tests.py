@@ -23,14 +23,26 @@ def test_an_unknown_test_is_an_error_naming_the_known_ones():
 
 
 def test_a_tests_revision_keys_only_its_own_runs():
-    """A changed procedure (bending revision 3) makes new keys for its runs, not for the others'."""
+    """A changed procedure (bending revision 4) makes new keys for its runs, not for the others'."""
     settings = SpecimenSettings()
     assert run_spec("ucs", settings, {}).engine == ENGINE
     bending = run_spec("bending", settings, {})
-    assert lab_test("bending").revision == 3
-    assert bending.engine == f"{ENGINE}, bending test revision 3"
-    for earlier in (ENGINE, f"{ENGINE}, bending test revision 2"):
+    assert lab_test("bending").revision == 4
+    assert bending.engine == f"{ENGINE}, bending test revision 4"
+    for earlier in (ENGINE, *(f"{ENGINE}, bending test revision {r}" for r in (2, 3))):
         assert bending.key != RunSpec(bending.kind, bending.specimen, bending.params, earlier).key
+
+
+@pytest.mark.parametrize("kind", ["ucs", "bending", "brazilian"])
+def test_a_setting_added_later_keys_a_run_only_when_set(kind):
+    """contact_stiffness came after runs were stored: at PFC 5's convention, the engine's before,
+    a run keeps the key it had; PFC 4's makes a new one, and the run gets it either way."""
+    settings = SpecimenSettings()
+    spec = run_spec(kind, settings, {})
+    assert "contact_stiffness" not in dict(spec.specimen)
+    assert lab_test(kind).settings_of(settings)["contact_stiffness"] == "pfc5"
+    pfc4 = run_spec(kind, settings.model_copy(update={"contact_stiffness": "pfc4"}), {})
+    assert dict(pfc4.specimen)["contact_stiffness"] == "pfc4" and pfc4.key != spec.key
 
 
 def test_the_ucs_targets_are_the_ucs_tests_measured_responses():
@@ -60,7 +72,7 @@ def test_the_target_responses_of_the_tests_have_distinct_names():
 def test_a_brazilian_run_goes_through_the_forward_path():
     settings = SimpleNamespace(disk_diameter_mm=10.0, rmin_mm=0.5, radius_ratio=1.65, seed=2,
                                **SpecimenSettings().model_dump(include={"install_gap", "cloud_porosity",
-                                                                        "pressure_mpa"}))
+                                                                        "pressure_mpa", "contact_stiffness"}))
     result = execute(run_spec("brazilian", settings, {}))
     assert result.status == "ok", result.message
     assert list(result.responses)[:3] == ["sigma_t_MPa", "P_max_kN_per_m", "displacement_at_peak_mm"]

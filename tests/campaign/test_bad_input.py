@@ -85,6 +85,8 @@ CAMPAIGNS = [  # (case, campaign text, the key the error must name)
      "specimen.pressure_mpa"),
     ("unknown strain reading", edit("height_mm = 16", "height_mm = 16\nstrain = 'laser'"),
      "specimen.strain"),
+    ("unknown contact stiffness", edit("height_mm = 16", "height_mm = 16\ncontact_stiffness = 'pfc3'"),
+     "specimen.contact_stiffness"),
     ("negative strength sd", edit("mu = 0.5", "mu = 0.5, sigma_c_sd = -3"),
      "search.fixed.sigma_c_sd"),
     ("bond friction angle 90", edit("mu = 0.5", "mu = 0.5, phi_b = 90"), "search.fixed.phi_b"),

@@ -143,3 +143,24 @@ def test_bad_input_is_one_line_exit_2(finished, tmp_path, args, field):
     assert run.returncode == 2
     assert len(run.stderr.strip().splitlines()) == 1 and field in run.stderr
     assert RunStore(finished, create=False).document("record.json")  # nothing lost
+
+
+def test_a_pfc4_contact_calibration_says_how_to_set_it_in_pfc():
+    """Calibrated with PFC 3.x/4.0's contacts, the export gives the ball stiffnesses (2 t E_c,
+    in series t E_c) and warns that pbm_emod is PFC 5's other convention."""
+    from types import SimpleNamespace
+
+    from rockcal.campaign.config import SpecimenSettings
+    from rockcal.campaign.export import header_lines
+    from rockcal.params import make_params
+
+    origin = {"rock": "granite", "accepted": True, "dem_runs": 1, "campaign": "c", "engine": "e",
+              "targets": {"E_GPa": 41.5}, "verified": {}, "identified": {"E_c": 20.0}}
+    lines = {}
+    for stiffness in ("pfc5", "pfc4"):
+        lines[stiffness] = header_lines(SimpleNamespace(
+            origin=origin, params=make_params({"E_c": 20.0, "kn_ks": 2.0}),
+            specimen=SpecimenSettings(contact_stiffness=stiffness)))
+    assert not any("PFC 3.x/4.0" in line for line in lines["pfc5"])
+    (note,) = [line for line in lines["pfc4"] if "PFC 3.x/4.0" in line]
+    assert "ball kn 4e+10 N/m, ks 2e+10 N/m" in note

@@ -100,7 +100,7 @@ def test_the_campaign_bar_counts_expected_seconds_not_runs():
     from rockcal.cli.calibrate import _stage_progress
 
     progress = _stage_progress(True, {"sensitivity": 16, "samples and checks": 2},
-                               {"sensitivity": (16, 60.0), "samples and checks": (2, 180.0)})
+                               {"sensitivity": (16, 60.0), "samples and checks": (2, 180.2)})
 
     def campaign():
         task = progress.bar.tasks[progress.campaign]
@@ -108,8 +108,8 @@ def test_the_campaign_bar_counts_expected_seconds_not_runs():
 
     progress("sensitivity", 0, 16)
     progress("sensitivity", 16, 16)
-    assert campaign() == (60.0, 240.0, "16/18")
+    assert campaign() == (60.0, 240, "16/18")  # whole seconds: a new total resets the rate
     progress("samples and checks", 1, 2)  # one from the store
-    assert campaign() == (60.0, 150.0, "17/18")
+    assert campaign() == (60.0, 150, "17/18")
     progress("samples and checks", 2, 2)
-    assert campaign() == (150.0, 150.0, "18/18")
+    assert campaign() == (150.1, 150, "18/18")

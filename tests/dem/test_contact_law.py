@@ -21,7 +21,7 @@ def cross(a, b):
     return a[0] * b[1] - a[1] * b[0]
 
 
-def contact_pair(r0, r1, centre_distance, angle=0.0, **params):
+def contact_pair(r0, r1, centre_distance, angle=0.0, contact_stiffness="pfc5", **params):
     """Two unbonded disks, centre 1 at `centre_distance` from centre 0 in direction `angle`;
     both held (driven), so only prescribed motion moves them."""
     n = np.array([np.cos(angle), np.sin(angle)])
@@ -29,7 +29,7 @@ def contact_pair(r0, r1, centre_distance, angle=0.0, **params):
     pos = np.array([p0, p0 + centre_distance * n])
     values = {"E_c": 10.0, "kn_ks": 2.0, "mu": 0.5, "damping": 0.0} | params
     state = new_state(pos, np.array([r0, r1]), np.empty((0, 2), int), make_params(values),
-                      driven=np.array([0]))
+                      driven=np.array([0]), contact_stiffness=contact_stiffness)
     state.particles.inv_mass[:] = 0.0
     state.particles.inv_inertia[:] = 0.0
     return state, n
@@ -222,3 +222,18 @@ def test_walls_are_frictionless_springs_of_stiffness_2_t_E(E_c, Ebar_c):
         advance(state, 1)
         assert state.walls.force[0, 3] == pytest.approx(k_wall * (d_top + (k - 1) * 1e-7), rel=1e-9)
     assert state.walls.pos[3] == pytest.approx(top - 5 * 1e-7, rel=1e-12)
+
+
+@pytest.mark.parametrize("r0, r1", [(1e-3, 1e-3), (1e-3, 1.65e-3), (2.2e-3, 0.8e-3)])
+def test_pfc4_contacts_are_ball_stiffnesses_in_series(r0, r1):
+    """PFC 3.x/4.0: each ball has kn = 2 t E_c, and a contact the two in series, t E_c whatever
+    the radii; ks = kn / (kn/ks) as before. Equal radii: the same as PFC 5's."""
+    overlap, vs_dt = 2e-6, 1e-9
+    state, n = contact_pair(r0, r1, r0 + r1 - overlap, 0.4, "pfc4", E_c=7.5, kn_ks=1.7, mu=0.8)
+    t = np.array([-n[1], n[0]])
+    step(state, vel1=vs_dt / state.dt * t)
+    kn = 2 * T * 7.5 * GPA / 2  # (2 t E_c)(2 t E_c) / (2 t E_c + 2 t E_c)
+    np.testing.assert_allclose(-state.particles.force[0] @ n, kn * overlap, rtol=1e-9)
+    np.testing.assert_allclose(state.particles.force[0] @ t, kn / 1.7 * vs_dt, rtol=1e-6)
+    if r0 == r1:
+        assert kn == pytest.approx(kn_of(r0, r1, 7.5))

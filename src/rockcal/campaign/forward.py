@@ -25,6 +25,7 @@ from rockcal import __version__
 from rockcal.campaign.store import RunResult, RunSpec, RunStore
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.specimen import GENERATOR_VERSION
+from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import lab_test
 from rockcal.params import make_params
 
@@ -41,7 +42,7 @@ def run_spec(kind: str, specimen_settings, params: dict) -> RunSpec:
     """The spec of a run of the lab test `kind`: its specimen settings, and `params` completed
     with the defaults so the key is total."""
     test = lab_test(kind)
-    specimen = tuple(test.settings_of(specimen_settings).items())
+    specimen = tuple(test.key_settings(specimen_settings).items())
     full = make_params(params).key()
     engine = ENGINE if test.revision == 1 else f"{ENGINE}, {kind} test revision {test.revision}"
     return RunSpec(kind, specimen, tuple(sorted(full.items())), engine)
@@ -86,7 +87,7 @@ def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
     try:
         test = lab_test(spec.kind)
         specimen = specimen_of(spec.kind, spec.specimen)
-        r = test.run(make_params(dict(spec.params)), specimen, dict(spec.specimen), watch)
+        r = test.run(make_params(dict(spec.params)), specimen, all_settings(dict(spec.specimen)), watch)
         responses = test.responses_of(r) | {
             "n_broken_tension": r.n_broken_tension, "n_broken_shear": r.n_broken_shear,
             "steps": r.steps} | specimen.description()

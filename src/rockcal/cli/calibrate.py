@@ -167,7 +167,7 @@ class _stage_progress:
         self.planned = planned_runs  # forward runs per stage (the others count no runs)
         self.to_do = {stage: runs for stage, (runs, _) in times.items()}  # of stages not begun
         self.run_s = {stage: seconds / runs for stage, (runs, seconds) in times.items() if runs}
-        self.campaign = self.bar.add_task("campaign (planned runs)", total=sum(s for _, s in times.values()),
+        self.campaign = self.bar.add_task("campaign (planned runs)", total=round(sum(s for _, s in times.values())),
                                           live="", count=f"0/{sum(planned_runs.values())}")
         self.runs: dict[str, tuple[int, int, int]] = {}  # stage: (done when begun, done, total)
         self.tasks: dict[str, int] = {}
@@ -203,7 +203,8 @@ class _stage_progress:
         left = sum((total - done) * run_s(stage, 0.0) for stage, (_, done, total) in self.runs.items()) \
             + sum(runs * run_s(stage, 0.0) for stage, runs in self.to_do.items())
         done = sum(done for _, done, _ in self.runs.values())
-        self.bar.update(self.campaign, completed=spent, total=spent + left,
+        # whole seconds: a new total resets the bar's rate (rich), so only a real change makes one
+        self.bar.update(self.campaign, completed=spent, total=round(spent + left),
                         count=f"{done}/{max(sum(self.planned.values()), done)}")
 
 

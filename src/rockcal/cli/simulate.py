@@ -33,6 +33,11 @@ class Strain(str, Enum):
     platen = "platen"
 
 
+class ContactStiffness(str, Enum):
+    pfc5 = "pfc5"
+    pfc4 = "pfc4"
+
+
 SET_HELP = ("Micro-parameter NAME=VALUE, repeatable: E_c, Ebar_c (GPa), kn_ks, knbar_ksbar, "
             "sigma_c, tau_c, sigma_c_sd, tau_c_sd (MPa) or sigma_c_cv, tau_c_cv (sd / mean), "
             "phi_b (degrees), mcf, mu, lambda, "
@@ -45,6 +50,8 @@ CLOUD_POROSITY = typer.Option(GENESIS_DEFAULTS.cloud_porosity,
 PRESSURE_MPA = typer.Option(GENESIS_DEFAULTS.pressure_mpa,
                             help="Material pressure of the packing, MPa (PFC pk_Pm).")
 # The options every test shares (typer reads each command's signature: one Option serves many).
+CONTACT_STIFFNESS = typer.Option(ContactStiffness.pfc5, help="A contact's kn from E_c as PFC 5+ "
+                                 "does (2 min(R) t E_c / (R_A + R_B)) or PFC 3.x/4.0 (t E_c).")
 SET = typer.Option([], "--set", help=SET_HELP)
 RMIN_MM = typer.Option(0.25, help="Smallest radius, mm.")
 RADIUS_RATIO = typer.Option(1.65, help="Largest / smallest radius.")
@@ -80,6 +87,7 @@ def ucs(
     install_gap: float = INSTALL_GAP,
     cloud_porosity: float = CLOUD_POROSITY,
     pressure_mpa: float = PRESSURE_MPA,
+    contact_stiffness: ContactStiffness = CONTACT_STIFFNESS,
     strain: Strain = typer.Option(Strain(DEFAULT_STRAIN), help="Axial strain read from the specimen's "
                                   "own end particles (gauge) or from the platens (platen, PFC's)."),
     stop_fraction: float = typer.Option(POST_PEAK_FRACTION, help="Stop once past the peak the "
@@ -110,9 +118,9 @@ def ucs(
         lambda axial, stress: f"strain {100 * axial:.3f} %  stress {stress:.1f} MPa",
         lambda progress: simulate_ucs(params, specimen, max_axial_strain=max_axial_strain,
                                       strain=strain.value, stop_fraction=stop_fraction,
-                                      progress=progress))
-    summary = result.summary() | specimen.description() | {"params": params.key(),
-                                                           "specimen": specimen.label}
+                                      contact_stiffness=contact_stiffness.value, progress=progress))
+    summary = result.summary() | specimen.description() | {
+        "params": params.key(), "contact_stiffness": contact_stiffness.value, "specimen": specimen.label}
     if out is not None:
         _write_outputs(out, result, summary)
     _report(f"UCS test — {specimen.label}", (
@@ -207,6 +215,7 @@ def bending(
     install_gap: float = INSTALL_GAP,
     cloud_porosity: float = CLOUD_POROSITY,
     pressure_mpa: float = PRESSURE_MPA,
+    contact_stiffness: ContactStiffness = CONTACT_STIFFNESS,
     as_json: bool = AS_JSON,
     out: Optional[Path] = OUT,
 ) -> None:
@@ -226,10 +235,11 @@ def bending(
             specimen = notched_beam(beam, rmin_mm, radius_ratio, packing_seed, genesis)
         result = _run_with_progress(
             label, DEFAULT_MAX_DISPLACEMENT_MM, as_json, _load_description("pin"),
-            lambda progress: simulate_bending(params, specimen, beam, progress=progress))
+            lambda progress: simulate_bending(params, specimen, beam, progress=progress,
+                                              contact_stiffness=contact_stiffness.value))
         return result, specimen, f"K_IC {result.K_IC_MPa_sqrt_m:.3f} MPa·m^0.5 — broken bonds"
 
-    summary = _over_seeds("bending", one, seed, seeds, params, out)
+    summary = _over_seeds("bending", one, seed, seeds, params, out, contact_stiffness)
     _report(f"Three-point bending — {summary['specimen']}", (
         ("K_IC (notched beam, S/W = %.2f)" % (span_mm / height_mm),
          _mean_text(summary, "K_IC_MPa_sqrt_m", "%.3f", "MPa·m^0.5")),
@@ -249,6 +259,7 @@ def brazilian(
     install_gap: float = INSTALL_GAP,
     cloud_porosity: float = CLOUD_POROSITY,
     pressure_mpa: float = PRESSURE_MPA,
+    contact_stiffness: ContactStiffness = CONTACT_STIFFNESS,
     as_json: bool = AS_JSON,
     out: Optional[Path] = OUT,
 ) -> None:
@@ -266,10 +277,11 @@ def brazilian(
             specimen = brazilian_disk(diameter_mm, rmin_mm, radius_ratio, packing_seed, genesis)
         result = _run_with_progress(
             label, DEFAULT_MAX_STRAIN * diameter_mm, as_json, _load_description("closure"),
-            lambda progress: simulate_brazilian(params, specimen, progress=progress))
+            lambda progress: simulate_brazilian(params, specimen, progress=progress,
+                                                contact_stiffness=contact_stiffness.value))
         return result, specimen, f"sigma_t {result.sigma_t_MPa:.2f} MPa — broken bonds"
 
-    summary = _over_seeds("brazilian", one, seed, seeds, params, out)
+    summary = _over_seeds("brazilian", one, seed, seeds, params, out, contact_stiffness)
     _report(f"Brazilian test — {summary['specimen']}", (
         ("tensile strength sigma_t", _mean_text(summary, "sigma_t_MPa", "%.2f", "MPa")),
         ("peak load", _mean_text(summary, "P_max_kN_per_m", "%.2f", "kN per m of thickness")),
@@ -277,10 +289,12 @@ def brazilian(
         *_common_rows(summary)), summary, as_json)
 
 
-def _over_seeds(name: str, one, seed: int, count: int, params, out: Path | None):
+def _over_seeds(name: str, one, seed: int, count: int, params, out: Path | None,
+                contact_stiffness: ContactStiffness):
     """Run `one(seed, label)` -> (result, specimen, crack title) on `count` packings and
     write each one's outputs; the summary of one packing, or the mean and spread over several
     (with each packing's summary under "per_seed")."""
+    run = {"params": params.key(), "contact_stiffness": contact_stiffness.value}
     from rockcal.labtests.seeds import mean_over_seeds, seed_list
 
     if count < 1:
@@ -290,16 +304,15 @@ def _over_seeds(name: str, one, seed: int, count: int, params, out: Path | None)
         label = f"{name} test" + (f", packing {k + 1}/{count}" if count > 1 else "")
         result, specimen, crack_title = one(packing_seed, label)
         responses.append(result.summary() | specimen.description())
-        per_seed.append(responses[-1] | {"params": params.key(), "specimen": specimen.label,
-                                         "seed": packing_seed})
+        per_seed.append(responses[-1] | run | {"specimen": specimen.label, "seed": packing_seed})
         if out is not None:
             _write_load_curve(out, name if count == 1 else f"{name}_seed{packing_seed}", result,
                               per_seed[-1], crack_title)
     if count == 1:
         return per_seed[0]
     specimen = per_seed[0]["specimen"].replace(f"seed {seed}", f"seeds {seed}-{seed + count - 1}")
-    summary = mean_over_seeds(responses) | {"params": params.key(), "specimen": specimen,
-                                            "seeds": seed_list(seed, count), "per_seed": per_seed}
+    summary = mean_over_seeds(responses) | run | {"specimen": specimen, "seeds": seed_list(seed, count),
+                                                  "per_seed": per_seed}
     if out is not None:
         (out / f"{name}_summary.json").write_text(json.dumps(summary, indent=2))
     return summary

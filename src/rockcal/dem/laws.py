@@ -45,7 +45,9 @@ TILE_ROWS = 24
 
 class Laws(NamedTuple):
     """The law constants, SI: contact modulus (Pa), ks/kn, friction, bond modulus (Pa),
-    k̄s/k̄n, bond radius multiplier λ̄, tan of the bond friction angle, moment factor β̄."""
+    k̄s/k̄n, bond radius multiplier λ̄, tan of the bond friction angle, moment factor β̄, and
+    whether a contact's kn is PFC 3.x/4.0's t·E_c whatever the radii (1.0) rather than PFC 5's
+    2·min(R)·t·E_c / (R_A + R_B) (0.0)."""
 
     E_c: float
     ks_per_kn: float
@@ -55,6 +57,7 @@ class Laws(NamedTuple):
     lam: float
     tan_phi: float
     mcf: float
+    pfc4_contacts: float
 
 
 class Bonds(NamedTuple):
@@ -159,7 +162,7 @@ def _bond_law(start, count, bond_state, laws, dt, tile):
         vs = rvy * nx - rvx * ny
 
         touching = (overlap > 0.0) & (laws.E_c > 0.0)
-        kn = 2.0 * rmin * laws.E_c * inv_length
+        kn = laws.E_c if laws.pfc4_contacts > 0.0 else 2.0 * rmin * laws.E_c * inv_length
         shear = tile[LAST_SHEAR, q] + kn * laws.ks_per_kn * vs * dt
         cap = laws.mu * kn * overlap
         shear = cap if shear > cap else shear
@@ -272,7 +275,7 @@ def _contact_force(p, overlap, rmin, inv_length, vs, contact_shear, laws, dt):
     """Normal and shear force of pair p's linear contact on i (along n and t), updating its
     shear force."""
     if overlap > 0.0 and laws.E_c > 0.0:
-        kn = 2.0 * rmin * laws.E_c * inv_length
+        kn = laws.E_c if laws.pfc4_contacts > 0.0 else 2.0 * rmin * laws.E_c * inv_length
         shear = contact_shear[p] + kn * laws.ks_per_kn * vs * dt
         cap = laws.mu * kn * overlap
         if shear > cap:

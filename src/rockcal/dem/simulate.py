@@ -24,6 +24,7 @@ from scipy import special
 from rockcal.dem import laws, neighbours
 from rockcal.dem.laws import (FORCE_X, FORCE_Y, INV_INERTIA, INV_MASS, MOMENT, RADIUS, SPIN, VX,
                               VY, X, Y)
+from rockcal.errors import InputError
 from rockcal.params import GPa, MPa, MicroParams
 
 THICKNESS_M = 1.0
@@ -108,10 +109,19 @@ class State:
         return int(np.count_nonzero(self.bonds.state == mode))
 
 
-def law_constants(params: MicroParams) -> laws.Laws:
+# How a contact's normal stiffness follows from E_c (`laws.Laws`): PFC 5's deformability
+# method, or PFC 3.x/4.0's ball stiffnesses 2·t·E_c in series (Potyondy & Cundall 2004).
+CONTACT_STIFFNESS = ("pfc5", "pfc4")
+
+
+def law_constants(params: MicroParams, contact_stiffness: str = "pfc5") -> laws.Laws:
+    if contact_stiffness not in CONTACT_STIFFNESS:
+        raise InputError("contact_stiffness", f"must be one of {', '.join(CONTACT_STIFFNESS)}, "
+                                              f"got {contact_stiffness!r}")
     return laws.Laws(params.E_c * GPa, 1.0 / params.kn_ks, params.mu, params.Ebar_c * GPa,
                      1.0 / params.knbar_ksbar, params.lambda_,
-                     float(np.tan(np.radians(params.phi_b))), params.mcf)
+                     float(np.tan(np.radians(params.phi_b))), params.mcf,
+                     float(contact_stiffness == "pfc4"))
 
 
 def bond_strengths(params: MicroParams, draws: np.ndarray | None, n_bonds: int):
@@ -134,8 +144,9 @@ def bond_strengths(params: MicroParams, draws: np.ndarray | None, n_bonds: int):
 
 def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 0.0),
               wall_active=(False,) * 4, driven=None, skin=None, laws_si=None,
-              bond_draws=None) -> State:
-    """A state at rest with the given bonds (pairs i < j) installed at zero force.
+              bond_draws=None, contact_stiffness: str = "pfc5") -> State:
+    """A state at rest with the given bonds (pairs i < j) installed at zero force; contacts
+    as `contact_stiffness` says (CONTACT_STIFFNESS; platens as PFC 5's either way).
 
     bond_draws: two uniform draws per bond (in the order of `bonds`) that set its strengths
     (`bond_strengths`). A bond installed at an overlapping pair takes the overlap
@@ -158,7 +169,7 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
     bi, bj = nlist.pi[:nb], nlist.pj[:nb]
     centre_gap = np.hypot(*(pos[bj] - pos[bi]).T)
     ref_overlap = np.maximum(0.0, radius[bi] + radius[bj] - centre_gap)
-    laws_si = laws_si or law_constants(params)
+    laws_si = laws_si or law_constants(params, contact_stiffness)
     E_c, Ebar_c = laws_si.E_c, laws_si.Ebar_c
     state = State(
         particles=new_particles(pos, radius, inv_mass, inv_inertia),
@@ -188,7 +199,8 @@ def stable_time_step(state: State) -> float:
     ri, rj = p.radius[pairs.pi], p.radius[pairs.pj]
     length = ri + rj
     rmin = np.minimum(ri, rj)
-    kn = 2 * rmin * THICKNESS_M * E_c / length
+    kn = np.full_like(length, E_c * THICKNESS_M) if state.laws.pfc4_contacts else \
+        2 * rmin * THICKNESS_M * E_c / length
     ks = kn * ks_per_kn
     bonded = np.zeros(len(ri), bool)
     bonded[:pairs.n_bonds] = True

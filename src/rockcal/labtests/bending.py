@@ -168,10 +168,12 @@ def touching_centre_y(pos, radius, x: float, pin_radius: float, above: bool) -> 
 def simulate_bending(params: MicroParams | dict | None = None, specimen: Specimen | None = None,
                      beam: Beam = Beam(), *, rate_factor: float = 1.0,
                      max_displacement_mm: float = DEFAULT_MAX_DISPLACEMENT_MM,
+                     contact_stiffness: str = "pfc5",
                      progress: Callable[[float, float], None] | None = None) -> BendingResult:
     """Run the notched-beam test; defaults: granite parameters, the source's 220 x 50 mm beam.
 
     `specimen` must be `notched_beam(beam, ...)`; rate_factor scales the pin speed;
+    contact_stiffness is PFC's convention for kn ("pfc5" or "pfc4", `dem.simulate`);
     progress(displacement_mm, load_kN_per_m) is called as the test goes.
     """
     started = time.perf_counter()
@@ -201,7 +203,7 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
     is_support[n + len(pin):] = True
     state = new_state(np.vstack([pos, rigid]), np.concatenate([radius, np.full(len(rigid), disk)]),
                       specimen.bonds, params, driven=is_pin | is_support,
-                      bond_draws=specimen.bond_draws)
+                      bond_draws=specimen.bond_draws, contact_stiffness=contact_stiffness)
 
     rows = specimen.height_m / (2 * radius.mean())
     pin_step = rate_factor * PIN_STEP_PER_RADIUS * radius.mean()
@@ -260,7 +262,8 @@ def _specimen(s: dict) -> Specimen:
 
 
 def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BendingResult:
-    return simulate_bending(params, specimen, beam_of(s), progress=progress)
+    return simulate_bending(params, specimen, beam_of(s), contact_stiffness=s["contact_stiffness"],
+                            progress=progress)
 
 
 TEST = LabTest(
@@ -268,7 +271,8 @@ TEST = LabTest(
     responses=(Response("K_IC_MPa_sqrt_m", "MPa·m^0.5"),
                Response("P_max_kN_per_m", "kN/m", target=False),
                Response("displacement_at_peak_mm", "mm", target=False)),
-    settings=(*BEAM_SETTINGS.values(), "rmin_mm", "radius_ratio", "seed", *GENESIS),
+    settings=(*BEAM_SETTINGS.values(), "rmin_mm", "radius_ratio", "seed", *GENESIS,
+              "contact_stiffness"),
     check=_check, make=_specimen, run=_run, reading=load_reading,
     outline=lambda s: Outline(f"beam {s['beam_length_mm']:g} x {s['beam_height_mm']:g} mm",
                               s["beam_length_mm"], s["beam_height_mm"]),

@@ -66,9 +66,11 @@ def brazilian_disk(diameter_mm: float = 50.0, rmin_mm: float = 0.25, radius_rati
 
 def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Specimen | None = None,
                        *, rate_factor: float = 1.0, max_strain: float = DEFAULT_MAX_STRAIN,
+                       contact_stiffness: str = "pfc5",
                        progress: Callable[[float, float], None] | None = None) -> BrazilianResult:
     """Run the Brazilian test; defaults: granite parameters on a 50 mm disk.
 
+    contact_stiffness: PFC's convention for kn ("pfc5" or "pfc4", `dem.simulate`);
     progress(closure_mm, load_kN_per_m) is called as the test goes.
     """
     started = time.perf_counter()
@@ -77,7 +79,7 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
     if not 0 < max_strain <= 0.5:
         raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
     specimen = specimen or brazilian_disk()
-    platens = Platens(specimen, params, rate_factor)
+    platens = Platens(specimen, params, rate_factor, contact_stiffness)
     state, bottom, top = platens.state, platens.bottom, platens.top
     diameter = top - bottom
 
@@ -111,14 +113,15 @@ def _specimen(s: dict) -> Specimen:
 
 
 def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BrazilianResult:
-    return simulate_brazilian(params, specimen, progress=progress)
+    return simulate_brazilian(params, specimen, contact_stiffness=s["contact_stiffness"],
+                              progress=progress)
 
 
 TEST = LabTest(
     name="brazilian", title="Brazilian",
     responses=(Response("sigma_t_MPa", "MPa"), Response("P_max_kN_per_m", "kN/m", target=False),
                Response("displacement_at_peak_mm", "mm", target=False)),
-    settings=("disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS),
+    settings=("disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "contact_stiffness"),
     check=_check, make=_specimen, run=_run, reading=load_reading,
     outline=lambda s: Outline(f"disk D {s['disk_diameter_mm']:g} mm", s["disk_diameter_mm"],
                               s["disk_diameter_mm"], share=np.pi / 4))

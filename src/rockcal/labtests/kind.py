@@ -12,6 +12,9 @@ from typing import Any, Callable
 from rockcal.dem.genesis import Genesis
 
 GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_mpa
+# Settings added after runs were stored, with the value the engine had before them: a run's
+# key names one only where it differs from that, so the runs stored before keep their keys.
+LATER_SETTINGS = {"contact_stiffness": "pfc5"}
 
 
 @dataclass(frozen=True)
@@ -66,6 +69,12 @@ class LabTest:
         """This test's settings, in their order, from an object that has them as attributes."""
         return {name: getattr(specimen_settings, name) for name in self.settings}
 
+    def key_settings(self, specimen_settings) -> dict:
+        """The settings that key a stored run: `settings_of` less LATER_SETTINGS at their old
+        values (`all_settings` puts them back)."""
+        return {name: value for name, value in self.settings_of(specimen_settings).items()
+                if not (name in LATER_SETTINGS and value == LATER_SETTINGS[name])}
+
     def responses_of(self, result) -> dict:
         """The declared responses of a test's result, in their declared order."""
         return {r.name: getattr(result, r.name) for r in self.responses}
@@ -79,3 +88,8 @@ def genesis_of(settings: dict) -> Genesis:
 def load_reading(displacement_mm: float, load_kN_per_m: float) -> str:
     """A running load-displacement test's reading in words."""
     return f"{displacement_mm:.3f} mm, {load_kN_per_m:.2f} kN/m"
+
+
+def all_settings(key_settings: dict) -> dict:
+    """A stored run's settings with LATER_SETTINGS its key leaves out."""
+    return LATER_SETTINGS | key_settings

@@ -21,12 +21,14 @@ class Platens:
     platens' starting heights `bottom` and `top` (m), the `rows` of particles between them and
     the `chunk` of steps between readings."""
 
-    def __init__(self, specimen: Specimen, params: MicroParams, rate_factor: float):
+    def __init__(self, specimen: Specimen, params: MicroParams, rate_factor: float,
+                 contact_stiffness: str = "pfc5"):
         pos, radius = specimen.pos, specimen.radius
         self.bottom, self.top = (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()
         self.state = new_state(pos, radius, specimen.bonds, params,
                                walls=(0.0, 0.0, self.bottom, self.top),
-                               wall_active=(False, False, True, True), bond_draws=specimen.bond_draws)
+                               wall_active=(False, False, True, True), bond_draws=specimen.bond_draws,
+                               contact_stiffness=contact_stiffness)
         height = self.top - self.bottom
         self.rows = height / (2 * radius.mean())
         self.speed = 0.5 * rate_factor * STRAIN_PER_STEP_PER_ROW / self.rows * height / self.state.dt

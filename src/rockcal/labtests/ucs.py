@@ -46,11 +46,13 @@ class UCSResult(LabResult):
 def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | None = None, *,
                  rate_factor: float = 1.0, max_axial_strain: float = DEFAULT_MAX_AXIAL_STRAIN,
                  strain: str = DEFAULT_STRAIN, stop_fraction: float = POST_PEAK_FRACTION,
+                 contact_stiffness: str = "pfc5",
                  progress: Callable[[float, float], None] | None = None) -> UCSResult:
     """Run the UCS test; defaults: granite parameters on the paper's 50 x 100 mm specimen.
 
     rate_factor scales the loading speed; strain is the axial strain reading ("gauge" or
     "platen"); the test stops past the peak once the stress is below stop_fraction x peak;
+    contact_stiffness is PFC's convention for kn ("pfc5" or "pfc4", `dem.simulate`);
     progress(axial_strain, stress_MPa) is called as it goes.
     """
     started = time.perf_counter()
@@ -63,7 +65,7 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
     if not 0 < stop_fraction < 1:
         raise InputError("stop_fraction", f"must be in (0, 1), got {stop_fraction}")
     specimen = specimen or random_packing(50.0, 100.0)
-    platens = Platens(specimen, params, rate_factor)
+    platens = Platens(specimen, params, rate_factor, contact_stiffness)
     state, bottom, top = platens.state, platens.bottom, platens.top
     sets = measure.boundary_sets(specimen.pos, specimen.radius, 0.5 * specimen.radius.min())
     width0, height0 = measure.gauge_lengths(state.particles.pos, sets)
@@ -99,7 +101,7 @@ def _specimen(s: dict) -> Specimen:
 
 def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> UCSResult:
     return simulate_ucs(params, specimen, strain=s["strain"], stop_fraction=s["stop_fraction"],
-                        progress=progress)
+                        contact_stiffness=s["contact_stiffness"], progress=progress)
 
 
 TEST = LabTest(
@@ -107,7 +109,7 @@ TEST = LabTest(
     responses=(Response("E_GPa", "GPa"), Response("nu", ""), Response("ucs_MPa", "MPa"),
                Response("peak_axial_strain", "", target=False)),
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
-              "stop_fraction"),
+              "stop_fraction", "contact_stiffness"),
     check=_check, make=_specimen, run=_run,
     reading=lambda strain, stress_MPa: f"strain {100 * strain:.3f} %, {stress_MPa:.1f} MPa",
     outline=lambda s: Outline(f"UCS {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"],
