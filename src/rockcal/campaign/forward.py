@@ -105,11 +105,6 @@ def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
         _count_running(-1)
 
 
-def threads_for(cores: int, running: int) -> int:
-    """A running test's share of the cores when `running` tests share them."""
-    return max(1, cores // max(1, running))
-
-
 def _count_running(change: int) -> None:
     if _busy is not None:
         with _busy.get_lock():
@@ -121,7 +116,7 @@ def _take_share_of_cores() -> None:
     if _busy is not None:
         import numba
 
-        threads = threads_for(_cores, _busy.value)
+        threads = max(1, _cores // max(1, _busy.value))
         if threads != numba.get_num_threads():
             numba.set_num_threads(threads)
 

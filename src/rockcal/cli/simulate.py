@@ -294,9 +294,9 @@ def _over_seeds(name: str, one, seed: int, count: int, params, out: Path | None,
     """Run `one(seed, label)` -> (result, specimen, crack title) on `count` packings and
     write each one's outputs; the summary of one packing, or the mean and spread over several
     (with each packing's summary under "per_seed")."""
-    run = {"params": params.key(), "contact_stiffness": contact_stiffness.value}
     from rockcal.labtests.seeds import mean_over_seeds, seed_list
 
+    run = {"params": params.key(), "contact_stiffness": contact_stiffness.value}
     if count < 1:
         raise InputError("--seeds", f"must be >= 1, got {count}")
     responses, per_seed = [], []

@@ -134,8 +134,9 @@ def load_to_failure(state: State, loading: Loading, chunk: int, move: Callable[[
     steps; `may_stop(reading)` is its stop rule (asking `loading` about the settled peak);
     `max_travel` stops it at the latest. With `full_speed_past_peak` the loading goes back to
     full speed once the peak is known (`loading.peak_known`): the load has fallen below
-    PAST_PEAK_FRACTION of it with bonds broken. progress(first, last value of the sample) is called after each chunk. The
-    curve is the samples after a first row of zeros, the specimen unloaded.
+    PAST_PEAK_FRACTION of it with bonds broken. progress(first, last value of the sample) is
+    called after each chunk. The curve is the samples after a first row of zeros, the specimen
+    unloaded.
     """
     samples = []
     while True:
