@@ -14,10 +14,11 @@ from rockcal.labtests.brazilian import brazilian_disk, simulate_brazilian
 @pytest.fixture(scope="module")
 def disk():
     # Small disks crush under the flat platens long before they split, and their sigma_t then
-    # depends on the loading path: halving the rate moves it 0.1 % on seed 2 but 5-22 % on
-    # seeds 1, 3, 4, 5 (generator v5 and engine 0.1 alike: 0.4 % on seed 1, 3-55 % on seeds 2-5).
-    # This check guards the loading control on a disk that splits cleanly; the crushing is open.
-    return brazilian_disk(25.0, 0.25, 1.65, seed=2)
+    # depends on the loading path: halving the rate moves it +0.8 % on seed 4 but +22.7, -3.5,
+    # -14.8, +10.9 % on seeds 1, 2, 3, 5 (PFC 3.x/4.0's contacts; with PFC 5's, 0.1 % on seed 2,
+    # 5-22 % on the others). This check guards the loading control on a disk that splits
+    # cleanly; the crushing is open.
+    return brazilian_disk(25.0, 0.25, 1.65, seed=4)
 
 
 @pytest.fixture(scope="module")

@@ -21,7 +21,7 @@ def test_simulate_ucs_json_and_outputs(tmp_path):
                 "n_broken_tension", "n_broken_shear", "steps", "wall_s", "porosity",
                 "coordination", "bonds_per_particle"):
         assert key in summary
-    assert summary["strain"] == "gauge" and summary["contact_stiffness"] == "pfc5"
+    assert summary["strain"] == "gauge" and summary["contact_stiffness"] == "pfc4"
     assert summary["params"]["sigma_c"] == 30
     assert {p.name for p in tmp_path.iterdir()} >= {"ucs_curve.csv", "ucs_summary.json", "ucs_cracks.png"}
 

@@ -34,14 +34,15 @@ def test_a_tests_revision_keys_only_its_own_runs():
 
 
 @pytest.mark.parametrize("kind", ["ucs", "bending", "brazilian"])
-def test_a_setting_added_later_keys_a_run_only_when_set(kind):
+def test_a_setting_added_later_keys_a_run_only_away_from_its_old_value(kind):
     """contact_stiffness came after runs were stored: at PFC 5's convention, the engine's before,
-    a run keeps the key it had; PFC 4's makes a new one, and the run gets it either way."""
-    settings = SpecimenSettings()
-    spec = run_spec(kind, settings, {})
+    a run keeps the key it had; PFC 4's (the default since) makes a new one, and the run gets
+    it either way."""
+    pfc5 = SpecimenSettings(contact_stiffness="pfc5")
+    spec = run_spec(kind, pfc5, {})
     assert "contact_stiffness" not in dict(spec.specimen)
-    assert lab_test(kind).settings_of(settings)["contact_stiffness"] == "pfc5"
-    pfc4 = run_spec(kind, settings.model_copy(update={"contact_stiffness": "pfc4"}), {})
+    assert lab_test(kind).settings_of(pfc5)["contact_stiffness"] == "pfc5"
+    pfc4 = run_spec(kind, SpecimenSettings(), {})
     assert dict(pfc4.specimen)["contact_stiffness"] == "pfc4" and pfc4.key != spec.key
 
 
@@ -54,13 +55,13 @@ def test_run_keys_name_the_specimen_settings_in_their_order():
     """The order keys the store: it must not change."""
     assert [n for n, _ in run_spec("bending", SpecimenSettings(), {}).specimen] == [
         "beam_length_mm", "beam_height_mm", "notch_mm", "notch_width_mm", "span_mm", "rmin_mm",
-        "radius_ratio", "seed", "install_gap", "cloud_porosity", "pressure_mpa"]
+        "radius_ratio", "seed", "install_gap", "cloud_porosity", "pressure_mpa", "contact_stiffness"]
     assert [n for n, _ in run_spec("ucs", SpecimenSettings(), {}).specimen] == [
         "width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", "install_gap", "cloud_porosity",
-        "pressure_mpa", "strain", "stop_fraction"]
+        "pressure_mpa", "strain", "stop_fraction", "contact_stiffness"]
     assert [n for n, _ in run_spec("brazilian", SpecimenSettings(), {}).specimen] == [
         "disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", "install_gap", "cloud_porosity",
-        "pressure_mpa"]
+        "pressure_mpa", "contact_stiffness"]
 
 
 def test_the_target_responses_of_the_tests_have_distinct_names():

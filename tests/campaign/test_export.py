@@ -163,4 +163,4 @@ def test_a_pfc4_contact_calibration_says_how_to_set_it_in_pfc():
             specimen=SpecimenSettings(contact_stiffness=stiffness)))
     assert not any("PFC 3.x/4.0" in line for line in lines["pfc5"])
     (note,) = [line for line in lines["pfc4"] if "PFC 3.x/4.0" in line]
-    assert "ball kn 4e+10 N/m, ks 2e+10 N/m" in note
+    assert "ball kn 4e+10 N/m, ks 2e+10 N/m" in note and "contacts' kn 2e+10, ks 1e+10 N/m" in note

@@ -111,7 +111,7 @@ def gas(seed, n=36):
             radius.append(r)
     params = make_params({"E_c": 5.0, "mu": 0.0, "damping": 0.0})
     state = new_state(np.array(pos), np.array(radius), np.empty((0, 2), int), params,
-                      walls=(0.0, box, 0.0, box), wall_active=(True,) * 4)
+                      walls=(0.0, box, 0.0, box), wall_active=(True,) * 4, contact_stiffness="pfc5")
     state.particles.vel[:] = rng.normal(0.0, 1.0, (n, 2)) * 0.03e-3 / state.dt  # ~0.03 mm per step
     return state
 

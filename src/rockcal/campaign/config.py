@@ -19,6 +19,7 @@ from pydantic import Field, ValidationError, field_validator, model_validator
 from rockcal.campaign.targets import LabTargets, Section, Targets, ValidationTests
 from rockcal.campaign.targets import UCSTargets  # noqa: F401  (the UCS section, here too)
 from rockcal.dem.genesis import Genesis
+from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.labtests.registry import lab_test
 from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
@@ -53,7 +54,7 @@ class SpecimenSettings(Genesis):
     bending_seeds: int = Field(1, ge=1)  # validation K_IC: mean over packings seed, seed + 1, ...
     strain: Literal["gauge", "platen"] = DEFAULT_STRAIN  # the UCS test's axial strain reading
     stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1)  # UCS stop: stress < this x peak
-    contact_stiffness: Literal["pfc5", "pfc4"] = "pfc5"  # kn from E_c as PFC 5+ or PFC 3.x/4.0 (dem.simulate)
+    contact_stiffness: Literal["pfc5", "pfc4"] = DEFAULT_CONTACT_STIFFNESS  # kn from E_c as PFC 5+ or PFC 3.x/4.0 (dem.simulate)
 
 
 def _check_names(values: dict) -> None:
@@ -118,6 +119,9 @@ class Optimizer(Section):
 class Acceptance(Section):
     tolerance: float = Field(0.05, gt=0, lt=1)
     max_dem_runs: int = Field(80, ge=1)
+    # distinct optima of the surrogate verified per loop round, at once on as many workers
+    # (2: a 2-core machine); set here, not by --workers, so the workers never change the result
+    candidates: int = Field(2, ge=1)
 
 
 class Uncertainty(Section):

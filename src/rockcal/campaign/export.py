@@ -101,9 +101,11 @@ def header_lines(calibrated: Calibrated) -> list[str]:
         lines.append(f"  {name}: 5-95 % interval {i['p5']:.4g} to {i['p95']:.4g}{pinned}")
     if calibrated.specimen.contact_stiffness == "pfc4":
         kn = calibrated.params.E_c * GPa
-        lines.append(f"contacts as PFC 3.x/4.0: ball kn {2 * kn:.6g} N/m, ks {2 * kn / calibrated.params.kn_ks:.6g} "
-                     "N/m (kn = t E_c per contact whatever the radii); pbm_emod below is PFC 5+'s "
-                     "deformability method, softer by 2 min(R)/(R_A + R_B) between unequal grains")
+        ks = kn / calibrated.params.kn_ks
+        lines.append(f"contacts as PFC 3.x/4.0: ball kn {2 * kn:.6g} N/m, ks {2 * ks:.6g} N/m (kn = t E_c "
+                     f"per contact whatever the radii; in PFC 5+ set the contacts' kn {kn:.6g}, ks "
+                     f"{ks:.6g} N/m directly); pbm_emod below is PFC 5+'s deformability method, "
+                     "softer by 2 min(R)/(R_A + R_B) between unequal grains")
     lines.append("2D: disks of unit thickness; SI units")
     return lines
 

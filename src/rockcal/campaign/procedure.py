@@ -175,7 +175,7 @@ class Calibration:
         train_y = train_y + check_y
 
         # steps 4-6: search on the surrogate, verify with the DEM (the search's optimum and other
-        # distinct optima on the free workers), refit, until a verified point is accepted
+        # distinct optima, [acceptance] candidates), refit, until a verified point is accepted
         tolerance = self.campaign.acceptance.tolerance
         iterations, accepted = [], None
         for loop in range(self.campaign.acceptance.max_dem_runs):
@@ -233,11 +233,13 @@ class Calibration:
         return keep
 
     def _candidates(self, objective: Objective, surrogate: RBFSurrogate, box: np.ndarray) -> list:
-        """The search's optimum on the surrogate, then other distinct optima, one per free
-        worker: the searches with the next seeds whose optimum the surrogate predicts within
-        the tolerance of every target (none when the surrogate has a single optimum)."""
+        """The search's optimum on the surrogate, then up to [acceptance] candidates - 1 other
+        distinct optima within the run budget: the searches with the next seeds whose optimum
+        the surrogate predicts within the tolerance of every target (none when the surrogate
+        has a single optimum)."""
         first = self._optimise(objective, box)
-        found, wanted = [first], self._free_workers()
+        left = self.campaign.acceptance.max_dem_runs - len(self.dem_runs)
+        found, wanted = [first], max(1, min(self.campaign.acceptance.candidates, left))
         tolerance, seed = self.campaign.acceptance.tolerance, self.campaign.optimizer.seed
         for k in range(1, SEARCHES_PER_CANDIDATE * (wanted - 1) + 1):
             if len(found) >= wanted:
@@ -248,13 +250,6 @@ class Calibration:
             if close and all(_distinct(opt.x, other.x, box) for other in found):
                 found.append(opt)
         return found
-
-    def _free_workers(self) -> int:
-        """Parameter sets the executor runs at once (each runs every test calibrated against),
-        within the run budget left."""
-        workers = getattr(self.executor, "workers", 1) // len(self.tests)
-        left = self.campaign.acceptance.max_dem_runs - len(self.dem_runs)
-        return max(1, min(workers, left))
 
     def _iteration(self, opt, x_best, surrogate: RBFSurrogate, verified: dict | None, loop: int) -> Iteration:
         errors = None if verified is None else {r: verified[r] / t - 1 for r, t in self.targets.items()}

@@ -16,6 +16,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from rockcal.dem.genesis import Genesis, make_genesis
+from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, as_flags
 from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
 from rockcal.params import make_params, parse_assignments
@@ -50,7 +51,7 @@ CLOUD_POROSITY = typer.Option(GENESIS_DEFAULTS.cloud_porosity,
 PRESSURE_MPA = typer.Option(GENESIS_DEFAULTS.pressure_mpa,
                             help="Material pressure of the packing, MPa (PFC pk_Pm).")
 # The options every test shares (typer reads each command's signature: one Option serves many).
-CONTACT_STIFFNESS = typer.Option(ContactStiffness.pfc5, help="A contact's kn from E_c as PFC 5+ "
+CONTACT_STIFFNESS = typer.Option(ContactStiffness(DEFAULT_CONTACT_STIFFNESS), help="A contact's kn from E_c as PFC 5+ "
                                  "does (2 min(R) t E_c / (R_A + R_B)) or PFC 3.x/4.0 (t E_c).")
 SET = typer.Option([], "--set", help=SET_HELP)
 RMIN_MM = typer.Option(0.25, help="Smallest radius, mm.")

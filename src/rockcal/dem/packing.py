@@ -49,8 +49,9 @@ def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed
     order = spatial_order(pos, 4 * rmax)  # blocks of the engine are then bands of the vessel
     pos, radius = pos[order], radius[order]
     params = MicroParams(E_c=PACKING_MODULUS_GPA, mu=0.0, damping=0.7)
+    # packed with PFC 5's contacts whatever the test's: generator v6's specimens, as cached
     state = new_state(pos, radius, np.empty((0, 2)), params, walls=(0.0, width, 0.0, height),
-                      wall_active=(True,) * 4)
+                      wall_active=(True,) * 4, contact_stiffness="pfc5")
 
     for stage in range(GROWTH_STAGES):
         state.particles.radius[:] = radius * (0.5 + 0.5 * (stage + 1) / GROWTH_STAGES)

@@ -112,9 +112,12 @@ class State:
 # How a contact's normal stiffness follows from E_c (`laws.Laws`): PFC 5's deformability
 # method, or PFC 3.x/4.0's ball stiffnesses 2·t·E_c in series (Potyondy & Cundall 2004).
 CONTACT_STIFFNESS = ("pfc5", "pfc4")
+# PFC 3.x/4.0's by default: the PFC2D of Potyondy & Cundall (2004) and of the source study, whose
+# parameters (E_c, kn/ks) rockcal calibrates (docs/benchmarks.md, "PFC 3.x/4.0's contact stiffness").
+DEFAULT_CONTACT_STIFFNESS = "pfc4"
 
 
-def law_constants(params: MicroParams, contact_stiffness: str = "pfc5") -> laws.Laws:
+def law_constants(params: MicroParams, contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS) -> laws.Laws:
     if contact_stiffness not in CONTACT_STIFFNESS:
         raise InputError("contact_stiffness", f"must be one of {', '.join(CONTACT_STIFFNESS)}, "
                                               f"got {contact_stiffness!r}")
@@ -144,7 +147,7 @@ def bond_strengths(params: MicroParams, draws: np.ndarray | None, n_bonds: int):
 
 def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 0.0),
               wall_active=(False,) * 4, driven=None, skin=None, laws_si=None,
-              bond_draws=None, contact_stiffness: str = "pfc5") -> State:
+              bond_draws=None, contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS) -> State:
     """A state at rest with the given bonds (pairs i < j) installed at zero force; contacts
     as `contact_stiffness` says (CONTACT_STIFFNESS; platens as PFC 5's either way).
 

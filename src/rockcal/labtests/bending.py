@@ -16,7 +16,7 @@ from typing import Callable
 import numpy as np
 
 from rockcal.dem.carving import cut_bonds, keep_particles, outside_rectangle
-from rockcal.dem.simulate import THICKNESS_M, new_state
+from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, new_state
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
@@ -168,7 +168,7 @@ def touching_centre_y(pos, radius, x: float, pin_radius: float, above: bool) -> 
 def simulate_bending(params: MicroParams | dict | None = None, specimen: Specimen | None = None,
                      beam: Beam = Beam(), *, rate_factor: float = 1.0,
                      max_displacement_mm: float = DEFAULT_MAX_DISPLACEMENT_MM,
-                     contact_stiffness: str = "pfc5",
+                     contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
                      progress: Callable[[float, float], None] | None = None) -> BendingResult:
     """Run the notched-beam test; defaults: granite parameters, the source's 220 x 50 mm beam.
 

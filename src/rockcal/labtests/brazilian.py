@@ -17,7 +17,7 @@ from typing import Callable
 import numpy as np
 
 from rockcal.dem.carving import inside_circle, keep_particles
-from rockcal.dem.simulate import BOTTOM, THICKNESS_M, TOP
+from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, TOP
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
@@ -66,7 +66,7 @@ def brazilian_disk(diameter_mm: float = 50.0, rmin_mm: float = 0.25, radius_rati
 
 def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Specimen | None = None,
                        *, rate_factor: float = 1.0, max_strain: float = DEFAULT_MAX_STRAIN,
-                       contact_stiffness: str = "pfc5",
+                       contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
                        progress: Callable[[float, float], None] | None = None) -> BrazilianResult:
     """Run the Brazilian test; defaults: granite parameters on a 50 mm disk.
 

@@ -9,7 +9,7 @@ them down where bonds break.
 
 from __future__ import annotations
 
-from rockcal.dem.simulate import BOTTOM, TOP, new_state
+from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, TOP, new_state
 from rockcal.dem.specimen import Specimen
 from rockcal.params import MicroParams
 
@@ -22,7 +22,7 @@ class Platens:
     the `chunk` of steps between readings."""
 
     def __init__(self, specimen: Specimen, params: MicroParams, rate_factor: float,
-                 contact_stiffness: str = "pfc5"):
+                 contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS):
         pos, radius = specimen.pos, specimen.radius
         self.bottom, self.top = (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()
         self.state = new_state(pos, radius, specimen.bonds, params,

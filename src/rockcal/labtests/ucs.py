@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from rockcal.dem import measure
-from rockcal.dem.simulate import BOTTOM, TOP, THICKNESS_M
+from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, TOP, THICKNESS_M
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of
@@ -46,7 +46,7 @@ class UCSResult(LabResult):
 def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | None = None, *,
                  rate_factor: float = 1.0, max_axial_strain: float = DEFAULT_MAX_AXIAL_STRAIN,
                  strain: str = DEFAULT_STRAIN, stop_fraction: float = POST_PEAK_FRACTION,
-                 contact_stiffness: str = "pfc5",
+                 contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
                  progress: Callable[[float, float], None] | None = None) -> UCSResult:
     """Run the UCS test; defaults: granite parameters on the paper's 50 x 100 mm specimen.
 
