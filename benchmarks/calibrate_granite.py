@@ -5,7 +5,7 @@ Runs `rockcal calibrate --json` (resuming the folder's store if it holds one) an
 time, the DEM runs used, the identified parameters, the verified errors and K_IC. The wall time
 is also given in "UCS units": divided by one full-size UCS run at the source's identified point
 (granite specimen and strength spread, all threads) timed first in the same benchmark, so that
-machines of different speed compare.
+machines of different speed compare; that run's E, nu and UCS are printed too.
 """
 
 import argparse
@@ -18,8 +18,9 @@ from pathlib import Path
 SOURCE = {"E_c": 21.65, "kn_ks": 1.9, "sigma_c": 36.55, "dem_runs": 49, "K_IC_error": 0.10}
 
 
-def reference_ucs_s() -> float:
-    """Wall time of one full-size UCS run at the source's point, as the campaign runs it."""
+def reference_ucs() -> tuple[float, dict]:
+    """Wall time and responses of one full-size UCS run at the source's point, as the campaign
+    runs it."""
     from rockcal.campaign.config import load_campaign
     from rockcal.campaign.forward import execute, run_spec
 
@@ -28,8 +29,8 @@ def reference_ucs_s() -> float:
     execute(run_spec("ucs", granite.specimen.model_copy(update={"height_mm": 20, "width_mm": 10}),
                      params))  # compiles the engine and warms the caches
     started = time.perf_counter()
-    execute(run_spec("ucs", granite.specimen, params))
-    return time.perf_counter() - started
+    run = execute(run_spec("ucs", granite.specimen, params))
+    return time.perf_counter() - started, {k: run.responses[k] for k in ("E_GPa", "nu", "ucs_MPa", "steps")}
 
 
 def main() -> None:
@@ -39,7 +40,7 @@ def main() -> None:
     parser.add_argument("--no-reference", action="store_true",
                         help="skip timing the reference UCS run (no UCS units)")
     args = parser.parse_args()
-    reference_s = None if args.no_reference else reference_ucs_s()
+    reference_s, at_source = (None, None) if args.no_reference else reference_ucs()
     started = time.perf_counter()
     command = [sys.executable, "-m", "rockcal", "calibrate", "--out", str(args.out),
                "--workers", str(args.workers), "--json"]
@@ -52,6 +53,7 @@ def main() -> None:
     result["wall_s"] = time.perf_counter() - started
     if reference_s:
         result["reference_ucs_s"] = reference_s
+        result["reference_ucs_at_source_point"] = at_source
         result["wall_ucs_units"] = result["wall_s"] / reference_s
     result["source"] = SOURCE
     print(json.dumps(result, indent=2))

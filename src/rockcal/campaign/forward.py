@@ -73,6 +73,7 @@ def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
     past `time_limit_s` is stopped and recorded as timed out."""
     started = last = time.perf_counter()
     _count_running(+1)
+    _take_share_of_cores()  # from the start (the specimen's genesis too), not the first reading
 
     def watch(x: float, y: float):
         nonlocal last
