@@ -54,7 +54,8 @@ class SpecimenSettings(Genesis):
     bending_seeds: int = Field(1, ge=1)  # validation K_IC: mean over packings seed, seed + 1, ...
     strain: Literal["gauge", "platen"] = DEFAULT_STRAIN  # the UCS test's axial strain reading
     stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1)  # UCS stop: stress < this x peak
-    contact_stiffness: Literal["pfc5", "pfc4"] = DEFAULT_CONTACT_STIFFNESS  # kn from E_c as PFC 5+ or PFC 3.x/4.0 (dem.simulate)
+    # kn from E_c as PFC 3.x/4.0 or PFC 5+ (dem.simulate)
+    contact_stiffness: Literal["pfc5", "pfc4"] = DEFAULT_CONTACT_STIFFNESS
 
 
 def _check_names(values: dict) -> None:

@@ -51,8 +51,9 @@ CLOUD_POROSITY = typer.Option(GENESIS_DEFAULTS.cloud_porosity,
 PRESSURE_MPA = typer.Option(GENESIS_DEFAULTS.pressure_mpa,
                             help="Material pressure of the packing, MPa (PFC pk_Pm).")
 # The options every test shares (typer reads each command's signature: one Option serves many).
-CONTACT_STIFFNESS = typer.Option(ContactStiffness(DEFAULT_CONTACT_STIFFNESS), help="A contact's kn from E_c as PFC 5+ "
-                                 "does (2 min(R) t E_c / (R_A + R_B)) or PFC 3.x/4.0 (t E_c).")
+CONTACT_STIFFNESS = typer.Option(ContactStiffness(DEFAULT_CONTACT_STIFFNESS),
+                                 help="A contact's kn from E_c as PFC 3.x/4.0 (t E_c) or PFC 5+ "
+                                      "does (2 min(R) t E_c / (R_A + R_B)).")
 SET = typer.Option([], "--set", help=SET_HELP)
 RMIN_MM = typer.Option(0.25, help="Smallest radius, mm.")
 RADIUS_RATIO = typer.Option(1.65, help="Largest / smallest radius.")
