@@ -19,7 +19,7 @@ from pydantic import Field, ValidationError, field_validator, model_validator
 from rockcal.campaign.targets import LabTargets, Section, Targets, ValidationTests
 from rockcal.campaign.targets import UCSTargets  # noqa: F401  (the UCS section, here too)
 from rockcal.dem.genesis import Genesis
-from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS
+from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.labtests.registry import lab_test
 from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
@@ -55,7 +55,7 @@ class SpecimenSettings(Genesis):
     strain: Literal["gauge", "platen"] = DEFAULT_STRAIN  # the UCS test's axial strain reading
     stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1)  # UCS stop: stress < this x peak
     # kn from E_c as PFC 3.x/4.0 or PFC 5+ (dem.simulate)
-    contact_stiffness: Literal["pfc5", "pfc4"] = DEFAULT_CONTACT_STIFFNESS
+    contact_stiffness: Literal[CONTACT_STIFFNESS] = DEFAULT_CONTACT_STIFFNESS
 
 
 def _check_names(values: dict) -> None:

@@ -16,7 +16,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from rockcal.dem.genesis import Genesis, make_genesis
-from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS
+from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, as_flags
 from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
 from rockcal.params import make_params, parse_assignments
@@ -34,9 +34,7 @@ class Strain(str, Enum):
     platen = "platen"
 
 
-class ContactStiffness(str, Enum):
-    pfc5 = "pfc5"
-    pfc4 = "pfc4"
+ContactStiffness = Enum("ContactStiffness", [(name, name) for name in CONTACT_STIFFNESS], type=str)
 
 
 SET_HELP = ("Micro-parameter NAME=VALUE, repeatable: E_c, Ebar_c (GPa), kn_ks, knbar_ksbar, "

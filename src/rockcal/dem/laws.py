@@ -162,7 +162,7 @@ def _bond_law(start, count, bond_state, laws, dt, tile):
         vs = rvy * nx - rvx * ny
 
         touching = (overlap > 0.0) & (laws.E_c > 0.0)
-        kn = laws.E_c if laws.pfc4_contacts > 0.0 else 2.0 * rmin * laws.E_c * inv_length
+        kn = _contact_kn(rmin, inv_length, laws)
         shear = tile[LAST_SHEAR, q] + kn * laws.ks_per_kn * vs * dt
         cap = laws.mu * kn * overlap
         shear = cap if shear > cap else shear
@@ -271,11 +271,18 @@ def add_contact_forces(first, last, disks, pi, pj, contact_shear, laws, dt, load
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _contact_kn(rmin, inv_length, laws):
+    """A linear contact's normal stiffness (N/m): PFC 3.x/4.0's t·E_c, or PFC 5's
+    2·min(R)·t·E_c / (R_A + R_B) (t = 1 m)."""
+    return laws.E_c if laws.pfc4_contacts > 0.0 else 2.0 * rmin * laws.E_c * inv_length
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _contact_force(p, overlap, rmin, inv_length, vs, contact_shear, laws, dt):
     """Normal and shear force of pair p's linear contact on i (along n and t), updating its
     shear force."""
     if overlap > 0.0 and laws.E_c > 0.0:
-        kn = laws.E_c if laws.pfc4_contacts > 0.0 else 2.0 * rmin * laws.E_c * inv_length
+        kn = _contact_kn(rmin, inv_length, laws)
         shear = contact_shear[p] + kn * laws.ks_per_kn * vs * dt
         cap = laws.mu * kn * overlap
         if shear > cap:
