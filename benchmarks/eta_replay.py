@@ -14,9 +14,9 @@ import tempfile
 from pathlib import Path
 
 from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.plan import stage_times, stages
+from rockcal.campaign.plan import stage_runs, stage_times
 from rockcal.campaign.store import RunStore
-from rockcal.cli.calibrate import _planned_runs, _stage_progress
+from rockcal.cli.calibrate import _stage_progress
 
 
 def finished_runs(store: RunStore) -> list[tuple[float, float]]:
@@ -37,7 +37,7 @@ def main() -> None:
         times = stage_times(campaign, RunStore(Path(empty) / "plan"), args.workers)
     runs = finished_runs(store)
     clock = [0.0]
-    progress = _stage_progress(True, _planned_runs(campaign), times)
+    progress = _stage_progress(True, stage_runs(campaign), times)
     progress.bar.get_time = lambda: clock[0]
     for task in progress.bar.tasks:  # made before the clock was set
         task._get_time = progress.bar.get_time
@@ -47,7 +47,7 @@ def main() -> None:
     print(f"{len(runs)} runs in {end:.0f} s; the first screen expected {expected:.0f} s")
     print(f"{'after':<26} {'at s':>6} {'ETA s':>6} {'truth s':>8} {'error':>7}")
     k = 0
-    for stage, _, n in stages(campaign):
+    for stage, n in stage_runs(campaign).items():
         progress(stage, 0, n)
         for done in range(1, n + 1):
             clock[0] = runs[k][1]

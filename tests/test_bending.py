@@ -13,7 +13,7 @@ from rockcal.labtests.bending import (CONFIRM_FLEXURAL_PERIODS, Beam, confirm_st
                                       wave_speed_m_per_s)
 from rockcal.dem.specimen import random_packing
 from rockcal.labtests.kic import senb_kic
-from rockcal.labtests.loading import DISTRIBUTED_DAMAGE, Loading
+from rockcal.labtests.loading import NOTCH_TIP_DAMAGE, Loading
 from rockcal.labtests.seeds import mean_over_seeds
 
 SMALL = Beam(66.0, 15.0, 5.4, 1.0, 48.0)  # S/W = 3.2, a/W = 0.36 as at full size
@@ -94,6 +94,15 @@ def test_halving_the_loading_speed_changes_k_ic_little(specimen, result):
     assert slow.K_IC_MPa_sqrt_m == pytest.approx(result.K_IC_MPa_sqrt_m, rel=0.03)
 
 
+def test_stopping_once_p_max_is_certain_finds_the_same_peak_sooner(specimen, result):
+    """A run for K_IC alone stops once the load has stayed below 0.9 of the peak for two
+    flexural periods: the same run up to there, so the same P_max, with fewer steps."""
+    early = simulate_bending(make_params({}), specimen, SMALL, stop_fraction=0.9)
+    assert early.P_max_kN_per_m == result.P_max_kN_per_m
+    assert early.steps < result.steps
+    np.testing.assert_array_equal(early.curve, result.curve[:len(early.curve)])
+
+
 def test_bending_command_json_and_outputs(tmp_path):
     run = rockcal("simulate", "bending", "--length-mm", "44", "--height-mm", "10", "--notch-mm", "3.6",
                   "--notch-width-mm", "1", "--span-mm", "32", "--json", "--out", str(tmp_path))
@@ -153,14 +162,14 @@ def test_a_swing_of_the_beam_below_the_stop_fraction_does_not_stop_it():
         return 5.03 * (1 - 0.72 * np.sin(np.pi * t) ** 2) if 0 <= t <= 1 else 5.03 * min(t, 1.0)
 
     for confirm, stops in ((0.0, True), (2 * period, False)):
-        loading = Loading(380, DISTRIBUTED_DAMAGE, confirm_steps=confirm)
+        loading = Loading(380, NOTCH_TIP_DAMAGE, confirm_steps=confirm)
         stopped = False
         for step in range(400, 5860 + 2 * period, chunk):
             loading.update(step, 1e3 * (swing(step) if step >= 5860 else 5.03 * step / 5860))
             stopped = stopped or loading.fallen_below(0.3, 1e3 * swing(step))
         assert stopped == stops
 
-    loading = Loading(380, DISTRIBUTED_DAMAGE, confirm_steps=2 * period)  # a crack that runs
+    loading = Loading(380, NOTCH_TIP_DAMAGE, confirm_steps=2 * period)  # a crack that runs
     loading.update(400, 150e3)
     falls = [loading.update(step, 40e3) or loading.fallen_below(0.3, 40e3)
              for step in range(410, 410 + 2 * period + chunk, chunk)]
@@ -172,7 +181,7 @@ def test_once_the_peak_is_known_the_end_of_the_test_counts_at_once():
     known it must last two periods; once a fall below 0.8 of it has lasted that long (the peak
     is known, the pin back at full speed) it counts at the first reading."""
     period = 4100
-    loading = Loading(380, DISTRIBUTED_DAMAGE, confirm_steps=2 * period)
+    loading = Loading(380, NOTCH_TIP_DAMAGE, confirm_steps=2 * period)
     loading.update(400, 150e3)
     loading.update(410, 40e3)
     assert not loading.fallen_below(0.3, 40e3)
@@ -188,7 +197,7 @@ def test_a_fall_that_lasts_counts_while_the_pin_keeps_slowing_down():
     settled; a fall below 0.8 of the peak that lasts two flexural periods is the crack's all
     the same (the peak is known), and a fall of the ordinary kind still has to last."""
     period, chunk = 4100, 10
-    loading = Loading(380, DISTRIBUTED_DAMAGE, confirm_steps=2 * period)
+    loading = Loading(380, NOTCH_TIP_DAMAGE, confirm_steps=2 * period)
     for step in range(10, 5000, chunk):
         loading.speed(step, 0, chunk)
         loading.update(step, 150e3 * step / 5000)

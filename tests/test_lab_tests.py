@@ -23,14 +23,16 @@ def test_an_unknown_test_is_an_error_naming_the_known_ones():
 
 
 def test_a_tests_revision_keys_only_its_own_runs():
-    """A changed procedure (bending revision 4) makes new keys for its runs, not for the others'."""
+    """A changed procedure (UCS revision 2, bending revision 4) makes new keys for its runs, not
+    for the others'."""
     settings = SpecimenSettings()
-    assert run_spec("ucs", settings, {}).engine == ENGINE
-    bending = run_spec("bending", settings, {})
-    assert lab_test("bending").revision == 4
-    assert bending.engine == f"{ENGINE}, bending test revision 4"
-    for earlier in (ENGINE, *(f"{ENGINE}, bending test revision {r}" for r in (2, 3))):
-        assert bending.key != RunSpec(bending.kind, bending.specimen, bending.params, earlier).key
+    assert run_spec("brazilian", settings, {}).engine == ENGINE
+    for kind, revision in (("ucs", 2), ("bending", 4)):
+        spec = run_spec(kind, settings, {})
+        assert lab_test(kind).revision == revision
+        assert spec.engine == f"{ENGINE}, {kind} test revision {revision}"
+        for earlier in (ENGINE, *(f"{ENGINE}, {kind} test revision {r}" for r in range(2, revision))):
+            assert spec.key != RunSpec(spec.kind, spec.specimen, spec.params, earlier).key
 
 
 @pytest.mark.parametrize("kind", ["ucs", "bending", "brazilian"])
@@ -55,7 +57,8 @@ def test_run_keys_name_the_specimen_settings_in_their_order():
     """The order keys the store: it must not change."""
     assert [n for n, _ in run_spec("bending", SpecimenSettings(), {}).specimen] == [
         "beam_length_mm", "beam_height_mm", "notch_mm", "notch_width_mm", "span_mm", "rmin_mm",
-        "radius_ratio", "seed", "install_gap", "cloud_porosity", "pressure_mpa", "contact_stiffness"]
+        "radius_ratio", "seed", "install_gap", "cloud_porosity", "pressure_mpa", "stop_fraction",
+        "contact_stiffness"]
     assert [n for n, _ in run_spec("ucs", SpecimenSettings(), {}).specimen] == [
         "width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", "install_gap", "cloud_porosity",
         "pressure_mpa", "strain", "stop_fraction", "contact_stiffness"]

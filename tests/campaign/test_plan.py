@@ -35,8 +35,8 @@ packings = 4
 """, tmp_path)
     assert stages(campaign) == [("sensitivity", "ucs", 9), ("samples and checks", "ucs", 14),
                                 ("verification", "ucs", 1),
-                                ("uncertainty (packings)", "ucs", 3),
-                                ("validation (bending)", "bending", 2)]
+                                ("packings and validation", "bending", 2),
+                                ("packings and validation", "ucs", 3)]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=2)
     assert "about 12940 grains" in lines[0]
     assert lines[-1].startswith("expected: about ") and "27 UCS and 2 bending runs" in lines[-1]

@@ -53,7 +53,7 @@ class SpecimenSettings(Genesis):
     disk_diameter_mm: float = Field(50.0, gt=0)  # the Brazilian test's disk
     bending_seeds: int = Field(1, ge=1)  # validation K_IC: mean over packings seed, seed + 1, ...
     strain: Literal["gauge", "platen"] = DEFAULT_STRAIN  # the UCS test's axial strain reading
-    stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1)  # UCS stop: stress < this x peak
+    stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1)  # UCS and bending stop: load < this x peak
     # kn from E_c as PFC 3.x/4.0 or PFC 5+ (dem.simulate)
     contact_stiffness: Literal[CONTACT_STIFFNESS] = DEFAULT_CONTACT_STIFFNESS
 

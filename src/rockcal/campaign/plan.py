@@ -18,7 +18,7 @@ import numpy as np
 
 from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.forward import run_spec
-from rockcal.campaign.procedure import SAMPLES_AND_CHECKS, sample_points
+from rockcal.campaign.procedure import PACKINGS_AND_VALIDATION, SAMPLES_AND_CHECKS, sample_points
 from rockcal.inverse import design
 from rockcal.labtests.registry import lab_test
 
@@ -59,19 +59,29 @@ def specimen_size(test: str, s: SpecimenSettings) -> tuple[str, int, float]:
 
 def stages(campaign: Campaign) -> list[tuple[str, str, int]]:
     """(stage, test, runs) in the order they run: each stage of the calibration runs every test
-    calibrated against; the verification loop counts its first run."""
+    calibrated against; the verification loop counts its first run; the validation tests and
+    the other packings run as one stage."""
     points = []
     if campaign.sensitivity is not None:
         points.append(("sensitivity", array_runs(campaign.sensitivity.array)))
     points += [(SAMPLES_AND_CHECKS, campaign.surrogate.samples + campaign.surrogate.checks),
                ("verification", 1)]
-    if campaign.wants_uncertainty():
-        points.append(("uncertainty (packings)", campaign.uncertainty.packings - 1))
     out = [(stage, test, n) for stage, n in points for test in campaign.target_sections()]
     for test in campaign.validation_tests():
         n = campaign.specimen.bending_seeds if test == "bending" else 1
-        out.append((f"validation ({test})", test, n))
+        out.append((PACKINGS_AND_VALIDATION, test, n))
+    if campaign.wants_uncertainty():
+        out += [(PACKINGS_AND_VALIDATION, test, campaign.uncertainty.packings - 1)
+                for test in campaign.target_sections()]
     return out
+
+
+def stage_runs(campaign: Campaign) -> dict[str, int]:
+    """The forward runs of each stage, in the order they run."""
+    runs: dict[str, int] = {}
+    for stage, _, n in stages(campaign):
+        runs[stage] = runs.get(stage, 0) + n
+    return runs
 
 
 def stored_runs(campaign: Campaign, store) -> dict[str, int]:
@@ -140,17 +150,18 @@ def stage_rounds(runs: int, workers: int, cores: int | None = None) -> float:
 
 def stage_times(campaign: Campaign, store, workers: int) -> dict[str, tuple[int, float]]:
     """Each stage's runs still to do and their expected wall time (s): in rounds of one run per
-    worker (`stage_rounds`)."""
+    worker (`stage_rounds`) of the stage's mean run (a stage of several tests runs them as one
+    batch)."""
     sizes = {test: specimen_size(test, campaign.specimen) for test in campaign.tests()}
     times, _ = run_times(campaign, store, sizes)
     coarser = {test: (specimen_size(test, campaign.sensitivity_specimen())[2] / size[2]) ** WORK_EXPONENT
                for test, size in sizes.items()}  # the sensitivity runs' time over the others'
-    out: dict[str, tuple[int, float]] = {}
+    work: dict[str, tuple[int, float]] = {}  # stage: runs, their one-worker seconds
     for stage, test, n in runs_to_do(campaign, store):
-        runs, seconds = out.get(stage, (0, 0.0))
-        out[stage] = (runs + n, seconds + stage_rounds(n, workers) * times[test]
-                      * (coarser[test] if stage == "sensitivity" else 1.0))
-    return out
+        runs, seconds = work.get(stage, (0, 0.0))
+        work[stage] = (runs + n, seconds + n * times[test] * (coarser[test] if stage == "sensitivity" else 1.0))
+    return {stage: (runs, stage_rounds(runs, workers) * seconds / runs if runs else 0.0)
+            for stage, (runs, seconds) in work.items()}
 
 
 def expected_s(campaign: Campaign, store, workers: int) -> float:
@@ -164,7 +175,6 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
     """The lines of the first screen: specimens, stages and run counts, expected time."""
     s = campaign.specimen
     sizes = {test: specimen_size(test, s) for test in campaign.tests()}
-    plan = stages(campaign)
     runs: dict[str, int] = {}
     for _, test, n in runs_to_do(campaign, store):
         runs[test] = runs.get(test, 0) + n
@@ -173,7 +183,7 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
         "specimens: " + "; ".join(f"{text}, about {grains} grains" for text, grains, _ in sizes.values())
         + f" (R {s.rmin_mm:g} to {s.rmin_mm * s.radius_ratio:.3g} mm)",
         "stages: " + ", ".join(f"{name} {n}" + _resolution(campaign, name)
-                               for name, n in dict((name, n) for name, _, n in plan).items())
+                               for name, n in stage_runs(campaign).items())
         + f" (then more verifications if needed, at most {campaign.acceptance.max_dem_runs} UCS runs)"
         + (f"; each parameter set runs {' and '.join(titles)}" if len(titles) > 1 else ""),
         f"runs of this campaign already in the store: {sum(stored_runs(campaign, store).values())} "

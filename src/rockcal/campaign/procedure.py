@@ -60,6 +60,8 @@ def _round(x: np.ndarray) -> np.ndarray:
 
 
 SAMPLES_AND_CHECKS = "samples and checks"  # the stage of step 3's DEM runs
+# the stage of the runs at the identified point: the other packings and the validation tests
+PACKINGS_AND_VALIDATION = "packings and validation"
 
 
 class Calibration:
@@ -82,12 +84,12 @@ class Calibration:
         self.ucs_specimen: dict | None = None  # of the first UCS run that succeeded
 
     # -- forward runs ---------------------------------------------------------------------
-    def _forward(self, stage: str, points: list[tuple[SpecimenSettings, dict]]):
+    def _forward(self, stage: str, points: list[tuple[SpecimenSettings, dict]], shown: bool = True):
         """Every target test at each (specimen settings, parameters) point: the responses of
-        each point (None when a run of it failed), the specs of each test, the failed runs."""
+        each point (None when a run of it failed), the specs of each test, the failed runs.
+        The runs are shown as `stage`'s progress unless `shown` is False."""
         specs = {t: [run_spec(t, settings, self.fixed | row) for settings, row in points] for t in self.tests}
-        results = self.executor.run([spec for t in self.tests for spec in specs[t]],
-                                    lambda done, total: self.progress(stage, done, total))
+        results = self._run([spec for t in self.tests for spec in specs[t]], stage if shown else None)
         n = len(points)
         by_test = {t: results[k * n:(k + 1) * n] for k, t in enumerate(self.tests)}
         responses, failed = [], []
@@ -103,6 +105,10 @@ class Calibration:
             if done is not None:
                 self.ucs_specimen = {k: done[k] for k in SPECIMEN_KEYS if k in done}
         return responses, specs, failed
+
+    def _run(self, specs: list, stage: str | None) -> list:
+        """The executor's results of `specs`, shown as `stage`'s progress (None: not shown)."""
+        return self.executor.run(specs, stage and (lambda done, total: self.progress(stage, done, total)))
 
     def _evaluate(self, stage: str, rows: list[dict], specimen: SpecimenSettings | None = None) -> list[dict | None]:
         """The responses of each parameter set on the campaign's specimens (or `specimen`; None
@@ -200,6 +206,9 @@ class Calibration:
         best = accepted if accepted is not None else _closest(iterations)
         identified = dict(zip(names, iterations[best].x))
         dem_run_keys = list(self.dem_runs)
+        final_runs = self._final_runs(identified)
+        if final_runs:
+            self._run(final_runs, PACKINGS_AND_VALIDATION)
         uncertainty = self._uncertainty(identified, self._fit(train_x, train_y, box), box, names) \
             if self.campaign.wants_uncertainty() else None
         final_ucs_run_key, curve_fit = self._curve_fit(identified)
@@ -270,6 +279,26 @@ class Calibration:
         return ant_colony(objective, box, method="ant-system", ants=o.ants, iterations=o.iterations,
                           alpha=o.alpha, beta=o.beta, rho=o.rho, seed=seed, vectorized=True)
 
+    def _final_runs(self, identified: dict) -> list:
+        """The runs at the identified point after the search, as one batch that keeps the
+        workers busy to its end: the validation tests' (the longest, first), then the other
+        packings of the calibrated tests (the parameters' intervals)."""
+        specs = [spec for test in self.campaign.validation_tests()
+                 for spec in self._validation_runs(test, identified)]
+        if self.campaign.wants_uncertainty():
+            settings = self.campaign.specimen
+            specs += [run_spec(test, settings.model_copy(update={"seed": s}), self.fixed | identified)
+                      for test in self.tests for s in seed_list(settings.seed, self.campaign.uncertainty.packings)]
+        return specs
+
+    def _validation_runs(self, test: str, identified: dict) -> list:
+        """The runs of a validation test at the identified point: the bending test's on
+        `specimen.bending_seeds` packings, another test's on the campaign's specimen."""
+        settings = self.campaign.specimen
+        seeds = seed_list(settings.seed, settings.bending_seeds) if test == "bending" else [settings.seed]
+        return [run_spec(test, settings.model_copy(update={"seed": s}), self.fixed | identified)
+                for s in seeds]
+
     def _uncertainty(self, identified: dict, surrogate: RBFSurrogate, box, names) -> Uncertainty:
         """The model's scatter over packings at the identified point (relative sd of each
         response), then the parameters' intervals for targets drawn from the lab's spread and
@@ -277,7 +306,7 @@ class Calibration:
         u, settings = self.campaign.uncertainty, self.campaign.specimen
         seeds = seed_list(settings.seed, u.packings)
         points = [(settings.model_copy(update={"seed": s}), identified) for s in seeds]
-        responses, specs, _ = self._forward("uncertainty (packings)", points)
+        responses, specs, _ = self._forward(PACKINGS_AND_VALIDATION, points, shown=False)  # run by _final_runs
         ok = [r for r in responses if r is not None]
         scatter = {r: float(np.std([v[r] for v in ok], ddof=1) / abs(np.mean([v[r] for v in ok])))
                    if len(ok) > 1 else 0.0 for r in self.targets}
@@ -313,11 +342,9 @@ class Calibration:
         bending = self.campaign.targets.bending
         if "bending" not in self.campaign.validation_tests():
             return None
-        settings = self.campaign.specimen
-        seeds = seed_list(settings.seed, settings.bending_seeds)
-        specs = [run_spec("bending", settings.model_copy(update={"seed": s}), self.fixed | identified)
-                 for s in seeds]
-        results = self.executor.run(specs, lambda d, t: self.progress("validation (bending)", d, t))
+        seeds = seed_list(self.campaign.specimen.seed, self.campaign.specimen.bending_seeds)
+        specs = self._validation_runs("bending", identified)
+        results = self._run(specs, None)  # run by _final_runs
         ok = [(seed, spec, r) for seed, spec, r in zip(seeds, specs, results) if r.status == "ok"]
         found = {"lab_K_IC_MPa_sqrt_m": bending.K_IC_MPa_sqrt_m, "seeds": seeds,
                  "run_keys": [spec.key for spec in specs]}
@@ -344,8 +371,8 @@ class Calibration:
         checks = []
         for test in tests:
             lab = self.campaign.targets.given()[test].scalars()
-            spec = run_spec(test, self.campaign.specimen, self.fixed | identified)
-            run = self.executor.run([spec], lambda d, t: self.progress(f"validation ({test})", d, t))[0]
+            spec = self._validation_runs(test, identified)[0]
+            run = self._run([spec], None)[0]  # run by _final_runs
             found = {"test": test, "lab": lab, "run_key": spec.key, "status": run.status}
             if run.status == "ok":
                 found |= {"responses": run.responses,

@@ -36,7 +36,7 @@ def calibrate(
     """Identify BPM micro-parameters from lab results (SPEC steps 1-8), with a report."""
     from rockcal.campaign.config import load_campaign, quick_look, quick_look_note
     from rockcal.campaign.executors import make_executor
-    from rockcal.campaign.plan import stage_times
+    from rockcal.campaign.plan import stage_runs, stage_times
     from rockcal.campaign.procedure import Calibration, CalibrationFailed
     from rockcal.campaign.result import save_result
     from rockcal.campaign.store import STORE_NAME, RunStore
@@ -77,7 +77,7 @@ def calibrate(
             if not as_json:
                 _print_plan(campaign, store, executor, note)
             times = stage_times(campaign, store, getattr(executor, "workers", 1))
-            with _stage_progress(as_json, _planned_runs(campaign), times) as progress:
+            with _stage_progress(as_json, stage_runs(campaign), times) as progress:
                 executor.on_live = progress.live
                 result = Calibration(campaign, executor, progress).run()
         except CalibrationFailed as exc:
@@ -130,15 +130,6 @@ def _write_report(result: CalibrationResult, store, out: Path) -> Path:
 
     (out / RECORD_NAME).write_text(result.to_json(indent=1))
     return write_report(result, store, out)
-
-
-def _planned_runs(campaign) -> dict[str, int]:
-    from rockcal.campaign.plan import stages
-
-    planned: dict[str, int] = {}
-    for name, _, n in stages(campaign):  # a stage runs each test calibrated against
-        planned[name] = planned.get(name, 0) + n
-    return planned
 
 
 def _print_plan(campaign, store, executor, note: str | None) -> None:

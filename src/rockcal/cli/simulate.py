@@ -18,6 +18,7 @@ from rich.table import Table
 from rockcal.dem.genesis import Genesis, make_genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, as_flags
+from rockcal.labtests import bending as bending_test
 from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
 from rockcal.params import make_params, parse_assignments
 
@@ -216,6 +217,8 @@ def bending(
     cloud_porosity: float = CLOUD_POROSITY,
     pressure_mpa: float = PRESSURE_MPA,
     contact_stiffness: ContactStiffness = CONTACT_STIFFNESS,
+    stop_fraction: float = typer.Option(bending_test.POST_PEAK_FRACTION, help="Stop once the load has stayed below this "
+                                        "fraction of the peak (0.9: as soon as P_max is certain)."),
     as_json: bool = AS_JSON,
     out: Optional[Path] = OUT,
 ) -> None:
@@ -228,6 +231,8 @@ def bending(
     beam = Beam(length_mm, height_mm, notch_mm, notch_width_mm, span_mm)
     with as_flags():
         check_beam(beam, rmin_mm, radius_ratio)
+    if not 0 < stop_fraction < 1:
+        raise InputError("--stop-fraction", f"must be in (0, 1), got {stop_fraction}")
     genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
 
     def one(packing_seed: int, label: str):
@@ -236,6 +241,7 @@ def bending(
         result = _run_with_progress(
             label, DEFAULT_MAX_DISPLACEMENT_MM, as_json, _load_description("pin"),
             lambda progress: simulate_bending(params, specimen, beam, progress=progress,
+                                              stop_fraction=stop_fraction,
                                               contact_stiffness=contact_stiffness.value))
         return result, specimen, f"K_IC {result.K_IC_MPa_sqrt_m:.3f} MPa·m^0.5 — broken bonds"
 

@@ -22,7 +22,7 @@ from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kic import senb_kic
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of, load_reading
-from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
+from rockcal.labtests.loading import (NOTCH_TIP_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       load_to_failure)
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.params import MicroParams, make_params
@@ -35,9 +35,11 @@ PIN_RADIUS_MM = 5.0
 # slower where bonds break, full speed again once P_max is known (`rockcal.labtests.loading`).
 PIN_STEP_PER_RADIUS = 2e-6
 DEFAULT_MAX_DISPLACEMENT_MM = 1.0
-# The crack runs unstably from the peak on; the test goes on until the load has fallen below
-# this fraction of the peak, so that the crack path is there to be seen. Once the peak is known
-# (a fall below 0.8 of it has lasted as long as a swing could) this fall counts at once.
+# The crack runs unstably from the peak on; by default the test goes on until the load has
+# fallen below this fraction of the peak, so that the crack path is there to be seen. Once the
+# peak is known (a fall below 0.8 of it has lasted as long as a swing could) this fall counts at
+# once. A run for K_IC alone may stop earlier (`stop_fraction` 0.9: P_max is certain once the
+# load has stayed below 0.9 of it for two flexural periods).
 POST_PEAK_FRACTION = 0.3
 # The beam rings at its first flexural period after the pin touches it or slows down: the load
 # read at the pin swings about the one its travel gives (the pin touching a 220 x 50 mm beam
@@ -168,11 +170,13 @@ def touching_centre_y(pos, radius, x: float, pin_radius: float, above: bool) -> 
 def simulate_bending(params: MicroParams | dict | None = None, specimen: Specimen | None = None,
                      beam: Beam = Beam(), *, rate_factor: float = 1.0,
                      max_displacement_mm: float = DEFAULT_MAX_DISPLACEMENT_MM,
+                     stop_fraction: float = POST_PEAK_FRACTION,
                      contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
                      progress: Callable[[float, float], None] | None = None) -> BendingResult:
     """Run the notched-beam test; defaults: granite parameters, the source's 220 x 50 mm beam.
 
-    `specimen` must be `notched_beam(beam, ...)`; rate_factor scales the pin speed;
+    `specimen` must be `notched_beam(beam, ...)`; rate_factor scales the pin speed; the test
+    stops once the load has stayed below stop_fraction x the peak (`CONFIRM_FLEXURAL_PERIODS`);
     contact_stiffness is PFC's convention for kn ("pfc5" or "pfc4", `dem.simulate`);
     progress(displacement_mm, load_kN_per_m) is called as the test goes.
     """
@@ -185,6 +189,8 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
     if not 0 < max_displacement_mm <= beam.height_mm:
         raise InputError("max_displacement_mm", f"must be in (0, {beam.height_mm:g}], got "
                          f"{max_displacement_mm}")
+    if not 0 < stop_fraction < 1:
+        raise InputError("stop_fraction", f"must be in (0, 1), got {stop_fraction}")
     specimen = specimen or notched_beam(beam)
     pos, radius = specimen.pos, specimen.radius
     n = specimen.n_particles
@@ -229,9 +235,9 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
         return Reading(load, displacement, (1e3 * displacement, load / 1e3))
 
     def crack_has_run(reading: Reading) -> bool:
-        return loading.fallen_below(POST_PEAK_FRACTION, reading.load) and bonds.state.any()
+        return loading.fallen_below(stop_fraction, reading.load) and bonds.state.any()
 
-    loading = Loading(RAMP_STEPS_PER_ROW * rows, DISTRIBUTED_DAMAGE, ringing_steps)
+    loading = Loading(RAMP_STEPS_PER_ROW * rows, NOTCH_TIP_DAMAGE, ringing_steps)
     curve = load_to_failure(state, loading, max(10, int(rows / 4)), move, read, crack_has_run,
                             1e-3 * max_displacement_mm, full_speed_past_peak=True, progress=progress)
     k = int(np.argmax(curve[:, 1]))
@@ -262,8 +268,8 @@ def _specimen(s: dict) -> Specimen:
 
 
 def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BendingResult:
-    return simulate_bending(params, specimen, beam_of(s), contact_stiffness=s["contact_stiffness"],
-                            progress=progress)
+    return simulate_bending(params, specimen, beam_of(s), stop_fraction=s["stop_fraction"],
+                            contact_stiffness=s["contact_stiffness"], progress=progress)
 
 
 TEST = LabTest(
@@ -272,7 +278,7 @@ TEST = LabTest(
                Response("P_max_kN_per_m", "kN/m", target=False),
                Response("displacement_at_peak_mm", "mm", target=False)),
     settings=(*BEAM_SETTINGS.values(), "rmin_mm", "radius_ratio", "seed", *GENESIS,
-              "contact_stiffness"),
+              "stop_fraction", "contact_stiffness"),
     check=_check, make=_specimen, run=_run, reading=load_reading,
     outline=lambda s: Outline(f"beam {s['beam_length_mm']:g} x {s['beam_height_mm']:g} mm",
                               s["beam_length_mm"], s["beam_height_mm"]),

@@ -113,4 +113,5 @@ TEST = LabTest(
     check=_check, make=_specimen, run=_run,
     reading=lambda strain, stress_MPa: f"strain {100 * strain:.3f} %, {stress_MPa:.1f} MPa",
     outline=lambda s: Outline(f"UCS {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"],
-                              s["height_mm"]))
+                              s["height_mm"]),
+    revision=2)  # 2: the platens slow down by half at 4 bonds broken per ramp, not 2 (issue 15)
