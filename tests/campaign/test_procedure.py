@@ -120,6 +120,35 @@ def test_joint_targets_free_more_parameters_and_are_recovered(tmp_path):
     assert record.validation is None
 
 
+class RememberingExecutor(JointExecutor):
+    """JointExecutor with a memory of the runs done, as the store is; it keeps the (test, seed)
+    of the runs each call of `run` did anew."""
+
+    def __init__(self):
+        self.done, self.calls = set(), []
+
+    def run(self, specs, progress=None):
+        new = [spec for spec in dict((spec.key, spec) for spec in specs).values() if spec.key not in self.done]
+        self.done |= {spec.key for spec in new}
+        self.calls.append([(spec.kind, dict(spec.specimen)["seed"]) for spec in new])
+        return super().run(specs, progress)
+
+
+def test_the_validation_beams_and_the_other_packings_run_as_one_batch_beams_first(tmp_path):
+    """After the search, the beams (the longest runs) and the other packings of each calibrated
+    test go to the workers as one batch, so that none waits for another stage; the steps that
+    read them run nothing more."""
+    text = JOINT.replace('tests = ["brazilian"]', 'tests = ["bending"]').replace(
+        "[sensitivity]", "[specimen]\nbending_seeds = 2\n[sensitivity]") + \
+        "[uncertainty]\nenabled = true\ndraws = 10\npackings = 3\n"
+    executor = RememberingExecutor()
+    record = Calibration(parse_campaign(text, tmp_path), executor).run()
+    last = max(k for k, call in enumerate(executor.calls) if call)
+    assert executor.calls[last] == [("bending", 1), ("bending", 2), ("ucs", 2), ("ucs", 3),
+                                    ("brazilian", 2), ("brazilian", 3)]
+    assert record.validation.seeds == [1, 2] and record.uncertainty.seeds == [1, 2, 3]
+
+
 def test_a_failed_run_of_one_test_fails_its_parameter_set(tmp_path):
     text = JOINT.replace('tests = ["brazilian"]', 'tests = ["bending"]').replace(
         "sigma_t_MPa = 10.0",

@@ -27,7 +27,7 @@ REFERENCE_RUN_S = 64.0  # its mean UCS run on one thread, two at a time on idle 
 WORK_EXPONENT = 1.0  # run time ~ work: on idle cores the half-resolution UCS runs take 6.4 s, 1/10 of the full-size 64 s (work 1/8)
 SLOWER_THAN_WORK = {"bending": 3.0}  # a run's time over the work-scaled UCS run's, measured (docs/benchmarks.md)
 LONE_RUN_SPEED_UP = 1.4  # measured alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
-DRAW_S = 0.4  # one search on the surrogate for the parameters' intervals (main process)
+DRAW_S = 0.05  # one search on the surrogate for the parameters' intervals (main process; 200 took 8 s in runs/granite-bench4)
 
 
 def grain_count(width_mm: float, height_mm: float, s: SpecimenSettings) -> int:
@@ -159,7 +159,8 @@ def stage_times(campaign: Campaign, store, workers: int) -> dict[str, tuple[int,
     work: dict[str, tuple[int, float]] = {}  # stage: runs, their one-worker seconds
     for stage, test, n in runs_to_do(campaign, store):
         runs, seconds = work.get(stage, (0, 0.0))
-        work[stage] = (runs + n, seconds + n * times[test] * (coarser[test] if stage == "sensitivity" else 1.0))
+        scale = coarser[test] if stage == "sensitivity" else 1.0
+        work[stage] = (runs + n, seconds + n * times[test] * scale)
     return {stage: (runs, stage_rounds(runs, workers) * seconds / runs if runs else 0.0)
             for stage, (runs, seconds) in work.items()}
 

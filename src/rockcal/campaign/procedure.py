@@ -108,7 +108,8 @@ class Calibration:
 
     def _run(self, specs: list, stage: str | None) -> list:
         """The executor's results of `specs`, shown as `stage`'s progress (None: not shown)."""
-        return self.executor.run(specs, stage and (lambda done, total: self.progress(stage, done, total)))
+        shown = stage and (lambda done, total: self.progress(stage, done, total))
+        return self.executor.run(specs, shown)
 
     def _evaluate(self, stage: str, rows: list[dict], specimen: SpecimenSettings | None = None) -> list[dict | None]:
         """The responses of each parameter set on the campaign's specimens (or `specimen`; None
@@ -287,8 +288,9 @@ class Calibration:
                  for spec in self._validation_runs(test, identified)]
         if self.campaign.wants_uncertainty():
             settings = self.campaign.specimen
+            seeds = seed_list(settings.seed, self.campaign.uncertainty.packings)
             specs += [run_spec(test, settings.model_copy(update={"seed": s}), self.fixed | identified)
-                      for test in self.tests for s in seed_list(settings.seed, self.campaign.uncertainty.packings)]
+                      for test in self.tests for s in seeds]
         return specs
 
     def _validation_runs(self, test: str, identified: dict) -> list:
@@ -306,7 +308,8 @@ class Calibration:
         u, settings = self.campaign.uncertainty, self.campaign.specimen
         seeds = seed_list(settings.seed, u.packings)
         points = [(settings.model_copy(update={"seed": s}), identified) for s in seeds]
-        responses, specs, _ = self._forward(PACKINGS_AND_VALIDATION, points, shown=False)  # run by _final_runs
+        # run by _final_runs
+        responses, specs, _ = self._forward(PACKINGS_AND_VALIDATION, points, shown=False)
         ok = [r for r in responses if r is not None]
         scatter = {r: float(np.std([v[r] for v in ok], ddof=1) / abs(np.mean([v[r] for v in ok])))
                    if len(ok) > 1 else 0.0 for r in self.targets}

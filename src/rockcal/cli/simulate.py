@@ -217,8 +217,10 @@ def bending(
     cloud_porosity: float = CLOUD_POROSITY,
     pressure_mpa: float = PRESSURE_MPA,
     contact_stiffness: ContactStiffness = CONTACT_STIFFNESS,
-    stop_fraction: float = typer.Option(bending_test.POST_PEAK_FRACTION, help="Stop once the load has stayed below this "
-                                        "fraction of the peak (0.9: as soon as P_max is certain)."),
+    stop_fraction: float = typer.Option(
+        bending_test.POST_PEAK_FRACTION,
+        help="Stop once the load has stayed below this fraction of the peak (0.9: as soon as "
+             "P_max is certain; lower ones run the crack path)."),
     as_json: bool = AS_JSON,
     out: Optional[Path] = OUT,
 ) -> None:
