@@ -287,27 +287,35 @@ class Calibration:
         specs = [spec for test in self.campaign.validation_tests()
                  for spec in self._validation_runs(test, identified)]
         if self.campaign.wants_uncertainty():
-            settings = self.campaign.specimen
-            seeds = seed_list(settings.seed, self.campaign.uncertainty.packings)
-            specs += [run_spec(test, settings.model_copy(update={"seed": s}), self.fixed | identified)
-                      for test in self.tests for s in seeds]
+            specs += [run_spec(test, settings, self.fixed | row) for test in self.tests
+                      for settings, row in self._packings(identified)]
         return specs
 
-    def _validation_runs(self, test: str, identified: dict) -> list:
-        """The runs of a validation test at the identified point: the bending test's on
-        `specimen.bending_seeds` packings, another test's on the campaign's specimen."""
+    def _packings(self, identified: dict) -> list[tuple[SpecimenSettings, dict]]:
+        """The (specimen settings, parameters) of the packings at the identified point whose
+        scatter the parameters' intervals take in: the campaign's specimen and its next seeds."""
         settings = self.campaign.specimen
-        seeds = seed_list(settings.seed, settings.bending_seeds) if test == "bending" else [settings.seed]
-        return [run_spec(test, settings.model_copy(update={"seed": s}), self.fixed | identified)
-                for s in seeds]
+        return [(settings.model_copy(update={"seed": s}), identified)
+                for s in seed_list(settings.seed, self.campaign.uncertainty.packings)]
+
+    def _validation_seeds(self, test: str) -> list[int]:
+        """The packings a validation test runs on: the bending test's `specimen.bending_seeds`,
+        another test's the campaign's specimen."""
+        settings = self.campaign.specimen
+        return seed_list(settings.seed, settings.bending_seeds) if test == "bending" else [settings.seed]
+
+    def _validation_runs(self, test: str, identified: dict) -> list:
+        """The runs of a validation test at the identified point."""
+        return [run_spec(test, self.campaign.specimen.model_copy(update={"seed": s}), self.fixed | identified)
+                for s in self._validation_seeds(test)]
 
     def _uncertainty(self, identified: dict, surrogate: RBFSurrogate, box, names) -> Uncertainty:
         """The model's scatter over packings at the identified point (relative sd of each
         response), then the parameters' intervals for targets drawn from the lab's spread and
         that scatter (`rockcal.inverse.uncertainty`), each solved on the surrogate."""
-        u, settings = self.campaign.uncertainty, self.campaign.specimen
-        seeds = seed_list(settings.seed, u.packings)
-        points = [(settings.model_copy(update={"seed": s}), identified) for s in seeds]
+        u = self.campaign.uncertainty
+        points = self._packings(identified)
+        seeds = [settings.seed for settings, _ in points]
         # run by _final_runs
         responses, specs, _ = self._forward(PACKINGS_AND_VALIDATION, points, shown=False)
         ok = [r for r in responses if r is not None]
@@ -345,7 +353,7 @@ class Calibration:
         bending = self.campaign.targets.bending
         if "bending" not in self.campaign.validation_tests():
             return None
-        seeds = seed_list(self.campaign.specimen.seed, self.campaign.specimen.bending_seeds)
+        seeds = self._validation_seeds("bending")
         specs = self._validation_runs("bending", identified)
         results = self._run(specs, None)  # run by _final_runs
         ok = [(seed, spec, r) for seed, spec, r in zip(seeds, specs, results) if r.status == "ok"]

@@ -19,6 +19,7 @@ from rockcal.dem.genesis import Genesis, make_genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, as_flags
 from rockcal.labtests import bending as bending_test
+from rockcal.labtests.loading import check_stop_fraction
 from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
 from rockcal.params import make_params, parse_assignments
 
@@ -106,8 +107,8 @@ def ucs(
     finite("--width-mm", width_mm)
     finite("--height-mm", height_mm)
     finite("--max-axial-strain", max_axial_strain)
-    if not 0 < stop_fraction < 1:
-        raise InputError("--stop-fraction", f"must be in (0, 1), got {stop_fraction}")
+    with as_flags():
+        check_stop_fraction(stop_fraction)
     genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
     with _status(as_json):
         if packing is Packing.hexagonal:
@@ -233,8 +234,8 @@ def bending(
     beam = Beam(length_mm, height_mm, notch_mm, notch_width_mm, span_mm)
     with as_flags():
         check_beam(beam, rmin_mm, radius_ratio)
-    if not 0 < stop_fraction < 1:
-        raise InputError("--stop-fraction", f"must be in (0, 1), got {stop_fraction}")
+    with as_flags():
+        check_stop_fraction(stop_fraction)
     genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
 
     def one(packing_seed: int, label: str):

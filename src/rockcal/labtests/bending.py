@@ -23,7 +23,7 @@ from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kic import senb_kic
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of, load_reading
 from rockcal.labtests.loading import (NOTCH_TIP_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
-                                      load_to_failure)
+                                      check_stop_fraction, load_to_failure)
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.params import MicroParams, make_params
 
@@ -189,8 +189,7 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
     if not 0 < max_displacement_mm <= beam.height_mm:
         raise InputError("max_displacement_mm", f"must be in (0, {beam.height_mm:g}], got "
                          f"{max_displacement_mm}")
-    if not 0 < stop_fraction < 1:
-        raise InputError("stop_fraction", f"must be in (0, 1), got {stop_fraction}")
+    check_stop_fraction(stop_fraction)
     specimen = specimen or notched_beam(beam)
     pos, radius = specimen.pos, specimen.radius
     n = specimen.n_particles

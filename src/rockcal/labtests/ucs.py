@@ -21,7 +21,7 @@ from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of
 from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
-                                      load_to_failure)
+                                      check_stop_fraction, load_to_failure)
 from rockcal.labtests.platens import Platens
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.params import MicroParams, make_params
@@ -62,8 +62,7 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
         raise InputError("max_axial_strain", f"must be in (0, 0.5], got {max_axial_strain}")
     if strain not in STRAIN_READINGS:
         raise InputError("strain", f"must be one of {', '.join(STRAIN_READINGS)}, got {strain!r}")
-    if not 0 < stop_fraction < 1:
-        raise InputError("stop_fraction", f"must be in (0, 1), got {stop_fraction}")
+    check_stop_fraction(stop_fraction)
     specimen = specimen or random_packing(50.0, 100.0)
     platens = Platens(specimen, params, rate_factor, contact_stiffness)
     state, bottom, top = platens.state, platens.bottom, platens.top
