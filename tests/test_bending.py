@@ -209,3 +209,21 @@ def test_a_fall_that_lasts_counts_while_the_pin_keeps_slowing_down():
         falls.append(loading.fallen_below(0.8, 100e3))
     assert not loading.settled
     assert not any(falls[:-3]) and falls[-1]
+
+
+def test_the_pin_runs_faster_until_the_first_bond_breaks_then_slows_and_waits():
+    """While every bond holds the beam is linear elastic and the pin may run at
+    `intact_speed`; the first break drops it to the damage rule's speed at once, and the loads
+    read in the ramp after that slow-down do not count for the peak."""
+    ramp, chunk = 380, 10
+    loading = Loading(ramp, NOTCH_TIP_DAMAGE, intact_speed=2.0)
+    factors = [loading.speed(step, 0, chunk) for step in range(0, 2000, chunk)]
+    assert factors[0] == pytest.approx(2.0 * chunk / ramp)
+    assert factors[-1] == 2.0
+    assert loading.speed(2000, 1, chunk) == pytest.approx(1.0 / (1.0 + 1 / NOTCH_TIP_DAMAGE))
+    loading.update(2000 + ramp - chunk, 1e3)
+    assert not loading.settled and loading.peak == 0.0
+    loading.update(2000 + ramp, 1e3)
+    assert loading.settled and loading.peak == 1e3
+    usual = Loading(ramp, NOTCH_TIP_DAMAGE)  # by default no faster than the base speed
+    assert max(usual.speed(step, 0, chunk) for step in range(0, 2000, chunk)) == 1.0

@@ -9,12 +9,15 @@ down in proportion to how busy it is breaking: the speed factor is
 
 never below 1 / SLOWEST. It speeds up again gradually (at most doubling per ramp_steps) once
 breaking calms down. Isolated weak bonds breaking far below the peak thus cost little time, and
-the cascade at the peak runs at the slowest speed. In a UCS test damage spreads through the
-specimen (DISTRIBUTED_DAMAGE: halving the loading rate of the full-size granite specimen at
-the source's point moves E, nu and UCS by at most 1.5 %, docs/benchmarks.md); in bending the
+the cascade at the peak runs at the slowest speed. Until the first bond breaks the specimen is
+linear elastic, and a test may load it faster there (`intact_speed`). In a UCS test damage
+spreads through the specimen (DISTRIBUTED_DAMAGE: halving the loading rate of the full-size
+granite specimen at the source's point moves E, nu and UCS by at most 1.5 %,
+docs/benchmarks.md); in bending the
 30-40 bonds at the notch tip break in a burst (NOTCH_TIP_DAMAGE: on three 110 x 25 mm beams
 this rule and the slowest speed from the first break agree within 1.3 % in K_IC, with a third
-of the steps). The Brazilian disk crushes under the platens long before it splits, and there
+of the steps; the pin runs at twice its speed until the first break, at about 60 % of the
+peak). The Brazilian disk crushes under the platens long before it splits, and there
 the loading runs at the slowest speed from the first broken bond on (LOCALISED_DAMAGE). Where
 the test no longer needs the peak (bending and Brazilian tests once the load has fallen well
 past it) it may run at full speed.
@@ -61,10 +64,12 @@ class Loading:
     once.
     """
 
-    def __init__(self, ramp_steps: float, breaks_at_half_speed: float, confirm_steps: float = 0.0):
+    def __init__(self, ramp_steps: float, breaks_at_half_speed: float, confirm_steps: float = 0.0,
+                 intact_speed: float = 1.0):
         self.ramp_steps = ramp_steps
         self.breaks_at_half_speed = breaks_at_half_speed
         self.confirm_steps = confirm_steps
+        self.intact_speed = intact_speed  # the speed factor while no bond has broken
         self.factor = 0.0
         self.settled_from = ramp_steps
         self.peak = 0.0
@@ -82,16 +87,20 @@ class Loading:
             self._broken.pop(0)
         recent = broken - self._broken[0][1]
         target = min(1.0, (step + chunk) / self.ramp_steps)
-        if not full_speed and self.breaks_at_half_speed == LOCALISED_DAMAGE:
-            target = min(target, 1.0 / SLOWEST if broken else 1.0)
-        elif not full_speed:
-            target = min(target, max(1.0 / SLOWEST, 1.0 / (1.0 + recent / self.breaks_at_half_speed)))
+        if not full_speed:
+            target = min(target, self._damage_speed(recent)) if broken else target * self.intact_speed
         if target < self.factor:
             self.settled_from = max(self.settled_from, step + self.ramp_steps)
         if step >= self.ramp_steps:
             target = min(target, self.factor * 2.0 ** (chunk / self.ramp_steps))
         self.factor = target
         return target
+
+    def _damage_speed(self, recent: int) -> float:
+        """The speed factor once bonds have broken, `recent` of them in the last ramp_steps."""
+        if self.breaks_at_half_speed == LOCALISED_DAMAGE:
+            return 1.0 / SLOWEST
+        return max(1.0 / SLOWEST, 1.0 / (1.0 + recent / self.breaks_at_half_speed))
 
     def update(self, step: int, load: float, travel: float = 0.0) -> bool:
         """Record a load read at `step` (and the loading's travel there); whether it is a new

@@ -1,0 +1,57 @@
+"""The validation beams' rate check: the embedded granite campaign's full-size beams (its
+specimen settings, seeds 1..N) at a point, at the pin's speed and at half of it.
+
+Run by hand: `python benchmarks/bending_rate.py [--seeds 3] [--rates 1 0.5] [--intact-speed 2]
+[--set E_c=21.42 --set kn_ks=1.970 --set sigma_c=36.28]` (one thread per beam, the beams one
+after the other; about 5 min per beam on one core). Prints each beam's K_IC, P_max and steps,
+then each rate's three-beam mean and its change against the first rate.
+`--intact-speed` sets the pin's speed factor until the first bond breaks
+(`bending.INTACT_PIN_SPEED`, for comparing loading rules).
+"""
+
+import argparse
+import json
+
+import numpy as np
+
+from rockcal.campaign.config import load_campaign
+from rockcal.campaign.forward import run_spec, specimen_of
+from rockcal.labtests import bending
+from rockcal.params import make_params
+
+CAMPAIGN_POINT = {"E_c": 21.42, "kn_ks": 1.970, "sigma_c": 36.28}  # runs/granite-bench5's, rounded
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--seeds", type=int, default=3)
+    parser.add_argument("--rates", type=float, nargs="+", default=[1.0, 0.5])
+    parser.add_argument("--intact-speed", type=float, default=bending.INTACT_PIN_SPEED)
+    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
+    args = parser.parse_args()
+    point = CAMPAIGN_POINT | {k: float(v) for k, v in (item.split("=", 1) for item in args.set)}
+    bending.INTACT_PIN_SPEED = args.intact_speed
+    campaign, _ = load_campaign(None)
+    k_ic = {}
+    for rate in args.rates:
+        for seed in range(1, args.seeds + 1):
+            settings = campaign.specimen.model_copy(update={"seed": seed})
+            spec = run_spec("bending", settings, campaign.fixed_params() | point)
+            s = dict(spec.specimen)
+            result = bending.simulate_bending(
+                make_params(dict(spec.params)), specimen_of("bending", spec.specimen),
+                bending.beam_of(s), rate_factor=rate, stop_fraction=s["stop_fraction"],
+                contact_stiffness=s["contact_stiffness"])
+            k_ic[rate, seed] = result.K_IC_MPa_sqrt_m
+            print(json.dumps({"rate_factor": rate, "seed": seed, "intact_speed": args.intact_speed,
+                              "K_IC_MPa_sqrt_m": round(result.K_IC_MPa_sqrt_m, 4),
+                              "P_max_kN_per_m": round(result.P_max_kN_per_m, 2),
+                              "steps": result.steps, "wall_s": round(result.wall_s, 1)}), flush=True)
+    first = np.mean([k_ic[args.rates[0], s] for s in range(1, args.seeds + 1)])
+    for rate in args.rates:
+        mean = np.mean([k_ic[rate, s] for s in range(1, args.seeds + 1)])
+        print(f"rate {rate:g}: mean K_IC {mean:.4f} MPa m^0.5 ({100 * (mean / first - 1):+.2f} %)")
+
+
+if __name__ == "__main__":
+    main()
