@@ -234,7 +234,6 @@ def bending(
     beam = Beam(length_mm, height_mm, notch_mm, notch_width_mm, span_mm)
     with as_flags():
         check_beam(beam, rmin_mm, radius_ratio)
-    with as_flags():
         check_stop_fraction(stop_fraction)
     genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
 
