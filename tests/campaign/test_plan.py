@@ -113,3 +113,18 @@ def test_the_campaign_bar_counts_expected_seconds_not_runs():
     assert campaign() == (60.0, 150, "17/18")
     progress("samples and checks", 2, 2)
     assert campaign() == (150.1, 150, "18/18")
+
+
+def test_a_machine_twice_as_slow_expects_twice_the_time(tmp_path, monkeypatch):
+    """Before the store holds any run, the expected time follows this machine's engine probe."""
+    from rockcal.campaign import plan
+
+    campaign = parse_campaign("[targets.ucs]\nE_GPa = 20.0\n[search]\nbounds = { E_c = [10, 30] }\n",
+                              tmp_path)
+    store = RunStore(tmp_path / "out")
+    monkeypatch.setattr(plan, "probe_ms_per_step", lambda: plan.REFERENCE_PROBE_MS)
+    here = plan.expected_s(campaign, store, workers=2)
+    monkeypatch.setattr(plan, "probe_ms_per_step", lambda: 2 * plan.REFERENCE_PROBE_MS)
+    assert plan.expected_s(campaign, store, workers=2) == pytest.approx(2 * here)
+    assert "0.5x the reference machine's" in describe(campaign, store, workers=2)[-1]
+

@@ -1,7 +1,8 @@
 """What a campaign will run and about how long it will take: shown before it starts.
 
 A run's time is the mean of the test's runs on the same specimen that the store already holds;
-without any, it is scaled from the full-size granite UCS run of docs/benchmarks.md. Work per
+without any, it is scaled from the full-size granite UCS run of docs/benchmarks.md by this
+machine's speed against the reference machine's (`engine_speed`: a one-second probe). Work per
 step grows with the grains, and the steps of a test with its rows of grains (the loading speed
 is set per row), so a run's time goes about as grains x rows (measured on idle cores); a
 full-size bending run about 1.7 times slower than that (its steps grow with span² / height).
@@ -17,14 +18,18 @@ import re
 import numpy as np
 
 from rockcal.campaign.config import Campaign, SpecimenSettings
+from rockcal.campaign.engine_speed import probe_ms_per_step
 from rockcal.campaign.forward import run_spec
 from rockcal.campaign.procedure import PACKINGS_AND_VALIDATION, SAMPLES_AND_CHECKS, sample_points
 from rockcal.inverse import design
 from rockcal.labtests.registry import lab_test
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
-REFERENCE_RUN_S = 64.0  # its mean UCS run on one thread, two at a time on idle cores (the granite campaign's, UCS revision 2)
-WORK_EXPONENT = 1.0  # run time ~ work: on idle cores the half-resolution UCS runs take 6.4 s, 1/10 of the full-size 64 s (work 1/8)
+# its mean UCS run on one thread, two at a time on idle cores (runs/granite-bench8, docs/benchmarks.md),
+# on a machine where engine_speed.probe_ms_per_step() gave REFERENCE_PROBE_MS
+REFERENCE_RUN_S = 105.3
+REFERENCE_PROBE_MS = 0.561
+WORK_EXPONENT = 1.0  # run time ~ work: there the half-resolution UCS runs took 12.4 s, 1/8.5 of the full-size 105.3 s (work 1/8)
 # a run's time over the work-scaled UCS run's: 1.5 measured at bending revision 5
 # (runs/granite-bench8; about 1.9 from its steps on the machine of REFERENCE_RUN_S), 3.0 at 4
 SLOWER_THAN_WORK = {"bending": 1.7}
@@ -120,11 +125,16 @@ def run_times(campaign: Campaign, store, sizes: dict) -> tuple[dict[str, float],
     measured = {test: stored_runs_s(store, test, s) for test in sizes}
     ucs_work = sizes["ucs"][2]
     ucs_s = float(np.mean(measured["ucs"])) if measured["ucs"] else \
-        REFERENCE_RUN_S * (ucs_work / REFERENCE_WORK) ** WORK_EXPONENT
+        reference_run_s() * (ucs_work / REFERENCE_WORK) ** WORK_EXPONENT
     times = {test: float(np.mean(measured[test])) if measured[test] else
              ucs_s * (size[2] / ucs_work) ** WORK_EXPONENT * SLOWER_THAN_WORK.get(test, 1.0)
              for test, size in sizes.items()}
     return times, bool(measured["ucs"])
+
+
+def reference_run_s() -> float:
+    """The full-size granite UCS run's expected time on this machine (s)."""
+    return REFERENCE_RUN_S * probe_ms_per_step() / REFERENCE_PROBE_MS
 
 
 def runs_to_do(campaign: Campaign, store) -> list[tuple[str, str, int]]:
@@ -195,7 +205,8 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
     if workers:
         times, measured = run_times(campaign, store, sizes)
         basis = ("the mean of this store's UCS runs" if measured else
-                 "scaled from the full-size granite run on a reference machine; ±2x between machines")
+                 f"scaled from the full-size granite run by this machine's engine speed, "
+                 f"{REFERENCE_PROBE_MS / probe_ms_per_step():.2g}x the reference machine's")
         lines.append(f"expected: about {_duration(expected_s(campaign, store, workers))} on "
                      f"{workers} worker{'s' if workers > 1 else ''} "
                      f"for the {' and '.join(f'{n} {lab_test(t).title}' for t, n in runs.items())} runs "
