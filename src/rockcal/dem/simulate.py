@@ -84,7 +84,7 @@ class Walls(NamedTuple):
 
     def total_force(self) -> np.ndarray:
         """Force on each wall (left, right, bottom, top), compression positive, N per m."""
-        return self.force.sum(axis=0)
+        return _column_sums(self.force)
 
 
 @dataclass
@@ -107,6 +107,16 @@ class State:
 
     def n_broken(self, mode: int) -> int:
         return int(np.count_nonzero(self.bonds.state == mode))
+
+
+@njit(cache=True)
+def _column_sums(a):
+    """a.sum(axis=0) of a C-ordered 2D array, row after row as numpy adds them, compiled."""
+    out = np.zeros(a.shape[1])
+    for k in range(a.shape[0]):
+        for c in range(a.shape[1]):
+            out[c] += a[k, c]
+    return out
 
 
 # How a contact's normal stiffness follows from E_c (`laws.Laws`): PFC 5's deformability
