@@ -1,5 +1,6 @@
-"""Engine throughput: time per step by phase, particle-steps/s on 1 and 2 threads, and the ratio
-to the bare bond loop (`../shared/bench/bond_loop.py`) run in the same process.
+"""Engine throughput: time per step by phase (and of the bond phase's parts, each alone),
+particle-steps/s on 1 and 2 threads, and the ratio to the bare bond loop
+(`../shared/bench/bond_loop.py`) run in the same process.
 
 Run by hand: `python benchmarks/engine_profile.py [--steps 1000] [--rounds 3] [--bond-loop PATH]`. The
 specimen is the full-size UCS one (50 x 100 mm, R_min 0.25 mm, granite genesis) at the source
@@ -17,6 +18,7 @@ from pathlib import Path
 
 import numba
 import numpy as np
+from numba import njit
 
 import rockcal
 from rockcal.dem import laws, simulate
@@ -63,6 +65,34 @@ def phases(state, steps: int) -> dict:
             0, n, p.disks, p.loads, state.damping, state.dt, pairs.pos_at_build), steps),
         "neighbour list (per rebuild)": rebuild,
     }
+
+
+@njit(error_model="numpy")
+def _bond_parts(parts, first, last, disks, pi, pj, contact_shear, bonds, law, dt, loads):
+    """The bond phase's loop with only some of its parts: 1 the gather of the disks' data, 2 of
+    the bond rows, 4 the vector law, 8 the scatter (their sum: the whole phase)."""
+    tile = np.zeros((laws.TILE_ROWS, laws.TILE))
+    for start in range(first, last, laws.TILE):
+        count = min(laws.TILE, last - start)
+        if parts & 1:
+            laws._gather(start, count, disks, pi, pj, tile)
+        if parts & 2:
+            laws._gather_bonds(start, count, contact_shear, bonds.rows, tile)
+        if parts & 4:
+            laws._bond_law(start, count, bonds.state, law, dt, tile)
+        if parts & 8:
+            laws._scatter(start, count, disks, pi, pj, tile, contact_shear, bonds, loads)
+
+
+def bond_parts(state, steps: int) -> dict:
+    """Seconds per step of each part of the bond phase run alone (one thread), on a copy of the
+    state (the parts alone do not keep it consistent)."""
+    p, pairs = state.particles, state.neighbours
+    args = (0, pairs.n_bonds, p.disks.copy(), pairs.pi, pairs.pj, pairs.shear.copy(),
+            laws.Bonds(*(a.copy() for a in state.bonds)), state.laws, state.dt, p.loads.copy())
+    names = {1: "gather of the disks' data", 2: "gather of the bond rows", 4: "vector law",
+             8: "scatter"}
+    return {name: per_step(lambda: _bond_parts(part, *args), steps) for part, name in names.items()}
 
 
 def load_bond_loop(path: Path):
@@ -121,6 +151,9 @@ def main() -> None:
 
     numba.set_num_threads(1)
     for name, seconds in phases(state, args.steps).items():
+        print(f"  {name:30s} {1e3 * seconds:7.3f} ms")
+    print("the bond phase's parts, each alone:")
+    for name, seconds in bond_parts(ucs_state(), args.steps).items():
         print(f"  {name:30s} {1e3 * seconds:7.3f} ms")
     module = load_bond_loop(args.bond_loop)
     threads = sorted({1, min(2, cap)})

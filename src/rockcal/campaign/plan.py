@@ -4,7 +4,7 @@ A run's time is the mean of the test's runs on the same specimen that the store 
 without any, it is scaled from the full-size granite UCS run of docs/benchmarks.md by this
 machine's speed against the reference machine's (`engine_speed`: a one-second probe). Work per
 step grows with the grains, and the steps of a test with its rows of grains (the loading speed
-is set per row), so a run's time goes about as grains x rows (measured on idle cores); a
+is set per row), so a run's time goes about as (grains x rows)^1.1 (measured on idle cores); a
 full-size bending run about 1.7 times slower than that (its steps grow with span² / height).
 A stage runs in rounds of one run per worker; the runs of a last, short round share the
 cores (a run alone on two cores goes LONE_RUN_SPEED_UP times faster than one of two at once).
@@ -29,7 +29,9 @@ REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS speci
 # on a machine where engine_speed.probe_ms_per_step() gave REFERENCE_PROBE_MS
 REFERENCE_RUN_S = 105.3
 REFERENCE_PROBE_MS = 0.561
-WORK_EXPONENT = 1.0  # run time ~ work: there the half-resolution UCS runs took 12.4 s, 1/8.5 of the full-size 105.3 s (work 1/8)
+# run time ~ work^WORK_EXPONENT: with the readings compiled, a half-resolution UCS run takes 1/10.3
+# of the full-size one at the same point, on one thread (work 1/8; 1/8.5 before, runs/granite-bench8)
+WORK_EXPONENT = 1.1
 # a run's time over the work-scaled UCS run's: 1.5 measured at bending revision 5
 # (runs/granite-bench8; about 1.9 from its steps on the machine of REFERENCE_RUN_S), 3.0 at 4
 SLOWER_THAN_WORK = {"bending": 1.7}
