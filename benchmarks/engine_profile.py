@@ -118,8 +118,56 @@ def bare_loop_seconds_per_step(module, n: int, steps: int) -> tuple[float, int]:
     return ms / 1e3, bonds
 
 
-def bare_loop_on_specimen(module, state, steps: int) -> float:
-    """Seconds per step of the bare loop's `step` over this specimen's own disks and bonds."""
+@njit
+def _bare_step_with_bond_state(pos, vel, rot, spin, force, moment, bi, bj, kn, ks, kb, rest, inv_m,
+                               inv_i, rad, dt, nsteps, rows, shear):
+    """The bare loop's step (`../shared/bench/bond_loop.py`) carrying what a PFC bond must keep
+    from step to step: it reads and writes each bond's normal and shear forces, moment and contact
+    shear force, and reads its reference overlap and two strengths; its arithmetic stays the
+    bare loop's. The engine's floor, less the PFC law's own arithmetic."""
+    n = pos.shape[0]
+    for _ in range(nsteps):
+        for k in range(n):
+            force[k, 0] = 0.0
+            force[k, 1] = 0.0
+            moment[k] = 0.0
+        for b in range(bi.shape[0]):
+            i = bi[b]
+            j = bj[b]
+            dx = pos[j, 0] - pos[i, 0]
+            dy = pos[j, 1] - pos[i, 1]
+            d = np.sqrt(dx * dx + dy * dy)
+            nx = dx / d
+            ny = dy / d
+            fn = kn * (d - rest[b]) + 1e-30 * (rows[b, 3] + rows[b, 4] + rows[b, 5])
+            vs = ((vel[j, 1] - vel[i, 1]) * nx - (vel[j, 0] - vel[i, 0]) * ny
+                  - spin[i] * rad[i] - spin[j] * rad[j])
+            fs = rows[b, 1] + ks * vs * dt
+            m = rows[b, 2] + kb * (rot[j] - rot[i])
+            shear[b] = 0.5 * shear[b] + fs
+            rows[b, 0] = fn
+            rows[b, 1] = fs
+            rows[b, 2] = m
+            fx = fn * nx - fs * ny
+            fy = fn * ny + fs * nx
+            force[i, 0] += fx
+            force[i, 1] += fy
+            force[j, 0] -= fx
+            force[j, 1] -= fy
+            moment[i] += m + rad[i] * fs
+            moment[j] += -m + rad[j] * fs
+        for k in range(n):
+            vel[k, 0] += force[k, 0] * inv_m[k] * dt
+            vel[k, 1] += force[k, 1] * inv_m[k] * dt
+            spin[k] += moment[k] * inv_i[k] * dt
+            pos[k, 0] += vel[k, 0] * dt
+            pos[k, 1] += vel[k, 1] * dt
+            rot[k] += spin[k] * dt
+
+
+def bare_loop_on_specimen(module, state, steps: int, bond_state: bool = False) -> float:
+    """Seconds per step of the bare loop's `step` over this specimen's own disks and bonds (with
+    `bond_state`: of `_bare_step_with_bond_state`)."""
     p, nb = state.particles, state.neighbours.n_bonds
     bi, bj = state.neighbours.pi[:nb].copy(), state.neighbours.pj[:nb].copy()
     pos, radius = p.pos.copy(), p.radius.copy()
@@ -129,9 +177,14 @@ def bare_loop_on_specimen(module, state, steps: int) -> float:
     args = (pos, np.random.default_rng(0).normal(0, 1e-4, (n, 2)), np.zeros(n), np.zeros(n),
             np.zeros((n, 2)), np.zeros(n), bi, bj, kn, kn / 2, kn * radius.mean()**2 / 3, rest,
             p.inv_mass.copy(), p.inv_inertia.copy(), radius, dt)
-    module.step(*args, 10)
+    if bond_state:
+        nb = len(bi)
+        step = lambda k: _bare_step_with_bond_state(*args, k, np.zeros((nb, 8)), np.zeros(nb))
+    else:
+        step = lambda k: module.step(*args, k)
+    step(10)
     started = time.perf_counter()
-    module.step(*args, steps)
+    step(steps)
     return (time.perf_counter() - started) / steps
 
 
@@ -157,7 +210,7 @@ def main() -> None:
         print(f"  {name:30s} {1e3 * seconds:7.3f} ms")
     module = load_bond_loop(args.bond_loop)
     threads = sorted({1, min(2, cap)})
-    best = {key: np.inf for key in [*threads, "bare", "same"]}
+    best = {key: np.inf for key in [*threads, "bare", "same", "state"]}
     for _ in range(args.rounds):
         for t in threads:
             numba.set_num_threads(t)
@@ -167,6 +220,8 @@ def main() -> None:
         bare, bare_bonds = bare_loop_seconds_per_step(module, n, 2 * args.steps)
         best["bare"] = min(best["bare"], bare)
         best["same"] = min(best["same"], bare_loop_on_specimen(module, ucs_state(), 2 * args.steps))
+        best["state"] = min(best["state"], bare_loop_on_specimen(module, ucs_state(), 2 * args.steps,
+                                                                 bond_state=True))
     print(f"fastest of {args.rounds} rounds, each timing the engine and the bare loop in turn:")
     for t in threads:
         print(f"engine, {t} thread(s): {1e3 * best[t]:.3f} ms/step, "
@@ -178,6 +233,8 @@ def main() -> None:
           f"{(nb / one) / (bare_bonds / bare):.2f} per bond-step")
     print(f"bare loop's step on this specimen's {nb} bonds, 1 thread: {1e3 * best['same']:.3f} "
           f"ms/step; ratio {best['same'] / one:.2f}")
+    print(f"the same carrying a PFC bond's state (forces, moment, contact shear, strengths): "
+          f"{1e3 * best['state']:.3f} ms/step")
     if 2 in best:
         print(f"2 threads / 1 thread: {one / best[2]:.2f}x")
 
