@@ -134,9 +134,14 @@ def run_times(campaign: Campaign, store, sizes: dict) -> tuple[dict[str, float],
     return times, bool(measured["ucs"])
 
 
+def machine_speed() -> float:
+    """This machine's engine speed over the reference machine's (the probe's times inverted)."""
+    return REFERENCE_PROBE_MS / probe_ms_per_step()
+
+
 def reference_run_s() -> float:
     """The full-size granite UCS run's expected time on this machine (s)."""
-    return REFERENCE_RUN_S * probe_ms_per_step() / REFERENCE_PROBE_MS
+    return REFERENCE_RUN_S / machine_speed()
 
 
 def runs_to_do(campaign: Campaign, store) -> list[tuple[str, str, int]]:
@@ -208,7 +213,7 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
         times, measured = run_times(campaign, store, sizes)
         basis = ("the mean of this store's UCS runs" if measured else
                  f"scaled from the full-size granite run by this machine's engine speed, "
-                 f"{REFERENCE_PROBE_MS / probe_ms_per_step():.2g}x the reference machine's")
+                 f"{machine_speed():.2g}x the reference machine's")
         lines.append(f"expected: about {_duration(expected_s(campaign, store, workers))} on "
                      f"{workers} worker{'s' if workers > 1 else ''} "
                      f"for the {' and '.join(f'{n} {lab_test(t).title}' for t, n in runs.items())} runs "
