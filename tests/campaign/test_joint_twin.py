@@ -1,11 +1,13 @@
 """A twin experiment on joint targets: UCS (E, nu, UCS) and Brazilian (sigma_t) targets made by
 the engine at known E_c, kn/ks, sigma_c and tau_c, all four recovered by `rockcal calibrate`.
 
-With tau_c 1.5 x sigma_c the two tests see the two bond strengths differently: a 10 % change of
-sigma_c moves the UCS by -7 % / +5 % and sigma_t by -2 % / +1 %, one of tau_c moves sigma_t by
--6 % / +8 % (the disk crushes under the platens) and the UCS by -4 % / +2 %. Nearer tau_c =
-sigma_c both follow tau_c alike and sigma_c is barely seen (at sigma_c 40, tau_c 50 a point with
-sigma_c 7 % low matches all four targets within 0.5 %).
+With tau_c 1.5 x sigma_c the two tests see the two bond strengths differently, though on this
+202-disk specimen sigma_c only faintly (UCS revision 3): a 10 % change of sigma_c moves the UCS
+by -1.7 % / +3.8 % and sigma_t by -1.6 % / +0.8 %, one of tau_c moves the UCS by -3.8 % / +7.7 %
+(and sigma_t by -6 % / +8 %: the disk crushes under the platens). So targets met within the
+0.5 % tolerance pin E_c, kn/ks and tau_c down within 5 % but sigma_c only within about 10 %
+(a point with sigma_c 8 % low and tau_c 2 % high matches all four). Nearer tau_c = sigma_c
+both tests follow tau_c alike and sigma_c is barely seen at all.
 """
 
 import json
@@ -19,6 +21,7 @@ import rockcal
 from rockcal.labtests.brazilian import brazilian_disk, simulate_brazilian
 
 TRUE = {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 30.0, "tau_c": 45.0}
+RECOVERED_WITHIN = {"E_c": 0.05, "kn_ks": 0.05, "sigma_c": 0.10, "tau_c": 0.05}  # see above
 FIXED = {"mu": 0.5}
 # the UCS specimen of tests/campaign/test_calibrate.py (202 disks) and a 20 mm disk (290 disks)
 SPECIMEN = {"rmin_mm": 0.4, "width_mm": 10.0, "height_mm": 20.0, "seed": 2, "disk_diameter_mm": 20.0}
@@ -71,7 +74,7 @@ def test_ucs_and_brazilian_targets_recover_all_four_parameters(twin):
     result, _ = twin
     assert result["accepted"]
     for name, truth in TRUE.items():
-        assert result["identified"][name] == pytest.approx(truth, rel=0.05), name
+        assert result["identified"][name] == pytest.approx(truth, rel=RECOVERED_WITHIN[name]), name
     assert result["target_tests"] == {"ucs": ["E_GPa", "nu", "ucs_MPa"], "brazilian": ["sigma_t_MPa"]}
     assert set(result["relative_errors"]) == {"E_GPa", "nu", "ucs_MPa", "sigma_t_MPa"}
     assert all(abs(e) <= result["tolerance"] for e in result["relative_errors"].values())

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from rockcal.dem.laws import INTACT
-from rockcal.dem.simulate import advance, new_state
+from rockcal.dem.simulate import TIME_STEP_SAFETY, advance, new_state, scale_density, stable_time_step
 from rockcal.params import make_params
 
 T = 1.0
@@ -225,3 +225,27 @@ def test_angular_momentum_of_a_free_spinning_pair_is_conserved(gap_fraction):
         advance(state, chunk)
         history.append(momentum())
     np.testing.assert_allclose(history, l0, rtol=1e-6)
+
+
+
+def test_density_scaling_gives_each_disk_the_mass_its_stiffness_allows():
+    """A bonded pair of unequal disks (E_c = 0): each disk's stiffness is the bond's normal spring
+    k plus a wall's 2 Ebar_c t (counted for every disk, as PFC does), so density scaling gives
+    both the mass (k + k_wall) (dt / safety)^2 and the moment of inertia (ks_bar r^2 + k_bend)
+    (dt / safety)^2 of their own radius; the time step stays; a held disk stays held."""
+    r0, r1 = 1.0e-3, 1.6e-3
+    state, k, _ = oscillator(r0, r1, 0.0)
+    dt, heavy = state.dt, 1.0 / state.particles.inv_mass[1]
+    scale_density(state)
+    assert stable_time_step(state) == pytest.approx(dt, rel=1e-12)
+    critical_sq = (dt / TIME_STEP_SAFETY) ** 2
+    k_wall = 2 * EBAR * GPA * T
+    np.testing.assert_allclose(1.0 / state.particles.inv_mass, (k + k_wall) * critical_sq, rtol=1e-12)
+    ks_bar = k / make_params({}).knbar_ksbar
+    k_bend = EBAR * GPA / (r0 + r1) * 2 / 3 * r0**3 * T
+    np.testing.assert_allclose(1.0 / state.particles.inv_inertia,
+                               (ks_bar * np.array([r0, r1]) ** 2 + k_bend) * critical_sq, rtol=1e-12)
+    assert 1.0 / state.particles.inv_mass[1] < heavy
+    held, _, _ = oscillator(r0, r1, 0.0, hold_0=True)
+    scale_density(held)
+    assert held.particles.inv_mass[0] == 0.0 and held.particles.inv_inertia[0] == 0.0
