@@ -5,7 +5,7 @@ without any, it is scaled from the full-size granite UCS run of docs/benchmarks.
 machine's speed against the reference machine's (`engine_speed`: a one-second probe). Work per
 step grows with the grains, and the steps of a test with its rows of grains (the loading speed
 is set per row), so a run's time goes about as (grains x rows)^1.1 (measured on idle cores); a
-full-size bending run about 1.7 times slower than that (its steps grow with span² / height).
+full-size bending run about 2.7 times slower than that (its steps grow with span² / height).
 A stage runs in rounds of one run per worker; the runs of a last, short round share the
 cores (a run alone on two cores goes LONE_RUN_SPEED_UP times faster than one of two at once).
 """
@@ -25,16 +25,18 @@ from rockcal.inverse import design
 from rockcal.labtests.registry import lab_test
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
-# its mean UCS run on one thread, two at a time on idle cores (runs/granite-bench8, docs/benchmarks.md),
-# on a machine where engine_speed.probe_ms_per_step() gave REFERENCE_PROBE_MS
-REFERENCE_RUN_S = 105.3
-REFERENCE_PROBE_MS = 0.561
+# its mean UCS run on one thread, two at a time on idle cores (runs/granite-bench10, UCS revision 3,
+# docs/benchmarks.md), on a machine where engine_speed.probe_ms_per_step() gave REFERENCE_PROBE_MS
+# (the mean of 0.70 before that campaign and 0.62 after it)
+REFERENCE_RUN_S = 77.3
+REFERENCE_PROBE_MS = 0.66
 # run time ~ work^WORK_EXPONENT: with the readings compiled, a half-resolution UCS run takes 1/10.3
 # of the full-size one at the same point, on one thread (work 1/8; 1/8.5 before, runs/granite-bench8)
 WORK_EXPONENT = 1.1
-# a run's time over the work-scaled UCS run's: 1.5 measured at bending revision 5
-# (runs/granite-bench8; about 1.9 from its steps on the machine of REFERENCE_RUN_S), 3.0 at 4
-SLOWER_THAN_WORK = {"bending": 1.7}
+# a run's time over the work-scaled UCS run's: for bending 3.3 in runs/granite-bench10 and 2.2 from
+# runs/granite-bench8's beams (1.5 there) with UCS revision 3's shorter UCS runs (a beam's time per
+# step moved by 1.4 between the two on the same machine, a UCS run's did not)
+SLOWER_THAN_WORK = {"bending": 2.7}
 LONE_RUN_SPEED_UP = 1.4  # measured alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
 DRAW_S = 0.05  # one search on the surrogate for the parameters' intervals (main process; 200 took 8 s in runs/granite-bench4)
 
