@@ -227,10 +227,9 @@ def test_angular_momentum_of_a_free_spinning_pair_is_conserved(gap_fraction):
     np.testing.assert_allclose(history, l0, rtol=1e-6)
 
 
-
 def test_density_scaling_gives_each_disk_the_mass_its_stiffness_allows():
     """A bonded pair of unequal disks (E_c = 0): each disk's stiffness is the bond's normal spring
-    k plus a wall's 2 Ebar_c t (counted for every disk, as PFC does), so density scaling gives
+    k plus a wall's 2 Ebar_c t (counted for every disk, as the time step counts it), so density scaling gives
     both the mass (k + k_wall) (dt / safety)^2 and the moment of inertia (ks_bar r^2 + k_bend)
     (dt / safety)^2 of their own radius; the time step stays; a held disk stays held."""
     r0, r1 = 1.0e-3, 1.6e-3

@@ -4,9 +4,9 @@ Readings as PFC users make them: UCS = peak axial stress; E and nu secant at hal
 nu from the lateral displacement of the sides. The axial strain is read from the platen
 separation (FISHTank's wall-based strain, "platen") or from the specimen's own top and bottom
 particles, like gauges on a lab sample ("gauge"). The platens (`rockcal.labtests.platens`)
-close at a quasi-static speed, slower where bonds break (`rockcal.labtests.loading`); the test
-stops once the stress has fallen below a fraction of the peak (FISHTank's ct_loadFac), or at
-the maximum axial strain.
+close at a quasi-static speed on the density-scaled specimen (`simulate.scale_density`), slower
+where bonds break (`rockcal.labtests.loading`); the test stops once the stress has fallen below
+a fraction of the peak (FISHTank's ct_loadFac), or at the maximum axial strain.
 """
 
 from __future__ import annotations
@@ -32,8 +32,8 @@ DEFAULT_STRAIN = "gauge"
 DEFAULT_MAX_AXIAL_STRAIN = 0.02
 # The specimen's masses are density-scaled (`simulate.scale_density`), so its platens close
 # this much faster than an unscaled specimen's, and their ramp and the loading rule's window
-# are this much shorter, for the same equilibrium: on the full-size granite specimens halving
-# the speed moves E, nu and UCS by at most 0.5 % (docs/benchmarks.md, "Density scaling").
+# are this much shorter, for the same equilibrium: on three full-size granite specimens halving
+# the speed moves E, nu and UCS by at most 1.0 % (docs/benchmarks.md, "Density scaling").
 DENSITY_SCALED_SPEED = 1.6
 
 
