@@ -135,10 +135,11 @@ def test_the_fall_must_last_two_flexural_periods_of_the_beam():
     """The source's beam at the source's point (issue 14): Euler-Bernoulli's first period,
     T = 2 sqrt(12) S^2 / (pi W c), is 254 us, 4 130 steps at R_min 0.5 mm, where the load
     read at the pin after the pin touched swings with a period of about 4 100 steps. It grows
-    as S^2 / W."""
+    as S^2 / W, and as the square root of the masses where they are density-scaled."""
     params = make_params({})
     c = wave_speed_m_per_s(params, porosity=0.1647)
     assert c == pytest.approx(np.sqrt(43.3e9 / (2622 * (1 - 0.1647))))
+    assert wave_speed_m_per_s(params, 0.1647, mass_scale=0.25) == pytest.approx(2 * c)
     period = flexural_period_s(Beam(), c)
     assert period == pytest.approx(254e-6, rel=0.01)
     assert flexural_period_s(Beam(span_mm=200.0, length_mm=260.0), c) == pytest.approx(
@@ -148,6 +149,7 @@ def test_the_fall_must_last_two_flexural_periods_of_the_beam():
     steps = confirm_steps(SMALL, params, spec, dt_s=1e-8)
     assert steps == pytest.approx(CONFIRM_FLEXURAL_PERIODS * flexural_period_s(
         SMALL, wave_speed_m_per_s(params, spec.porosity)) / 1e-8)
+    assert confirm_steps(SMALL, params, spec, 1e-8, mass_scale=0.25) == pytest.approx(steps / 2)
 
 
 def test_a_swing_of_the_beam_below_the_stop_fraction_does_not_stop_it():

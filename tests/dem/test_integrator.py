@@ -231,11 +231,14 @@ def test_density_scaling_gives_each_disk_the_mass_its_stiffness_allows():
     """A bonded pair of unequal disks (E_c = 0): each disk's stiffness is the bond's normal spring
     k plus a wall's 2 Ebar_c t (counted for every disk, as the time step counts it), so density scaling gives
     both the mass (k + k_wall) (dt / safety)^2 and the moment of inertia (ks_bar r^2 + k_bend)
-    (dt / safety)^2 of their own radius; the time step stays; a held disk stays held."""
+    (dt / safety)^2 of their own radius; the time step stays; a held disk stays held. It returns
+    the pair's scaled mass over its true mass."""
     r0, r1 = 1.0e-3, 1.6e-3
     state, k, _ = oscillator(r0, r1, 0.0)
     dt, heavy = state.dt, 1.0 / state.particles.inv_mass[1]
-    scale_density(state)
+    true_mass = np.sum(1.0 / state.particles.inv_mass)
+    mass_scale = scale_density(state)
+    assert mass_scale == pytest.approx(np.sum(1.0 / state.particles.inv_mass) / true_mass, rel=1e-12)
     assert stable_time_step(state) == pytest.approx(dt, rel=1e-12)
     critical_sq = (dt / TIME_STEP_SAFETY) ** 2
     k_wall = 2 * EBAR * GPA * T

@@ -216,20 +216,23 @@ def stable_time_step(state: State) -> float:
     return TIME_STEP_SAFETY * float(min(dt_t.min(), dt_r.min()))
 
 
-def scale_density(state: State) -> None:
+def scale_density(state: State) -> float:
     """Density scaling for quasi-static tests, as PFC's timestep scaling (`model mechanical
     timestep scale`) scales the inertial masses: each free particle's mass and moment of
     inertia are lowered so that its own critical time step equals the specimen's smallest, the
     time step unchanged (set once, on the listed pairs). The heavy particles no longer lag
     behind the light one that sets the time step: stress waves cross the specimen in fewer
     steps, and a test may load it faster for the same equilibrium (each test's loading rate is
-    its own, checked by halving it)."""
+    its own, checked by halving it). Returns the free particles' scaled mass over their true
+    mass."""
     p = state.particles
     k_trans, k_rot = _stiffness_sums(state)
     critical_s = state.dt / TIME_STEP_SAFETY
     free = p.inv_mass > 0
+    true_mass = np.sum(1.0 / p.inv_mass[free])
     p.inv_mass[free] = 1.0 / (k_trans[free] * critical_s**2)
     p.inv_inertia[free] = 1.0 / (np.maximum(k_rot[free], 1e-300) * critical_s**2)
+    return float(np.sum(1.0 / p.inv_mass[free]) / true_mass)
 
 
 def _stiffness_sums(state: State) -> tuple[np.ndarray, np.ndarray]:
