@@ -33,10 +33,11 @@ REFERENCE_PROBE_MS = 0.66
 # run time ~ work^WORK_EXPONENT: with the readings compiled, a half-resolution UCS run takes 1/10.3
 # of the full-size one at the same point, on one thread (work 1/8; 1/8.5 before, runs/granite-bench8)
 WORK_EXPONENT = 1.1
-# a run's time over the work-scaled UCS run's: for bending 3.3 in runs/granite-bench10 and 2.2 from
-# runs/granite-bench8's beams (1.5 there) with UCS revision 3's shorter UCS runs (a beam's time per
-# step moved by 1.4 between the two on the same machine, a UCS run's did not)
-SLOWER_THAN_WORK = {"bending": 2.7}
+# a run's time over the work-scaled UCS run's: for bending 2.3 in runs/granite-bench11 (bending
+# revision 6), 2.7 and 1.8 from the beams of runs/granite-bench10 and -bench8 with revision 6's 19 %
+# fewer steps (a beam's time per step moves by up to 1.4x between hours on the same machine, a UCS
+# run's far less)
+SLOWER_THAN_WORK = {"bending": 2.3}
 LONE_RUN_SPEED_UP = 1.4  # measured alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
 DRAW_S = 0.05  # one search on the surrogate for the parameters' intervals (main process; 200 took 8 s in runs/granite-bench4)
 
