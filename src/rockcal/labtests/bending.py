@@ -250,8 +250,8 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
     def crack_has_run(reading: Reading) -> bool:
         return loading.fallen_below(stop_fraction, reading.load) and bonds.state.any()
 
-    loading = Loading(RAMP_STEPS_PER_ROW * rows / DENSITY_SCALED_SPEED, NOTCH_TIP_DAMAGE, ringing_steps,
-                      intact_speed=INTACT_PIN_SPEED)
+    loading = Loading(RAMP_STEPS_PER_ROW * rows / DENSITY_SCALED_SPEED, NOTCH_TIP_DAMAGE,
+                      ringing_steps, intact_speed=INTACT_PIN_SPEED)
     curve = load_to_failure(state, loading, max(10, int(rows / 4)), move, read, crack_has_run,
                             1e-3 * max_displacement_mm, full_speed_past_peak=True, progress=progress)
     k = int(np.argmax(curve[:, 1]))
