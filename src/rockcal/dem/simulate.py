@@ -13,6 +13,7 @@ Everything is SI; disks have unit thickness (PFC2D convention).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -133,7 +134,7 @@ def law_constants(params: MicroParams, contact_stiffness: str = DEFAULT_CONTACT_
                                               f"got {contact_stiffness!r}")
     return laws.Laws(params.E_c * GPa, 1.0 / params.kn_ks, params.mu, params.Ebar_c * GPa,
                      1.0 / params.knbar_ksbar, params.lambda_,
-                     float(np.tan(np.radians(params.phi_b))), params.mcf,
+                     math.tan(math.radians(params.phi_b)), params.mcf,
                      float(contact_stiffness == "pfc4"))
 
 
@@ -251,7 +252,7 @@ def _stiffness_sums(state: State) -> tuple[np.ndarray, np.ndarray]:
     rb = lam * rmin
     kbn = np.where(bonded, Ebar_c / length * 2 * rb * THICKNESS_M, 0.0)
     kbs = kbn * ksbar_per_knbar
-    kbr = np.where(bonded, Ebar_c / length * 2 / 3 * rb**3 * THICKNESS_M, 0.0)
+    kbr = np.where(bonded, Ebar_c / length * 2 / 3 * (rb * rb * rb) * THICKNESS_M, 0.0)
     n = state.n_particles
     k_trans = np.full(n, state.walls.stiffness)
     k_rot = np.zeros(n)
