@@ -29,7 +29,7 @@ def _run(tmp_path, name: str, env: dict) -> str:
 
 
 def test_the_numbers_do_not_depend_on_numpys_simd_code(tmp_path):
-    umath = getattr(np, "_core", np.core)._multiarray_umath
+    umath = (np._core if hasattr(np, "_core") else np.core)._multiarray_umath  # numpy 2, 1.26
     found = [f for f in getattr(umath, "__cpu_dispatch__", []) if umath.__cpu_features__.get(f)]
     if not found:
         pytest.skip("numpy dispatches no SIMD code beyond its baseline on this CPU")
