@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 RUN = """
-import hashlib, sys
+import hashlib
 import rockcal
 specimen = rockcal.random_packing(10, 20, 0.4, seed=2)
 result = rockcal.simulate_ucs({"E_c": 20, "kn_ks": 2.0, "sigma_c": 40, "tau_c": 200,
