@@ -128,11 +128,12 @@ def crack_rows(cracks: dict[str, np.ndarray]) -> np.ndarray:
                       for code, mode in ((BROKEN_TENSION, "tension"), (BROKEN_SHEAR, "shear"))])
 
 
-def _init_worker(cores: int, busy, live) -> None:
+def _init_worker(cores: int, busy, live, live_interval_s: float) -> None:
     import numba
 
-    global _live, _busy, _cores
+    global _live, _busy, _cores, LIVE_INTERVAL_S
     _live, _busy = live, busy
+    LIVE_INTERVAL_S = live_interval_s  # the parent's: a spawned worker imports the module anew
     _cores = min(cores, numba.config.NUMBA_NUM_THREADS)
     numba.set_num_threads(1)
 
@@ -216,7 +217,8 @@ class Executor:
             self._queue = context.Queue()
             self._pool = ProcessPoolExecutor(
                 self.workers, mp_context=context, initializer=_init_worker,
-                initargs=(os.cpu_count() or 1, context.Value("i", 0), self._queue))
+                initargs=(os.cpu_count() or 1, context.Value("i", 0), self._queue,
+                          LIVE_INTERVAL_S))
         return self._pool
 
     def run(self, specs: Iterable[RunSpec],
