@@ -1,7 +1,7 @@
 """The validation beams' rate check: the embedded granite campaign's full-size beams (its
 specimen settings, its seed and the next N - 1) at a point, at the pin's speed and at half of it.
 
-Run by hand: `python benchmarks/bending_rate.py [--seeds 3] [--rates 1 0.5] [--intact-speed 2]
+Run by hand: `python benchmarks/bending_rate.py [--seeds 3] [--first-seed 1] [--rates 1 0.5] [--intact-speed 2]
 [--set E_c=21.42 --set kn_ks=1.970 --set sigma_c=36.28]` (one thread per beam, the beams one
 after the other; about 5 min per beam on one core). Prints each beam's K_IC, P_max and steps,
 then each rate's three-beam mean and its change against the first rate.
@@ -26,6 +26,7 @@ CAMPAIGN_POINT = {"E_c": 21.42, "kn_ks": 1.970, "sigma_c": 36.28}  # runs/granit
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--seeds", type=int, default=3)
+    parser.add_argument("--first-seed", type=int, default=None, help="default: the campaign's seed")
     parser.add_argument("--rates", type=float, nargs="+", default=[1.0, 0.5])
     parser.add_argument("--intact-speed", type=float, default=bending.INTACT_PIN_SPEED)
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
@@ -33,7 +34,7 @@ def main() -> None:
     point = CAMPAIGN_POINT | {k: float(v) for k, v in (item.split("=", 1) for item in args.set)}
     bending.INTACT_PIN_SPEED = args.intact_speed
     campaign, _ = load_campaign(None)
-    seeds = seed_list(campaign.specimen.seed, args.seeds)
+    seeds = seed_list(args.first_seed or campaign.specimen.seed, args.seeds)
     k_ic = {}
     for rate in args.rates:
         for seed in seeds:

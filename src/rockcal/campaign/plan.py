@@ -20,8 +20,11 @@ import numpy as np
 from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.engine_speed import probe_ms_per_step
 from rockcal.campaign.forward import run_spec
-from rockcal.campaign.procedure import PACKINGS_AND_VALIDATION, SAMPLES_AND_CHECKS, sample_points
+from rockcal.campaign.procedure import (PACKINGS_AND_VALIDATION, SAMPLES_AND_CHECKS, sample_points,
+                                        validation_seeds)
+from rockcal.dem.specimen import packing_name, stored_packing
 from rockcal.inverse import design
+from rockcal.labtests.seeds import seed_list
 from rockcal.labtests.registry import lab_test
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
@@ -79,13 +82,34 @@ def stages(campaign: Campaign) -> list[tuple[str, str, int]]:
     points += [(SAMPLES_AND_CHECKS, campaign.surrogate.samples + campaign.surrogate.checks),
                ("verification", 1)]
     out = [(stage, test, n) for stage, n in points for test in campaign.target_sections()]
-    for test in campaign.validation_tests():
-        n = campaign.specimen.bending_seeds if test == "bending" else 1
-        out.append((PACKINGS_AND_VALIDATION, test, n))
+    out += [(PACKINGS_AND_VALIDATION, test, len(validation_seeds(campaign, test)))
+            for test in campaign.validation_tests()]
     if campaign.wants_uncertainty():
         out += [(PACKINGS_AND_VALIDATION, test, campaign.uncertainty.packings - 1)
                 for test in campaign.target_sections()]
     return out
+
+
+def specimens(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
+    """(test, specimen settings) of each specimen the campaign runs tests on, once each: the
+    sensitivity runs', the calibration's, its other packings' and the validation tests'."""
+    s = campaign.specimen
+    seeds = seed_list(s.seed, campaign.uncertainty.packings) if campaign.wants_uncertainty() else [s.seed]
+    out = [(test, campaign.sensitivity_specimen()) for test in campaign.target_sections()
+           if campaign.sensitivity is not None]
+    out += [(test, s.model_copy(update={"seed": seed})) for test in campaign.target_sections()
+            for seed in seeds]
+    out += [(test, s.model_copy(update={"seed": seed})) for test in campaign.validation_tests()
+            for seed in validation_seeds(campaign, test)]
+    return list({(test, packing_name(**lab_test(test).packing(settings))): (test, settings)
+                 for test, settings in out}.values())
+
+
+def specimens_to_make(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
+    """The campaign's specimens whose packing is neither in the cache nor shipped with rockcal:
+    their genesis comes first."""
+    return [(test, settings) for test, settings in specimens(campaign)
+            if stored_packing(packing_name(**lab_test(test).packing(settings))) is None]
 
 
 def stage_runs(campaign: Campaign) -> dict[str, int]:
@@ -220,9 +244,19 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
         lines.append(f"expected: about {_duration(expected_s(campaign, store, workers))} on "
                      f"{workers} worker{'s' if workers > 1 else ''} "
                      f"for the {' and '.join(f'{n} {lab_test(t).title}' for t, n in runs.items())} runs "
-                     f"still to do ({_duration(times['ucs'])} per UCS run on one worker: {basis}), "
-                     "plus the specimens' genesis the first time on this machine")
+                     f"still to do ({_duration(times['ucs'])} per UCS run on one worker: {basis})"
+                     + _genesis(campaign))
     return lines
+
+
+def _genesis(campaign: Campaign) -> str:
+    """What the expected time leaves out: the genesis of the specimens not yet made."""
+    made = specimens_to_make(campaign)
+    if not made:
+        return "; every specimen is ready (cached, or shipped with rockcal)"
+    texts = sorted({lab_test(test).outline(lab_test(test).settings_of(s)).text for test, s in made})
+    return (f", plus first the genesis of {len(made)} specimen{'s' if len(made) > 1 else ''} "
+            f"({', '.join(texts)}): minutes for a small one, up to an hour for a full-size beam")
 
 
 def _resolution(campaign: Campaign, stage: str) -> str:

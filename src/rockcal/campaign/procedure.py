@@ -298,16 +298,10 @@ class Calibration:
         return [(settings.model_copy(update={"seed": s}), identified)
                 for s in seed_list(settings.seed, self.campaign.uncertainty.packings)]
 
-    def _validation_seeds(self, test: str) -> list[int]:
-        """The packings a validation test runs on: the bending test's `specimen.bending_seeds`,
-        another test's the campaign's specimen."""
-        settings = self.campaign.specimen
-        return seed_list(settings.seed, settings.bending_seeds) if test == "bending" else [settings.seed]
-
     def _validation_runs(self, test: str, identified: dict) -> list:
         """The runs of a validation test at the identified point."""
         return [run_spec(test, self.campaign.specimen.model_copy(update={"seed": s}), self.fixed | identified)
-                for s in self._validation_seeds(test)]
+                for s in validation_seeds(self.campaign, test)]
 
     def _uncertainty(self, identified: dict, surrogate: RBFSurrogate, box, names) -> Uncertainty:
         """The model's scatter over packings at the identified point (relative sd of each
@@ -353,7 +347,7 @@ class Calibration:
         bending = self.campaign.targets.bending
         if "bending" not in self.campaign.validation_tests():
             return None
-        seeds = self._validation_seeds("bending")
+        seeds = validation_seeds(self.campaign, "bending")
         specs = self._validation_runs("bending", identified)
         results = self._run(specs, None)  # run by _final_runs
         ok = [(seed, spec, r) for seed, spec, r in zip(seeds, specs, results) if r.status == "ok"]
@@ -392,6 +386,13 @@ class Calibration:
                 found["message"] = run.message
             checks.append(Check(**found))
         return checks or None
+
+
+def validation_seeds(campaign: Campaign, test: str) -> list[int]:
+    """The packings a validation test runs on: the bending test's `specimen.bending_seeds`,
+    another test's the campaign's specimen."""
+    s = campaign.specimen
+    return seed_list(s.seed, s.bending_seeds) if test == "bending" else [s.seed]
 
 
 def merge_responses(by_test: dict[str, dict]) -> dict:

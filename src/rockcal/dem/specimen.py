@@ -3,8 +3,8 @@
 A specimen is geometry (centres, radii, bonded pairs) and one uniform draw per bond and
 strength that fixes, with the micro-parameters that come later, each bond's strengths; so one
 specimen serves every forward run of a calibration. Random packings are cached on disk by
-(geometry, resolution, cloud porosity, pressure, seed, generator version); the bonds of an
-installation gap are found on loading.
+(geometry, resolution, cloud porosity, pressure, seed, generator version), and rockcal ships
+the packings of its embedded campaigns; the bonds of an installation gap are found on loading.
 """
 
 from __future__ import annotations
@@ -23,6 +23,10 @@ from rockcal.errors import InputError
 
 GENERATOR_VERSION = 6
 STRENGTH_STREAM = 1  # the bond strength draws' random stream, apart from the packing's
+# The packings of the embedded campaigns (the granite and its quick look), exactly as genesis
+# makes them, shipped so that a first run need not make them (a full-size beam's genesis takes
+# half an hour to over an hour on one core); `benchmarks/shipped_specimens.py` makes and checks them.
+SHIPPED_DIR = Path(__file__).with_name("specimens")
 
 
 @dataclass(frozen=True)
@@ -101,17 +105,16 @@ def hexagonal(width_mm: float, height_mm: float, radius_mm: float) -> Specimen:
 def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
                    radius_ratio: float = 1.65, seed: int = 1, genesis: Genesis | None = None,
                    cache: bool = True) -> Specimen:
-    """A specimen made by PFC's material genesis (`rockcal.dem.genesis`), cached on disk."""
+    """A specimen made by PFC's material genesis (`rockcal.dem.genesis`); kept on disk (found
+    in the cache, or among the packings shipped with rockcal) unless `cache` is False."""
     check_geometry(width_mm, height_mm, rmin_mm, radius_ratio)
     genesis = genesis or Genesis()
-    key = dict(kind="random", width_mm=float(width_mm), height_mm=float(height_mm),  # 50 and 50.0: one key
-               rmin_mm=float(rmin_mm), radius_ratio=float(radius_ratio), seed=int(seed), version=GENERATOR_VERSION,
-               cloud_porosity=genesis.cloud_porosity, pressure_mpa=genesis.pressure_mpa)
-    path = cache_dir() / (hashlib.sha1(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16] + ".npz")
+    name = packing_name(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis)
     label = (f"random {width_mm:g}x{height_mm:g} mm, Rmin {rmin_mm:g} mm x{radius_ratio:g}, "
              f"gap {genesis.install_gap:g} Rmin, seed {seed}")
-    if cache and path.exists():
-        data = np.load(path)
+    found = stored_packing(name) if cache else None
+    if found is not None:
+        data = np.load(found)
         pos, radius, pressure = data["pos"], data["radius"], float(data["pressure_mpa"])
     else:
         from rockcal.dem.packing import pack_box
@@ -122,6 +125,7 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
         order = spatial_order(pos, 4 * radius_ratio * rmin_mm * 1e-3)
         pos, radius = pos[order], radius[order]
         if cache:
+            path = cache_dir() / name
             path.parent.mkdir(parents=True, exist_ok=True)
             tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
             np.savez(tmp, pos=pos, radius=radius, pressure_mpa=pressure)
@@ -131,6 +135,25 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
     left = np.count_nonzero(floaters(pos, radius, width_mm * 1e-3, height_mm * 1e-3))
     return Specimen(pos, radius, bonds, width_mm * 1e-3, height_mm * 1e-3, label, draws, pressure,
                     int(left))
+
+
+def packing_name(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float,
+                 seed: int, genesis: Genesis) -> str:
+    """The file a random packing is kept in: a hash of what its genesis depends on (the
+    installation gap only places bonds, which are found on loading)."""
+    key = dict(kind="random", width_mm=float(width_mm), height_mm=float(height_mm),  # 50 and 50.0: one key
+               rmin_mm=float(rmin_mm), radius_ratio=float(radius_ratio), seed=int(seed), version=GENERATOR_VERSION,
+               cloud_porosity=genesis.cloud_porosity, pressure_mpa=genesis.pressure_mpa)
+    return hashlib.sha1(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16] + ".npz"
+
+
+def stored_packing(name: str) -> Path | None:
+    """The packing file of that name in the cache, else among those shipped with rockcal
+    (SHIPPED_DIR); None if it must be made."""
+    for folder in (cache_dir(), SHIPPED_DIR):
+        if (folder / name).exists():
+            return folder / name
+    return None
 
 
 def cache_dir() -> Path:

@@ -75,6 +75,14 @@ class LabTest:
         return {name: value for name, value in self.settings_of(specimen_settings).items()
                 if not (name in LATER_SETTINGS and value == LATER_SETTINGS[name])}
 
+    def packing(self, specimen_settings) -> dict:
+        """The random packing this test's specimen is cut from, as `random_packing`'s arguments:
+        its outline's box, grains, seed and genesis."""
+        s = self.settings_of(specimen_settings)
+        box = self.outline(s)
+        return dict(width_mm=box.width_mm, height_mm=box.height_mm, rmin_mm=s["rmin_mm"],
+                    radius_ratio=s["radius_ratio"], seed=s["seed"], genesis=genesis_of(s))
+
     def responses_of(self, result) -> dict:
         """The declared responses of a test's result, in their declared order."""
         return {r.name: getattr(result, r.name) for r in self.responses}
