@@ -24,8 +24,8 @@ from rockcal.campaign.procedure import (PACKINGS_AND_VALIDATION, SAMPLES_AND_CHE
                                         validation_seeds)
 from rockcal.dem.specimen import packing_name, stored_packing
 from rockcal.inverse import design
-from rockcal.labtests.seeds import seed_list
 from rockcal.labtests.registry import lab_test
+from rockcal.labtests.seeds import seed_list
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
 # its mean UCS run on one thread, two at a time on idle cores (runs/granite-bench10, UCS revision 3,
@@ -91,8 +91,9 @@ def stages(campaign: Campaign) -> list[tuple[str, str, int]]:
 
 
 def specimens(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
-    """(test, specimen settings) of each specimen the campaign runs tests on, once each: the
-    sensitivity runs', the calibration's, its other packings' and the validation tests'."""
+    """(test, specimen settings) of the specimens the campaign runs tests on, one per packing
+    they are cut from: the sensitivity runs', the calibration's, its other packings' and the
+    validation tests'."""
     s = campaign.specimen
     seeds = seed_list(s.seed, campaign.uncertainty.packings) if campaign.wants_uncertainty() else [s.seed]
     out = [(test, campaign.sensitivity_specimen()) for test in campaign.target_sections()
@@ -101,15 +102,19 @@ def specimens(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
             for seed in seeds]
     out += [(test, s.model_copy(update={"seed": seed})) for test in campaign.validation_tests()
             for seed in validation_seeds(campaign, test)]
-    return list({(test, packing_name(**lab_test(test).packing(settings))): (test, settings)
-                 for test, settings in out}.values())
+    return list({packing_file(test, settings): (test, settings) for test, settings in out}.values())
+
+
+def packing_file(test: str, settings: SpecimenSettings) -> str:
+    """The file name of the packing a test's specimen is cut from."""
+    return packing_name(**lab_test(test).packing(settings))
 
 
 def specimens_to_make(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
     """The campaign's specimens whose packing is neither in the cache nor shipped with rockcal:
     their genesis comes first."""
     return [(test, settings) for test, settings in specimens(campaign)
-            if stored_packing(packing_name(**lab_test(test).packing(settings))) is None]
+            if stored_packing(packing_file(test, settings)) is None]
 
 
 def stage_runs(campaign: Campaign) -> dict[str, int]:
