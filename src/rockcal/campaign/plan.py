@@ -259,7 +259,7 @@ def _genesis(campaign: Campaign) -> str:
     made = specimens_to_make(campaign)
     if not made:
         return "; every specimen is ready (cached, or shipped with rockcal)"
-    texts = sorted({lab_test(test).outline(lab_test(test).settings_of(s)).text for test, s in made})
+    texts = sorted({specimen_size(test, s)[0] for test, s in made})
     return (f", plus first the genesis of {len(made)} specimen{'s' if len(made) > 1 else ''} "
             f"({', '.join(texts)}): minutes for a small one, up to an hour for a full-size beam")
 
