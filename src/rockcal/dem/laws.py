@@ -17,12 +17,15 @@ Sign conventions, per pair (i, j) with unit normal n from i to j and tangent t =
   the lever arms R_i + g/2 and R_j + g/2 add up to the centre distance: a pair bonded across a
   gap g that turns as a rigid body loads nothing, and the moments conserve angular momentum.
 The force a pair exerts on i is added to i's force and taken from j's; each gets its moment.
+
+The loops index with unsigned integers (`uint64`): numba then adds no negative-index
+wraparound to each array access, which was an eighth of the engine's step.
 """
 
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from numba import njit, uint64
 
 INTACT, BROKEN_TENSION, BROKEN_SHEAR = 0, 1, 2
 # squared centre distance / squared contact distance above which a pair surely does not touch
@@ -106,9 +109,10 @@ def add_bond_forces(first, last, disks, pi, pj, contact_shear, bonds, laws, dt, 
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _gather(start, count, disks, pi, pj, tile):
-    for q in range(count):
-        i = pi[start + q]
-        j = pj[start + q]
+    for q in range(uint64(count)):
+        p = uint64(start) + q
+        i = uint64(pi[p])
+        j = uint64(pj[p])
         tile[DX, q] = disks[j, X] - disks[i, X]
         tile[DY, q] = disks[j, Y] - disks[i, Y]
         tile[RI, q] = disks[i, RADIUS]
@@ -121,8 +125,8 @@ def _gather(start, count, disks, pi, pj, tile):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _gather_bonds(start, count, contact_shear, rows, tile):
-    for q in range(count):
-        p = start + q
+    for q in range(uint64(count)):
+        p = uint64(start) + q
         tile[LAST_SHEAR, q] = contact_shear[p]
         tile[LAST_FN, q] = rows[p, FN]
         tile[LAST_FS, q] = rows[p, FS]
@@ -137,8 +141,8 @@ def _bond_law(start, count, bond_state, laws, dt, tile):
     """The law of bonds start..start+count-1 from their gathered data in `tile`; it writes
     their new shear and bond forces, the mode they broke in (0: none) and the force and
     moments on their particles to `tile`, as selections rather than branches."""
-    for q in range(count):
-        p = start + q
+    for q in range(uint64(count)):
+        p = uint64(start) + q
         dx = tile[DX, q]
         dy = tile[DY, q]
         dist = np.sqrt(dx * dx + dy * dy)
@@ -201,11 +205,19 @@ def _bond_law(start, count, bond_state, laws, dt, tile):
 @njit(cache=True, error_model="numpy", inline="always")
 def _scatter(start, count, disks, pi, pj, tile, contact_shear, bonds, loads):
     """Store the tile's bond states and add its forces to the particles, pair by pair. A pair
-    apart and unbonded adds zeros, which change no sum (a force is never -0.0)."""
-    for q in range(count):
-        p = start + q
-        i = pi[p]
-        j = pj[p]
+    apart and unbonded adds zeros, which change no sum (a force is never -0.0).
+
+    The load on i is summed in registers while consecutive pairs share their i (pairs come
+    sorted by i) and stored when i changes: no pair joins a disk to itself, so this is the
+    same sum in the same order as adding pair by pair."""
+    i_run = uint64(pi[start])
+    fx_run = loads[i_run, FORCE_X]
+    fy_run = loads[i_run, FORCE_Y]
+    m_run = loads[i_run, MOMENT]
+    for q in range(uint64(count)):
+        p = uint64(start) + q
+        i = uint64(pi[p])
+        j = uint64(pj[p])
         contact_shear[p] = tile[SHEAR, q]
         bonds.rows[p, FN] = tile[BOND_FN, q]
         bonds.rows[p, FS] = tile[BOND_FS, q]
@@ -213,14 +225,25 @@ def _scatter(start, count, disks, pi, pj, tile, contact_shear, bonds, loads):
         if tile[MODE, q] != INTACT:
             bonds.state[p] = int(tile[MODE, q])
             _record_break(p, i, j, disks, bonds.break_xy)
+        if i != i_run:
+            loads[i_run, FORCE_X] = fx_run
+            loads[i_run, FORCE_Y] = fy_run
+            loads[i_run, MOMENT] = m_run
+            i_run = i
+            fx_run = loads[i, FORCE_X]
+            fy_run = loads[i, FORCE_Y]
+            m_run = loads[i, MOMENT]
         fx = tile[FX, q]
         fy = tile[FY, q]
-        loads[i, FORCE_X] += fx
-        loads[i, FORCE_Y] += fy
+        fx_run += fx
+        fy_run += fy
+        m_run += tile[MI, q]
         loads[j, FORCE_X] -= fx
         loads[j, FORCE_Y] -= fy
-        loads[i, MOMENT] += tile[MI, q]
         loads[j, MOMENT] += tile[MJ, q]
+    loads[i_run, FORCE_X] = fx_run
+    loads[i_run, FORCE_Y] = fy_run
+    loads[i_run, MOMENT] = m_run
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -239,9 +262,9 @@ def _record_break(p, i, j, disks, break_xy):
 def add_contact_forces(first, last, disks, pi, pj, contact_shear, laws, dt, loads):
     """Add the forces and moments of unbonded pairs first..last-1 to their particles; most are
     not touching and cost one squared distance."""
-    for p in range(first, last):
-        i = pi[p]
-        j = pj[p]
+    for p in range(uint64(first), uint64(last)):
+        i = uint64(pi[p])
+        j = uint64(pj[p])
         dx = disks[j, X] - disks[i, X]
         dy = disks[j, Y] - disks[i, Y]
         dist_sq = dx * dx + dy * dy
@@ -313,7 +336,7 @@ def add_wall_forces(first, last, disks, walls, wall_active, k_wall, loads, wall_
     normal force k_wall * overlap. walls holds x_left, x_right, y_bottom, y_top; wall_force[k, w]
     receives the force particle k exerts on wall w along its outward normal (compression
     positive)."""
-    for k in range(first, last):
+    for k in range(uint64(first), uint64(last)):
         x = disks[k, X]
         y = disks[k, Y]
         r = disks[k, RADIUS]

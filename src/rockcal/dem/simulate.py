@@ -268,7 +268,7 @@ def _move(first, last, disks, loads, damping, dt, pos_at_build):
     particles first..last-1. Returns their largest squared displacement since the neighbour
     list was built."""
     moved = 0.0
-    for k in range(first, last):
+    for k in range(numba.uint64(first), numba.uint64(last)):
         inv_mass = disks[k, INV_MASS]
         if inv_mass > 0.0:
             for a in range(2):
@@ -298,7 +298,7 @@ def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts, bond_o
     moved = np.zeros(blocks)
     for s in range(n_steps):  # no array expressions: each would be a parallel region
         for b in prange(blocks):  # explicit loops: an array expression here would nest parfors
-            for k in range(starts[b], starts[b + 1]):
+            for k in range(numba.uint64(starts[b]), numba.uint64(starts[b + 1])):
                 loads[k, FORCE_X] = 0.0
                 loads[k, FORCE_Y] = 0.0
                 loads[k, MOMENT] = 0.0
