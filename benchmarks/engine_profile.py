@@ -69,19 +69,20 @@ def phases(state, steps: int) -> dict:
 
 @njit(error_model="numpy")
 def _bond_parts(parts, first, last, disks, pi, pj, contact_shear, bonds, law, dt, loads):
-    """The bond phase's loop with only some of its parts: 1 the gather of the disks' data, 2 of
-    the bond rows, 4 the vector law, 8 the scatter (their sum: the whole phase)."""
+    """The bond phase's loop with only some of its parts: 1 the gather of the disks' data, 2 the
+    vector law, 4 the store of the bonds' new data, 8 the scatter (their sum: the whole
+    phase)."""
     tile = np.zeros((laws.TILE_ROWS, laws.TILE))
     for start in range(first, last, laws.TILE):
         count = min(laws.TILE, last - start)
         if parts & 1:
             laws._gather(start, count, disks, pi, pj, tile)
         if parts & 2:
-            laws._gather_bonds(start, count, contact_shear, bonds.rows, tile)
+            laws._bond_law(start, count, bonds.state, contact_shear, bonds.table, law, dt, tile)
         if parts & 4:
-            laws._bond_law(start, count, bonds.state, law, dt, tile)
+            laws._store(start, count, tile, contact_shear, bonds.table)
         if parts & 8:
-            laws._scatter(start, count, disks, pi, pj, tile, contact_shear, bonds, loads)
+            laws._scatter(start, count, disks, pi, pj, tile, bonds, loads)
 
 
 def bond_parts(state, steps: int) -> dict:
@@ -90,7 +91,7 @@ def bond_parts(state, steps: int) -> dict:
     p, pairs = state.particles, state.neighbours
     args = (0, pairs.n_bonds, p.disks.copy(), pairs.pi, pairs.pj, pairs.shear.copy(),
             laws.Bonds(*(a.copy() for a in state.bonds)), state.laws, state.dt, p.loads.copy())
-    names = {1: "gather of the disks' data", 2: "gather of the bond rows", 4: "vector law",
+    names = {1: "gather of the disks' data", 2: "vector law", 4: "store of the bonds' data",
              8: "scatter"}
     return {name: per_step(lambda: _bond_parts(part, *args), steps) for part, name in names.items()}
 

@@ -35,15 +35,17 @@ TILE = 128  # bonds whose law runs as one vector loop
 # one cache line), and its load row: the force and moment summed on it
 X, Y, VX, VY, SPIN, RADIUS, INV_MASS, INV_INERTIA = range(8)
 FORCE_X, FORCE_Y, MOMENT = range(3)
-# a bond's row (64 bytes, one cache line): its forces and moment, reference overlap, strengths
+# rows of the bonds' table (`Bonds.table`), one column per bond: its forces and moment,
+# reference overlap, strengths
 FN, FS, M, REF_OVERLAP, TEN, COH = range(6)
-BOND_ROW = 8
-# rows of a tile: data gathered from the bonds' particles and from the bonds, then what the
-# law hands back
+BOND_QUANTITIES = 6
+# rows of a tile: data gathered from the bonds' particles, then what the law hands back: the
+# contact's shear force, the mode a bond broke in, the pair's force and moments, and at rows
+# NEW + FN, NEW + FS, NEW + M the bond's new forces and moment
 DX, DY, RI, RJ, DVX, DVY, SPIN_I, SPIN_J = range(8)
-LAST_SHEAR, LAST_FN, LAST_FS, LAST_M, REF, TENSILE, COHESION = range(8, 15)
-SHEAR, BOND_FN, BOND_FS, BOND_M, MODE, FX, FY, MI, MJ = range(15, 24)
-TILE_ROWS = 24
+SHEAR, MODE, FX, FY, MI, MJ = range(8, 14)
+NEW = 14
+TILE_ROWS = NEW + 3
 
 
 class Laws(NamedTuple):
@@ -64,8 +66,8 @@ class Laws(NamedTuple):
 
 
 class Bonds(NamedTuple):
-    """Per-bond arrays, in the order of the first pairs of the pair list. fn to coh are views
-    into `rows`, one row per bond (columns FN to COH), which the force loop reads."""
+    """Per-bond arrays, in the order of the first pairs of the pair list. fn to coh are the
+    rows of `table` (rows FN to COH, one column per bond), which the force loop reads."""
 
     state: np.ndarray  # INTACT, BROKEN_TENSION or BROKEN_SHEAR
     fn: np.ndarray  # normal force, tension positive, N
@@ -75,18 +77,19 @@ class Bonds(NamedTuple):
     ref_overlap: np.ndarray  # overlap at installation (PFC's reference gap, negated), m
     ten: np.ndarray  # tensile strength, Pa
     coh: np.ndarray  # cohesion, Pa
-    rows: np.ndarray
+    table: np.ndarray
 
 
-def new_bonds(ref_overlap, ten, coh, rows: np.ndarray) -> Bonds:
-    """Intact bonds at zero force, kept in `rows` (zeros of shape (n_bonds, BOND_ROW))."""
-    rows[:, REF_OVERLAP] = ref_overlap
-    rows[:, TEN] = ten
-    rows[:, COH] = coh
-    return Bonds(state=np.zeros(len(rows), np.int64), fn=rows[:, FN], fs=rows[:, FS],
-                 m=rows[:, M], break_xy=np.full((len(rows), 2), np.nan),
-                 ref_overlap=rows[:, REF_OVERLAP], ten=rows[:, TEN], coh=rows[:, COH],
-                 rows=rows)
+def new_bonds(ref_overlap, ten, coh) -> Bonds:
+    """Intact bonds at zero force."""
+    n = len(ref_overlap)
+    table = np.zeros((BOND_QUANTITIES, n))
+    table[REF_OVERLAP] = ref_overlap
+    table[TEN] = ten
+    table[COH] = coh
+    return Bonds(state=np.zeros(n, np.int64), fn=table[FN], fs=table[FS], m=table[M],
+                 break_xy=np.full((n, 2), np.nan), ref_overlap=table[REF_OVERLAP],
+                 ten=table[TEN], coh=table[COH], table=table)
 
 
 @njit(cache=True, error_model="numpy")
@@ -95,16 +98,17 @@ def add_bond_forces(first, last, disks, pi, pj, contact_shear, bonds, laws, dt, 
     particles (a pair's force on i is taken from j); intact bonds that exceed a strength break,
     broken ones act as contacts with their reference overlap. Thickness t = 1 m.
 
-    Tile by tile: the rows of the particles and bonds are gathered, the law runs without
-    branches over the tile (so that it compiles to vector instructions), and the forces are
-    scattered in pair order, so every sum is the one a pair-by-pair loop would make."""
+    Tile by tile: the particles' data are gathered, the law runs without branches over the
+    tile and the bonds' own data (so that it compiles to vector instructions), the bonds' new
+    data are stored, and the forces are scattered in pair order, so every sum is the one a
+    pair-by-pair loop would make."""
     tile = np.empty((TILE_ROWS, TILE))
     for start in range(first, last, TILE):
         count = min(TILE, last - start)
         _gather(start, count, disks, pi, pj, tile)
-        _gather_bonds(start, count, contact_shear, bonds.rows, tile)
-        _bond_law(start, count, bonds.state, laws, dt, tile)
-        _scatter(start, count, disks, pi, pj, tile, contact_shear, bonds, loads)
+        _bond_law(start, count, bonds.state, contact_shear, bonds.table, laws, dt, tile)
+        _store(start, count, tile, contact_shear, bonds.table)
+        _scatter(start, count, disks, pi, pj, tile, bonds, loads)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -124,23 +128,12 @@ def _gather(start, count, disks, pi, pj, tile):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _gather_bonds(start, count, contact_shear, rows, tile):
-    for q in range(uint64(count)):
-        p = uint64(start) + q
-        tile[LAST_SHEAR, q] = contact_shear[p]
-        tile[LAST_FN, q] = rows[p, FN]
-        tile[LAST_FS, q] = rows[p, FS]
-        tile[LAST_M, q] = rows[p, M]
-        tile[REF, q] = rows[p, REF_OVERLAP]
-        tile[TENSILE, q] = rows[p, TEN]
-        tile[COHESION, q] = rows[p, COH]
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _bond_law(start, count, bond_state, laws, dt, tile):
-    """The law of bonds start..start+count-1 from their gathered data in `tile`; it writes
-    their new shear and bond forces, the mode they broke in (0: none) and the force and
-    moments on their particles to `tile`, as selections rather than branches."""
+def _bond_law(start, count, bond_state, contact_shear, table, laws, dt, tile):
+    """The law of bonds start..start+count-1 from their particles' data in `tile` and their own
+    (contact shear force, `table`); it writes their new shear and bond forces, the mode they
+    broke in (0: none) and the force and moments on their particles to `tile`, as selections
+    rather than branches (it only reads the bonds' arrays: written to, they would keep the
+    loop from vectorising)."""
     for q in range(uint64(count)):
         p = uint64(start) + q
         dx = tile[DX, q]
@@ -150,7 +143,7 @@ def _bond_law(start, count, bond_state, laws, dt, tile):
         rj = tile[RJ, q]
         length = ri + rj
         surface_overlap = length - dist
-        overlap = surface_overlap - tile[REF, q]
+        overlap = surface_overlap - table[REF_OVERLAP, p]
         intact = bond_state[p] == INTACT
         inv_dist = 1.0 / dist
         nx = dx * inv_dist  # unit normal from i to j; tangent t = (-ny, nx)
@@ -167,7 +160,7 @@ def _bond_law(start, count, bond_state, laws, dt, tile):
 
         touching = (overlap > 0.0) & (laws.E_c > 0.0)
         kn = _contact_kn(rmin, inv_length, laws)
-        shear = tile[LAST_SHEAR, q] + kn * laws.ks_per_kn * vs * dt
+        shear = contact_shear[p] + kn * laws.ks_per_kn * vs * dt
         cap = laws.mu * kn * overlap
         shear = cap if shear > cap else shear
         shear = -cap if shear < -cap else shear
@@ -180,20 +173,23 @@ def _bond_law(start, count, bond_state, laws, dt, tile):
         rb = laws.lam * rmin
         area = 2.0 * rb
         k_area_dt = laws.Ebar_c * inv_length * area * dt  # k̄n Ā dt; Ī = Ā R̄² / 3
-        bfn = tile[LAST_FN, q] + k_area_dt * vn
-        bfs = tile[LAST_FS, q] + k_area_dt * laws.ksbar_per_knbar * vs
-        bm = tile[LAST_M, q] + k_area_dt * rb * rb / 3.0 * (tile[SPIN_J, q] - tile[SPIN_I, q])
+        last_fn = table[FN, p]
+        last_fs = table[FS, p]
+        last_m = table[M, p]
+        bfn = last_fn + k_area_dt * vn
+        bfs = last_fs + k_area_dt * laws.ksbar_per_knbar * vs
+        bm = last_m + k_area_dt * rb * rb / 3.0 * (tile[SPIN_J, q] - tile[SPIN_I, q])
         inv_area = 1.0 / area
         sigma = (bfn + laws.mcf * 3.0 * abs(bm) / rb) * inv_area  # |M| R̄ / Ī = 3 |M| / (R̄ Ā)
         tau = abs(bfs) * inv_area
-        tension = sigma > tile[TENSILE, q]
-        holds = intact & ~tension & ~(tau > tile[COHESION, q] - bfn * inv_area * laws.tan_phi)
+        tension = sigma > table[TEN, p]
+        holds = intact & ~tension & ~(tau > table[COH, p] - bfn * inv_area * laws.tan_phi)
         broke = intact & ~holds
         tile[MODE, q] = (BROKEN_TENSION if tension else BROKEN_SHEAR) if broke else INTACT
         tile[SHEAR, q] = shear
-        tile[BOND_FN, q] = bfn if holds else (0.0 if broke else tile[LAST_FN, q])
-        tile[BOND_FS, q] = bfs if holds else (0.0 if broke else tile[LAST_FS, q])
-        tile[BOND_M, q] = bm if holds else (0.0 if broke else tile[LAST_M, q])
+        tile[NEW + FN, q] = bfn if holds else (0.0 if broke else last_fn)
+        tile[NEW + FS, q] = bfs if holds else (0.0 if broke else last_fs)
+        tile[NEW + M, q] = bm if holds else (0.0 if broke else last_m)
         fn = fn + bfn if holds else fn
         fs = fs + bfs if holds else fs
         tile[MI, q] = mi + (arm_i * bfs + bm) if holds else mi
@@ -203,8 +199,18 @@ def _bond_law(start, count, bond_state, laws, dt, tile):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _scatter(start, count, disks, pi, pj, tile, contact_shear, bonds, loads):
-    """Store the tile's bond states and add its forces to the particles, pair by pair. A pair
+def _store(start, count, tile, contact_shear, table):
+    """The tile's new contact shear forces, bond forces and moments to the bonds' arrays."""
+    for q in range(uint64(count)):
+        contact_shear[uint64(start) + q] = tile[SHEAR, q]
+    for row in (FN, FS, M):
+        for q in range(uint64(count)):
+            table[row, uint64(start) + q] = tile[NEW + row, q]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _scatter(start, count, disks, pi, pj, tile, bonds, loads):
+    """Note the bonds the tile broke and add its forces to the particles, pair by pair. A pair
     apart and unbonded adds zeros, which change no sum (a force is never -0.0).
 
     The load on i is summed in registers while consecutive pairs share their i (pairs come
@@ -218,10 +224,6 @@ def _scatter(start, count, disks, pi, pj, tile, contact_shear, bonds, loads):
         p = uint64(start) + q
         i = uint64(pi[p])
         j = uint64(pj[p])
-        contact_shear[p] = tile[SHEAR, q]
-        bonds.rows[p, FN] = tile[BOND_FN, q]
-        bonds.rows[p, FS] = tile[BOND_FS, q]
-        bonds.rows[p, M] = tile[BOND_M, q]
         if tile[MODE, q] != INTACT:
             bonds.state[p] = int(tile[MODE, q])
             _record_break(p, i, j, disks, bonds.break_xy)

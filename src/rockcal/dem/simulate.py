@@ -187,7 +187,7 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
     E_c, Ebar_c = laws_si.E_c, laws_si.Ebar_c
     state = State(
         particles=new_particles(pos, radius, inv_mass, inv_inertia),
-        bonds=laws.new_bonds(ref_overlap, ten, coh, _aligned_zeros(nb, laws.BOND_ROW)),
+        bonds=laws.new_bonds(ref_overlap, ten, coh),
         walls=Walls(pos=np.array(walls, float), vel=np.zeros(4),
                     active=np.array(wall_active, np.bool_), force=np.zeros((n, 4)),
                     stiffness=2.0 * THICKNESS_M * (E_c if E_c > 0 else Ebar_c)),
