@@ -36,11 +36,12 @@ REFERENCE_PROBE_MS = 0.66
 # run time ~ work^WORK_EXPONENT: with the readings compiled, a half-resolution UCS run takes 1/10.3
 # of the full-size one at the same point, on one thread (work 1/8; 1/8.5 before, runs/granite-bench8)
 WORK_EXPONENT = 1.1
-# a run's time over the work-scaled UCS run's: for bending 2.1 in runs/granite-bench12 (bending
-# revision 7, the beams 80-117 s against UCS runs of 41 s, two at a time); 2.3 in runs/granite-bench11
-# at revision 6, whose beams took 1.4x revision 7's steps (a beam's time per step moves by up to 1.4x
+# a run's time over the work-scaled UCS run's: for bending 1.75 in runs/granite-bench13 (bending
+# revision 7, the engine's bond table: the beams 43-66 s against UCS runs of 27 s, two at a time;
+# 2.1 before it, in runs/granite-bench12, with the same steps); 2.3 in runs/granite-bench11 at
+# revision 6, whose beams took 1.4x revision 7's steps (a beam's time per step moves by up to 1.4x
 # between hours and machines, a UCS run's far less)
-SLOWER_THAN_WORK = {"bending": 2.1}
+SLOWER_THAN_WORK = {"bending": 1.75}
 LONE_RUN_SPEED_UP = 1.4  # measured alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
 DRAW_S = 0.05  # one search on the surrogate for the parameters' intervals (main process; 200 took 8 s in runs/granite-bench4)
 
