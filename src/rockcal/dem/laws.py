@@ -19,7 +19,7 @@ Sign conventions, per pair (i, j) with unit normal n from i to j and tangent t =
 The force a pair exerts on i is added to i's force and taken from j's; each gets its moment.
 
 The loops index with unsigned integers (`uint64`): numba then adds no negative-index
-wraparound to each array access, which was an eighth of the engine's step.
+wraparound to each array access, which was a seventh of the engine's step.
 """
 
 from typing import NamedTuple
