@@ -40,7 +40,7 @@ iterations = 20
 max_dem_runs = 9
 """
 TINY = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16)
-SLOWER = SpecimenSettings(rmin_mm=0.3, width_mm=12, height_mm=24)  # ~1 s a run: time to kill one
+SLOWER = SpecimenSettings(rmin_mm=0.3, width_mm=20, height_mm=40)  # ~1 s a run: time to kill one
 
 
 @pytest.fixture(scope="module")
