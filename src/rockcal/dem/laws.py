@@ -337,24 +337,28 @@ def add_wall_forces(first, last, disks, walls, wall_active, k_wall, loads, wall_
     """Frictionless axis-aligned walls (left, right, bottom, top) on particles first..last-1:
     normal force k_wall * overlap. walls holds x_left, x_right, y_bottom, y_top; wall_force[k, w]
     receives the force particle k exerts on wall w along its outward normal (compression
-    positive)."""
+    positive). The walls are read once, before the loop: its stores could otherwise be taken
+    to change them, and they would be read again for every particle."""
+    left, right, bottom, top = walls[0], walls[1], walls[2], walls[3]
+    on_left, on_right, on_bottom, on_top = wall_active[0], wall_active[1], wall_active[2], \
+        wall_active[3]
     for k in range(uint64(first), uint64(last)):
         x = disks[k, X]
         y = disks[k, Y]
         r = disks[k, RADIUS]
-        for w in range(4):
-            f = 0.0
-            if wall_active[w]:
-                if w == 0:
-                    f = k_wall * (walls[0] - (x - r))
-                elif w == 1:
-                    f = k_wall * ((x + r) - walls[1])
-                elif w == 2:
-                    f = k_wall * (walls[2] - (y - r))
-                else:
-                    f = k_wall * ((y + r) - walls[3])
-            if f < 0.0:
-                f = 0.0
-            wall_force[k, w] = f
-        loads[k, FORCE_X] += wall_force[k, 0] - wall_force[k, 1]
-        loads[k, FORCE_Y] += wall_force[k, 2] - wall_force[k, 3]
+        f_left = _pushing(k_wall * (left - (x - r))) if on_left else 0.0
+        f_right = _pushing(k_wall * ((x + r) - right)) if on_right else 0.0
+        f_bottom = _pushing(k_wall * (bottom - (y - r))) if on_bottom else 0.0
+        f_top = _pushing(k_wall * ((y + r) - top)) if on_top else 0.0
+        wall_force[k, 0] = f_left
+        wall_force[k, 1] = f_right
+        wall_force[k, 2] = f_bottom
+        wall_force[k, 3] = f_top
+        loads[k, FORCE_X] += f_left - f_right
+        loads[k, FORCE_Y] += f_bottom - f_top
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _pushing(f):
+    """A wall only pushes."""
+    return 0.0 if f < 0.0 else f
