@@ -7,7 +7,7 @@ import numpy as np
 
 from rockcal import hexagonal
 from rockcal.dem import laws
-from rockcal.dem.simulate import new_state
+from rockcal.dem.simulate import new_state, rebuild_neighbours
 from rockcal.params import make_params
 
 PARAMS = {"E_c": 20, "kn_ks": 2.0, "sigma_c": 10, "tau_c": 20, "sigma_c_cv": 0.3,
@@ -28,7 +28,7 @@ def test_tiles_give_the_sums_of_adding_pairs_one_by_one():
     swap = rng.random(nb) < 0.3
     pi, pj = np.where(swap, pj, pi), np.where(swap, pi, pj)
     bonds = laws.new_bonds(state.bonds.ref_overlap[order], state.bonds.ten[order],
-                           state.bonds.coh[order])
+                           state.bonds.coh[order], p.radius[pi], p.radius[pj])
     area = 2 * p.radius.min()
     bonds.fn[:] = rng.normal(0, 10e6 * area, nb)  # some beyond their strength
     bonds.fs[:] = rng.normal(0, 10e6 * area, nb)
@@ -49,3 +49,15 @@ def test_tiles_give_the_sums_of_adding_pairs_one_by_one():
     assert np.count_nonzero(tiled[3]) > 0  # bonds broke
     for a, b in zip(tiled, one_by_one):
         np.testing.assert_array_equal(a, b)
+
+
+def test_bonds_take_their_particles_new_radii_when_the_list_is_rebuilt():
+    specimen = hexagonal(4, 4, 0.25)
+    state = new_state(specimen.pos, specimen.radius, specimen.bonds, make_params(PARAMS))
+    p, nb = state.particles, state.neighbours.n_bonds
+    p.radius[:] *= np.linspace(0.9, 1.1, len(p.radius))
+    rebuild_neighbours(state)
+    ri, rj = p.radius[state.neighbours.pi[:nb]], p.radius[state.neighbours.pj[:nb]]
+    np.testing.assert_array_equal(state.bonds.table[laws.R_I], ri)
+    np.testing.assert_array_equal(state.bonds.table[laws.R_J], rj)
+    np.testing.assert_array_equal(state.bonds.table[laws.INV_LENGTH], 1.0 / (ri + rj))

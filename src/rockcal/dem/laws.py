@@ -36,15 +36,16 @@ TILE = 128  # bonds whose law runs as one vector loop
 X, Y, VX, VY, SPIN, RADIUS, INV_MASS, INV_INERTIA = range(8)
 FORCE_X, FORCE_Y, MOMENT = range(3)
 # rows of the bonds' table (`Bonds.table`), one column per bond: its forces and moment,
-# reference overlap, strengths
-FN, FS, M, REF_OVERLAP, TEN, COH = range(6)
-BOND_QUANTITIES = 6
+# reference overlap, strengths, and its particles' radii R_i, R_j with 1 / (R_i + R_j), read
+# there rather than gathered and divided each step (`set_radii`)
+FN, FS, M, REF_OVERLAP, TEN, COH, R_I, R_J, INV_LENGTH = range(9)
+BOND_QUANTITIES = 9
 # rows of a tile: data gathered from the bonds' particles, then what the law hands back: the
 # contact's shear force, the mode a bond broke in, the pair's force and moments, and at rows
 # NEW + FN, NEW + FS, NEW + M the bond's new forces and moment
-DX, DY, RI, RJ, DVX, DVY, SPIN_I, SPIN_J = range(8)
-SHEAR, MODE, FX, FY, MI, MJ = range(8, 14)
-NEW = 14
+DX, DY, DVX, DVY, SPIN_I, SPIN_J = range(6)
+SHEAR, MODE, FX, FY, MI, MJ = range(6, 12)
+NEW = 12
 TILE_ROWS = NEW + 3
 
 
@@ -80,16 +81,25 @@ class Bonds(NamedTuple):
     table: np.ndarray
 
 
-def new_bonds(ref_overlap, ten, coh) -> Bonds:
-    """Intact bonds at zero force."""
+def new_bonds(ref_overlap, ten, coh, ri, rj) -> Bonds:
+    """Intact bonds at zero force between particles of radii ri and rj."""
     n = len(ref_overlap)
     table = np.zeros((BOND_QUANTITIES, n))
     table[REF_OVERLAP] = ref_overlap
     table[TEN] = ten
     table[COH] = coh
-    return Bonds(state=np.zeros(n, np.int64), fn=table[FN], fs=table[FS], m=table[M],
-                 break_xy=np.full((n, 2), np.nan), ref_overlap=table[REF_OVERLAP],
-                 ten=table[TEN], coh=table[COH], table=table)
+    bonds = Bonds(state=np.zeros(n, np.int64), fn=table[FN], fs=table[FS], m=table[M],
+                  break_xy=np.full((n, 2), np.nan), ref_overlap=table[REF_OVERLAP],
+                  ten=table[TEN], coh=table[COH], table=table)
+    set_radii(bonds, ri, rj)
+    return bonds
+
+
+def set_radii(bonds: Bonds, ri, rj) -> None:
+    """The radii of the bonds' particles, kept in their table: set anew whenever they change."""
+    bonds.table[R_I] = ri
+    bonds.table[R_J] = rj
+    bonds.table[INV_LENGTH] = 1.0 / (bonds.table[R_I] + bonds.table[R_J])
 
 
 @njit(cache=True, error_model="numpy")
@@ -119,8 +129,6 @@ def _gather(start, count, disks, pi, pj, tile):
         j = uint64(pj[p])
         tile[DX, q] = disks[j, X] - disks[i, X]
         tile[DY, q] = disks[j, Y] - disks[i, Y]
-        tile[RI, q] = disks[i, RADIUS]
-        tile[RJ, q] = disks[j, RADIUS]
         tile[DVX, q] = disks[j, VX] - disks[i, VX]
         tile[DVY, q] = disks[j, VY] - disks[i, VY]
         tile[SPIN_I, q] = disks[i, SPIN]
@@ -139,8 +147,8 @@ def _bond_law(start, count, bond_state, contact_shear, table, laws, dt, tile):
         dx = tile[DX, q]
         dy = tile[DY, q]
         dist = np.sqrt(dx * dx + dy * dy)
-        ri = tile[RI, q]
-        rj = tile[RJ, q]
+        ri = table[R_I, p]
+        rj = table[R_J, p]
         length = ri + rj
         surface_overlap = length - dist
         overlap = surface_overlap - table[REF_OVERLAP, p]
@@ -149,7 +157,7 @@ def _bond_law(start, count, bond_state, contact_shear, table, laws, dt, tile):
         nx = dx * inv_dist  # unit normal from i to j; tangent t = (-ny, nx)
         ny = dy * inv_dist
         rmin = min(ri, rj)
-        inv_length = 1.0 / length
+        inv_length = table[INV_LENGTH, p]
         arm_i = ri - 0.5 * surface_overlap  # the contact point is mid-gap (or mid-overlap)
         arm_j = rj - 0.5 * surface_overlap
         w = tile[SPIN_I, q] * arm_i + tile[SPIN_J, q] * arm_j

@@ -187,7 +187,7 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
     E_c, Ebar_c = laws_si.E_c, laws_si.Ebar_c
     state = State(
         particles=new_particles(pos, radius, inv_mass, inv_inertia),
-        bonds=laws.new_bonds(ref_overlap, ten, coh),
+        bonds=laws.new_bonds(ref_overlap, ten, coh, radius[bi], radius[bj]),
         walls=Walls(pos=np.array(walls, float), vel=np.zeros(4),
                     active=np.array(wall_active, np.bool_), force=np.zeros((n, 4)),
                     stiffness=2.0 * THICKNESS_M * (E_c if E_c > 0 else Ebar_c)),
@@ -198,9 +198,12 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
 
 
 def rebuild_neighbours(state: State) -> None:
-    """Rebuild the neighbour list at the particles' positions (needed after changing radii)."""
-    state.neighbours = neighbours.update(state.neighbours, state.particles.pos,
-                                         state.particles.radius)
+    """Rebuild the neighbour list at the particles' positions, and give the bonds their
+    particles' radii (needed after changing radii)."""
+    p, nb = state.particles, state.neighbours.n_bonds
+    state.neighbours = neighbours.update(state.neighbours, p.pos, p.radius)
+    laws.set_radii(state.bonds, p.radius[state.neighbours.pi[:nb]],
+                   p.radius[state.neighbours.pj[:nb]])
 
 
 def stable_time_step(state: State) -> float:
