@@ -20,12 +20,11 @@ import numpy as np
 from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.engine_speed import probe_ms_per_step
 from rockcal.campaign.forward import run_spec
-from rockcal.campaign.procedure import (PACKINGS_AND_VALIDATION, SAMPLES_AND_CHECKS, sample_points,
-                                        validation_seeds)
+from rockcal.campaign.procedure import (PACKINGS_AND_VALIDATION, SAMPLES_AND_CHECKS, packing_seeds,
+                                        sample_points, validation_seeds)
 from rockcal.dem.specimen import packing_name, stored_packing
 from rockcal.inverse import design
 from rockcal.labtests.registry import lab_test
-from rockcal.labtests.seeds import seed_list
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
 # its mean UCS run on one thread, two at a time on idle cores (runs/granite-bench10, UCS revision 3,
@@ -96,7 +95,7 @@ def specimens(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
     they are cut from: the sensitivity runs', the calibration's, its other packings' and the
     validation tests'."""
     s = campaign.specimen
-    seeds = seed_list(s.seed, campaign.uncertainty.packings) if campaign.wants_uncertainty() else [s.seed]
+    seeds = packing_seeds(campaign) if campaign.wants_uncertainty() else [s.seed]
     out = [(test, campaign.sensitivity_specimen()) for test in campaign.target_sections()
            if campaign.sensitivity is not None]
     out += [(test, s.model_copy(update={"seed": seed})) for test in campaign.target_sections()

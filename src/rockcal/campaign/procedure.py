@@ -294,9 +294,8 @@ class Calibration:
     def _packings(self, identified: dict) -> list[tuple[SpecimenSettings, dict]]:
         """The (specimen settings, parameters) of the packings at the identified point whose
         scatter the parameters' intervals take in: the campaign's specimen and its next seeds."""
-        settings = self.campaign.specimen
-        return [(settings.model_copy(update={"seed": s}), identified)
-                for s in seed_list(settings.seed, self.campaign.uncertainty.packings)]
+        return [(self.campaign.specimen.model_copy(update={"seed": s}), identified)
+                for s in packing_seeds(self.campaign)]
 
     def _validation_runs(self, test: str, identified: dict) -> list:
         """The runs of a validation test at the identified point."""
@@ -386,6 +385,12 @@ class Calibration:
                 found["message"] = run.message
             checks.append(Check(**found))
         return checks or None
+
+
+def packing_seeds(campaign: Campaign) -> list[int]:
+    """The packings whose scatter the parameters' intervals take in: the campaign's specimen's
+    seed and the next ones."""
+    return seed_list(campaign.specimen.seed, campaign.uncertainty.packings)
 
 
 def validation_seeds(campaign: Campaign, test: str) -> list[int]:
