@@ -122,7 +122,7 @@ def test_twin_intervals_hold_the_truth_and_shrink_with_the_lab_spread(twin):
     tests/inverse/test_uncertainty.py."""
     from rockcal.campaign.config import parse_campaign
     from rockcal.campaign.forward import Executor
-    from rockcal.campaign.procedure import Calibration
+    from rockcal.campaign.procedure import calibrate
 
     config, result = twin
     targets = result["targets"]
@@ -134,7 +134,7 @@ def test_twin_intervals_hold_the_truth_and_shrink_with_the_lab_spread(twin):
         store = RunStore(config.parent / "out")
         executor = Executor(store, workers=1)
         try:
-            record = Calibration(parse_campaign(text, config.parent), executor).run()
+            record = calibrate(parse_campaign(text, config.parent), executor)
         finally:
             store.close()
         assert executor.executed == 0

@@ -17,7 +17,7 @@ from rockcal.campaign import dask_executor  # noqa: E402
 from rockcal.campaign.config import SpecimenSettings, parse_campaign  # noqa: E402
 from rockcal.campaign.dask_executor import DaskExecutor, parse_scheduler  # noqa: E402
 from rockcal.campaign.forward import Executor, run_spec  # noqa: E402
-from rockcal.campaign.procedure import Calibration  # noqa: E402
+from rockcal.campaign.procedure import calibrate  # noqa: E402
 from rockcal.campaign.store import RunStore  # noqa: E402
 from rockcal.errors import InputError  # noqa: E402
 
@@ -68,7 +68,7 @@ def test_campaign_on_dask_gives_the_serial_answer_bit_for_bit(tmp_path):
         store = RunStore(tmp_path / name)
         executor = make(store)
         try:
-            records[name] = Calibration(parse_campaign(CAMPAIGN, tmp_path), executor).run()
+            records[name] = calibrate(parse_campaign(CAMPAIGN, tmp_path), executor)
             if name == "dask":  # the workers read the driver's specimen cache
                 assert set(executor.client.run(os.getenv, "ROCKCAL_CACHE").values()) == {os.environ["ROCKCAL_CACHE"]}
         finally:

@@ -3,6 +3,7 @@
 import pytest
 
 from rockcal.campaign.config import parse_campaign, SpecimenSettings
+from rockcal.campaign import plan
 from rockcal.campaign.plan import describe, grain_count, stages
 from rockcal.campaign.store import RunStore
 from rockcal.dem.specimen import random_packing
@@ -64,7 +65,8 @@ checks = 2
     assert "15 UCS and 15 Brazilian runs" in lines[-1]
 
 
-def test_coarser_sensitivity_runs_are_shown_and_expected_sooner(tmp_path):
+def test_coarser_sensitivity_runs_are_shown_and_expected_sooner(tmp_path, monkeypatch):
+    monkeypatch.setattr(plan, "probe_ms_per_step", lambda: 0.66)  # one machine speed for both
     text = """
 [targets.ucs]
 E_GPa = 20.0
@@ -77,7 +79,8 @@ levels = { E_c = [10, 20, 30], sigma_c = [20, 40, 60] }
     assert "sensitivity 9 (R_min 0.5 mm), samples" in coarse[1] and "(R_min" not in full[1]
 
     def minutes(lines):
-        return float(lines[-1].split("about ")[1].split(" min")[0])
+        number, unit = lines[-1].split("about ")[1].split(" ")[:2]
+        return float(number) * {"s": 1 / 60, "min": 1, "h": 60}[unit]
     assert minutes(coarse) < minutes(full)
 
 

@@ -4,7 +4,7 @@ filled in and the campaign goes on, and the loop recovers the model's known para
 import pytest
 
 from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.procedure import Calibration
+from rockcal.campaign.procedure import calibrate
 from rockcal.campaign.result import FailedRun
 from rockcal.campaign.store import RunResult
 
@@ -52,7 +52,7 @@ class SyntheticExecutor:
 
 
 def test_a_failed_sensitivity_run_is_filled_in_and_the_campaign_recovers_the_parameters(tmp_path):
-    record = Calibration(parse_campaign(CAMPAIGN, tmp_path), SyntheticExecutor()).run()
+    record = calibrate(parse_campaign(CAMPAIGN, tmp_path), SyntheticExecutor())
     sensitivity = record.sensitivity
     assert len(sensitivity.imputed_runs) == 1
     assert sensitivity.chosen == ["E_c", "kn_ks", "sigma_c"]
@@ -104,7 +104,7 @@ class JointExecutor(SyntheticExecutor):
 def test_joint_targets_free_more_parameters_and_are_recovered(tmp_path):
     """UCS, Brazilian and bending targets: range analysis picks tau_c as well, the loop fits
     every response, the Brazilian test (listed in [validation]) is a check only."""
-    record = Calibration(parse_campaign(JOINT, tmp_path), JointExecutor()).run()
+    record = calibrate(parse_campaign(JOINT, tmp_path), JointExecutor())
     assert record.target_tests == {"ucs": ["E_GPa", "nu", "ucs_MPa"], "bending": ["K_IC_MPa_sqrt_m"]}
     assert record.sensitivity.chosen == ["E_c", "kn_ks", "sigma_c", "tau_c"]
     assert record.failed_runs == []  # the Brazilian test runs only at the identified point
@@ -142,7 +142,7 @@ def test_the_validation_beams_and_the_other_packings_run_as_one_batch_beams_firs
         "[sensitivity]", "[specimen]\nbending_seeds = 2\n[sensitivity]") + \
         "[uncertainty]\nenabled = true\ndraws = 10\npackings = 3\n"
     executor = RememberingExecutor()
-    record = Calibration(parse_campaign(text, tmp_path), executor).run()
+    record = calibrate(parse_campaign(text, tmp_path), executor)
     last = max(k for k, call in enumerate(executor.calls) if call)
     assert executor.calls[last] == [("bending", 1), ("bending", 2), ("ucs", 2), ("ucs", 3),
                                     ("brazilian", 2), ("brazilian", 3)]
@@ -154,7 +154,7 @@ def test_a_failed_run_of_one_test_fails_its_parameter_set(tmp_path):
         "sigma_t_MPa = 10.0",
         "sigma_t_MPa = 10.0\nweights = { sigma_t_MPa = 2 }\nspread = { sigma_t_MPa = 0.5 }",
     ) + "[uncertainty]\ndraws = 10\npackings = 2\n"
-    record = Calibration(parse_campaign(text, tmp_path), JointExecutor()).run()
+    record = calibrate(parse_campaign(text, tmp_path), JointExecutor())
     assert record.target_tests == {"ucs": ["E_GPa", "nu", "ucs_MPa"], "brazilian": ["sigma_t_MPa"]}
     assert record.weights == {"sigma_t_MPa": 2.0} and "sigma_t_MPa 2" in record.objective
     assert record.failed_runs == [FailedRun(stage="sensitivity (brazilian)", message="ValueError: unstable")]
@@ -210,7 +210,7 @@ def test_distinct_optima_verified_together_whatever_the_workers(tmp_path):
     within the tolerance of every target."""
     campaign = parse_campaign(SEARCH, tmp_path)
     serial, parallel = Workers(1), Workers(2)
-    one, two = (Calibration(campaign, ex).run() for ex in (serial, parallel))
+    one, two = (calibrate(campaign, ex) for ex in (serial, parallel))
     assert one.model_dump() == two.model_dump() and two.accepted
     verified_together = parallel.calls[-1]
     assert serial.calls[-1] == verified_together and len(verified_together) == 2
@@ -218,7 +218,7 @@ def test_distinct_optima_verified_together_whatever_the_workers(tmp_path):
     assert kn_ks == pytest.approx([1.5, 2.5], abs=0.05)  # the two valleys, not one point twice
     assert all(abs(e) <= two.tolerance for it in two.iterations for e in it.errors.values())
     single = Workers(2)
-    alone = Calibration(parse_campaign(SEARCH + "[acceptance]\ncandidates = 1\n", tmp_path), single).run()
+    alone = calibrate(parse_campaign(SEARCH + "[acceptance]\ncandidates = 1\n", tmp_path), single)
     assert len(single.calls[-1]) == 1 and alone.identified == two.identified
 
 
@@ -228,11 +228,11 @@ def test_a_sensitivity_run_trains_the_surrogate_only_when_it_is_a_run_of_the_sea
 array = "L16(4^5)"
 levels = { E_c = [15, 20, 25, 30], kn_ks = [1.0, 1.67, 2.33, 3.0], sigma_c = [20, 30, 40, 50], tau_c = [50, 70, 90, 110], mu = [0.3, 0.4, 0.5, 0.6] }
 [search]""")
-    record = Calibration(parse_campaign(text, tmp_path), Workers(1, responses)).run()
+    record = calibrate(parse_campaign(text, tmp_path), Workers(1, responses))
     [i] = record.samples.reused_sensitivity_runs
     assert record.sensitivity.runs[i] == {"E_c": 15.0, "kn_ks": 2.33, "sigma_c": 40.0, "tau_c": 90.0, "mu": 0.5}
     narrow = text.replace("E_c = [15, 30]", "E_c = [20, 30]")  # that run is now outside the box
-    assert Calibration(parse_campaign(narrow, tmp_path), Workers(1, responses)).run() \
+    assert calibrate(parse_campaign(narrow, tmp_path), Workers(1, responses)) \
         .samples.reused_sensitivity_runs is None
 
 
@@ -253,7 +253,7 @@ levels = { E_c = [15, 20, 25, 30], kn_ks = [1.0, 1.67, 2.33, 3.0], sigma_c = [20
 rmin_mm = 0.5
 [search]""")
     executor = Specimens(1, responses)
-    record = Calibration(parse_campaign(text, tmp_path), executor).run()
+    record = calibrate(parse_campaign(text, tmp_path), executor)
     first, *later = executor.calls
     assert first == [0.5] * 16 and {r for call in later for r in call} == {0.25}
     assert len(later[0]) == 12 + 2  # the samples and the surrogate's checks: one batch

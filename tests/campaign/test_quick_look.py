@@ -6,7 +6,7 @@ import subprocess
 import sys
 
 from rockcal.campaign.config import load_campaign, parse_campaign, quick_look, quick_look_note
-from rockcal.campaign.procedure import Calibration
+from rockcal.campaign.procedure import calibrate
 from rockcal.campaign.report import write_report
 from rockcal.campaign.result import CalibrationResult
 from rockcal.campaign.store import STORE_NAME, RunStore
@@ -73,7 +73,7 @@ def test_the_first_screen_says_quick_look_and_its_folder_is_its_own(tmp_path):
 def test_the_report_and_json_of_a_quick_look_say_so(tmp_path):
     quick = quick_look(parse_campaign(TINY, tmp_path))
     note = quick_look_note(quick)
-    result = Calibration(quick, Workers(1, lambda p: {"E_GPa": p["E_c"]})).run().model_copy(update={"quick_look": note})
+    result = calibrate(quick, Workers(1, lambda p: {"E_GPa": p["E_c"]})).model_copy(update={"quick_look": note})
     assert summary(result)["quick_look"] == note
     assert CalibrationResult.from_json(result.to_json()).quick_look == note
     store = RunStore(tmp_path / "out")

@@ -11,7 +11,7 @@ import pytest
 
 from rockcal.campaign.config import parse_campaign
 from rockcal.campaign.forward import Executor
-from rockcal.campaign.procedure import Calibration
+from rockcal.campaign.procedure import calibrate
 from rockcal.campaign.figures import FIGURES
 from rockcal.campaign.report import write_report
 from rockcal.campaign.result import CalibrationResult, Check, FailedRun, Validation
@@ -65,7 +65,7 @@ def campaign(tmp_path_factory):
     np.savetxt(folder / "measured.csv", np.column_stack([strain, stress]), delimiter=",",
                header="axial_strain,axial_stress_MPa", comments="")
     store = RunStore(folder)
-    record = Calibration(parse_campaign(TOML, folder), Executor(store, workers=1)).run()
+    record = calibrate(parse_campaign(TOML, folder), Executor(store, workers=1))
     yield record, store, folder
     store.close()
 

@@ -13,11 +13,11 @@ from importlib import resources
 from pathlib import Path
 from typing import Literal
 
-import numpy as np
 from pydantic import Field, ValidationError, field_validator, model_validator
 
 from rockcal.campaign.targets import LabTargets, Section, Targets, ValidationTests
-from rockcal.campaign.targets import UCSTargets  # noqa: F401  (the UCS section, here too)
+from rockcal.labtests.lab_values import read_curve  # noqa: F401  (here too)
+from rockcal.labtests.ucs import UCSValues as UCSTargets  # noqa: F401  (the UCS section, here too)
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
@@ -250,13 +250,19 @@ def parse_campaign(text: str, base: Path) -> Campaign:
         raise from_validation_error(exc) from None
     _check_values(campaign)
     _check_specimens(campaign)
-    curve = campaign.targets.ucs.curve
-    if curve is not None:
-        if not curve.is_absolute():
-            ucs = campaign.targets.ucs.model_copy(update={"curve": base / curve})
-            campaign = campaign.model_copy(update={"targets": campaign.targets.model_copy(update={"ucs": ucs})})
-        read_curve(campaign.targets.ucs.curve)  # a broken CSV fails here, before any run
-    return campaign
+    return _curves_from(campaign, base)
+
+
+def _curves_from(campaign: Campaign, base: Path) -> Campaign:
+    """The campaign with each target section's relative curve path taken from `base`, every
+    curve read once so that a broken CSV fails here, before any run."""
+    sections = dict(campaign.targets.given())
+    for name, section in sections.items():
+        curve = getattr(section, "curve", None)
+        if curve is not None and not curve.is_absolute():
+            sections[name] = section.model_copy(update={"curve": base / curve})
+        sections[name].measured_curve()
+    return campaign.model_copy(update={"targets": Targets.model_validate(sections)})
 
 
 def _check_values(campaign: Campaign) -> None:
@@ -283,24 +289,3 @@ def _check_specimens(campaign: Campaign) -> None:
     for test in map(lab_test, campaign.tests()):
         with fields_named(lambda field: f"specimen.{field}"):
             test.check(test.settings_of(campaign.specimen))
-
-
-def read_curve(path: Path) -> np.ndarray:
-    """A measured stress-strain curve: rows of (axial strain, axial stress MPa), strain rising."""
-    field = "targets.ucs.curve"
-    try:
-        rows = np.genfromtxt(path, delimiter=",", dtype=float, invalid_raise=True)
-    except (OSError, ValueError) as exc:
-        raise InputError(field, f"cannot read {path}: {exc}") from None
-    if rows.ndim == 2 and rows.shape[1] >= 2 and np.isnan(rows[0]).all():
-        rows = rows[1:]  # a header line
-    if rows.ndim != 2 or rows.shape[1] < 2 or len(rows) < 3:
-        raise InputError(field, f"{path}: need at least 3 rows of 'strain, stress_MPa'")
-    rows = rows[:, :2]
-    if not np.isfinite(rows).all():
-        bad = int(np.flatnonzero(~np.isfinite(rows).all(axis=1))[0]) + 1
-        raise InputError(field, f"{path}: data row {bad} is not two numbers")
-    if np.any(np.diff(rows[:, 0]) <= 0):
-        bad = int(np.flatnonzero(np.diff(rows[:, 0]) <= 0)[0]) + 2
-        raise InputError(field, f"{path}: strain must increase, it does not at data row {bad}")
-    return rows

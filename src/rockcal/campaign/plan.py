@@ -13,18 +13,17 @@ cores (a run alone on two cores goes LONE_RUN_SPEED_UP times faster than one of 
 from __future__ import annotations
 
 import os
-import re
+
+from dataclasses import replace
 
 import numpy as np
 
 from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.engine_speed import probe_ms_per_step
-from rockcal.campaign.forward import run_spec
-from rockcal.campaign.procedure import (PACKINGS_AND_VALIDATION, SAMPLES_AND_CHECKS, packing_seeds,
-                                        sample_points, validation_seeds)
+from rockcal.campaign.procedure import (STEPS, packing_seeds, sample_runs, search_space, sensitivity_runs,
+                                        start, validation_seeds)
 from rockcal.dem.specimen import packing_name, stored_packing
-from rockcal.inverse import design
-from rockcal.labtests.registry import lab_test
+from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
 # its mean UCS run on one thread, two at a time on idle cores (runs/granite-bench10, UCS revision 3,
@@ -35,12 +34,6 @@ REFERENCE_PROBE_MS = 0.66
 # run time ~ work^WORK_EXPONENT: with the readings compiled, a half-resolution UCS run takes 1/10.3
 # of the full-size one at the same point, on one thread (work 1/8; 1/8.5 before, runs/granite-bench8)
 WORK_EXPONENT = 1.1
-# a run's time over the work-scaled UCS run's: for bending 1.75 in runs/granite-bench13 (bending
-# revision 7, the engine's bond table: the beams 43-66 s against UCS runs of 27 s, two at a time;
-# 2.1 before it, in runs/granite-bench12, with the same steps); 2.3 in runs/granite-bench11 at
-# revision 6, whose beams took 1.4x revision 7's steps (a beam's time per step moves by up to 1.4x
-# between hours and machines, a UCS run's far less)
-SLOWER_THAN_WORK = {"bending": 1.75}
 LONE_RUN_SPEED_UP = 1.4  # measured alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
 DRAW_S = 0.05  # one search on the surrogate for the parameters' intervals (main process; 200 took 8 s in runs/granite-bench4)
 
@@ -59,11 +52,6 @@ def work(width_mm: float, height_mm: float, s: SpecimenSettings) -> float:
     return grain_count(width_mm, height_mm, s) * rows
 
 
-def array_runs(name: str) -> int:
-    """Runs of an orthogonal array named like "L16(4^5)"."""
-    return int(re.match(r"L(\d+)", name).group(1))
-
-
 def specimen_size(test: str, s: SpecimenSettings) -> tuple[str, int, float]:
     """A test's specimen in words, its grains and its work (grains x rows)."""
     kind = lab_test(test)
@@ -73,21 +61,9 @@ def specimen_size(test: str, s: SpecimenSettings) -> tuple[str, int, float]:
 
 
 def stages(campaign: Campaign) -> list[tuple[str, str, int]]:
-    """(stage, test, runs) in the order they run: each stage of the calibration runs every test
-    calibrated against; the verification loop counts its first run; the validation tests and
-    the other packings run as one stage."""
-    points = []
-    if campaign.sensitivity is not None:
-        points.append(("sensitivity", array_runs(campaign.sensitivity.array)))
-    points += [(SAMPLES_AND_CHECKS, campaign.surrogate.samples + campaign.surrogate.checks),
-               ("verification", 1)]
-    out = [(stage, test, n) for stage, n in points for test in campaign.target_sections()]
-    out += [(PACKINGS_AND_VALIDATION, test, len(validation_seeds(campaign, test)))
-            for test in campaign.validation_tests()]
-    if campaign.wants_uncertainty():
-        out += [(PACKINGS_AND_VALIDATION, test, campaign.uncertainty.packings - 1)
-                for test in campaign.target_sections()]
-    return out
+    """(stage, test, runs) in the order they run, as the procedure's steps plan them (the
+    verification loop counts its first round)."""
+    return [(step.stage, test, n) for step in STEPS for test, n in step.planned(campaign).items()]
 
 
 def specimens(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
@@ -127,23 +103,17 @@ def stage_runs(campaign: Campaign) -> dict[str, int]:
 
 def stored_runs(campaign: Campaign, store) -> dict[str, int]:
     """How many of the campaign's sensitivity, sample and check runs the store holds, by test:
-    those known before it runs (the samples only when [search] gives the bounds)."""
-    fixed, points = campaign.fixed_params(), []
-    bounds = campaign.search.bounds
-    if campaign.sensitivity is not None:
-        runs = design(campaign.sensitivity.array, campaign.sensitivity.levels)
-        specimen = campaign.sensitivity_specimen()
-        points += [(specimen, {f: float(v[i]) for f, v in runs.items()})
-                   for i in range(len(next(iter(runs.values()))))]
-        for f, levels in campaign.sensitivity.levels.items():  # as the procedure does
-            if f not in bounds and f not in fixed:
-                fixed[f] = float(np.mean(levels))
-    if bounds:
-        names = list(bounds)
-        x, checks = sample_points(np.array([bounds[n] for n in names], float), campaign.surrogate)
-        points += [(campaign.specimen, fixed | dict(zip(names, row))) for row in np.vstack([x, checks])]
-    return {test: sum(store.get(run_spec(test, specimen, campaign.fixed_params() | row)) is not None
-                      for specimen, row in points) for test in campaign.target_sections()}
+    those the procedure's steps know before it runs (the samples only when [search] gives the
+    bounds)."""
+    state = start(campaign)
+    specs = sensitivity_runs(state).specs
+    if campaign.search.bounds:
+        bounds, fixed = search_space(campaign, [])
+        specs += sample_runs(replace(state, bounds=bounds, fixed=fixed)).specs
+    stored: dict[str, int] = {test: 0 for test in campaign.target_sections()}
+    for spec in specs:
+        stored[spec.kind] += store.get(spec) is not None
+    return stored
 
 
 def stored_runs_s(store, test: str, specimen: SpecimenSettings) -> list[float]:
@@ -157,13 +127,13 @@ def run_times(campaign: Campaign, store, sizes: dict) -> tuple[dict[str, float],
     measured (the mean of this store's runs) rather than scaled from the reference run."""
     s = campaign.specimen
     measured = {test: stored_runs_s(store, test, s) for test in sizes}
-    ucs_work = sizes["ucs"][2]
-    ucs_s = float(np.mean(measured["ucs"])) if measured["ucs"] else \
+    ucs_work = sizes[PRIMARY_TEST][2]
+    ucs_s = float(np.mean(measured[PRIMARY_TEST])) if measured[PRIMARY_TEST] else \
         reference_run_s() * (ucs_work / REFERENCE_WORK) ** WORK_EXPONENT
     times = {test: float(np.mean(measured[test])) if measured[test] else
-             ucs_s * (size[2] / ucs_work) ** WORK_EXPONENT * SLOWER_THAN_WORK.get(test, 1.0)
+             ucs_s * (size[2] / ucs_work) ** WORK_EXPONENT * lab_test(test).slower_than_work
              for test, size in sizes.items()}
-    return times, bool(measured["ucs"])
+    return times, bool(measured[PRIMARY_TEST])
 
 
 def machine_speed() -> float:
@@ -249,7 +219,7 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
         lines.append(f"expected: about {_duration(expected_s(campaign, store, workers))} on "
                      f"{workers} worker{'s' if workers > 1 else ''} "
                      f"for the {' and '.join(f'{n} {lab_test(t).title}' for t, n in runs.items())} runs "
-                     f"still to do ({_duration(times['ucs'])} per UCS run on one worker: {basis})"
+                     f"still to do ({_duration(times[PRIMARY_TEST])} per UCS run on one worker: {basis})"
                      + _genesis(campaign))
     return lines
 

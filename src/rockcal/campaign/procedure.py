@@ -1,11 +1,14 @@
-"""The inverse procedure end to end (SPEC steps 1-8): sensitivity runs and range analysis,
-Latin hypercube runs, Gaussian RBF surrogate and its check, ant colony search on the
-surrogate, DEM verification and the adaptive loop, the intervals of the identified parameters
-(when the lab gives a spread), then the validation checks.
+"""The inverse procedure as a declared list of steps: sensitivity (orthogonal array, range
+analysis), Latin hypercube samples and the surrogate's checks, the search on the surrogate and
+its DEM verification (a loop, until a verified point is accepted), then the packings and
+validation runs at the identified point (the parameters' intervals, the curve fit, the checks).
 
-Each parameter set is run in every lab test calibrated against (UCS, and the Brazilian or
-bending test when they are targets), and their responses make one dict: the steps see one
-forward model whatever the tests behind it.
+A step is a function of the results so far (`State`) that returns the forward runs it needs
+and how to fold their results into the next state (`Runs`). `calibrate` passes the runs to
+the executor it is given (serial, process pool or Dask) and folds; the first screen
+(`rockcal.campaign.plan`) reads the same list to count the runs. Each parameter set runs every
+lab test calibrated against, and their responses make one dict: the steps see one forward
+model whatever the tests behind it.
 
 Every forward run goes through the executor and its store, and every other step is seeded,
 so running a campaign again (after a kill, or to rebuild a report) gives the same answer and
@@ -14,377 +17,369 @@ runs only what the store does not hold.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
 
-from rockcal.campaign.config import Campaign, SpecimenSettings, read_curve
-from rockcal.campaign.forward import SPECIMEN_KEYS, Executor, run_spec
-from rockcal.campaign.result import (CalibrationResult, Check, CurveFit, FailedRun, Iteration, Samples,
-                                     Sensitivity, SurrogateCheck, Uncertainty, Validation)
-from rockcal.inverse import (RBFSurrogate, Objective, ant_colony, curve_fit, design, latin_hypercube,
-                             range_analysis)
-from rockcal.inverse.uncertainty import parameter_intervals
-from rockcal.labtests.kic import pmax_kic_disagreement
-from rockcal.labtests.registry import lab_test
-from rockcal.labtests.seeds import mean_over_seeds, seed_list
-from rockcal.dem.measure import secant_at_half_peak
+from rockcal.campaign.config import Campaign, SpecimenSettings
+from rockcal.campaign.forward import SPECIMEN_KEYS, run_spec
+from rockcal.campaign.goals import Goals, goals_of
+from rockcal.campaign.result import (CalibrationResult, FailedRun, Iteration, Samples, Sensitivity,
+                                     SurrogateCheck)
+from rockcal.campaign.store import RunResult, RunSpec
+from rockcal.campaign.validation import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
+from rockcal.inverse import RBFSurrogate, Objective, ant_colony, design, latin_hypercube, range_analysis
+from rockcal.labtests.registry import PRIMARY_TEST, lab_test
+from rockcal.labtests.seeds import seed_list
 from rockcal.params import make_params
 
 SIGNIFICANT_DIGITS = 4  # parameters of verification runs are rounded to this (stable store keys)
 DISTINCT = 0.05  # optima closer than this (box-normalised distance) are one optimum
 SEARCHES_PER_CANDIDATE = 2  # searches tried for each other candidate optimum before giving up
 
-Stage = Callable[[str, int, int], None]  # progress(stage, done, total)
+Progress = Callable[[str, int, int], None]  # progress(stage, done, total)
+Point = tuple[SpecimenSettings, dict]  # a parameter set on a specimen
+
+SAMPLES_AND_CHECKS = "samples and checks"  # the stage of the Latin hypercube runs and checks
+# the stage of the runs at the identified point: the other packings and the validation tests
+PACKINGS_AND_VALIDATION = "packings and validation"
 
 
 class CalibrationFailed(Exception):
     """The campaign cannot go on (e.g. every forward run of a stage failed)."""
 
 
-def ucs_targets(campaign: Campaign) -> tuple[dict[str, float], np.ndarray | None]:
-    """Scalar targets, completed from the measured curve when one is given (E secant at half
-    the peak, UCS = peak), and the curve itself."""
-    targets = campaign.targets.ucs.scalars()
-    curve = None
-    if campaign.targets.ucs.curve is not None:
-        curve = read_curve(campaign.targets.ucs.curve)
-        E_MPa, _, peak = secant_at_half_peak(curve[:, 0], np.zeros(len(curve)), curve[:, 1])
-        targets.setdefault("E_GPa", E_MPa / 1e3)
-        targets.setdefault("ucs_MPa", float(curve[peak, 1]))
-    return targets, curve
+@dataclass(frozen=True)
+class State:
+    """The results so far: each step adds its own and reads only what earlier steps found."""
+
+    campaign: Campaign
+    goals: Goals
+    fixed: dict[str, float]  # parameters held constant (with the middle of unused levels)
+    bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
+    sensitivity: Sensitivity | None = None
+    samples: Samples | None = None
+    surrogate_check: SurrogateCheck | None = None
+    train_x: np.ndarray | None = None  # the surrogate's training points and their responses
+    train_y: list = field(default_factory=list)
+    iterations: tuple[Iteration, ...] = ()
+    objective: str = ""
+    accepted: int | None = None  # the accepted iteration
+    settled: bool = False  # the verification loop is over
+    dem_runs: tuple[str, ...] = ()  # keys of the distinct primary-test runs: one per parameter set
+    failed_runs: tuple[FailedRun, ...] = ()
+    specimen_description: dict | None = None  # of the first primary-test run on the campaign's specimen
+    curves: dict = field(default_factory=dict)  # verification runs' curves, by run key
+    final: dict = field(default_factory=dict)  # the last step's parts of the result
+
+    @property
+    def names(self) -> list[str]:
+        """The parameters searched."""
+        return list(self.bounds)
+
+    @property
+    def box(self) -> np.ndarray:
+        return np.array([self.bounds[n] for n in self.names], dtype=float)
+
+    def best(self) -> int:
+        """The accepted iteration, or the verified one with the smallest largest error."""
+        return self.accepted if self.accepted is not None else _closest(list(self.iterations))
+
+    def identified(self) -> dict[str, float]:
+        return dict(zip(self.names, self.iterations[self.best()].x))
 
 
-def _round(x: np.ndarray) -> np.ndarray:
-    return np.array([float(f"{v:.{SIGNIFICANT_DIGITS}g}") for v in x])
+Fold = Callable[[list[RunResult], Progress], State]
 
 
-SAMPLES_AND_CHECKS = "samples and checks"  # the stage of step 3's DEM runs
-# the stage of the runs at the identified point: the other packings and the validation tests
-PACKINGS_AND_VALIDATION = "packings and validation"
+@dataclass(frozen=True)
+class Runs:
+    """What a step asks for: the forward runs, and how their results (in the same order) make
+    the next state."""
+
+    specs: list[RunSpec]
+    fold: Fold
 
 
-class Calibration:
-    """One campaign's run: call `run()`; the result it returns is what reports are made of."""
+@dataclass(frozen=True)
+class Step:
+    """A step of the procedure: its stage name (the progress bar's and the first screen's),
+    the runs it needs from the state so far, the runs the first screen counts for each test
+    before the campaign starts, and whether it runs again (the verification loop)."""
 
-    def __init__(self, campaign: Campaign, executor: Executor, progress: Stage | None = None):
-        self.campaign = campaign
-        self.executor = executor
-        self.progress = progress or (lambda stage, done, total: None)
-        sections = campaign.target_sections()
-        ucs, self.curve = ucs_targets(campaign)
-        self.tests = {t: list(ucs) if t == "ucs" else list(s.scalars()) for t, s in sections.items()}
-        self.targets = ucs | {r: v for t, s in sections.items() if t != "ucs" for r, v in s.scalars().items()}
-        self.weights = {r: w for s in sections.values() for r, w in s.weights.items()}
-        self.spread = {r: list(v) if isinstance(v, tuple) else v
-                       for s in sections.values() for r, v in s.spread.items()}
-        self.fixed = campaign.fixed_params()
-        self.dem_runs: list[str] = []  # keys of the distinct UCS runs: one per parameter set
-        self.failed_runs: list[FailedRun] = []
-        self.ucs_specimen: dict | None = None  # of the first UCS run that succeeded
+    stage: str
+    runs: Callable[[State], Runs]
+    planned: Callable[[Campaign], dict[str, int]]
+    again: Callable[[State], bool] = lambda state: False
 
-    # -- forward runs ---------------------------------------------------------------------
-    def _forward(self, stage: str, points: list[tuple[SpecimenSettings, dict]], shown: bool = True):
-        """Every target test at each (specimen settings, parameters) point: the responses of
-        each point (None when a run of it failed), the specs of each test, the failed runs.
-        The runs are shown as `stage`'s progress unless `shown` is False."""
-        specs = {t: [run_spec(t, settings, self.fixed | row) for settings, row in points] for t in self.tests}
-        results = self._run([spec for t in self.tests for spec in specs[t]], stage if shown else None)
-        n = len(points)
-        by_test = {t: results[k * n:(k + 1) * n] for k, t in enumerate(self.tests)}
-        responses, failed = [], []
-        for i in range(n):
-            runs = {t: by_test[t][i] for t in self.tests}
-            failed += [FailedRun(stage=stage if t == "ucs" else f"{stage} ({t})", message=r.message)
-                       for t, r in runs.items() if r.status != "ok"]
-            ok = all(r.status == "ok" for r in runs.values())
-            responses.append(merge_responses({t: r.responses for t, r in runs.items()}) if ok else None)
-        if self.ucs_specimen is None:  # of the first UCS run that succeeded on the campaign's specimen
-            done = next((r.responses for r, (settings, _) in zip(by_test["ucs"], points)
-                         if r.status == "ok" and settings == self.campaign.specimen), None)
-            if done is not None:
-                self.ucs_specimen = {k: done[k] for k in SPECIMEN_KEYS if k in done}
-        return responses, specs, failed
 
-    def _run(self, specs: list, stage: str | None) -> list:
-        """The executor's results of `specs`, shown as `stage`'s progress (None: not shown)."""
-        shown = stage and (lambda done, total: self.progress(stage, done, total))
-        return self.executor.run(specs, shown)
+def calibrate(campaign: Campaign, executor, progress: Progress | None = None) -> CalibrationResult:
+    """Run the campaign's steps with `executor` (its `run(specs, progress)` returns results in
+    order); returns what the campaign found."""
+    progress = progress or (lambda stage, done, total: None)
+    state = start(campaign)
+    for step in STEPS:
+        while True:
+            runs = step.runs(state)
+            shown = lambda done, total, stage=step.stage: progress(stage, done, total)  # noqa: E731
+            results = executor.run(runs.specs, shown) if runs.specs else []
+            state = runs.fold(results, progress)
+            if not step.again(state):
+                break
+    return result_of(state)
 
-    def _evaluate(self, stage: str, rows: list[dict], specimen: SpecimenSettings | None = None) -> list[dict | None]:
-        """The responses of each parameter set on the campaign's specimens (or `specimen`; None
-        for a failed run); every run counts against the budget and a failure is recorded."""
-        specimen = specimen or self.campaign.specimen
-        responses, specs, failed = self._forward(stage, [(specimen, row) for row in rows])
-        for spec in specs["ucs"]:
-            if spec.key not in self.dem_runs:
-                self.dem_runs.append(spec.key)
-        self.failed_runs += failed
-        if failed and all(r is None for r in responses):
-            raise CalibrationFailed(f"every forward run of stage '{stage}' failed; "
-                                    f"first: {failed[0].message}")
-        return responses
 
-    # -- the steps ------------------------------------------------------------------------
-    def sensitivity(self) -> tuple[dict[str, tuple[float, float]], Sensitivity | None]:
-        """Step 2: orthogonal-array runs, range analysis; returns the search bounds and the
-        study (None without [sensitivity])."""
-        settings = self.campaign.sensitivity
-        bounds = dict(self.campaign.search.bounds)
-        if settings is None:
-            return bounds, None
-        runs = design(settings.array, settings.levels)
-        n = len(next(iter(runs.values())))
-        rows = [{f: float(v[i]) for f, v in runs.items()} for i in range(n)]
-        specimen = self.campaign.sensitivity_specimen()
-        responses = self._evaluate("sensitivity", rows, specimen)  # the array's values override [search].fixed
-        names = list(self.targets)
+def start(campaign: Campaign) -> State:
+    """The state before any run: the campaign, its targets, its fixed parameters."""
+    return State(campaign=campaign, goals=goals_of(campaign), fixed=campaign.fixed_params())
+
+
+# -- forward runs of parameter sets ------------------------------------------------------------
+
+def point_specs(state: State, points: list[Point]) -> list[RunSpec]:
+    """The runs of every test calibrated against at each point, test by test."""
+    return [run_spec(test, settings, state.fixed | row) for test in state.goals.tests
+            for settings, row in points]
+
+
+def folded(state: State, stage: str, points: list[Point], results: list[RunResult]) -> tuple[State, list]:
+    """The responses of each point (None when one of its runs failed), with the runs counted
+    against the budget and the failures recorded; CalibrationFailed if every point failed."""
+    tests, n = list(state.goals.tests), len(points)
+    by_test = {t: results[k * n:(k + 1) * n] for k, t in enumerate(tests)}
+    primary = specs_keys(state, points)
+    responses, failed = [], []
+    for i in range(n):
+        runs = {t: by_test[t][i] for t in tests}
+        failed += [FailedRun(stage=stage if t == PRIMARY_TEST else f"{stage} ({t})", message=r.message)
+                   for t, r in runs.items() if r.status != "ok"]
+        ok = all(r.status == "ok" for r in runs.values())
+        responses.append(merge_responses({t: r.responses for t, r in runs.items()}) if ok else None)
+    state = replace(state, dem_runs=state.dem_runs + tuple(k for k in dict.fromkeys(primary)
+                                                            if k not in state.dem_runs),
+                    failed_runs=state.failed_runs + tuple(failed),
+                    specimen_description=state.specimen_description or _description(state, points, by_test))
+    if failed and all(r is None for r in responses):
+        raise CalibrationFailed(f"every forward run of stage '{stage}' failed; first: {failed[0].message}")
+    return state, responses
+
+
+def specs_keys(state: State, points: list[Point]) -> list[str]:
+    """The keys of the primary test's runs at the points."""
+    return [run_spec(PRIMARY_TEST, settings, state.fixed | row).key for settings, row in points]
+
+
+def _description(state: State, points: list[Point], by_test: dict) -> dict | None:
+    """The specimen of the first primary-test run that succeeded on the campaign's specimen."""
+    done = next((r.responses for r, (settings, _) in zip(by_test[PRIMARY_TEST], points)
+                 if r.status == "ok" and settings == state.campaign.specimen), None)
+    return None if done is None else {k: done[k] for k in SPECIMEN_KEYS if k in done}
+
+
+def merge_responses(by_test: dict[str, dict]) -> dict:
+    """One parameter set's responses: the primary test's whole (its other readings too), and
+    the target responses of each other test."""
+    merged = dict(by_test[PRIMARY_TEST])
+    for test, responses in by_test.items():
+        if test != PRIMARY_TEST:
+            merged |= {r: responses[r] for r in lab_test(test).targets}
+    return merged
+
+
+# -- step 1: sensitivity -------------------------------------------------------------------------
+
+def sensitivity_rows(campaign: Campaign) -> list[dict]:
+    """The orthogonal array's parameter sets (none without [sensitivity])."""
+    if campaign.sensitivity is None:
+        return []
+    runs = design(campaign.sensitivity.array, campaign.sensitivity.levels)
+    n = len(next(iter(runs.values())))
+    return [{f: float(v[i]) for f, v in runs.items()} for i in range(n)]
+
+
+def search_space(campaign: Campaign, chosen: list[str]) -> tuple[dict, dict]:
+    """The search bounds ([search] bounds, else the levels of the factors the range analysis
+    chose) and the fixed parameters, with the middle level of each factor neither searched
+    nor fixed."""
+    bounds, fixed = dict(campaign.search.bounds), campaign.fixed_params()
+    levels = campaign.sensitivity.levels if campaign.sensitivity else {}
+    if not bounds:
+        bounds = {f: (min(levels[f]), max(levels[f])) for f in chosen}
+    for f, values in levels.items():
+        if f not in bounds and f not in fixed:
+            fixed[f] = float(np.mean(values))
+    return bounds, fixed
+
+
+def sensitivity_runs(state: State) -> Runs:
+    """The orthogonal-array runs (their values override [search] fixed), then range analysis."""
+    campaign = state.campaign
+    rows = sensitivity_rows(campaign)
+    specimen = campaign.sensitivity_specimen()
+    points = [(specimen, row) for row in rows]
+
+    def fold(results, progress) -> State:
+        if not rows:
+            bounds, fixed = search_space(campaign, [])
+            return replace(state, bounds=bounds, fixed=fixed)
+        new, responses = folded(state, "sensitivity", points, results)
+        settings = campaign.sensitivity
+        names = list(state.goals.targets)
         table = _fill_failed({r: [None if v is None else v[r] for v in responses] for r in names})
-        analysis = range_analysis({f: np.array(v) for f, v in runs.items()}, table)
-        chosen = analysis.chosen(settings.threshold)
+        analysis = range_analysis({f: np.array([row[f] for row in rows]) for f in rows[0]}, table)
         study = Sensitivity(array=settings.array, runs=rows, run_responses=responses,
                             imputed_runs=[i for i, v in enumerate(responses) if v is None],
-                            rmin_mm=specimen.rmin_mm if specimen != self.campaign.specimen else None,
+                            rmin_mm=specimen.rmin_mm if specimen != campaign.specimen else None,
                             **analysis.to_dict(settings.threshold))
-        if not bounds:
-            bounds = {f: (min(settings.levels[f]), max(settings.levels[f])) for f in chosen}
-        for f, levels in settings.levels.items():  # factors neither inverted nor fixed: middle
-            if f not in bounds and f not in self.fixed:
-                self.fixed[f] = float(np.mean(levels))
-        return bounds, study
+        bounds, fixed = search_space(campaign, analysis.chosen(settings.threshold))
+        return replace(new, bounds=bounds, fixed=fixed, sensitivity=study)
 
-    def run(self) -> CalibrationResult:
-        """Steps 2-8; returns what the campaign found."""
-        bounds, sensitivity = self.sensitivity()
-        names = list(bounds)
-        box = np.array([bounds[n] for n in names], dtype=float)
-        fixed = dict(self.fixed)
-        s = self.campaign.surrogate
+    return Runs(point_specs(state, points), fold)
 
-        # step 3: Latin hypercube runs (with the sensitivity runs that are runs of the search),
-        # surrogate, check on fresh random points; the samples and checks run as one batch
-        x, checks = sample_points(box, s)
-        y_all = self._evaluate(SAMPLES_AND_CHECKS, [dict(zip(names, row)) for row in [*x, *checks]])
+
+# -- step 2: samples, surrogate and its check ----------------------------------------------------
+
+def sample_runs(state: State) -> Runs:
+    """The Latin hypercube runs and the check runs as one batch; the surrogate on the samples
+    (with the sensitivity runs that are runs of the search), checked on the check points."""
+    campaign, names, box = state.campaign, state.names, state.box
+    s = campaign.surrogate
+    x, checks = sample_points(box, s)
+    points = [(campaign.specimen, dict(zip(names, row))) for row in [*x, *checks]]
+
+    def fold(results, progress) -> State:
+        new, y_all = folded(state, SAMPLES_AND_CHECKS, points, results)
         y, y_checks = y_all[:len(x)], y_all[len(x):]
-        reused = self._reusable(sensitivity, names, box)
-        train_x, train_y = _usable(np.vstack([x, _points(sensitivity, reused, names)]),
-                                   y + [sensitivity.run_responses[i] for i in reused])
-        surrogate = self._fit(train_x, train_y, box)
+        reused = _reusable(new, names, box)
+        train_x, train_y = _usable(np.vstack([x, _points(new.sensitivity, reused, names)]),
+                                   y + [new.sensitivity.run_responses[i] for i in reused])
+        surrogate = _fit(new, train_x, train_y)
         check_x, check_y = _usable(checks, y_checks)
-        validation = surrogate.validate(check_x, {r: np.array([v[r] for v in check_y]) for r in self.targets},
-                                        s.tolerance) if len(check_x) else None
-        surrogate_check = SurrogateCheck(
-            x=checks.tolist(), dem=y_checks, predicted=[surrogate.predict(row) for row in checks],
-            max_relative_error=None if validation is None else validation.max_relative_error,
-            trusted=None if validation is None else validation.trusted,
-            tolerance=s.tolerance, epsilon=surrogate.epsilon)
-        train_x = np.vstack([train_x, check_x])
-        train_y = train_y + check_y
+        return replace(new, samples=Samples(x=x.tolist(), responses=y, reused_sensitivity_runs=reused or None),
+                       surrogate_check=_check(new, surrogate, checks, y_checks, check_x, check_y),
+                       train_x=np.vstack([train_x, check_x]), train_y=train_y + check_y)
 
-        # steps 4-6: search on the surrogate, verify with the DEM (the search's optimum and other
-        # distinct optima, [acceptance] candidates), refit, until a verified point is accepted
-        tolerance = self.campaign.acceptance.tolerance
-        iterations, accepted = [], None
-        for loop in range(self.campaign.acceptance.max_dem_runs):
-            surrogate = self._fit(train_x, train_y, box)
-            objective = Objective(surrogate.predict, self.targets, weights=self.weights or None)
-            found = self._candidates(objective, surrogate, box)
-            xs = [_round(opt.x) for opt in found]
-            verified = self._evaluate("verification", [dict(zip(names, x_best)) for x_best in xs])
-            start = len(iterations)
-            iterations += [self._iteration(opt, x_best, surrogate, v, loop)
-                           for opt, x_best, v in zip(found, xs, verified)]
-            new = [(x_best, v) for x_best, v in zip(xs, verified)
-                   if v is not None and not any(np.allclose(x_best, row) for row in train_x)]
-            train_x = np.vstack([train_x, *[x_best for x_best, _ in new]])
-            train_y = train_y + [v for _, v in new]
-            passed = [i for i in range(start, len(iterations)) if _within(iterations[i].errors, tolerance)]
-            if passed:
-                accepted = passed[0]  # the first in the order searched: the serial loop's answer
-                break
-            if len(self.dem_runs) >= self.campaign.acceptance.max_dem_runs or not new:
-                break
-        best = accepted if accepted is not None else _closest(iterations)
-        identified = dict(zip(names, iterations[best].x))
-        dem_run_keys = list(self.dem_runs)
-        final_runs = self._final_runs(identified)
-        if final_runs:
-            self._run(final_runs, PACKINGS_AND_VALIDATION)
-        uncertainty = self._uncertainty(identified, self._fit(train_x, train_y, box), box, names) \
-            if self.campaign.wants_uncertainty() else None
-        final_ucs_run_key, curve_fit = self._curve_fit(identified)
-        return CalibrationResult(
-            rock=self.campaign.rock.name, targets=self.targets, target_tests=self.tests,
-            weights=self.weights or None, specimen=self.campaign.specimen,
-            measured_curve=None if self.curve is None else self.curve.tolist(),
-            failed_runs=self.failed_runs, ucs_specimen=self.ucs_specimen, sensitivity=sensitivity,
-            parameters=names, bounds=bounds, fixed=fixed,
-            samples=Samples(x=x.tolist(), responses=y, reused_sensitivity_runs=reused or None),
-            surrogate_check=surrogate_check,
-            iterations=iterations, accepted=accepted is not None, identified=identified,
-            identified_params=make_params(self.fixed | identified).key(),
-            verified=iterations[best].verified, errors=iterations[best].errors, tolerance=tolerance,
-            objective=objective.describe(), dem_runs=len(dem_run_keys), best_iteration=best,
-            dem_run_keys=dem_run_keys, uncertainty=uncertainty, final_ucs_run_key=final_ucs_run_key,
-            curve_fit=curve_fit, validation=self._validate(identified), checks=self._checks(identified))
-
-    def _reusable(self, study: Sensitivity | None, names: list[str], box: np.ndarray) -> list[int]:
-        """The sensitivity runs that are runs of the search: inside the box, with every other
-        parameter at its fixed value (the very run a sample at that point would be)."""
-        if study is None or self.campaign.sensitivity_specimen() != self.campaign.specimen:
-            return []
-        keep = []
-        for i, (row, responses) in enumerate(zip(study.runs, study.run_responses)):
-            point = {n: row[n] for n in names if n in row}
-            same = len(point) == len(names) and \
-                make_params(self.fixed | row).key() == make_params(self.fixed | point).key()
-            if responses is not None and same and _inside(point, names, box):
-                keep.append(i)
-        return keep
-
-    def _candidates(self, objective: Objective, surrogate: RBFSurrogate, box: np.ndarray) -> list:
-        """The search's optimum on the surrogate, then up to [acceptance] candidates - 1 other
-        distinct optima within the run budget: the searches with the next seeds whose optimum
-        the surrogate predicts within the tolerance of every target (none when the surrogate
-        has a single optimum)."""
-        first = self._optimise(objective, box)
-        left = self.campaign.acceptance.max_dem_runs - len(self.dem_runs)
-        found, wanted = [first], max(1, min(self.campaign.acceptance.candidates, left))
-        tolerance, seed = self.campaign.acceptance.tolerance, self.campaign.optimizer.seed
-        for k in range(1, SEARCHES_PER_CANDIDATE * (wanted - 1) + 1):
-            if len(found) >= wanted:
-                break
-            opt = self._optimise(objective, box, seed=seed + k)
-            predicted = surrogate.predict(_round(opt.x))
-            close = _within({r: predicted[r] / t - 1 for r, t in self.targets.items()}, tolerance)
-            if close and all(_distinct(opt.x, other.x, box) for other in found):
-                found.append(opt)
-        return found
-
-    def _iteration(self, opt, x_best, surrogate: RBFSurrogate, verified: dict | None, loop: int) -> Iteration:
-        errors = None if verified is None else {r: verified[r] / t - 1 for r, t in self.targets.items()}
-        return Iteration(
-            x=x_best.tolist(), objective_surrogate=float(opt.fun), predicted=surrogate.predict(x_best),
-            verified=verified, errors=errors, history_fun=list(map(float, opt.history_fun)),
-            history_x=[list(map(float, h)) for h in opt.history_x], nfev=int(opt.nfev), loop=loop)
-
-    def _fit(self, x, y, box) -> RBFSurrogate:
-        return RBFSurrogate(x, {r: np.array([v[r] for v in y]) for r in self.targets}, box)
-
-    def _optimise(self, objective, box, seed: int | None = None):
-        o = self.campaign.optimizer
-        seed = o.seed if seed is None else seed
-        if o.method == "acor":
-            return ant_colony(objective, box, method="acor", ants=o.ants, iterations=o.iterations,
-                              seed=seed, vectorized=True)
-        return ant_colony(objective, box, method="ant-system", ants=o.ants, iterations=o.iterations,
-                          alpha=o.alpha, beta=o.beta, rho=o.rho, seed=seed, vectorized=True)
-
-    def _final_runs(self, identified: dict) -> list:
-        """The runs at the identified point after the search, as one batch that keeps the
-        workers busy to its end: the validation tests' (the longest, first), then the other
-        packings of the calibrated tests (the parameters' intervals)."""
-        specs = [spec for test in self.campaign.validation_tests()
-                 for spec in self._validation_runs(test, identified)]
-        if self.campaign.wants_uncertainty():
-            specs += [run_spec(test, settings, self.fixed | row) for test in self.tests
-                      for settings, row in self._packings(identified)]
-        return specs
-
-    def _packings(self, identified: dict) -> list[tuple[SpecimenSettings, dict]]:
-        """The (specimen settings, parameters) of the packings at the identified point whose
-        scatter the parameters' intervals take in: the campaign's specimen and its next seeds."""
-        return [(self.campaign.specimen.model_copy(update={"seed": s}), identified)
-                for s in packing_seeds(self.campaign)]
-
-    def _validation_runs(self, test: str, identified: dict) -> list:
-        """The runs of a validation test at the identified point."""
-        return [run_spec(test, self.campaign.specimen.model_copy(update={"seed": s}), self.fixed | identified)
-                for s in validation_seeds(self.campaign, test)]
-
-    def _uncertainty(self, identified: dict, surrogate: RBFSurrogate, box, names) -> Uncertainty:
-        """The model's scatter over packings at the identified point (relative sd of each
-        response), then the parameters' intervals for targets drawn from the lab's spread and
-        that scatter (`rockcal.inverse.uncertainty`), each solved on the surrogate."""
-        u = self.campaign.uncertainty
-        points = self._packings(identified)
-        seeds = [settings.seed for settings, _ in points]
-        # run by _final_runs
-        responses, specs, _ = self._forward(PACKINGS_AND_VALIDATION, points, shown=False)
-        ok = [r for r in responses if r is not None]
-        scatter = {r: float(np.std([v[r] for v in ok], ddof=1) / abs(np.mean([v[r] for v in ok])))
-                   if len(ok) > 1 else 0.0 for r in self.targets}
-        done = [0]
-
-        def solve(targets: dict) -> np.ndarray:
-            done[0] += 1
-            self.progress("uncertainty (draws)", done[0], u.draws)
-            return self._optimise(Objective(surrogate.predict, targets, weights=self.weights or None), box).x
-
-        return Uncertainty(
-            seeds=seeds, run_keys=[spec.key for t in self.tests for spec in specs[t]],
-            packing_responses=ok, scatter=scatter, spread=self.spread, draws=u.draws,
-            **parameter_intervals(solve, self.targets, self.spread, scatter, box, names,
-                                  draws=u.draws, seed=u.seed))
-
-    def _curve_fit(self, identified: dict) -> tuple[str, CurveFit | None]:
-        """Step 7: the key of the UCS run at the identified parameters, and the RE and CC of
-        its stress-strain curve (the simulated strain may dither at the start: only the points
-        that advance it are kept), None without a measured curve or a stored run."""
-        spec = run_spec("ucs", self.campaign.specimen, self.fixed | identified)
-        result = self.executor.store.get(spec)
-        if self.curve is None or result is None or result.curve is None:
-            return spec.key, None
-        strain, stress = result.curve[:, 0], result.curve[:, 2]
-        ahead = strain > np.maximum.accumulate(np.concatenate([[-np.inf], strain[:-1]]))
-        fit = curve_fit(strain[ahead], stress[ahead], self.curve[:, 0], self.curve[:, 1])
-        return spec.key, CurveFit(RE=fit.RE, CC=fit.CC)
-
-    def _validate(self, identified: dict) -> Validation | None:
-        """Step 8: the notched-beam bending test with the identified parameters, K_IC averaged
-        over `specimen.bending_seeds` packings (None unless bending is a validation check)."""
-        bending = self.campaign.targets.bending
-        if "bending" not in self.campaign.validation_tests():
-            return None
-        seeds = validation_seeds(self.campaign, "bending")
-        specs = self._validation_runs("bending", identified)
-        results = self._run(specs, None)  # run by _final_runs
-        ok = [(seed, spec, r) for seed, spec, r in zip(seeds, specs, results) if r.status == "ok"]
-        found = {"lab_K_IC_MPa_sqrt_m": bending.K_IC_MPa_sqrt_m, "seeds": seeds,
-                 "run_keys": [spec.key for spec in specs]}
-        if ok:
-            k_per_seed = [r.responses["K_IC_MPa_sqrt_m"] for _, _, r in ok]
-            found |= {"status": "ok", "run_key": ok[0][1].key, "ok_seeds": [s for s, _, _ in ok],
-                      "K_IC_per_seed": k_per_seed}
-            found |= mean_over_seeds([r.responses for _, _, r in ok])
-            found["K_IC_error"] = found["K_IC_MPa_sqrt_m"] / bending.K_IC_MPa_sqrt_m - 1
-        else:
-            found |= {"status": results[0].status, "message": results[0].message,
-                      "run_key": specs[0].key}
-        if bending.P_max_kN is not None:
-            found["warning"] = pmax_kic_disagreement(
-                1e3 * bending.P_max_kN, 1e6 * bending.K_IC_MPa_sqrt_m, 1e-3 * bending.diameter_mm,
-                1e-3 * bending.notch_mm, 1e-3 * bending.span_mm)
-        return Validation(**found)
+    return Runs(point_specs(state, points), fold)
 
 
-    def _checks(self, identified: dict) -> list[Check] | None:
-        """Step 8 for each other validation test: its run at the identified parameters against
-        the lab's values (None when there is none)."""
-        tests = [t for t in self.campaign.validation_tests() if t != "bending"]
-        checks = []
-        for test in tests:
-            lab = self.campaign.targets.given()[test].scalars()
-            spec = self._validation_runs(test, identified)[0]
-            run = self._run([spec], None)[0]  # run by _final_runs
-            found = {"test": test, "lab": lab, "run_key": spec.key, "status": run.status}
-            if run.status == "ok":
-                found |= {"responses": run.responses,
-                          "errors": {r: run.responses[r] / v - 1 for r, v in lab.items()}}
-            else:
-                found["message"] = run.message
-            checks.append(Check(**found))
-        return checks or None
+def _check(state: State, surrogate: RBFSurrogate, checks, y_checks, check_x, check_y) -> SurrogateCheck:
+    """The surrogate against the DEM at the check points."""
+    tolerance = state.campaign.surrogate.tolerance
+    validation = surrogate.validate(check_x, {r: np.array([v[r] for v in check_y]) for r in state.goals.targets},
+                                    tolerance) if len(check_x) else None
+    return SurrogateCheck(
+        x=checks.tolist(), dem=y_checks, predicted=[surrogate.predict(row) for row in checks],
+        max_relative_error=None if validation is None else validation.max_relative_error,
+        trusted=None if validation is None else validation.trusted,
+        tolerance=tolerance, epsilon=surrogate.epsilon)
+
+
+def _reusable(state: State, names: list[str], box: np.ndarray) -> list[int]:
+    """The sensitivity runs that are runs of the search: inside the box, with every other
+    parameter at its fixed value (the very run a sample at that point would be)."""
+    study, campaign = state.sensitivity, state.campaign
+    if study is None or campaign.sensitivity_specimen() != campaign.specimen:
+        return []
+    keep = []
+    for i, (row, responses) in enumerate(zip(study.runs, study.run_responses)):
+        point = {n: row[n] for n in names if n in row}
+        same = len(point) == len(names) and \
+            make_params(state.fixed | row).key() == make_params(state.fixed | point).key()
+        if responses is not None and same and _inside(point, names, box):
+            keep.append(i)
+    return keep
+
+
+# -- step 3: search on the surrogate and DEM verification (a loop) -------------------------------
+
+def verification_runs(state: State) -> Runs:
+    """One round of the loop: the surrogate on every run so far, the search's optimum and
+    other distinct optima on it ([acceptance] candidates), their DEM runs; the round settles
+    the loop when a verified point is accepted, the budget is spent or nothing new was found."""
+    campaign, names = state.campaign, state.names
+    surrogate = _fit(state, state.train_x, state.train_y)
+    objective = Objective(surrogate.predict, state.goals.targets, weights=state.goals.weights or None)
+    found = _candidates(state, objective, surrogate)
+    xs = [_round(opt.x) for opt in found]
+    points = [(campaign.specimen, dict(zip(names, x))) for x in xs]
+    loop = len({it.loop for it in state.iterations})
+
+    def fold(results, progress) -> State:
+        new, verified = folded(state, "verification", points, results)
+        iterations = [_iteration(new, opt, x, surrogate, v, loop) for opt, x, v in zip(found, xs, verified)]
+        fresh = [(x, v) for x, v in zip(xs, verified)
+                 if v is not None and not any(np.allclose(x, row) for row in new.train_x)]
+        tolerance = campaign.acceptance.tolerance
+        passed = [i for i, it in enumerate(iterations) if _within(it.errors, tolerance)]
+        start_at = len(new.iterations)
+        primary = list(state.goals.tests).index(PRIMARY_TEST) * len(points)
+        curves = dict(zip(specs_keys(new, points), (r.curve for r in results[primary:primary + len(points)])))
+        return replace(
+            new, iterations=new.iterations + tuple(iterations), objective=objective.describe(),
+            train_x=np.vstack([new.train_x, *[x for x, _ in fresh]]), train_y=new.train_y + [v for _, v in fresh],
+            accepted=start_at + passed[0] if passed else None, curves=new.curves | curves,
+            settled=bool(passed) or len(new.dem_runs) >= campaign.acceptance.max_dem_runs or not fresh)
+
+    return Runs(point_specs(state, points), fold)
+
+
+def _candidates(state: State, objective: Objective, surrogate: RBFSurrogate) -> list:
+    """The search's optimum on the surrogate, then up to [acceptance] candidates - 1 other
+    distinct optima within the run budget: the searches with the next seeds whose optimum
+    the surrogate predicts within the tolerance of every target (none when the surrogate
+    has a single optimum)."""
+    campaign, box = state.campaign, state.box
+    first = optimise(campaign, objective, box)
+    left = campaign.acceptance.max_dem_runs - len(state.dem_runs)
+    found, wanted = [first], max(1, min(campaign.acceptance.candidates, left))
+    tolerance, seed = campaign.acceptance.tolerance, campaign.optimizer.seed
+    for k in range(1, SEARCHES_PER_CANDIDATE * (wanted - 1) + 1):
+        if len(found) >= wanted:
+            break
+        opt = optimise(campaign, objective, box, seed=seed + k)
+        predicted = surrogate.predict(_round(opt.x))
+        close = _within({r: predicted[r] / t - 1 for r, t in state.goals.targets.items()}, tolerance)
+        if close and all(_distinct(opt.x, other.x, box) for other in found):
+            found.append(opt)
+    return found
+
+
+def _iteration(state: State, opt, x, surrogate: RBFSurrogate, verified: dict | None, loop: int) -> Iteration:
+    targets = state.goals.targets
+    errors = None if verified is None else {r: verified[r] / t - 1 for r, t in targets.items()}
+    return Iteration(
+        x=x.tolist(), objective_surrogate=float(opt.fun), predicted=surrogate.predict(x),
+        verified=verified, errors=errors, history_fun=list(map(float, opt.history_fun)),
+        history_x=[list(map(float, h)) for h in opt.history_x], nfev=int(opt.nfev), loop=loop)
+
+
+# -- step 4: packings and validation at the identified point -------------------------------------
+
+def final_runs(state: State) -> Runs:
+    """The runs at the identified point, as one batch that keeps the workers busy to its end:
+    the validation tests' (the longest, first), then the other packings of the calibrated tests
+    (the parameters' intervals); folded into the intervals, the curve fit and the checks."""
+    campaign, identified = state.campaign, state.identified()
+    params = state.fixed | identified
+    validation = {test: [run_spec(test, campaign.specimen.model_copy(update={"seed": s}), params)
+                         for s in validation_seeds(campaign, test)] for test in campaign.validation_tests()}
+    packings = [(campaign.specimen.model_copy(update={"seed": s}), identified)
+                for s in packing_seeds(campaign)] if campaign.wants_uncertainty() else []
+    specs = [spec for test_specs in validation.values() for spec in test_specs] + point_specs(state, packings)
+
+    def fold(results, progress) -> State:
+        done = dict(zip((spec.key for spec in specs), results))
+        final = {"curve_fit": curve_fit_of(state, identified)}
+        if packings:
+            surrogate = _fit(state, state.train_x, state.train_y)
+            final["uncertainty"] = uncertainty_of(state, packings, point_specs(state, packings), done, surrogate,
+                                                  progress)
+        final["validation"] = validation_of(campaign, validation.get(KIC_TEST), done)
+        final["checks"] = checks_of(campaign, validation, done)
+        return replace(state, final=final)
+
+    return Runs(specs, fold)
 
 
 def packing_seeds(campaign: Campaign) -> list[int]:
@@ -394,20 +389,69 @@ def packing_seeds(campaign: Campaign) -> list[int]:
 
 
 def validation_seeds(campaign: Campaign, test: str) -> list[int]:
-    """The packings a validation test runs on: the bending test's `specimen.bending_seeds`,
-    another test's the campaign's specimen."""
+    """The packings a validation test runs on: `specimen.<test>_seeds` where the specimen
+    settings have it (the bending test's `bending_seeds`), else the campaign's specimen."""
     s = campaign.specimen
-    return seed_list(s.seed, s.bending_seeds) if test == "bending" else [s.seed]
+    return seed_list(s.seed, getattr(s, f"{test}_seeds", 1))
 
 
-def merge_responses(by_test: dict[str, dict]) -> dict:
-    """One parameter set's responses: the UCS test's whole (its other readings too), and the
-    target responses of each other test."""
-    merged = dict(by_test["ucs"])
-    for test, responses in by_test.items():
-        if test != "ucs":
-            merged |= {r: responses[r] for r in lab_test(test).targets}
-    return merged
+# -- the list ----------------------------------------------------------------------------------
+
+def _per_test(campaign: Campaign, n: int) -> dict[str, int]:
+    return {test: n for test in campaign.target_sections()} if n else {}
+
+
+def _final_planned(campaign: Campaign) -> dict[str, int]:
+    planned = {test: len(validation_seeds(campaign, test)) for test in campaign.validation_tests()}
+    if campaign.wants_uncertainty():
+        for test in campaign.target_sections():
+            planned[test] = planned.get(test, 0) + campaign.uncertainty.packings - 1
+    return planned
+
+
+STEPS: tuple[Step, ...] = (
+    Step("sensitivity", sensitivity_runs, lambda c: _per_test(c, len(sensitivity_rows(c)))),
+    Step(SAMPLES_AND_CHECKS, sample_runs, lambda c: _per_test(c, c.surrogate.samples + c.surrogate.checks)),
+    Step("verification", verification_runs, lambda c: _per_test(c, 1), again=lambda state: not state.settled),
+    Step(PACKINGS_AND_VALIDATION, final_runs, _final_planned),
+)
+
+
+def result_of(state: State) -> CalibrationResult:
+    """What the campaign found, from the last state."""
+    campaign, goals, best = state.campaign, state.goals, state.best()
+    identified = state.identified()
+    final_ucs_run_key = run_spec(PRIMARY_TEST, campaign.specimen, state.fixed | identified).key
+    return CalibrationResult(
+        rock=campaign.rock.name, targets=goals.targets, target_tests=goals.tests,
+        weights=goals.weights or None, specimen=campaign.specimen,
+        measured_curve=None if goals.curve is None else goals.curve.tolist(),
+        failed_runs=list(state.failed_runs), ucs_specimen=state.specimen_description,
+        sensitivity=state.sensitivity, parameters=state.names, bounds=state.bounds, fixed=state.fixed,
+        samples=state.samples, surrogate_check=state.surrogate_check,
+        iterations=list(state.iterations), accepted=state.accepted is not None, identified=identified,
+        identified_params=make_params(state.fixed | identified).key(),
+        verified=state.iterations[best].verified, errors=state.iterations[best].errors,
+        tolerance=campaign.acceptance.tolerance, objective=state.objective, dem_runs=len(state.dem_runs),
+        best_iteration=best, dem_run_keys=list(state.dem_runs), final_ucs_run_key=final_ucs_run_key,
+        **state.final)
+
+
+# -- shared pieces -------------------------------------------------------------------------------
+
+def optimise(campaign: Campaign, objective, box, seed: int | None = None):
+    """The campaign's ant colony search of `objective` in `box`."""
+    o = campaign.optimizer
+    seed = o.seed if seed is None else seed
+    if o.method == "acor":
+        return ant_colony(objective, box, method="acor", ants=o.ants, iterations=o.iterations,
+                          seed=seed, vectorized=True)
+    return ant_colony(objective, box, method="ant-system", ants=o.ants, iterations=o.iterations,
+                      alpha=o.alpha, beta=o.beta, rho=o.rho, seed=seed, vectorized=True)
+
+
+def _fit(state: State, x, y) -> RBFSurrogate:
+    return RBFSurrogate(x, {r: np.array([v[r] for v in y]) for r in state.goals.targets}, state.box)
 
 
 def _fill_failed(table: dict[str, list]) -> dict[str, np.ndarray]:
@@ -427,6 +471,10 @@ def sample_points(box: np.ndarray, s) -> tuple[np.ndarray, np.ndarray]:
     rng = np.random.default_rng(s.seed + 1)
     checks = _round_rows(box[:, 0] + rng.random((s.checks, len(box))) * (box[:, 1] - box[:, 0]))
     return x, checks
+
+
+def _round(x: np.ndarray) -> np.ndarray:
+    return np.array([float(f"{v:.{SIGNIFICANT_DIGITS}g}") for v in x])
 
 
 def _round_rows(x: np.ndarray) -> np.ndarray:
@@ -464,4 +512,3 @@ def _closest(iterations: list[Iteration]) -> int:
     if not scored:
         raise CalibrationFailed("no verification run succeeded")
     return min(scored)[1]
-

@@ -1,108 +1,59 @@
-"""The lab targets of a campaign file: one section per lab test ([targets.ucs],
-[targets.brazilian], [targets.bending]), each with the lab's spread and the weight of each
-response, and [validation]: which of the tests given are validation checks only.
+"""The lab targets of a campaign file: one section per lab test, [targets.<test>] for any test
+in the lab-test registry (each test declares its section, `LabTest.lab_values`), and
+[validation]: which of the tests given are validation checks only.
 
-UCS is always calibrated against; a Brazilian test given is too, and bending is a validation
-check unless [validation] tests leaves it out.
+The primary test (UCS) is always calibrated against; another test given is too, unless
+[validation] tests names it (default: bending, a validation check).
 """
 
 from __future__ import annotations
 
-import math
-from pathlib import Path
-from typing import ClassVar
+from pydantic import ConfigDict, ValidationError, field_validator, model_validator
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from rockcal.labtests.lab_values import LabValues, Section, Spread, values_model  # noqa: F401
+from rockcal.labtests.registry import LAB_TESTS, PRIMARY_TEST, lab_test
 
-from rockcal.labtests.registry import LAB_TESTS, lab_test
-
-# the lab's spread of a response: its sd, or the [min, max] of the lab's samples
-Spread = dict[str, float | tuple[float, float]]
-
-
-class Section(BaseModel):
-    """A section of the campaign file: an unknown key is an error."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-class LabTargets(Section):
-    """A lab test's results the calibration can fit (the test's measured responses), the lab's
-    spread of each and its weight in the objective (default 1)."""
-
-    test: ClassVar[str]
-    spread: Spread = {}
-    weights: dict[str, float] = {}
-
-    def scalars(self) -> dict[str, float]:
-        """The responses given, by name."""
-        return {k: getattr(self, k) for k in lab_test(self.test).targets if getattr(self, k) is not None}
-
-    def derived(self) -> tuple[str, ...]:
-        """Responses the section gives another way (from a measured curve)."""
-        return ()
-
-    @model_validator(mode="after")
-    def _spread_and_weights(self):
-        given = self.scalars()
-        for key, values in (("spread", self.spread), ("weights", self.weights)):
-            for name in values:
-                if name not in given and name not in self.derived():
-                    raise ValueError(f"{key}.{name}: not a target given here ({', '.join(given)})")
-        for name, s in self.spread.items():
-            value = given.get(name)
-            if isinstance(s, tuple):
-                holds = value is None or s[0] <= value <= s[1]
-                if not (math.isfinite(s[0]) and math.isfinite(s[1]) and s[0] < s[1] and holds):
-                    raise ValueError(f"spread.{name}: [min, max] must hold the target {value}, got {list(s)}")
-            elif not (math.isfinite(s) and s > 0):
-                raise ValueError(f"spread.{name}: an sd must be > 0, got {s}")
-        for name, w in self.weights.items():
-            if not (math.isfinite(w) and w > 0):
-                raise ValueError(f"weights.{name}: a weight must be a finite number > 0, got {w}")
-        return self
-
-
-class UCSTargets(LabTargets):
-    """Lab results of the uniaxial compression test (at least one response)."""
-
-    test: ClassVar[str] = "ucs"
-    E_GPa: float | None = Field(None, gt=0)
-    nu: float | None = Field(None, gt=0, lt=0.5)
-    ucs_MPa: float | None = Field(None, gt=0)
-    curve: Path | None = None  # CSV: axial strain, axial stress (MPa)
-
-    def derived(self) -> tuple[str, ...]:
-        return ("E_GPa", "ucs_MPa") if self.curve is not None else ()
-
-
-class BrazilianTargets(LabTargets):
-    """Lab result of the Brazilian (splitting tensile) test."""
-
-    test: ClassVar[str] = "brazilian"
-    sigma_t_MPa: float = Field(gt=0)
-
-
-class BendingTargets(LabTargets):
-    """Lab results of the notched three-point bending test."""
-
-    test: ClassVar[str] = "bending"
-    K_IC_MPa_sqrt_m: float = Field(gt=0)
-    P_max_kN: float | None = Field(None, gt=0)  # of the lab's round bar, to cross-check K_IC
-    diameter_mm: float = Field(50.0, gt=0)
-    notch_mm: float = Field(18.0, gt=0)
-    span_mm: float = Field(160.0, gt=0)
+LabTargets = LabValues  # a test's section of [targets]
 
 
 class Targets(Section):
-    ucs: UCSTargets
-    brazilian: BrazilianTargets | None = None
-    bending: BendingTargets | None = None
+    """[targets]: a section per lab test, by the test's name, the primary test's required."""
 
-    def given(self) -> dict[str, LabTargets]:
-        """The sections given, by test name."""
-        return {name: getattr(self, name) for name in type(self).model_fields
-                if getattr(self, name) is not None}
+    model_config = ConfigDict(extra="allow", frozen=True)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _sections(cls, data):
+        if not isinstance(data, dict):
+            raise ValueError("a table of lab tests, e.g. [targets.ucs]")
+        if PRIMARY_TEST not in data:
+            raise ValueError(f"{PRIMARY_TEST}: a [targets.{PRIMARY_TEST}] section is required")
+        return {name: _section(name, value) for name, value in data.items()}
+
+    def given(self) -> dict[str, LabValues]:
+        """The sections given, by test name, in the registry's order."""
+        sections = self.model_extra or {}
+        return {name: sections[name] for name in LAB_TESTS if name in sections}
+
+    def __getattr__(self, name: str):
+        if name in LAB_TESTS:  # a test the registry knows that is not given: None
+            return (self.model_extra or {}).get(name)
+        return super().__getattr__(name)
+
+
+def _section(name: str, value) -> LabValues:
+    """One [targets.<name>] section, validated by its test's model; an error names its key."""
+    if name not in LAB_TESTS:
+        raise ValueError(f"{name}: no lab test named {name!r}; known: {', '.join(LAB_TESTS)}")
+    if isinstance(value, LabValues):
+        return value
+    try:
+        return values_model(lab_test(name)).model_validate(value)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        cause = (err.get("ctx") or {}).get("error")
+        loc = ".".join(str(p) for p in (name, *err.get("loc", ())))
+        raise ValueError(f"{loc}: {cause if isinstance(cause, Exception) else err['msg']}") from None
 
 
 class ValidationTests(Section):
@@ -117,6 +68,6 @@ class ValidationTests(Section):
         for name in tests:
             if name not in LAB_TESTS:
                 raise ValueError(f"no lab test named {name!r}; known: {', '.join(LAB_TESTS)}")
-            if name == "ucs":
-                raise ValueError("ucs is always calibrated against; name bending or brazilian")
+            if name == PRIMARY_TEST:
+                raise ValueError(f"{PRIMARY_TEST} is always calibrated against; name another test")
         return tests

@@ -37,7 +37,7 @@ def calibrate(
     from rockcal.campaign.config import load_campaign, quick_look, quick_look_note
     from rockcal.campaign.executors import make_executor
     from rockcal.campaign.plan import stage_runs, stage_times
-    from rockcal.campaign.procedure import Calibration, CalibrationFailed
+    from rockcal.campaign.procedure import CalibrationFailed, calibrate as run_campaign
     from rockcal.campaign.result import save_result
     from rockcal.campaign.store import STORE_NAME, RunStore
 
@@ -79,7 +79,7 @@ def calibrate(
             times = stage_times(campaign, store, getattr(executor, "workers", 1))
             with _stage_progress(as_json, stage_runs(campaign), times) as progress:
                 executor.on_live = progress.live
-                result = Calibration(campaign, executor, progress).run()
+                result = run_campaign(campaign, executor, progress)
         except CalibrationFailed as exc:
             print(f"rockcal: calibration failed: {exc}", file=sys.stderr)
             raise typer.Exit(1)

@@ -10,6 +10,10 @@ thickness (PFC2D convention).
 
 from __future__ import annotations
 
+from typing import ClassVar
+
+from pydantic import Field
+
 import time
 from dataclasses import dataclass, field
 from typing import Callable
@@ -22,6 +26,7 @@ from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kic import senb_kic
+from rockcal.labtests.lab_values import LabValues
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of, load_reading
 from rockcal.labtests.loading import (NOTCH_TIP_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       check_stop_fraction, load_to_failure)
@@ -287,7 +292,21 @@ def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BendingR
                             contact_stiffness=s["contact_stiffness"], progress=progress)
 
 
+
+class BendingValues(LabValues):
+    """Lab results of the notched three-point bending test."""
+
+    test: ClassVar[str] = "bending"
+    K_IC_MPa_sqrt_m: float = Field(gt=0)
+    P_max_kN: float | None = Field(None, gt=0)  # of the lab's round bar, to cross-check K_IC
+    diameter_mm: float = Field(50.0, gt=0)
+    notch_mm: float = Field(18.0, gt=0)
+    span_mm: float = Field(160.0, gt=0)
+
+
 TEST = LabTest(
+    lab_values=BendingValues,
+    slower_than_work=1.75,  # its steps grow with span² / height, not with its rows
     name="bending", title="bending",
     responses=(Response("K_IC_MPa_sqrt_m", "MPa·m^0.5"),
                Response("P_max_kN_per_m", "kN/m", target=False),

@@ -10,6 +10,10 @@ load for a while without splitting the disk). Tensile strength sigma_t = 2 P / (
 
 from __future__ import annotations
 
+from typing import ClassVar
+
+from pydantic import Field
+
 import time
 from dataclasses import dataclass
 from typing import Callable
@@ -21,6 +25,7 @@ from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, THICKNESS_M,
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
+from rockcal.labtests.lab_values import LabValues
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of, load_reading
 from rockcal.labtests.loading import (LOCALISED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       load_to_failure)
@@ -117,7 +122,16 @@ def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> Brazilia
                               progress=progress)
 
 
+
+class BrazilianValues(LabValues):
+    """Lab result of the Brazilian (splitting tensile) test."""
+
+    test: ClassVar[str] = "brazilian"
+    sigma_t_MPa: float = Field(gt=0)
+
+
 TEST = LabTest(
+    lab_values=BrazilianValues,
     name="brazilian", title="Brazilian",
     responses=(Response("sigma_t_MPa", "MPa"), Response("P_max_kN_per_m", "kN/m", target=False),
                Response("displacement_at_peak_mm", "mm", target=False)),

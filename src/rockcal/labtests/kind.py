@@ -59,6 +59,8 @@ class LabTest:
     outline: Callable[[dict], Outline]
     title: str  # the test's name in a sentence
     revision: int = 1
+    lab_values: type | None = None  # its [targets.<name>] section (LabValues); None: made from `targets`
+    slower_than_work: float = 1.0  # its run time over a UCS run's of the same work (grains x rows)
 
     @property
     def targets(self) -> tuple[str, ...]:

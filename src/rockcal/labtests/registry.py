@@ -1,5 +1,6 @@
-"""The kinds of lab test a campaign can run, by name. A new test is a module declaring its
-`TEST` (`rockcal.labtests.kind.LabTest`) and one line here."""
+"""The kinds of lab test a campaign can run, by name: the one place a test is known. A new
+test is a module declaring its `TEST` (`rockcal.labtests.kind.LabTest`) and one line here
+(or a `register` call)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,14 @@ LAB_TESTS: dict[str, LabTest] = {test.name: test for test in (
     bending.TEST,
     brazilian.TEST,
 )}
+# The test every parameter set runs first: its runs count the campaign's budget, its readings
+# come whole with the responses, its specimen describes the material.
+PRIMARY_TEST = "ucs"
+
+
+def register(test: LabTest) -> None:
+    """Add a kind of lab test (a plug-in, or a test's own toy test) to the registry."""
+    LAB_TESTS[test.name] = test
 
 
 def lab_test(name: str) -> LabTest:

@@ -11,6 +11,12 @@ a fraction of the peak (FISHTank's ct_loadFac), or at the maximum axial strain.
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import ClassVar
+
+import numpy as np
+from pydantic import Field
+
 import time
 from dataclasses import dataclass
 from typing import Callable
@@ -19,6 +25,7 @@ from rockcal.dem import measure
 from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, TOP, THICKNESS_M, scale_density
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError
+from rockcal.labtests.lab_values import LabValues, read_curve
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of
 from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       check_stop_fraction, load_to_failure)
@@ -109,7 +116,38 @@ def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> UCSResul
                         contact_stiffness=s["contact_stiffness"], progress=progress)
 
 
+
+class UCSValues(LabValues):
+    """Lab results of the uniaxial compression test (at least one response)."""
+
+    test: ClassVar[str] = "ucs"
+    E_GPa: float | None = Field(None, gt=0)
+    nu: float | None = Field(None, gt=0, lt=0.5)
+    ucs_MPa: float | None = Field(None, gt=0)
+    curve: Path | None = None  # CSV: axial strain, axial stress (MPa)
+
+    def derived(self) -> tuple[str, ...]:
+        return ("E_GPa", "ucs_MPa") if self.curve is not None else ()
+
+    def measured(self) -> dict[str, float]:
+        """The responses given, completed from the measured curve: E secant at half the peak,
+        UCS = the peak."""
+        targets = self.scalars()
+        curve = self.measured_curve()
+        if curve is not None:
+            E_MPa, _, peak = measure.secant_at_half_peak(curve[:, 0], np.zeros(len(curve)), curve[:, 1])
+            targets.setdefault("E_GPa", E_MPa / 1e3)
+            targets.setdefault("ucs_MPa", float(curve[peak, 1]))
+        return targets
+
+    def measured_curve(self):
+        if self.curve is None:
+            return None
+        return read_curve(self.curve)
+
+
 TEST = LabTest(
+    lab_values=UCSValues,
     name="ucs", title="UCS",
     responses=(Response("E_GPa", "GPa"), Response("nu", ""), Response("ucs_MPa", "MPa"),
                Response("peak_axial_strain", "", target=False)),

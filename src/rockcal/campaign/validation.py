@@ -1,0 +1,103 @@
+"""The last step's parts of a result, from the runs at the identified point: the parameters'
+intervals (the packings' scatter and the lab's spread), the curve fit, the validation of K_IC
+over packings and the other validation checks against the lab's values."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rockcal.campaign.config import Campaign
+from rockcal.campaign.result import Check, CurveFit, Uncertainty, Validation
+from rockcal.inverse import Objective, curve_fit
+from rockcal.inverse.uncertainty import parameter_intervals
+from rockcal.labtests.kic import pmax_kic_disagreement
+from rockcal.labtests.registry import PRIMARY_TEST
+from rockcal.labtests.seeds import mean_over_seeds
+
+KIC_TEST = "bending"  # the validation whose record is `Validation`: K_IC over packings
+
+
+def uncertainty_of(state, packings: list, specs: list, done: dict, surrogate, progress) -> Uncertainty:
+    """The model's scatter over packings at the identified point (relative sd of each
+    response), then the parameters' intervals for targets drawn from the lab's spread and
+    that scatter (`rockcal.inverse.uncertainty`), each solved on the surrogate."""
+    from rockcal.campaign.procedure import merge_responses, optimise
+
+    campaign, goals, u = state.campaign, state.goals, state.campaign.uncertainty
+    n = len(packings)
+    results = [done[spec.key] for spec in specs]
+    by_test = {t: results[k * n:(k + 1) * n] for k, t in enumerate(goals.tests)}
+    ok = [merge_responses({t: by_test[t][i].responses for t in goals.tests}) for i in range(n)
+          if all(by_test[t][i].status == "ok" for t in goals.tests)]
+    scatter = {r: float(np.std([v[r] for v in ok], ddof=1) / abs(np.mean([v[r] for v in ok])))
+               if len(ok) > 1 else 0.0 for r in goals.targets}
+    count = [0]
+
+    def solve(targets: dict) -> np.ndarray:
+        count[0] += 1
+        progress("uncertainty (draws)", count[0], u.draws)
+        return optimise(campaign, Objective(surrogate.predict, targets, weights=goals.weights or None), state.box).x
+
+    return Uncertainty(
+        seeds=[settings.seed for settings, _ in packings], run_keys=[spec.key for spec in specs],
+        packing_responses=ok, scatter=scatter, spread=goals.spread, draws=u.draws,
+        **parameter_intervals(solve, goals.targets, goals.spread, scatter, state.box, state.names,
+                              draws=u.draws, seed=u.seed))
+
+
+def curve_fit_of(state, identified: dict) -> CurveFit | None:
+    """The RE and CC of the primary test's stress-strain curve at the identified parameters
+    against the measured one (the simulated strain may dither at the start: only the points
+    that advance it are kept); None without a measured curve or a curve of that run."""
+    from rockcal.campaign.forward import run_spec
+
+    key = run_spec(PRIMARY_TEST, state.campaign.specimen, state.fixed | identified).key
+    curve = state.curves.get(key)
+    if state.goals.curve is None or curve is None:
+        return None
+    strain, stress = curve[:, 0], curve[:, 2]
+    ahead = strain > np.maximum.accumulate(np.concatenate([[-np.inf], strain[:-1]]))
+    fit = curve_fit(strain[ahead], stress[ahead], state.goals.curve[:, 0], state.goals.curve[:, 1])
+    return CurveFit(RE=fit.RE, CC=fit.CC)
+
+
+def validation_of(campaign: Campaign, specs: list | None, done: dict) -> Validation | None:
+    """The K_IC validation over packings against the lab's K_IC (None unless the bending test
+    is a validation check), with the lab's own P_max / K_IC cross-check."""
+    if specs is None:
+        return None
+    lab = campaign.targets.given()[KIC_TEST]
+    seeds = [dict(spec.specimen)["seed"] for spec in specs]
+    results = [done[spec.key] for spec in specs]
+    ok = [(seed, spec, r) for seed, spec, r in zip(seeds, specs, results) if r.status == "ok"]
+    found = {"lab_K_IC_MPa_sqrt_m": lab.K_IC_MPa_sqrt_m, "seeds": seeds, "run_keys": [s.key for s in specs]}
+    if ok:
+        found |= {"status": "ok", "run_key": ok[0][1].key, "ok_seeds": [s for s, _, _ in ok],
+                  "K_IC_per_seed": [r.responses["K_IC_MPa_sqrt_m"] for _, _, r in ok]}
+        found |= mean_over_seeds([r.responses for _, _, r in ok])
+        found["K_IC_error"] = found["K_IC_MPa_sqrt_m"] / lab.K_IC_MPa_sqrt_m - 1
+    else:
+        found |= {"status": results[0].status, "message": results[0].message, "run_key": specs[0].key}
+    if lab.P_max_kN is not None:
+        found["warning"] = pmax_kic_disagreement(
+            1e3 * lab.P_max_kN, 1e6 * lab.K_IC_MPa_sqrt_m, 1e-3 * lab.diameter_mm,
+            1e-3 * lab.notch_mm, 1e-3 * lab.span_mm)
+    return Validation(**found)
+
+
+def checks_of(campaign: Campaign, validation: dict[str, list], done: dict) -> list[Check] | None:
+    """Each other validation test: its run at the identified parameters, on the campaign's
+    packing, against the lab's values (None when there is none)."""
+    checks = []
+    for test, specs in validation.items():
+        if test == KIC_TEST:
+            continue
+        lab = campaign.targets.given()[test].scalars()
+        run = done[specs[0].key]
+        found = {"test": test, "lab": lab, "run_key": specs[0].key, "status": run.status}
+        if run.status == "ok":
+            found |= {"responses": run.responses, "errors": {r: run.responses[r] / v - 1 for r, v in lab.items()}}
+        else:
+            found["message"] = run.message
+        checks.append(Check(**found))
+    return checks or None
