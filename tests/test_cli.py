@@ -35,7 +35,7 @@ def test_simulate_ucs_json_and_outputs(tmp_path):
     (["--rmin-mm", "0"], "--rmin-mm"),
     (["--rmin-mm", "-1"], "--rmin-mm"),
     (["--radius-ratio", "0.8"], "--radius-ratio"),
-    (["--width-mm", "1"], "width_mm"),
+    (["--width-mm", "1"], "--width-mm"),
     (["--max-axial-strain", "nan"], "--max-axial-strain"),
     (["--packing", "cubic"], "--packing"),
     (["--set", "sigma_c_sd=-1"], "sigma_c_sd"),

@@ -22,7 +22,8 @@ from rockcal.dem.genesis import Genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.labtests.registry import lab_test
-from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
+from rockcal.materials import DEFAULT_MATERIAL, MATERIALS
+from rockcal.labtests.ucs import DEFAULT_MAX_AXIAL_STRAIN, DEFAULT_STRAIN, POST_PEAK_FRACTION
 from rockcal.params import NAMES, make_params
 
 RESPONSES = lab_test("ucs").targets  # what a UCS run gives and the calibration can fit
@@ -40,22 +41,30 @@ class SpecimenSettings(Genesis):
     beam: one genesis for all) and how the UCS test reads them (defaults: the source's; the
     genesis keys are `rockcal.dem.genesis.Genesis`'s)."""
 
-    rmin_mm: float = Field(0.25, gt=0)
-    radius_ratio: float = Field(1.65, ge=1, le=10)
-    seed: int = 1
-    width_mm: float = Field(50.0, gt=0)
-    height_mm: float = Field(100.0, gt=0)
-    beam_length_mm: float = Field(220.0, gt=0)
-    beam_height_mm: float = Field(50.0, gt=0)
-    notch_mm: float = Field(18.0, gt=0)
-    notch_width_mm: float = Field(2.0, ge=0)  # 0: a cut (bonds across the notch line removed)
-    span_mm: float = Field(160.0, gt=0)
-    disk_diameter_mm: float = Field(50.0, gt=0)  # the Brazilian test's disk
-    bending_seeds: int = Field(1, ge=1)  # validation K_IC: mean over packings seed, seed + 1, ...
-    strain: Literal["gauge", "platen"] = DEFAULT_STRAIN  # the UCS test's axial strain reading
-    stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1)  # UCS and bending stop: load < this x peak
-    # kn from E_c as PFC 3.x/4.0 or PFC 5+ (dem.simulate)
-    contact_stiffness: Literal[CONTACT_STIFFNESS] = DEFAULT_CONTACT_STIFFNESS
+    rmin_mm: float = Field(0.25, gt=0, description="smallest grain radius, mm")
+    radius_ratio: float = Field(1.65, ge=1, le=10, description="largest / smallest grain radius")
+    seed: int = Field(1, description="packing seed")
+    width_mm: float = Field(50.0, gt=0, description="UCS specimen width, mm")
+    height_mm: float = Field(100.0, gt=0, description="UCS specimen height, mm")
+    beam_length_mm: float = Field(220.0, gt=0, description="notched beam length, mm")
+    beam_height_mm: float = Field(50.0, gt=0, description="notched beam depth W, mm")
+    notch_mm: float = Field(18.0, gt=0, description="notch depth a, mm (bottom edge, mid-span)")
+    notch_width_mm: float = Field(2.0, ge=0, description="notch width, mm; 0 cuts the bonds (a sharp crack)")
+    span_mm: float = Field(160.0, gt=0, description="distance S between the beam's supports, mm")
+    disk_diameter_mm: float = Field(50.0, gt=0, description="Brazilian disk diameter D, mm")
+    bending_seeds: int = Field(1, ge=1, description="validation K_IC: mean over packings seed, seed + 1, ...")
+    strain: Literal["gauge", "platen"] = Field(
+        DEFAULT_STRAIN, description="UCS axial strain read from the specimen's own end grains (gauge) "
+                                    "or from the platens (platen, PFC's)")
+    stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1, description=(
+        "UCS and bending: stop once past the peak the load is below this fraction of it (PFC ct_loadFac)"))
+    contact_stiffness: Literal[CONTACT_STIFFNESS] = Field(
+        DEFAULT_CONTACT_STIFFNESS, description="a contact's kn from E_c as PFC 3.x/4.0 (pfc4: t E_c) or "
+                                               "PFC 5+ does (pfc5: 2 min(R) t E_c / (R_A + R_B))")
+    # left out of a record at its default, as out of a run's key (`kind.LATER_SETTINGS`)
+    max_axial_strain: float = Field(DEFAULT_MAX_AXIAL_STRAIN, gt=0, le=0.5,
+                                    exclude_if=lambda v: v == DEFAULT_MAX_AXIAL_STRAIN,
+                                    description="UCS: stop at this axial strain at the latest")
 
 
 def _check_names(values: dict) -> None:
@@ -134,10 +143,24 @@ class Uncertainty(Section):
     seed: int = 1
 
 
+class MaterialChoice(Section):
+    """[material]: the bonded material the campaign calibrates (`rockcal.materials`)."""
+
+    model: str = DEFAULT_MATERIAL
+
+    @field_validator("model")
+    @classmethod
+    def _known(cls, model):
+        if model not in MATERIALS:
+            raise ValueError(f"no material named {model!r}; known: {', '.join(MATERIALS)}")
+        return model
+
+
 class Campaign(Section):
     """A whole calibration campaign, as read from its TOML file."""
 
     rock: Rock = Rock()
+    material: MaterialChoice = MaterialChoice()
     targets: Targets
     specimen: SpecimenSettings = SpecimenSettings()
     sensitivity: Sensitivity | None = None

@@ -15,10 +15,10 @@ from rockcal.campaign.config import SpecimenSettings
 from rockcal.campaign.forward import ENGINE
 from rockcal.campaign.result import read_result
 from rockcal.errors import InputError
-from rockcal.params import GPa, MPa, MicroParams, make_params
+from rockcal.materials import DEFAULT_MATERIAL, material
+from rockcal.params import GPa, MicroParams, make_params
 
 FORMATS = ("pfc-fish", "pfc-python", "json")
-MM = 1e-3
 
 
 @dataclass(frozen=True)
@@ -49,35 +49,10 @@ def read_calibration(store, folder: Path) -> Calibrated:
     return Calibrated(make_params(result.identified_params), result.specimen, origin)
 
 
-def pfc_parameters(params: MicroParams, specimen: SpecimenSettings) -> dict[str, float]:
-    """FISHTank's parallel-bonded material parameters (SI) of a rockcal material.
-
-    PFC's 2D disks have unit thickness, as rockcal's; the size distribution is one group of
-    diameters from 2 R_min to 2 R_min x ratio; pbm_igap is the installation gap as a length.
-    """
-    ten_sd, coh_sd = params.strength_sds
-    rmin_m = specimen.rmin_mm * MM
-    return {
-        "cm_densityVal": params.density,
-        "cm_localDampFac": params.damping,
-        "cm_Dlo": 2 * rmin_m,
-        "cm_Dup": 2 * rmin_m * specimen.radius_ratio,
-        "pk_Pm": specimen.pressure_mpa * MPa,
-        "pk_nc": specimen.cloud_porosity,
-        "pbm_emod": params.E_c * GPa,
-        "pbm_krat": params.kn_ks,
-        "pbm_fric": params.mu,
-        "pbm_igap": specimen.install_gap * rmin_m,
-        "pbm_rmul": params.lambda_,
-        "pbm_bemod": params.Ebar_c * GPa,
-        "pbm_bkrat": params.knbar_ksbar,
-        "pbm_mcf": params.mcf,
-        "pbm_ten_m": params.sigma_c * MPa,
-        "pbm_ten_sd": ten_sd * MPa,
-        "pbm_coh_m": params.tau_c * MPa,
-        "pbm_coh_sd": coh_sd * MPa,
-        "pbm_fa": params.phi_b,
-    }
+def pfc_parameters(params: MicroParams, specimen: SpecimenSettings,
+                   model: str = DEFAULT_MATERIAL) -> dict[str, float]:
+    """FISHTank's material parameters (SI) of a rockcal material (`rockcal.materials`)."""
+    return material(model).pfc_parameters(params, specimen)
 
 
 UNITS = {"cm_densityVal": "kg/m3", "cm_Dlo": "m", "cm_Dup": "m", "pk_Pm": "Pa", "pbm_emod": "Pa",

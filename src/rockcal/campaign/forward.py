@@ -27,7 +27,7 @@ from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.specimen import GENERATOR_VERSION
 from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import lab_test
-from rockcal.params import make_params
+from rockcal.materials import DEFAULT_MATERIAL, material
 
 POOL_RESTARTS = 3
 LIVE_INTERVAL_S = 1.0  # a running test reports its reading at most this often
@@ -38,14 +38,21 @@ SPECIMEN_KEYS = ("n_particles", "porosity", "coordination", "bonds_per_particle"
 ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
 
 
-def run_spec(kind: str, specimen_settings, params: dict) -> RunSpec:
-    """The spec of a run of the lab test `kind`: its specimen settings, and `params` completed
-    with the defaults so the key is total."""
+def run_spec(kind: str, specimen_settings, params: dict, model: str = DEFAULT_MATERIAL) -> RunSpec:
+    """The spec of a run of the lab test `kind`: its specimen settings, and `params` of the
+    material `model` completed with the defaults so the key is total (the material is named
+    among them unless it is the default, so the runs stored before materials keep their keys)."""
     test = lab_test(kind)
     specimen = tuple(test.key_settings(specimen_settings).items())
-    full = make_params(params).key()
+    full = material(model).make(params).key() | ({} if model == DEFAULT_MATERIAL else {"model": model})
     engine = ENGINE if test.revision == 1 else f"{ENGINE}, {kind} test revision {test.revision}"
     return RunSpec(kind, specimen, tuple(sorted(full.items())), engine)
+
+
+def params_of(spec: RunSpec):
+    """The micro-parameters of a run, of its material."""
+    values = dict(spec.params)
+    return material(values.pop("model", DEFAULT_MATERIAL)).make(values)
 
 
 @lru_cache(maxsize=4)
@@ -88,7 +95,7 @@ def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
     try:
         test = lab_test(spec.kind)
         specimen = specimen_of(spec.kind, spec.specimen)
-        r = test.run(make_params(dict(spec.params)), specimen, all_settings(dict(spec.specimen)), watch)
+        r = test.run(params_of(spec), specimen, all_settings(dict(spec.specimen)), watch)
         responses = test.responses_of(r) | {
             "n_broken_tension": r.n_broken_tension, "n_broken_shear": r.n_broken_shear,
             "steps": r.steps} | specimen.description()

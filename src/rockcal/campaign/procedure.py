@@ -32,7 +32,7 @@ from rockcal.campaign.validation import KIC_TEST, checks_of, curve_fit_of, uncer
 from rockcal.inverse import RBFSurrogate, Objective, ant_colony, design, latin_hypercube, range_analysis
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.labtests.seeds import seed_list
-from rockcal.params import make_params
+from rockcal.materials import DEFAULT_MATERIAL, material
 
 SIGNIFICANT_DIGITS = 4  # parameters of verification runs are rounded to this (stable store keys)
 DISTINCT = 0.05  # optima closer than this (box-normalised distance) are one optimum
@@ -137,10 +137,14 @@ def start(campaign: Campaign) -> State:
 
 # -- forward runs of parameter sets ------------------------------------------------------------
 
+def spec_of(state: State, test: str, settings: SpecimenSettings, row: dict) -> RunSpec:
+    """The run of `test` with the parameters `row` (and the fixed ones) of the campaign's material."""
+    return run_spec(test, settings, state.fixed | row, state.campaign.material.model)
+
+
 def point_specs(state: State, points: list[Point]) -> list[RunSpec]:
     """The runs of every test calibrated against at each point, test by test."""
-    return [run_spec(test, settings, state.fixed | row) for test in state.goals.tests
-            for settings, row in points]
+    return [spec_of(state, test, settings, row) for test in state.goals.tests for settings, row in points]
 
 
 def folded(state: State, stage: str, points: list[Point], results: list[RunResult]) -> tuple[State, list]:
@@ -167,7 +171,7 @@ def folded(state: State, stage: str, points: list[Point], results: list[RunResul
 
 def specs_keys(state: State, points: list[Point]) -> list[str]:
     """The keys of the primary test's runs at the points."""
-    return [run_spec(PRIMARY_TEST, settings, state.fixed | row).key for settings, row in points]
+    return [spec_of(state, PRIMARY_TEST, settings, row).key for settings, row in points]
 
 
 def _description(state: State, points: list[Point], by_test: dict) -> dict | None:
@@ -285,10 +289,14 @@ def _reusable(state: State, names: list[str], box: np.ndarray) -> list[int]:
     for i, (row, responses) in enumerate(zip(study.runs, study.run_responses)):
         point = {n: row[n] for n in names if n in row}
         same = len(point) == len(names) and \
-            make_params(state.fixed | row).key() == make_params(state.fixed | point).key()
+            _params(state, row) == _params(state, point)
         if responses is not None and same and _inside(point, names, box):
             keep.append(i)
     return keep
+
+
+def _params(state: State, row: dict) -> dict:
+    return material(state.campaign.material.model).make(state.fixed | row).key()
 
 
 # -- step 3: search on the surrogate and DEM verification (a loop) -------------------------------
@@ -361,8 +369,7 @@ def final_runs(state: State) -> Runs:
     the validation tests' (the longest, first), then the other packings of the calibrated tests
     (the parameters' intervals); folded into the intervals, the curve fit and the checks."""
     campaign, identified = state.campaign, state.identified()
-    params = state.fixed | identified
-    validation = {test: [run_spec(test, campaign.specimen.model_copy(update={"seed": s}), params)
+    validation = {test: [spec_of(state, test, campaign.specimen.model_copy(update={"seed": s}), identified)
                          for s in validation_seeds(campaign, test)] for test in campaign.validation_tests()}
     packings = [(campaign.specimen.model_copy(update={"seed": s}), identified)
                 for s in packing_seeds(campaign)] if campaign.wants_uncertainty() else []
@@ -421,7 +428,7 @@ def result_of(state: State) -> CalibrationResult:
     """What the campaign found, from the last state."""
     campaign, goals, best = state.campaign, state.goals, state.best()
     identified = state.identified()
-    final_ucs_run_key = run_spec(PRIMARY_TEST, campaign.specimen, state.fixed | identified).key
+    final_ucs_run_key = spec_of(state, PRIMARY_TEST, campaign.specimen, identified).key
     return CalibrationResult(
         rock=campaign.rock.name, targets=goals.targets, target_tests=goals.tests,
         weights=goals.weights or None, specimen=campaign.specimen,
@@ -430,7 +437,8 @@ def result_of(state: State) -> CalibrationResult:
         sensitivity=state.sensitivity, parameters=state.names, bounds=state.bounds, fixed=state.fixed,
         samples=state.samples, surrogate_check=state.surrogate_check,
         iterations=list(state.iterations), accepted=state.accepted is not None, identified=identified,
-        identified_params=make_params(state.fixed | identified).key(),
+        identified_params=material(campaign.material.model).make(state.fixed | identified).key(),
+        material=None if campaign.material.model == DEFAULT_MATERIAL else campaign.material.model,
         verified=state.iterations[best].verified, errors=state.iterations[best].errors,
         tolerance=campaign.acceptance.tolerance, objective=state.objective, dem_runs=len(state.dem_runs),
         best_iteration=best, dem_run_keys=list(state.dem_runs), final_ucs_run_key=final_ucs_run_key,

@@ -159,6 +159,7 @@ class CalibrationResult(_Part):
     UCS test's come with its other readings."""
 
     rock: str
+    material: str | None = _absent()  # the bonded material (`rockcal.materials`); None: the default
     targets: Values  # of every test calibrated against
     target_tests: dict[str, list[str]] | None = _absent()  # each test's targets; None: UCS only
     weights: Values | None = _absent()  # the responses weighed otherwise than 1 in the objective

@@ -49,9 +49,9 @@ def curve_fit_of(state, identified: dict) -> CurveFit | None:
     """The RE and CC of the primary test's stress-strain curve at the identified parameters
     against the measured one (the simulated strain may dither at the start: only the points
     that advance it are kept); None without a measured curve or a curve of that run."""
-    from rockcal.campaign.forward import run_spec
+    from rockcal.campaign.procedure import spec_of
 
-    key = run_spec(PRIMARY_TEST, state.campaign.specimen, state.fixed | identified).key
+    key = spec_of(state, PRIMARY_TEST, state.campaign.specimen, identified).key
     curve = state.curves.get(key)
     if state.goals.curve is None or curve is None:
         return None

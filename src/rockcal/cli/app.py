@@ -14,7 +14,7 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
 def _register() -> None:
     from rockcal.cli import calibrate, export, kic, sensitivity, simulate
 
-    app.add_typer(simulate.app, name="simulate")
+    app.add_typer(simulate.build_app(), name="simulate")
     app.add_typer(sensitivity.app, name="sensitivity")
     app.command("kic")(kic.kic)
     app.command("calibrate")(calibrate.calibrate)

@@ -43,12 +43,13 @@ def export_specimen(
     the identified parameters."""
     from rockcal.campaign.export import write_specimen
     from rockcal.campaign.forward import run_spec, specimen_of
+    from rockcal.labtests.registry import PRIMARY_TEST
 
     calibrated = _calibration(out)
     if to.exists() and not to.is_dir():
         raise InputError("--to", f"{to} is a file, not a folder")
-    spec = run_spec("ucs", calibrated.specimen, calibrated.params.key())
-    specimen = specimen_of("ucs", spec.specimen)
+    spec = run_spec(PRIMARY_TEST, calibrated.specimen, calibrated.params.key())
+    specimen = specimen_of(PRIMARY_TEST, spec.specimen)
     try:
         paths = write_specimen(specimen, calibrated.params, to)
     except OSError as exc:

@@ -1,9 +1,14 @@
-"""`rockcal simulate ...`: one virtual lab test with given micro-parameters."""
+"""`rockcal simulate <test>`: one virtual lab test with given micro-parameters, a command per
+test of the lab-test registry, each with the same shared options (`--set`, `--model`,
+`--seed`, `--seeds`, `--json`, `--out`) and an option per specimen setting the test reads
+(its default and help from the campaign file's [specimen] keys)."""
 
 from __future__ import annotations
 
+import inspect
 import json
 import math
+import typing
 from contextlib import nullcontext
 from enum import Enum
 from pathlib import Path
@@ -12,323 +17,187 @@ from typing import Optional
 import numpy as np
 import typer
 from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from rockcal.dem.genesis import Genesis, make_genesis
-from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
-from rockcal.errors import InputError, as_flags
-from rockcal.labtests import bending as bending_test
-from rockcal.labtests.loading import check_stop_fraction
-from rockcal.labtests.ucs import DEFAULT_STRAIN, POST_PEAK_FRACTION
-from rockcal.params import make_params, parse_assignments
-
-app = typer.Typer(no_args_is_help=True, help="Run one virtual lab test.")
-
-
-class Packing(str, Enum):
-    random = "random"
-    hexagonal = "hexagonal"
-
-
-class Strain(str, Enum):
-    gauge = "gauge"
-    platen = "platen"
-
-
-ContactStiffness = Enum("ContactStiffness", [(name, name) for name in CONTACT_STIFFNESS], type=str)
-
+from rockcal.campaign.config import SpecimenSettings
+from rockcal.errors import InputError, fields_named
+from rockcal.labtests.kind import LabTest
+from rockcal.labtests.seeds import mean_over_seeds, seed_list
+from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material
+from rockcal.params import parse_assignments
 
 SET_HELP = ("Micro-parameter NAME=VALUE, repeatable: E_c, Ebar_c (GPa), kn_ks, knbar_ksbar, "
             "sigma_c, tau_c, sigma_c_sd, tau_c_sd (MPa) or sigma_c_cv, tau_c_cv (sd / mean), "
-            "phi_b (degrees), mcf, mu, lambda, "
-            "density (kg/m3), damping.")
-GENESIS_DEFAULTS = Genesis()
-INSTALL_GAP = typer.Option(GENESIS_DEFAULTS.install_gap,
-                           help="Bond installation gap / R_min (PFC pbm_igap / R_min).")
-CLOUD_POROSITY = typer.Option(GENESIS_DEFAULTS.cloud_porosity,
-                              help="Cloud porosity: sets the grain count (PFC pk_nc).")
-PRESSURE_MPA = typer.Option(GENESIS_DEFAULTS.pressure_mpa,
-                            help="Material pressure of the packing, MPa (PFC pk_Pm).")
-# The options every test shares (typer reads each command's signature: one Option serves many).
-CONTACT_STIFFNESS = typer.Option(ContactStiffness(DEFAULT_CONTACT_STIFFNESS),
-                                 help="A contact's kn from E_c as PFC 3.x/4.0 (t E_c) or PFC 5+ "
-                                      "does (2 min(R) t E_c / (R_A + R_B)).")
-SET = typer.Option([], "--set", help=SET_HELP)
-RMIN_MM = typer.Option(0.25, help="Smallest radius, mm.")
-RADIUS_RATIO = typer.Option(1.65, help="Largest / smallest radius.")
-SEED = typer.Option(1, help="Packing seed.")
-SEEDS = typer.Option(1, help="Average over this many packings (seed, seed + 1, ...): mean and spread.")
-AS_JSON = typer.Option(False, "--json", help="Print one JSON object.")
-OUT = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here.")
+            "phi_b (degrees), mcf, mu, lambda, density (kg/m3), damping.")
+Model = Enum("Model", [(name, name) for name in MATERIALS], type=str)
+Packing = Enum("Packing", [("random", "random"), ("hexagonal", "hexagonal")], type=str)
+SHARED = {  # the options of every test: name -> (annotation, typer option)
+    "set_": (list[str], typer.Option([], "--set", help=SET_HELP)),
+    "model": (Model, typer.Option(Model(DEFAULT_MATERIAL), help="The bonded material (rockcal.materials).")),
+    "seeds": (int, typer.Option(1, help="Average over this many packings (seed, seed + 1, ...): mean and spread.")),
+    "as_json": (bool, typer.Option(False, "--json", help="Print one JSON object.")),
+    "out": (Optional[Path], typer.Option(None, help="Write curve CSV, summary JSON and PNGs here.")),
+}
 
 
-def genesis_of(install_gap: float, cloud_porosity: float, pressure_mpa: float) -> Genesis:
-    """The genesis settings of the specimen flags; a bad one is an error naming its flag."""
-    values = dict(install_gap=install_gap, cloud_porosity=cloud_porosity, pressure_mpa=pressure_mpa)
-    with as_flags():
-        return make_genesis(values)
+def build_app() -> typer.Typer:
+    """The `simulate` command group: a command per lab test in the registry."""
+    from rockcal.labtests.registry import LAB_TESTS
+
+    app = typer.Typer(no_args_is_help=True, help="Run one virtual lab test.")
+    for test in LAB_TESTS.values():
+        app.command(test.name.replace("_", "-"), help=test.help or f"The {test.title} test.")(_command(test))
+    return app
 
 
-def finite(name: str, value: float, low: float = 0.0) -> float:
-    """A CLI number must be finite and above `low`."""
-    if not math.isfinite(value) or value <= low:
-        raise InputError(name, f"must be a finite number > {low:g}, got {value}")
-    return value
+def _command(test: LabTest):
+    """The function typer reads a test's command from: its signature is the options."""
+    def command(**options) -> None:
+        simulate(test, options)
+
+    parameters = [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=option, annotation=kind)
+                  for name, (kind, option) in {**_setting_options(test), **SHARED}.items()]
+    command.__signature__ = inspect.Signature(parameters)
+    return command
 
 
-@app.command()
-def ucs(
-    set_: list[str] = SET,
-    packing: Packing = typer.Option(Packing.random, help="Specimen packing."),
-    rmin_mm: float = typer.Option(0.25, help="Smallest radius (hexagonal: the radius), mm."),
-    radius_ratio: float = RADIUS_RATIO,
-    width_mm: float = typer.Option(50.0, help="Specimen width, mm."),
-    height_mm: float = typer.Option(100.0, help="Specimen height, mm."),
-    seed: int = SEED,
-    install_gap: float = INSTALL_GAP,
-    cloud_porosity: float = CLOUD_POROSITY,
-    pressure_mpa: float = PRESSURE_MPA,
-    contact_stiffness: ContactStiffness = CONTACT_STIFFNESS,
-    strain: Strain = typer.Option(Strain(DEFAULT_STRAIN), help="Axial strain read from the specimen's "
-                                  "own end particles (gauge) or from the platens (platen, PFC's)."),
-    stop_fraction: float = typer.Option(POST_PEAK_FRACTION, help="Stop once past the peak the "
-                                        "stress is below this fraction of it (PFC ct_loadFac)."),
-    max_axial_strain: float = typer.Option(0.02, help="Stop at this axial strain at the latest."),
-    as_json: bool = AS_JSON,
-    out: Optional[Path] = OUT,
-) -> None:
-    """Uniaxial compression test: E and nu (secant at half peak), UCS, stress-strain curve."""
-    from rockcal.dem.specimen import hexagonal, random_packing
-    from rockcal.labtests.ucs import simulate_ucs
-
-    params = make_params(parse_assignments(set_))
-    _check_packing_options(rmin_mm, radius_ratio)
-    finite("--width-mm", width_mm)
-    finite("--height-mm", height_mm)
-    finite("--max-axial-strain", max_axial_strain)
-    with as_flags():
-        check_stop_fraction(stop_fraction)
-    genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
-    with _status(as_json):
-        if packing is Packing.hexagonal:
-            specimen = hexagonal(width_mm, height_mm, rmin_mm)
-        else:
-            specimen = random_packing(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis)
-    result = _run_with_progress(
-        "UCS test", max_axial_strain, as_json,
-        lambda axial, stress: f"strain {100 * axial:.3f} %  stress {stress:.1f} MPa",
-        lambda progress: simulate_ucs(params, specimen, max_axial_strain=max_axial_strain,
-                                      strain=strain.value, stop_fraction=stop_fraction,
-                                      contact_stiffness=contact_stiffness.value, progress=progress))
-    summary = result.summary() | specimen.description() | {
-        "params": params.key(), "contact_stiffness": contact_stiffness.value, "specimen": specimen.label}
-    if out is not None:
-        _write_outputs(out, result, summary)
-    _report(f"UCS test — {specimen.label}", (
-        ("E", f"{result.E_GPa:.2f} GPa"), ("Poisson's ratio", f"{result.nu:.3f}"),
-        ("UCS", f"{result.ucs_MPa:.1f} MPa"),
-        ("axial strain at peak", f"{100 * result.peak_axial_strain:.3f} % ({result.strain})"),
-        ("porosity / contacts / bonds per grain", f"{specimen.porosity:.3f} / "
-         f"{summary['coordination']:.2f} / {summary['bonds_per_particle']:.2f}"),
-        *_common_rows(summary)), summary, as_json)
+def flag_of(test: LabTest, setting: str) -> str:
+    """The CLI flag of a specimen setting in a test's command."""
+    return "--" + dict(test.flags).get(setting, setting).replace("_", "-")
 
 
-def _write_outputs(out: Path, result, summary: dict) -> None:
+def _setting_options(test: LabTest) -> dict:
+    """An option per specimen setting the test reads (and --packing where it has a lattice)."""
+    options = {}
+    for setting in test.settings:
+        info = SpecimenSettings.model_fields[setting]
+        kind = info.annotation
+        default = dict(test.defaults).get(setting, info.default)
+        if typing.get_origin(kind) is typing.Literal:
+            kind = Enum(setting, [(v, v) for v in typing.get_args(kind)], type=str)
+            default = kind(default)
+        options[setting] = (kind, typer.Option(default, flag_of(test, setting), help=info.description))
+    if test.hexagonal is not None:
+        options["packing"] = (Packing, typer.Option(Packing("random"), help="Specimen packing (hexagonal: "
+                                                    "a lattice of grains of radius --rmin-mm)."))
+    return options
+
+
+def simulate(test: LabTest, options: dict) -> None:
+    """Run a test on `--seeds` packings, show (or print as JSON) its responses, write its files."""
+    options = {k: v.value if isinstance(v, Enum) else v for k, v in options.items()}
+    chosen = material(options.pop("model"), "--model")
+    params = chosen.make(parse_assignments(options.pop("set_")))
+    seeds, as_json, out = options.pop("seeds"), options.pop("as_json"), options.pop("out")
+    packing = options.pop("packing", "random")
+    if seeds < 1:
+        raise InputError("--seeds", f"must be >= 1, got {seeds}")
+    settings = _checked_settings(test, options)
+    run = {"params": params.key(), "contact_stiffness": settings.get("contact_stiffness")}
+    if chosen.name != DEFAULT_MATERIAL:
+        run["model"] = chosen.name
+    per_seed = []
+    for k, seed in enumerate(seed_list(settings["seed"], seeds)):
+        label = f"{test.title} test" + (f", packing {k + 1}/{seeds}" if seeds > 1 else "")
+        result, specimen = _run_one(test, params, settings | {"seed": seed}, packing, label, as_json)
+        per_seed.append(result.summary() | specimen.description() | run | {"specimen": specimen.label, "seed": seed})
+        if out is not None:
+            write_outputs(out, test, result, per_seed[-1], seed if seeds > 1 else None)
+    summary = per_seed[0] if seeds == 1 else _over_seeds(per_seed, settings["seed"], run)
+    if out is not None and seeds > 1:
+        _write_text(out / f"{test.name}_summary.json", json.dumps(summary, indent=2))
+    _show(test, summary, as_json)
+
+
+def _checked_settings(test: LabTest, options: dict) -> dict:
+    """The test's specimen settings from the options, finite and valid, an error naming the flag."""
+    for setting, value in options.items():
+        if isinstance(value, float) and not math.isfinite(value):
+            raise InputError(flag_of(test, setting), f"must be a finite number, got {value}")
+    rename = {setting: flag_of(test, setting) for setting in test.settings}
+    with fields_named(lambda field: rename.get(field.removeprefix("specimen."), field)):
+        from pydantic import ValidationError
+
+        from rockcal.errors import from_validation_error
+        try:
+            values = SpecimenSettings(**options)
+        except ValidationError as exc:
+            raise from_validation_error(exc) from None
+        settings = test.settings_of(values)
+        test.check(settings)
+    return settings
+
+
+def _run_one(test: LabTest, params, settings: dict, packing: str, label: str, as_json: bool):
+    """One packing's specimen and its result, with a spinner and the test's reading on stderr."""
+    with nullcontext() if as_json else Console(stderr=True).status("making the specimen"):
+        specimen = test.hexagonal(settings) if packing == "hexagonal" else test.make(settings)
+    with Progress(SpinnerColumn(), TextColumn(label), TextColumn("{task.description}"), TimeElapsedColumn(),
+                  console=Console(stderr=True), disable=as_json, transient=True) as bar:
+        task = bar.add_task("", total=None)
+        result = test.run(params, specimen, settings,
+                          lambda x, y: bar.update(task, description=test.reading(x, y)))
+    return result, specimen
+
+
+def _over_seeds(per_seed: list[dict], seed: int, run: dict) -> dict:
+    """The mean and sample spread over packings, each packing's summary under "per_seed"."""
+    count = len(per_seed)
+    specimen = per_seed[0]["specimen"].replace(f"seed {seed}", f"seeds {seed}-{seed + count - 1}")
+    shared = {k: v for k, v in per_seed[0].items() if k not in run and k not in ("specimen", "seed")}
+    return mean_over_seeds([{k: s[k] for k in shared} for s in per_seed]) | run | {
+        "specimen": specimen, "seeds": seed_list(seed, count), "per_seed": per_seed}
+
+
+def write_outputs(out: Path, test: LabTest, result, summary: dict, seed: int | None) -> None:
+    """A run's curve (CSV), summary (JSON), crack pattern and curve (PNG), named after the test
+    (and the packing's seed when there are several)."""
     from rockcal import plots
 
-    out.mkdir(parents=True, exist_ok=True)
-    np.savetxt(out / "ucs_curve.csv", result.curve, delimiter=",", fmt="%.8g",
-               header="axial_strain,lateral_strain,axial_stress_MPa", comments="")
-    (out / "ucs_summary.json").write_text(json.dumps(summary, indent=2))
-    plots.crack_pattern(result.positions, result.radius, result.cracks, out / "ucs_cracks.png",
-                        f"UCS {result.ucs_MPa:.1f} MPa — broken bonds")
-    plots.stress_strain(result.curve, out / "ucs_curve.png", "UCS test")
+    name = test.name if seed is None else f"{test.name}_seed{seed}"
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        np.savetxt(out / f"{name}_curve.csv", result.curve, delimiter=",", fmt="%.8g",
+                   header=",".join(test.curve_columns), comments="")
+    except OSError as exc:
+        raise InputError("--out", f"cannot write to {out}: {exc.strerror}") from None
+    _write_text(out / f"{name}_summary.json", json.dumps(summary, indent=2))
+    first = test.responses[0]
+    plots.crack_pattern(result.positions, result.radius, result.cracks, out / f"{name}_cracks.png",
+                        f"{first.label or first.name} {getattr(result, first.name):.4g} {first.unit} — broken bonds")
+    if test.plot:
+        getattr(plots, test.plot)(result.curve, out / f"{name}_curve.png", f"{test.title} test")
 
 
-def _check_packing_options(rmin_mm: float, radius_ratio: float) -> None:
-    finite("--rmin-mm", rmin_mm)
-    finite("--radius-ratio", radius_ratio)
-    if radius_ratio < 1:
-        raise InputError("--radius-ratio", f"must be >= 1, got {radius_ratio}")
+def _write_text(path: Path, text: str) -> None:
+    try:
+        path.write_text(text)
+    except OSError as exc:
+        raise InputError("--out", f"cannot write {path}: {exc.strerror}") from None
 
 
-def _status(as_json: bool):
-    """A spinner on stderr while the specimen is made (nothing with --json)."""
-    return nullcontext() if as_json else Console(stderr=True).status("making the specimen")
-
-
-def _run_with_progress(label: str, total: float, as_json: bool, describe, run):
-    """Run `run(progress)` under a rich progress bar on stderr (none with --json);
-    progress(x, y) advances the bar to x and shows describe(x, y)."""
-    with Progress(TextColumn(label), BarColumn(), TextColumn("{task.description}"),
-                  TimeElapsedColumn(), console=Console(stderr=True), disable=as_json,
-                  transient=True) as bar:
-        task = bar.add_task("", total=total)
-        return run(lambda x, y: bar.update(task, completed=x, description=describe(x, y)))
-
-
-def _load_description(unit: str):
-    return lambda mm, kN: f"{unit} {mm:.4f} mm  load {kN:.2f} kN/m"
-
-
-def _common_rows(summary: dict):
-    """Size, damage and cost of a test (means over packings when there are several)."""
-    return (("particles / bonds", f"{summary['n_particles']:.0f} / {summary['n_bonds']:.0f}"),
-            ("broken bonds tension / shear",
-             f"{summary['n_broken_tension']:.0f} / {summary['n_broken_shear']:.0f}"),
-            ("steps, wall time", f"{summary['steps']:.0f}, {summary['wall_s']:.1f} s"))
-
-
-def _report(title: str, rows, summary: dict, as_json: bool) -> None:
+def _show(test: LabTest, summary: dict, as_json: bool) -> None:
+    """The responses as a table (with their spread over packings), or one JSON object."""
     if as_json:
         typer.echo(json.dumps(summary))
         return
-    table = Table(title=title, show_header=False)
-    for label, value in rows:
-        table.add_row(label, value)
+    table = Table(title=f"{test.title} test — {summary['specimen']}", show_header=False)
+    for r in test.responses:
+        table.add_row(r.label or r.name, _value(summary, r.name, r.unit))
+    table.add_row("particles / bonds", f"{summary['n_particles']:.0f} / {summary['n_bonds']:.0f}")
+    table.add_row("broken bonds tension / shear",
+                  f"{summary['n_broken_tension']:.0f} / {summary['n_broken_shear']:.0f}")
+    table.add_row("steps, wall time", f"{summary['steps']:.0f}, {summary['wall_s']:.1f} s")
     Console().print(table)
 
 
-def _write_load_curve(out: Path, name: str, result, summary: dict, crack_title: str) -> None:
-    from rockcal import plots
-
-    out.mkdir(parents=True, exist_ok=True)
-    np.savetxt(out / f"{name}_curve.csv", result.curve, delimiter=",", fmt="%.8g",
-               header="displacement_mm,load_kN_per_m", comments="")
-    (out / f"{name}_summary.json").write_text(json.dumps(summary, indent=2))
-    plots.crack_pattern(result.positions, result.radius, result.cracks, out / f"{name}_cracks.png",
-                        crack_title)
-    plots.load_displacement(result.curve, out / f"{name}_curve.png", f"{name} test")
-
-
-@app.command()
-def bending(
-    set_: list[str] = SET,
-    rmin_mm: float = RMIN_MM,
-    radius_ratio: float = RADIUS_RATIO,
-    length_mm: float = typer.Option(220.0, help="Beam length, mm."),
-    height_mm: float = typer.Option(50.0, help="Beam depth W, mm."),
-    notch_mm: float = typer.Option(18.0, help="Notch depth a, mm (bottom edge, mid-span)."),
-    notch_width_mm: float = typer.Option(2.0, help="Notch width, mm; 0 cuts the bonds (sharp crack)."),
-    span_mm: float = typer.Option(160.0, help="Distance S between the supports, mm."),
-    seed: int = SEED,
-    seeds: int = SEEDS,
-    install_gap: float = INSTALL_GAP,
-    cloud_porosity: float = CLOUD_POROSITY,
-    pressure_mpa: float = PRESSURE_MPA,
-    contact_stiffness: ContactStiffness = CONTACT_STIFFNESS,
-    stop_fraction: float = typer.Option(
-        bending_test.POST_PEAK_FRACTION,
-        help="Stop once the load has stayed below this fraction of the peak (0.9: as soon as "
-             "P_max is certain; lower ones run the crack path)."),
-    as_json: bool = AS_JSON,
-    out: Optional[Path] = OUT,
-) -> None:
-    """Three-point bending of a notched beam: peak load, load-displacement curve, K_IC."""
-    from rockcal.labtests.bending import (DEFAULT_MAX_DISPLACEMENT_MM, Beam, check_beam, notched_beam,
-                                          simulate_bending)
-
-    params = make_params(parse_assignments(set_))
-    _check_packing_options(rmin_mm, radius_ratio)
-    beam = Beam(length_mm, height_mm, notch_mm, notch_width_mm, span_mm)
-    with as_flags():
-        check_beam(beam, rmin_mm, radius_ratio)
-        check_stop_fraction(stop_fraction)
-    genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
-
-    def one(packing_seed: int, label: str):
-        with _status(as_json):
-            specimen = notched_beam(beam, rmin_mm, radius_ratio, packing_seed, genesis)
-        result = _run_with_progress(
-            label, DEFAULT_MAX_DISPLACEMENT_MM, as_json, _load_description("pin"),
-            lambda progress: simulate_bending(params, specimen, beam, progress=progress,
-                                              stop_fraction=stop_fraction,
-                                              contact_stiffness=contact_stiffness.value))
-        return result, specimen, f"K_IC {result.K_IC_MPa_sqrt_m:.3f} MPa·m^0.5 — broken bonds"
-
-    summary = _over_seeds("bending", one, seed, seeds, params, out, contact_stiffness)
-    _report(f"Three-point bending — {summary['specimen']}", (
-        ("K_IC (notched beam, S/W = %.2f)" % (span_mm / height_mm),
-         _mean_text(summary, "K_IC_MPa_sqrt_m", "%.3f", "MPa·m^0.5")),
-        ("peak load", _mean_text(summary, "P_max_kN_per_m", "%.2f", "kN per m of thickness")),
-        ("pin displacement at peak", _mean_text(summary, "displacement_at_peak_mm", "%.4f", "mm")),
-        *_common_rows(summary)), summary, as_json)
-
-
-@app.command()
-def brazilian(
-    set_: list[str] = SET,
-    rmin_mm: float = RMIN_MM,
-    radius_ratio: float = RADIUS_RATIO,
-    diameter_mm: float = typer.Option(50.0, help="Disk diameter D, mm."),
-    seed: int = SEED,
-    seeds: int = SEEDS,
-    install_gap: float = INSTALL_GAP,
-    cloud_porosity: float = CLOUD_POROSITY,
-    pressure_mpa: float = PRESSURE_MPA,
-    contact_stiffness: ContactStiffness = CONTACT_STIFFNESS,
-    as_json: bool = AS_JSON,
-    out: Optional[Path] = OUT,
-) -> None:
-    """Brazilian test of a disk between platens: sigma_t = 2P/(pi D t), load-closure curve."""
-    from rockcal.labtests.brazilian import DEFAULT_MAX_STRAIN, brazilian_disk, check_disk, simulate_brazilian
-
-    params = make_params(parse_assignments(set_))
-    _check_packing_options(rmin_mm, radius_ratio)
-    with as_flags():
-        check_disk(diameter_mm, rmin_mm, radius_ratio)
-    genesis = genesis_of(install_gap, cloud_porosity, pressure_mpa)
-
-    def one(packing_seed: int, label: str):
-        with _status(as_json):
-            specimen = brazilian_disk(diameter_mm, rmin_mm, radius_ratio, packing_seed, genesis)
-        result = _run_with_progress(
-            label, DEFAULT_MAX_STRAIN * diameter_mm, as_json, _load_description("closure"),
-            lambda progress: simulate_brazilian(params, specimen, progress=progress,
-                                                contact_stiffness=contact_stiffness.value))
-        return result, specimen, f"sigma_t {result.sigma_t_MPa:.2f} MPa — broken bonds"
-
-    summary = _over_seeds("brazilian", one, seed, seeds, params, out, contact_stiffness)
-    _report(f"Brazilian test — {summary['specimen']}", (
-        ("tensile strength sigma_t", _mean_text(summary, "sigma_t_MPa", "%.2f", "MPa")),
-        ("peak load", _mean_text(summary, "P_max_kN_per_m", "%.2f", "kN per m of thickness")),
-        ("platen closure at peak", _mean_text(summary, "displacement_at_peak_mm", "%.4f", "mm")),
-        *_common_rows(summary)), summary, as_json)
-
-
-def _over_seeds(name: str, one, seed: int, count: int, params, out: Path | None,
-                contact_stiffness: ContactStiffness):
-    """Run `one(seed, label)` -> (result, specimen, crack title) on `count` packings and
-    write each one's outputs; the summary of one packing, or the mean and spread over several
-    (with each packing's summary under "per_seed")."""
-    from rockcal.labtests.seeds import mean_over_seeds, seed_list
-
-    run = {"params": params.key(), "contact_stiffness": contact_stiffness.value}
-    if count < 1:
-        raise InputError("--seeds", f"must be >= 1, got {count}")
-    responses, per_seed = [], []
-    for k, packing_seed in enumerate(seed_list(seed, count)):
-        label = f"{name} test" + (f", packing {k + 1}/{count}" if count > 1 else "")
-        result, specimen, crack_title = one(packing_seed, label)
-        responses.append(result.summary() | specimen.description())
-        per_seed.append(responses[-1] | run | {"specimen": specimen.label, "seed": packing_seed})
-        if out is not None:
-            _write_load_curve(out, name if count == 1 else f"{name}_seed{packing_seed}", result,
-                              per_seed[-1], crack_title)
-    if count == 1:
-        return per_seed[0]
-    specimen = per_seed[0]["specimen"].replace(f"seed {seed}", f"seeds {seed}-{seed + count - 1}")
-    summary = mean_over_seeds(responses) | run | {"specimen": specimen, "seeds": seed_list(seed, count),
-                                                  "per_seed": per_seed}
-    if out is not None:
-        (out / f"{name}_summary.json").write_text(json.dumps(summary, indent=2))
-    return summary
-
-
-def _mean_text(summary: dict, key: str, fmt: str, unit: str) -> str:
-    """A response, with its spread over packings when there are several."""
-    text = fmt % summary[key]
+def _value(summary: dict, name: str, unit: str) -> str:
+    """A response with its unit, and its spread over packings when there are several."""
+    value = summary[name]
+    if not isinstance(value, (int, float)):
+        return str(value)
+    text = f"{value:.4g}"
     if "per_seed" in summary:
-        text += " ± " + fmt % summary[f"{key}_std"] + f" (over {len(summary['per_seed'])} packings)"
-    return f"{text} {unit}"
+        text += f" ± {summary[f'{name}_std']:.2g} (over {len(summary['per_seed'])} packings)"
+    return f"{text} {unit}".strip()

@@ -14,7 +14,7 @@ from rockcal.dem.genesis import Genesis
 GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_mpa
 # Settings added after runs were stored, with the value the engine had before them: a run's
 # key names one only where it differs from that, so the runs stored before keep their keys.
-LATER_SETTINGS = {"contact_stiffness": "pfc5"}
+LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02}
 
 
 @dataclass(frozen=True)
@@ -25,6 +25,7 @@ class Response:
     name: str
     unit: str
     target: bool = True
+    label: str = ""  # in words, for tables ("" : the name)
 
 
 @dataclass(frozen=True)
@@ -61,6 +62,12 @@ class LabTest:
     revision: int = 1
     lab_values: type | None = None  # its [targets.<name>] section (LabValues); None: made from `targets`
     slower_than_work: float = 1.0  # its run time over a UCS run's of the same work (grains x rows)
+    curve_columns: tuple[str, ...] = ()  # the columns of its result's curve, with units
+    plot: str | None = None  # the `rockcal.plots` function of (curve, path, title) that draws it
+    flags: tuple[tuple[str, str], ...] = ()  # (setting, its CLI flag's name) where they differ
+    defaults: tuple[tuple[str, Any], ...] = ()  # (setting, its default for this test alone)
+    hexagonal: Callable[[dict], Any] | None = None  # its specimen as a hexagonal lattice, if it has one
+    help: str = ""  # what `rockcal simulate <name>` does, in a line
 
     @property
     def targets(self) -> tuple[str, ...]:

@@ -80,8 +80,10 @@ def values_model(test) -> type[LabValues]:
     if test.lab_values is not None:
         return test.lab_values
     fields = {name: (float | None, Field(None, gt=0)) for name in test.targets}
-    return create_model(f"{test.name.title()}Values", __base__=LabValues,
-                        __doc__=f"Lab results of the {test.title} test.", **fields)
+    model = create_model(f"{test.name.title()}Values", __base__=LabValues,
+                         __doc__=f"Lab results of the {test.title} test.", **fields)
+    model.test = test.name
+    return model
 
 
 def read_curve(path: Path, field: str = "targets.ucs.curve") -> np.ndarray:

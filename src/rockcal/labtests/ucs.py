@@ -23,7 +23,7 @@ from typing import Callable
 
 from rockcal.dem import measure
 from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, TOP, THICKNESS_M, scale_density
-from rockcal.dem.specimen import Specimen, check_geometry, random_packing
+from rockcal.dem.specimen import Specimen, check_geometry, hexagonal, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.lab_values import LabValues, read_curve
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of
@@ -113,7 +113,8 @@ def _specimen(s: dict) -> Specimen:
 
 def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> UCSResult:
     return simulate_ucs(params, specimen, strain=s["strain"], stop_fraction=s["stop_fraction"],
-                        contact_stiffness=s["contact_stiffness"], progress=progress)
+                        contact_stiffness=s["contact_stiffness"], max_axial_strain=s["max_axial_strain"],
+                        progress=progress)
 
 
 
@@ -149,10 +150,14 @@ class UCSValues(LabValues):
 TEST = LabTest(
     lab_values=UCSValues,
     name="ucs", title="UCS",
-    responses=(Response("E_GPa", "GPa"), Response("nu", ""), Response("ucs_MPa", "MPa"),
-               Response("peak_axial_strain", "", target=False)),
+    help="Uniaxial compression test: E and nu (secant at half peak), UCS, stress-strain curve.",
+    responses=(Response("E_GPa", "GPa", label="E"), Response("nu", "", label="Poisson's ratio"),
+               Response("ucs_MPa", "MPa", label="UCS"),
+               Response("peak_axial_strain", "", target=False, label="axial strain at peak")),
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
-              "stop_fraction", "contact_stiffness"),
+              "stop_fraction", "contact_stiffness", "max_axial_strain"),
+    curve_columns=("axial_strain", "lateral_strain", "axial_stress_MPa"), plot="stress_strain",
+    hexagonal=lambda s: hexagonal(s["width_mm"], s["height_mm"], s["rmin_mm"]),
     check=_check, make=_specimen, run=_run,
     reading=lambda strain, stress_MPa: f"strain {100 * strain:.3f} %, {stress_MPa:.1f} MPa",
     outline=lambda s: Outline(f"UCS {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"],
