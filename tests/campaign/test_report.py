@@ -3,7 +3,6 @@ written, the identified parameters shown, and missing pieces noted instead of fa
 
 import base64
 import re
-from pathlib import Path
 
 import matplotlib.image
 import numpy as np
