@@ -350,3 +350,24 @@ def test_element_force_and_moment_are_the_stress_integrated_over_the_element(bon
     scale = kn * length * (abs(gc) + abs(theta) * length)
     assert fn == pytest.approx(stress.sum() * du, rel=1e-6, abs=1e-9 * scale)
     assert me == pytest.approx(-(stress * u).sum() * du, rel=1e-6, abs=1e-9 * scale * length)
+
+
+# --- strengths ---------------------------------------------------------------------------
+
+def test_element_strengths_are_drawn_reproducibly_by_seed():
+    """Each element's tensile strength and cohesion (the law's per-element arrays) come from the
+    material's seeded draws: the same seed gives the same arrays, bit for bit, another seed
+    others; as in PFC, the elements of one joint share its draw (fj_ten, fj_coh are contact
+    properties)."""
+    from rockcal.dem import flatjoint_material as fjm
+    from rockcal.dem.specimen import hexagonal
+
+    spec = hexagonal(4.0, 4.0, 0.25)
+    params = fjm.make_flatjoint_params({"fj_nr": 3, "fj_ten_sd": 10.0, "fj_coh_cv": 0.3})
+    first, again, other = (fjm.assign_flatjointed(spec.pos, spec.radius, params, 0.0, seed=s).joints()
+                           for s in (11, 11, 12))
+    for row in (fj.E_TEN, fj.E_COH):
+        np.testing.assert_array_equal(first.elements[row], again.elements[row])
+        assert not np.array_equal(first.elements[row], other.elements[row])
+        assert np.all(first.elements[row] == first.elements[row][:, :1])
+        assert first.elements[row].min() >= 0.0 and len(np.unique(first.elements[row])) > 10
