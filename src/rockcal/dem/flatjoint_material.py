@@ -48,7 +48,9 @@ MM = 1e-3
 FLATJOINT_STREAM = 2  # the flat joints' random stream (the parallel bonds' strengths use 1)
 TYPE, TEN, COH, GAP = range(4)  # columns of the draws: rank for the microstructure, strengths, gap
 DRAWS_PER_JOINT = 4
-SLIT, BONDED, GAPPED = 0, 1, 2  # a flat joint's initial microstructural type
+# a flat joint's initial microstructural type, coded as PFC's fj_mtype (FISHTank's counts read
+# 1 as bonded, 2 as gapped, 3 as slit)
+BONDED, GAPPED, SLIT = 1, 2, 3
 REDUCTION = 0.99  # FISHTank's factor on λ per overlap check
 FRACTION_TOLERANCE = 1e-9
 
@@ -248,7 +250,7 @@ class FlatJointedMaterial:
     properties, SI, and the linear contacts' constants for every other grain pair."""
 
     pairs: np.ndarray  # (n, 2)
-    kind: np.ndarray  # (n,) SLIT, BONDED or GAPPED
+    kind: np.ndarray  # (n,) BONDED, GAPPED or SLIT (PFC's fj_mtype)
     gap0: np.ndarray  # (n,) initial surface gap, m
     rmul: np.ndarray  # (n,) radius multiplier after reduction
     kn: np.ndarray  # (n,) element normal stiffness per area, Pa/m
