@@ -1,0 +1,238 @@
+"""PFC's 2D flat-joint contact (Potyondy 2012; the `flatjoint` contact model of PFC 5-9) as a
+standalone law over plain arrays, not yet wired into the step kernels.
+
+The interface (PFC manual, "Flat-Joint Model"; see docs/flatjoint-notes.md):
+- a segment of half-length R̄ = λ min(R_i, R_j) (`fj_rmul` = λ; `fj_radius` = R̄), unit
+  thickness, centred at the contact point (mid-gap, as for the parallel bond in `laws.py`) and
+  normal to the line of centres; it is cut into N_r elements of equal length L = 2R̄ / N_r
+  (`fj_nr`); element e spans ξ in [-R̄ + e L, -R̄ + (e + 1) L] along the tangent t = (-n_y, n_x),
+  its centroid at ξ_e = -R̄ + (e + ½) L, its area A_e = L t;
+- element stiffnesses per area k_n = E* / (R_i + R_j) (`fj_emod`, set once when the joint is
+  assigned, PFC's `deformability` method) and k_s = k_n / κ* (`fj_kratio`);
+- the interface state is its surface gap g_s (opening positive; it starts at the initial gap
+  g_0, `fj_gap0`: 0 for a bonded or slit joint, > 0 for a gapped one) and its relative
+  bend-rotation θ_b = θ_j - θ_i; both are updated incrementally from the relative motion.
+  The gap along the interface is then g(ξ) = g_s - θ_b ξ (j turning counter-clockwise
+  relative to i closes the side ξ > 0);
+- normal stress (tension positive, PFC's convention for bonded interfaces): σ(ξ) = k_n g(ξ)
+  over a bonded element, k_n min(g(ξ), 0) over an unbonded one (no tension). An element's
+  normal force F_n^e (tension positive) and bending moment M^e about its centroid are this
+  stress integrated over it (in closed form, also over the closed part of an element that is
+  partly open): the normal force is a function of the current gap and rotation, so a gapped
+  element carries nothing until its gap closes. With g linear across a bonded element,
+  F_n^e = k_n A_e g(ξ_e) and M^e = k_n θ_b L³ t / 12;
+- shear force per element, incremental: F_s^e += k_s A_e Δδ_s, with Δδ_s the relative shear
+  displacement of the element centroid; in 2D the centroids lie on the line through the
+  contact point along t, so the bend-rotation adds nothing to it and Δδ_s is the contact's;
+- a bonded element (state BONDED) breaks in tension when σ^e = F_n^e / A_e > σ_c (`fj_ten`),
+  else in shear when |F_s^e| / A_e > τ_c = c - σ^e tan φ (`fj_coh`, `fj_fa`: compression
+  raises the strength); it is then unbonded at once, in the same step;
+- an unbonded element carries compression only and slips at |F_s^e| = μ |F_n^e| (`fj_fric`);
+- the interface force is the sum of the elements' (F_n = Σ F_n^e along n on i, tension
+  positive; F_s = Σ F_s^e along t on i), its moment on i about the contact point
+  M = Σ (M^e - ξ_e F_n^e); so a partly broken interface still resists rotation. On i act
+  F_n n + F_s t and the moment arm_i F_s + M; on j the opposite force and arm_j F_s - M
+  (arm = the centre's distance to the contact point), as `laws.py` does for the bond.
+
+With every element bonded the interface is exactly a parallel bond of the same R̄ and moduli:
+k_n A and k_s A for translation, k_n I for rotation with I = Σ_e (A_e ξ_e² + L³ t / 12) =
+(2/3) R̄³ t, whatever N_r (the centroid sum alone is (2/3) R̄³ t (1 - 1/N_r²)).
+
+State, SI: a joints table (rows GAP to M, one column per joint) and per element a state array
+(joints x N_r, PFC's `fj_state` codes) and an elements array (rows E_FN to E_COH, joints x
+N_r). Residual cohesion (`fj_cohres`, `fj_resmode`, PFC 7+) is not modelled: their PFC
+defaults (c_r = 0, mode 0: the shear stress of a broken element drops to zero, then friction)
+are what this law does.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+# PFC's fj_state codes (FISHTank counts an element with fj_state 3 as bonded)
+UNBONDED, BROKEN_TENSION, BROKEN_SHEAR, BONDED = 0, 1, 2, 3
+# rows of the joints table, one column per flat joint: surface gap g_s (m), relative
+# bend-rotation θ_b (rad), k_n and k_s (Pa/m), radius multiplier λ, friction μ, tan φ, and the
+# interface's normal force (N, tension positive), shear force (N) and moment on i (N m)
+GAP, THETA, KN, KS, RMUL, FRIC, TAN_FA, FN, FS, M = range(10)
+JOINT_ROWS = 10
+# rows of the elements array (rows x joints x N_r): normal force (N, tension positive), shear
+# force (N), bending moment on i about the element centroid (N m), tensile strength and
+# cohesion (Pa)
+E_FN, E_FS, E_M, E_TEN, E_COH = range(5)
+ELEMENT_ROWS = 5
+
+
+class FlatJoints(NamedTuple):
+    """The state of a set of flat joints with N_r elements each."""
+
+    table: np.ndarray  # (JOINT_ROWS, joints)
+    state: np.ndarray  # (joints, N_r) int64: BONDED, UNBONDED, BROKEN_TENSION, BROKEN_SHEAR
+    elements: np.ndarray  # (ELEMENT_ROWS, joints, N_r)
+
+    @property
+    def nr(self) -> int:
+        return self.state.shape[1]
+
+
+def new_flatjoints(nr: int, kn, ks, rmul, fric, tan_fa, gap0, bonded, ten, coh) -> FlatJoints:
+    """Flat joints at zero force with N_r = `nr` elements each. Per joint: kn, ks (Pa/m), λ,
+    μ, tan φ, initial surface gap g_0 (m) and whether its elements are bonded (a bool per joint,
+    or per element as (joints, nr)); ten, coh (Pa) per joint or per element."""
+    if int(nr) != nr or nr < 1:
+        raise ValueError(f"nr must be a whole number >= 1, got {nr}")
+    kn = np.atleast_1d(np.asarray(kn, float))
+    n = len(kn)
+    table = np.zeros((JOINT_ROWS, n))
+    table[KN] = kn
+    for row, value in ((KS, ks), (RMUL, rmul), (FRIC, fric), (TAN_FA, tan_fa), (GAP, gap0)):
+        table[row] = value
+    state = np.where(np.broadcast_to(np.asarray(bonded, bool).reshape(n, -1), (n, nr)),
+                     BONDED, UNBONDED).astype(np.int64)
+    elements = np.zeros((ELEMENT_ROWS, n, nr))
+    elements[E_TEN] = np.broadcast_to(np.asarray(ten, float).reshape(n, -1), (n, nr))
+    elements[E_COH] = np.broadcast_to(np.asarray(coh, float).reshape(n, -1), (n, nr))
+    return FlatJoints(table, state, elements)
+
+
+def element_centroids(rbar: float, nr: int) -> np.ndarray:
+    """ξ_e of the N_r elements of an interface of half-length R̄ (m, along t)."""
+    length = 2.0 * rbar / nr
+    return -rbar + (np.arange(nr) + 0.5) * length
+
+
+def second_moment(rbar: float, nr: int, thickness: float = 1.0) -> tuple[float, float]:
+    """(Σ_e A_e ξ_e², Σ_e L³ t / 12) of an interface: the centroid sum and the elements' own
+    second moments; their sum is the rotational stiffness per k_n of a bonded interface,
+    (2/3) R̄³ t for every N_r."""
+    length = 2.0 * rbar / nr
+    xi = element_centroids(rbar, nr)
+    return float(np.sum(length * thickness * xi**2)), nr * length**3 * thickness / 12.0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def element_normal_force(kn, gap, theta, xc, length, bonded):
+    """Normal force (N, tension positive) and bending moment on i about the centroid (N m) of
+    an element of length `length` centred at ξ = xc (unit thickness), for surface gap `gap`
+    and bend-rotation `theta`: the stress k_n g(ξ), g = gap - theta ξ, integrated over the
+    element if bonded, else k_n min(g, 0) (compression only, over its closed part)."""
+    gc = gap - theta * xc  # gap at the centroid; across the element g = gc - theta u
+    half = 0.5 * length
+    if bonded or (gc - theta * half <= 0.0 and gc + theta * half <= 0.0):  # whole element
+        return kn * length * gc, kn * theta * length * length * length / 12.0
+    # unbonded and partly or wholly open: integrate over the closed part u1 < u < u2
+    u1 = -half
+    u2 = half
+    if theta > 0.0:  # closed where u > gc / theta
+        u1 = max(u1, gc / theta)
+    elif theta < 0.0:  # closed where u < gc / theta
+        u2 = min(u2, gc / theta)
+    else:
+        u2 = u1  # open throughout (gc > 0)
+    if u2 <= u1:
+        return 0.0, 0.0
+    s0 = gc * (u2 - u1) - 0.5 * theta * (u2 * u2 - u1 * u1)
+    s1 = 0.5 * gc * (u2 * u2 - u1 * u1) - theta * (u2 * u2 * u2 - u1 * u1 * u1) / 3.0
+    return kn * s0, -kn * s1
+
+
+@njit(cache=True, error_model="numpy")
+def update_joint(p, rbar, dn, ds, dtheta, table, state, elements):
+    """PFC's flat-joint force-displacement law for joint p of half-length `rbar` (m), given the
+    relative motion of the step: normal displacement dn (opening positive), shear displacement
+    ds (of j relative to i along t) and bend-rotation dtheta (θ_j - θ_i), all at the contact
+    point. Updates the joint's gap, rotation, elements and interface force and moment (rows FN,
+    FS, M of `table`); returns how many elements broke."""
+    gap = table[GAP, p] + dn
+    theta = table[THETA, p] + dtheta
+    table[GAP, p] = gap
+    table[THETA, p] = theta
+    kn = table[KN, p]
+    ks = table[KS, p]
+    fric = table[FRIC, p]
+    tan_fa = table[TAN_FA, p]
+    nr = state.shape[1]
+    length = 2.0 * rbar / nr
+    area = length  # unit thickness
+    fn_sum = 0.0
+    fs_sum = 0.0
+    m_sum = 0.0
+    breaks = 0
+    for e in range(nr):
+        xc = -rbar + (e + 0.5) * length
+        bonded = state[p, e] == BONDED
+        fn, me = element_normal_force(kn, gap, theta, xc, length, bonded)
+        fs = elements[E_FS, p, e] + ks * area * ds
+        if bonded:
+            sigma = fn / area
+            if sigma > elements[E_TEN, p, e]:
+                state[p, e] = BROKEN_TENSION
+                bonded = False
+            elif abs(fs) / area > elements[E_COH, p, e] - sigma * tan_fa:
+                state[p, e] = BROKEN_SHEAR
+                bonded = False
+            if not bonded:
+                breaks += 1
+                fn, me = element_normal_force(kn, gap, theta, xc, length, False)
+        if not bonded:
+            cap = fric * max(-fn, 0.0)
+            if fs > cap:
+                fs = cap
+            elif fs < -cap:
+                fs = -cap
+        elements[E_FN, p, e] = fn
+        elements[E_FS, p, e] = fs
+        elements[E_M, p, e] = me
+        fn_sum += fn
+        fs_sum += fs
+        m_sum += me - xc * fn
+    table[FN, p] = fn_sum
+    table[FS, p] = fs_sum
+    table[M, p] = m_sum
+    return breaks
+
+
+@njit(cache=True, error_model="numpy")
+def add_flatjoint_forces(first, last, pos, vel, spin, radius, pi, pj, table, state, elements,
+                         dt, force, moment):
+    """Joints first..last-1 between grains pi[p] and pj[p]: their relative motion over a step
+    dt (velocities and spins at the contact point, mid-gap), the law (`update_joint`), and
+    their forces and moments added to `force` (n, 2) and `moment` (n) of the grains, as
+    `laws.py` adds a bond's. Returns how many elements broke."""
+    breaks = 0
+    for p in range(first, last):
+        i = pi[p]
+        j = pj[p]
+        dx = pos[j, 0] - pos[i, 0]
+        dy = pos[j, 1] - pos[i, 1]
+        dist = np.sqrt(dx * dx + dy * dy)
+        nx = dx / dist
+        ny = dy / dist
+        ri = radius[i]
+        rj = radius[j]
+        surface_gap = dist - ri - rj
+        arm_i = ri + 0.5 * surface_gap
+        arm_j = rj + 0.5 * surface_gap
+        w = spin[i] * arm_i + spin[j] * arm_j
+        rvx = vel[j, 0] - vel[i, 0] + w * ny
+        rvy = vel[j, 1] - vel[i, 1] - w * nx
+        vn = rvx * nx + rvy * ny
+        vs = rvy * nx - rvx * ny
+        rbar = table[RMUL, p] * min(ri, rj)
+        breaks += update_joint(p, rbar, vn * dt, vs * dt, (spin[j] - spin[i]) * dt, table, state,
+                               elements)
+        fn = table[FN, p]
+        fs = table[FS, p]
+        m = table[M, p]
+        fx = fn * nx - fs * ny
+        fy = fn * ny + fs * nx
+        force[i, 0] += fx
+        force[i, 1] += fy
+        force[j, 0] -= fx
+        force[j, 1] -= fy
+        moment[i] += arm_i * fs + m
+        moment[j] += arm_j * fs - m
+    return breaks

@@ -1,0 +1,312 @@
+"""PFC's flat-jointed material on a packed specimen, as FISHTank assigns it (`ft.fis`:
+`_mpAssignFJ`, `_mpAssignFJProps`, `_mpFJrmulReduce`, `_mpFJsetMicroStruc`).
+
+1. Every grain pair whose gap is <= the installation gap (`fjm_igap`; rockcal's genesis
+   `install_gap` x R_min) gets a flat joint; every other grain pair a linear contact of the
+   linear-material group (`lnm_emod`, `lnm_krat`, `lnm_fric`), as do contacts that form later.
+2. Each flat joint: N_r elements (`fjm_Nr`), radius multiplier λ (`fjm_rmulVal`), friction
+   (`fjm_fric`), tensile strength and cohesion drawn per joint from normal distributions
+   truncated at zero (`fjm_ten_m/_sd`, `fjm_coh_m/_sd`: FISHTank redraws negative values; every
+   element of a joint gets the joint's draw, since `fj_ten` and `fj_coh` are properties of the
+   contact in PFC), friction angle (`fjm_fa`), and stiffnesses from the effective modulus and
+   stiffness ratio (`fjm_emod`, `fjm_krat`): k_n = E*/(R_i + R_j), k_s = k_n/κ*, fixed then.
+3. λ is reduced where two flat-joint faces of one grain would overlap (`fjm_rmulCode`):
+   a face of joint c seen from the grain's centre spans the half-angle α = atan(R̄_c / l_c),
+   l_c the distance from the centre to the contact point (FISHTank subtracts half the initial
+   gap, which is still 0 at this point); two faces overlap when α_1 + α_2 > β, the angle
+   between their contact directions. Code 0 keeps λ; code 1 visits the grains in turn and,
+   for each pair of its joints that overlap, multiplies both joints' λ by 0.99 until they do
+   not; code 2 multiplies the one λ of all joints by 0.99 until no pair overlaps.
+4. The microstructure: of the n flat joints, round(B n) are bonded (every element bonded,
+   g_0 = 0), round(G n) gapped (unbonded, g_0 drawn from a normal distribution of mean
+   `fjm_G_m` and sd `fjm_G_sd` truncated at zero) and the rest slit (unbonded, g_0 = 0).
+   FISHTank takes them in the order of PFC's contact list; rockcal ranks the joints by a
+   uniform draw of each (seeded), so the fractions are met exactly (to rounding), the choice
+   is reproducible, and a joint keeps its rank whatever the fractions.
+
+Every random quantity comes from uniform draws per joint (`flatjoint_draws`): strengths and
+gaps map through the truncated normal's inverse distribution function, as the parallel bond's
+do (`simulate.bond_strengths`), so one specimen and seed serve every parameter set.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from scipy import special
+
+from rockcal.dem import flatjoint
+from rockcal.dem.genesis import install_bonds
+from rockcal.errors import InputError, from_validation_error
+from rockcal.params import GPa, MPa
+
+MM = 1e-3
+FLATJOINT_STREAM = 2  # the flat joints' random stream (the parallel bonds' strengths use 1)
+TYPE, TEN, COH, GAP = range(4)  # columns of the draws: rank for the microstructure, strengths, gap
+DRAWS_PER_JOINT = 4
+# a flat joint's initial microstructural type, coded as PFC's fj_mtype (FISHTank's counts read
+# 1 as bonded, 2 as gapped, 3 as slit)
+BONDED, GAPPED, SLIT = 1, 2, 3
+REDUCTION = 0.99  # FISHTank's factor on λ per overlap check
+FRACTION_TOLERANCE = 1e-9
+
+
+class FlatJointParams(BaseModel):
+    """The flat-jointed material's parameters: the flat joints' (PFC's `fj_*` contact
+    properties, the material's `fjm_*` distributions) and the linear contacts' (`lnm_*`), in
+    rockcal's units: GPa, MPa, degrees, mm."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    fj_emod: float = Field(21.65, gt=0, le=1e4, description="flat-joint effective modulus E*, GPa (fjm_emod)")
+    fj_kratio: float = Field(1.9, gt=0, le=1e3, description="flat-joint stiffness ratio k_n/k_s (fjm_krat)")
+    fj_ten: float = Field(36.55, ge=0, le=1e5, description="element tensile strength (mean), MPa (fjm_ten_m)")
+    fj_ten_sd: float = Field(0.0, ge=0, le=1e5, description="tensile strength sd, MPa (fjm_ten_sd)")
+    fj_ten_cv: float = Field(0.0, ge=0, le=10, description="tensile strength sd / mean")
+    fj_coh: float = Field(90.0, ge=0, le=1e5, description="element cohesion (mean), MPa (fjm_coh_m)")
+    fj_coh_sd: float = Field(0.0, ge=0, le=1e5, description="cohesion sd, MPa (fjm_coh_sd)")
+    fj_coh_cv: float = Field(0.0, ge=0, le=10, description="cohesion sd / mean")
+    fj_fa: float = Field(0.0, ge=0, lt=90, description="element friction angle, degrees (fjm_fa)")
+    fj_fric: float = Field(0.5, ge=0, le=10, description="element friction coefficient (fjm_fric)")
+    fj_nr: int = Field(2, ge=1, le=64, description="elements per flat joint (fjm_Nr)")
+    fj_rmul: float = Field(1.0, gt=0, le=10, description="radius multiplier λ, starting value (fjm_rmulVal)")
+    fjm_rmulCode: int = Field(0, ge=0, le=2, description="λ reduction: 0 none, 1 per joint, 2 uniform")
+    fjm_B_frac: float = Field(1.0, ge=0, le=1, description="bonded fraction of the flat joints")
+    fjm_G_frac: float = Field(0.0, ge=0, le=1, description="gapped fraction (slit: the rest)")
+    fjm_G_m: float = Field(0.0, ge=0, le=1e3, description="initial gap of gapped joints (mean), mm")
+    fjm_G_sd: float = Field(0.0, ge=0, le=1e3, description="initial gap sd, mm")
+    lnm_emod: float | None = Field(None, ge=0, le=1e4, description="linear contacts' effective modulus, GPa (default fj_emod)")
+    lnm_krat: float | None = Field(None, gt=0, le=1e3, description="linear contacts' stiffness ratio (default fj_kratio)")
+    lnm_fric: float | None = Field(None, ge=0, le=10, description="linear contacts' friction (default fj_fric)")
+    density: float = Field(2622.0, gt=0, le=1e5, description="grain density, kg/m³")
+    damping: float = Field(0.7, ge=0, lt=1, description="local damping coefficient")
+
+    @model_validator(mode="after")
+    def _check(self):
+        for name, default in (("lnm_emod", "fj_emod"), ("lnm_krat", "fj_kratio"),
+                              ("lnm_fric", "fj_fric")):
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, getattr(self, default))
+        slit = 1.0 - self.fjm_B_frac - self.fjm_G_frac
+        if slit < -FRACTION_TOLERANCE:
+            raise ValueError(f"fjm_G_frac: fjm_B_frac + fjm_G_frac = "
+                             f"{self.fjm_B_frac + self.fjm_G_frac:g} exceeds 1 (the slit "
+                             "fraction is what they leave)")
+        for name in ("fj_ten", "fj_coh"):
+            if getattr(self, name + "_sd") and getattr(self, name + "_cv"):
+                raise ValueError(f"{name}_cv: set {name}_sd or {name}_cv, not both")
+        return self
+
+    @property
+    def slit_fraction(self) -> float:
+        """1 - fjm_B_frac - fjm_G_frac (FISHTank's fjm_S_frac), 0 within rounding."""
+        slit = 1.0 - self.fjm_B_frac - self.fjm_G_frac
+        return slit if slit > FRACTION_TOLERANCE else 0.0
+
+    @property
+    def strength_sds(self) -> tuple[float, float]:
+        """The sd (MPa) of the tensile strength and cohesion (fjm_ten_sd, fjm_coh_sd)."""
+        return (self.fj_ten_sd or self.fj_ten_cv * self.fj_ten,
+                self.fj_coh_sd or self.fj_coh_cv * self.fj_coh)
+
+
+NAMES = tuple(FlatJointParams.model_fields)
+
+
+def make_flatjoint_params(values: dict[str, float]) -> FlatJointParams:
+    """Validate a mapping of names to values; any mistake raises InputError naming the field."""
+    unknown = sorted(set(values) - set(NAMES))
+    if unknown:
+        raise InputError(unknown[0], f"unknown flat-jointed material parameter; known: {', '.join(NAMES)}")
+    for name, value in values.items():
+        if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
+            raise InputError(name, f"must be a finite number, got {value!r}")
+    try:
+        return FlatJointParams(**values)
+    except ValidationError as exc:
+        raise from_validation_error(exc) from None
+
+
+def truncated_normal(mean: float, sd: float, u: np.ndarray) -> np.ndarray:
+    """Values of a normal distribution (mean, sd) truncated at zero, as FISHTank's
+    ft_valNormDist draws them (it redraws negative values), at uniform draws u in [0, 1)."""
+    u = np.asarray(u, float)
+    if sd == 0:
+        return np.full(u.shape, max(mean, 0.0))
+    below = special.ndtr(-mean / sd)  # probability mass cut off below zero
+    return np.maximum(0.0, mean + sd * special.ndtri(below + u * (1.0 - below)))
+
+
+def flatjoint_draws(n_joints: int, seed: int) -> np.ndarray:
+    """Uniform draws (n_joints x DRAWS_PER_JOINT) for the joints of a specimen, in the order of
+    its flat-joint pairs: one stream per seed, apart from the packing's and the bonds'."""
+    return np.random.default_rng([int(seed), FLATJOINT_STREAM]).random((n_joints, DRAWS_PER_JOINT))
+
+
+@njit(cache=True)
+def _faces_overlap(rbar1, l1, rbar2, l2, beta):
+    return math.atan2(rbar1, l1) + math.atan2(rbar2, l2) - beta > 0.0
+
+
+@njit(cache=True)
+def _reduce_rmul(pos, radius, pi, pj, rmul, code):
+    """FISHTank's _mpFJrmulReduce on joints (pi, pj) in place: grains in index order, each
+    grain's joints in pair order. Returns the number of reductions."""
+    n = pos.shape[0]
+    m = pi.shape[0]
+    counts = np.zeros(n + 1, np.int64)
+    for c in range(m):
+        counts[pi[c] + 1] += 1
+        counts[pj[c] + 1] += 1
+    start = np.cumsum(counts)
+    fill = start[:-1].copy()
+    members = np.empty(2 * m, np.int64)
+    for c in range(m):
+        members[fill[pi[c]]] = c
+        fill[pi[c]] += 1
+        members[fill[pj[c]]] = c
+        fill[pj[c]] += 1
+    # each joint's contact point (mid-gap) and the smaller radius of its grains
+    cx = np.empty(m)
+    cy = np.empty(m)
+    rmin = np.empty(m)
+    for c in range(m):
+        i = pi[c]
+        j = pj[c]
+        dx = pos[j, 0] - pos[i, 0]
+        dy = pos[j, 1] - pos[i, 1]
+        d = math.sqrt(dx * dx + dy * dy)
+        arm = radius[i] + 0.5 * (d - radius[i] - radius[j])
+        cx[c] = pos[i, 0] + dx / d * arm
+        cy[c] = pos[i, 1] + dy / d * arm
+        rmin[c] = min(radius[i], radius[j])
+    reductions = 0
+    for b in range(n):
+        for a1 in range(start[b], start[b + 1]):
+            c1 = members[a1]
+            v1x = cx[c1] - pos[b, 0]
+            v1y = cy[c1] - pos[b, 1]
+            l1 = math.sqrt(v1x * v1x + v1y * v1y)
+            for a2 in range(a1 + 1, start[b + 1]):
+                c2 = members[a2]
+                v2x = cx[c2] - pos[b, 0]
+                v2y = cy[c2] - pos[b, 1]
+                l2 = math.sqrt(v2x * v2x + v2y * v2y)
+                beta = math.atan2(abs(v1x * v2y - v1y * v2x), v1x * v2x + v1y * v2y)
+                while (_faces_overlap(rmul[c1] * rmin[c1], l1, rmul[c2] * rmin[c2], l2, beta)
+                       and rmul[c1] > 1e-12 and rmul[c2] > 1e-12):
+                    reductions += 1
+                    if code == 1:
+                        rmul[c1] *= REDUCTION
+                        rmul[c2] *= REDUCTION
+                    else:  # one λ for all
+                        value = rmul[c1] * REDUCTION
+                        for c in range(m):
+                            rmul[c] = value
+    return reductions
+
+
+def reduce_radius_multipliers(pos, radius, pairs, rmul, code: int) -> np.ndarray:
+    """The joints' radius multipliers after FISHTank's reduction of overlapping faces (code 0:
+    unchanged; 1: per joint; 2: one for all; see the module docstring)."""
+    rmul = np.array(rmul, float)
+    if code == 0 or len(pairs) == 0:
+        return rmul
+    pairs = np.asarray(pairs, np.int64).reshape(-1, 2)
+    _reduce_rmul(np.ascontiguousarray(pos, float), np.asarray(radius, float),
+                 np.ascontiguousarray(pairs[:, 0]), np.ascontiguousarray(pairs[:, 1]), rmul, int(code))
+    return rmul
+
+
+def faces_overlap(pos, radius, pairs, rmul) -> np.ndarray:
+    """For each grain, whether two of its flat-joint faces overlap (FISHTank's test)."""
+    pos = np.asarray(pos, float)
+    pairs = np.asarray(pairs, np.int64).reshape(-1, 2)
+    i, j = pairs[:, 0], pairs[:, 1]
+    d = pos[j] - pos[i]
+    dist = np.hypot(*d.T)
+    arm = radius[i] + 0.5 * (dist - radius[i] - radius[j])
+    point = pos[i] + d / dist[:, None] * arm[:, None]
+    rbar = np.asarray(rmul) * np.minimum(radius[i], radius[j])
+    out = np.zeros(len(radius), bool)
+    for b in range(len(radius)):
+        cs = np.flatnonzero((i == b) | (j == b))
+        v = point[cs] - pos[b]
+        alpha = np.arctan2(rbar[cs], np.hypot(*v.T))
+        for a in range(len(cs)):
+            for c in range(a + 1, len(cs)):
+                beta = np.arctan2(abs(v[a, 0] * v[c, 1] - v[a, 1] * v[c, 0]), v[a] @ v[c])
+                out[b] |= alpha[a] + alpha[c] - beta > 1e-12
+    return out
+
+
+@dataclass(frozen=True)
+class FlatJointedMaterial:
+    """A flat-jointed material on a specimen: its flat joints (pairs i < j) with their
+    properties, SI, and the linear contacts' constants for every other grain pair."""
+
+    pairs: np.ndarray  # (n, 2)
+    kind: np.ndarray  # (n,) BONDED, GAPPED or SLIT (PFC's fj_mtype)
+    gap0: np.ndarray  # (n,) initial surface gap, m
+    rmul: np.ndarray  # (n,) radius multiplier after reduction
+    kn: np.ndarray  # (n,) element normal stiffness per area, Pa/m
+    ks: np.ndarray  # (n,) Pa/m
+    ten: np.ndarray  # (n, N_r) element tensile strength, Pa
+    coh: np.ndarray  # (n, N_r) element cohesion, Pa
+    fric: float
+    tan_fa: float
+    lnm_emod: float  # Pa
+    lnm_krat: float
+    lnm_fric: float
+
+    @property
+    def nr(self) -> int:
+        return self.ten.shape[1]
+
+    def fractions(self) -> dict[str, float]:
+        """Realised bonded, gapped and slit fractions of the flat joints."""
+        n = max(1, len(self.kind))
+        return {name: float(np.count_nonzero(self.kind == code)) / n
+                for name, code in (("bonded", BONDED), ("gapped", GAPPED), ("slit", SLIT))}
+
+    def joints(self) -> flatjoint.FlatJoints:
+        """The flat joints' initial law state (`rockcal.dem.flatjoint`)."""
+        return flatjoint.new_flatjoints(self.nr, self.kn, self.ks, self.rmul, self.fric,
+                                        self.tan_fa, self.gap0, self.kind == BONDED, self.ten,
+                                        self.coh)
+
+
+def assign_flatjointed(pos, radius, params: FlatJointParams, install_gap: float,
+                       draws: np.ndarray | None = None, seed: int = 1) -> FlatJointedMaterial:
+    """FISHTank's flat-jointed material on grains at `pos` with `radius` (m): flat joints at the
+    pairs whose gap is <= `install_gap` (m), their properties from `params` and the uniform
+    `draws` of each joint (`flatjoint_draws`; by default those of `seed`)."""
+    pos = np.asarray(pos, float)
+    radius = np.asarray(radius, float)
+    pairs = install_bonds(pos, radius, install_gap) if len(radius) > 1 else np.empty((0, 2), np.int64)
+    n = len(pairs)
+    u = flatjoint_draws(n, seed) if draws is None else np.asarray(draws, float).reshape(n, DRAWS_PER_JOINT)
+    i, j = pairs[:, 0], pairs[:, 1]
+    kn = params.fj_emod * GPa / (radius[i] + radius[j])
+    rmul = reduce_radius_multipliers(pos, radius, pairs, np.full(n, params.fj_rmul),
+                                     params.fjm_rmulCode)
+    n_bonded = min(n, int(math.floor(params.fjm_B_frac * n + 0.5)))
+    n_gapped = min(n - n_bonded, int(math.floor(params.fjm_G_frac * n + 0.5)))
+    rank = np.empty(n, np.int64)
+    rank[np.argsort(u[:, TYPE], kind="stable")] = np.arange(n)
+    kind = np.where(rank < n_bonded, BONDED, np.where(rank < n_bonded + n_gapped, GAPPED, SLIT))
+    gap0 = np.where(kind == GAPPED, truncated_normal(params.fjm_G_m, params.fjm_G_sd, u[:, GAP]),
+                    0.0) * MM
+    ten_sd, coh_sd = params.strength_sds
+    per_joint = (n, params.fj_nr)
+    ten = np.broadcast_to(truncated_normal(params.fj_ten, ten_sd, u[:, TEN])[:, None] * MPa, per_joint)
+    coh = np.broadcast_to(truncated_normal(params.fj_coh, coh_sd, u[:, COH])[:, None] * MPa, per_joint)
+    return FlatJointedMaterial(
+        pairs=pairs, kind=kind.astype(np.int8), gap0=gap0, rmul=rmul, kn=kn,
+        ks=kn / params.fj_kratio, ten=np.ascontiguousarray(ten), coh=np.ascontiguousarray(coh),
+        fric=params.fj_fric, tan_fa=math.tan(math.radians(params.fj_fa)),
+        lnm_emod=params.lnm_emod * GPa, lnm_krat=params.lnm_krat, lnm_fric=params.lnm_fric)
