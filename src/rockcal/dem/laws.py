@@ -52,8 +52,8 @@ TILE_ROWS = NEW + 3
 class Laws(NamedTuple):
     """The law constants, SI: contact modulus (Pa), ks/kn, friction, bond modulus (Pa),
     k̄s/k̄n, bond radius multiplier λ̄, tan of the bond friction angle, moment factor β̄, and
-    whether a contact's kn is PFC 3.x/4.0's t·E_c whatever the radii (1.0) rather than PFC 5's
-    2·min(R)·t·E_c / (R_A + R_B) (0.0)."""
+    whether a contact's kn is PFC 3.x/4.0's t·E_c whatever the radii (True) rather than
+    PFC 5's 2·min(R)·t·E_c / (R_A + R_B) (False)."""
 
     E_c: float
     ks_per_kn: float
@@ -63,7 +63,7 @@ class Laws(NamedTuple):
     lam: float
     tan_phi: float
     mcf: float
-    pfc4_contacts: float
+    pfc4_contacts: bool
 
 
 class Bonds(NamedTuple):
@@ -307,7 +307,7 @@ def add_contact_forces(first, last, disks, pi, pj, contact_shear, laws, dt, load
 def _contact_kn(rmin, inv_length, laws):
     """A linear contact's normal stiffness (N/m): PFC 3.x/4.0's t·E_c, or PFC 5's
     2·min(R)·t·E_c / (R_A + R_B) (t = 1 m)."""
-    return laws.E_c if laws.pfc4_contacts > 0.0 else 2.0 * rmin * laws.E_c * inv_length
+    return laws.E_c if laws.pfc4_contacts else 2.0 * rmin * laws.E_c * inv_length
 
 
 @njit(cache=True, error_model="numpy", inline="always")

@@ -135,7 +135,7 @@ def law_constants(params: MicroParams, contact_stiffness: str = DEFAULT_CONTACT_
     return laws.Laws(params.E_c * GPa, 1.0 / params.kn_ks, params.mu, params.Ebar_c * GPa,
                      1.0 / params.knbar_ksbar, params.lambda_,
                      math.tan(math.radians(params.phi_b)), params.mcf,
-                     float(contact_stiffness == "pfc4"))
+                     contact_stiffness == "pfc4")
 
 
 def bond_strengths(params: MicroParams, draws: np.ndarray | None, n_bonds: int):
