@@ -141,6 +141,83 @@ def set_radii(bonds: Bonds, ri, rj) -> None:
     table[BondRow.INV_LENGTH] = 1.0 / (table[BondRow.R_I] + table[BondRow.R_J])
 
 
+# The laws, each written once and called by every force loop. They keep the order of each
+# floating-point operation: a run's numbers are part of the engine's version.
+
+@njit(cache=True, error_model="numpy", inline="always")
+def pair_geometry(dx, dy, dist_sq, ri, rj):
+    """Unit normal (nx, ny) from i to j (j - i = (dx, dy), squared length dist_sq), the
+    overlap of the surfaces (negative: a gap) and the lever arms of the contact point,
+    mid-gap (or mid-overlap), which add up to the centre distance."""
+    dist = np.sqrt(dist_sq)
+    surface_overlap = (ri + rj) - dist
+    inv_dist = 1.0 / dist
+    nx = dx * inv_dist
+    ny = dy * inv_dist
+    arm_i = ri - 0.5 * surface_overlap
+    arm_j = rj - 0.5 * surface_overlap
+    return nx, ny, surface_overlap, arm_i, arm_j
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def contact_velocity(dvx, dvy, spin_i, spin_j, nx, ny, arm_i, arm_j):
+    """Velocity of j relative to i at the contact point, along n and t = (-ny, nx)."""
+    w = spin_i * arm_i + spin_j * arm_j
+    rvx = dvx + w * ny
+    rvy = dvy - w * nx
+    return rvx * nx + rvy * ny, rvy * nx - rvx * ny
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def contact_kn(rmin, inv_length, laws):
+    """A linear contact's normal stiffness (N/m): PFC 3.x/4.0's t·E_c, or PFC 5's
+    2·min(R)·t·E_c / (R_A + R_B) (t = 1 m)."""
+    return laws.E_c if laws.pfc4_contacts else 2.0 * rmin * laws.E_c * inv_length
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def contact_force(overlap, kn, last_shear, vs, laws, dt):
+    """Normal and shear force of a linear contact on i (along n and t): fn = -kn overlap
+    (negative pushes i away from j), the shear force last_shear + ks vs dt capped by
+    Coulomb's mu kn overlap; both zero when apart."""
+    touching = (overlap > 0.0) & (laws.E_c > 0.0)
+    shear = last_shear + kn * laws.ks_per_kn * vs * dt
+    cap = laws.mu * kn * overlap
+    shear = cap if shear > cap else shear
+    shear = -cap if shear < -cap else shear
+    return (-kn * overlap if touching else 0.0), (shear if touching else 0.0)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def parallel_bond_force(last_fn, last_fs, last_m, vn, vs, spin_change, rb, inv_length, laws,
+                        dt):
+    """A parallel bond's normal force (tension positive), shear force and moment after one
+    step, from the relative velocity (vn, vs) and spin_j - spin_i; bond radius rb."""
+    k_area_dt = laws.Ebar_c * inv_length * (2.0 * rb) * dt  # k̄n Ā dt; Ī = Ā R̄² / 3
+    fn = last_fn + k_area_dt * vn
+    fs = last_fs + k_area_dt * laws.ksbar_per_knbar * vs
+    m = last_m + k_area_dt * rb * rb / 3.0 * spin_change
+    return fn, fs, m
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def parallel_bond_breaks(fn, fs, m, rb, ten, coh, laws):
+    """Whether a parallel bond breaks in tension (Fn/Ā + β̄ |M| R̄ / Ī > σ̄c), else in shear
+    (|Fs|/Ā > c̄ - (Fn/Ā) tan φ̄)."""
+    inv_area = 1.0 / (2.0 * rb)
+    sigma = (fn + laws.mcf * 3.0 * abs(m) / rb) * inv_area  # |M| R̄ / Ī = 3 |M| / (R̄ Ā)
+    tau = abs(fs) * inv_area
+    tension = sigma > ten
+    shear = ~tension & (tau > coh - fn * inv_area * laws.tan_phi)
+    return tension, shear
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def force_xy(fn, fs, nx, ny):
+    """A pair's force on i along x and y from its parts along n and t = (-ny, nx)."""
+    return fn * nx - fs * ny, fn * ny + fs * nx
+
+
 @njit(cache=True, error_model="numpy")
 def add_bond_forces(first, last, disks, pi, pj, contact_shear, bonds, laws, dt, loads):
     """Add the forces and moments of bonded pairs first..last-1 (pair p is bond p) to their
@@ -176,64 +253,44 @@ def _gather(start, count, disks, pi, pj, tile):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _bond_law(start, count, bond_state, contact_shear, table, laws, dt, tile):
-    """The law of bonds start..start+count-1 from their particles' data in `tile` and their own
-    (contact shear force, `table`); it writes their new shear and bond forces, the mode they
-    broke in (0: none) and the force and moments on their particles to `tile`, as selections
-    rather than branches (it only reads the bonds' arrays: written to, they would keep the
-    loop from vectorising)."""
+    """The laws of bonded pairs start..start+count-1 (contact, then parallel bond while
+    intact) from their particles' data in `tile` and their own (contact shear force, `table`);
+    it writes their new shear and bond forces, the mode they broke in and the force and
+    moments on their particles to `tile`, as selections rather than branches (it only reads
+    the bonds' arrays: written to, they would keep the loop from vectorising)."""
     for q in range(uint64(count)):
         p = uint64(start) + q
         dx = tile[TileRow.DX, q]
         dy = tile[TileRow.DY, q]
-        dist = np.sqrt(dx * dx + dy * dy)
         ri = table[BondRow.R_I, p]
         rj = table[BondRow.R_J, p]
-        length = ri + rj
-        surface_overlap = length - dist
-        overlap = surface_overlap - table[BondRow.REF_OVERLAP, p]
-        intact = bond_state[p] == INTACT
-        inv_dist = 1.0 / dist
-        nx = dx * inv_dist  # unit normal from i to j; tangent t = (-ny, nx)
-        ny = dy * inv_dist
+        nx, ny, surface_overlap, arm_i, arm_j = pair_geometry(dx, dy, dx * dx + dy * dy, ri, rj)
+        spin_i = tile[TileRow.SPIN_I, q]
+        spin_j = tile[TileRow.SPIN_J, q]
+        vn, vs = contact_velocity(tile[TileRow.DVX, q], tile[TileRow.DVY, q], spin_i, spin_j,
+                                  nx, ny, arm_i, arm_j)
         rmin = min(ri, rj)
         inv_length = table[BondRow.INV_LENGTH, p]
-        arm_i = ri - 0.5 * surface_overlap  # the contact point is mid-gap (or mid-overlap)
-        arm_j = rj - 0.5 * surface_overlap
-        w = tile[TileRow.SPIN_I, q] * arm_i + tile[TileRow.SPIN_J, q] * arm_j
-        rvx = tile[TileRow.DVX, q] + w * ny
-        rvy = tile[TileRow.DVY, q] - w * nx
-        vn = rvx * nx + rvy * ny
-        vs = rvy * nx - rvx * ny
-
-        touching = (overlap > 0.0) & (laws.E_c > 0.0)
-        kn = _contact_kn(rmin, inv_length, laws)
-        shear = contact_shear[p] + kn * laws.ks_per_kn * vs * dt
-        cap = laws.mu * kn * overlap
-        shear = cap if shear > cap else shear
-        shear = -cap if shear < -cap else shear
-        shear = shear if touching else 0.0
-        fn = -kn * overlap if touching else 0.0  # along n on i: negative pushes i away from j
-        fs = shear  # along t on i
+        overlap = surface_overlap - table[BondRow.REF_OVERLAP, p]
+        kn = contact_kn(rmin, inv_length, laws)
+        fn, fs = contact_force(overlap, kn, contact_shear[p], vs, laws, dt)
+        tile[TileRow.SHEAR, q] = fs
         mi = arm_i * fs
         mj = arm_j * fs
 
         rb = laws.lam * rmin
-        area = 2.0 * rb
-        k_area_dt = laws.Ebar_c * inv_length * area * dt  # k̄n Ā dt; Ī = Ā R̄² / 3
         last_fn = table[BondRow.FN, p]
         last_fs = table[BondRow.FS, p]
         last_m = table[BondRow.M, p]
-        bfn = last_fn + k_area_dt * vn
-        bfs = last_fs + k_area_dt * laws.ksbar_per_knbar * vs
-        bm = last_m + k_area_dt * rb * rb / 3.0 * (tile[TileRow.SPIN_J, q] - tile[TileRow.SPIN_I, q])
-        inv_area = 1.0 / area
-        sigma = (bfn + laws.mcf * 3.0 * abs(bm) / rb) * inv_area  # |M| R̄ / Ī = 3 |M| / (R̄ Ā)
-        tau = abs(bfs) * inv_area
-        tension = sigma > table[BondRow.TEN, p]
-        holds = intact & ~tension & ~(tau > table[BondRow.COH, p] - bfn * inv_area * laws.tan_phi)
-        broke = intact & ~holds
-        tile[TileRow.MODE, q] = (BROKEN_TENSION if tension else BROKEN_SHEAR) if broke else INTACT
-        tile[TileRow.SHEAR, q] = shear
+        bfn, bfs, bm = parallel_bond_force(last_fn, last_fs, last_m, vn, vs, spin_j - spin_i,
+                                           rb, inv_length, laws, dt)
+        in_tension, in_shear = parallel_bond_breaks(bfn, bfs, bm, rb, table[BondRow.TEN, p],
+                                                    table[BondRow.COH, p], laws)
+        intact = bond_state[p] == INTACT
+        broke = intact & (in_tension | in_shear)
+        holds = intact & ~broke
+        tile[TileRow.MODE, q] = (BROKEN_TENSION if in_tension else BROKEN_SHEAR) if broke else \
+            INTACT
         tile[TileRow.FN, q] = bfn if holds else (0.0 if broke else last_fn)
         tile[TileRow.FS, q] = bfs if holds else (0.0 if broke else last_fs)
         tile[TileRow.M, q] = bm if holds else (0.0 if broke else last_m)
@@ -241,8 +298,7 @@ def _bond_law(start, count, bond_state, contact_shear, table, laws, dt, tile):
         fs = fs + bfs if holds else fs
         tile[TileRow.MI, q] = mi + (arm_i * bfs + bm) if holds else mi
         tile[TileRow.MJ, q] = mj + (arm_j * bfs - bm) if holds else mj
-        tile[TileRow.FX, q] = fn * nx - fs * ny
-        tile[TileRow.FY, q] = fn * ny + fs * nx
+        tile[TileRow.FX, q], tile[TileRow.FY, q] = force_xy(fn, fs, nx, ny)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -303,11 +359,10 @@ def _record_break(p, i, j, disks, break_xy):
     """Where bond p broke: its contact point, mid-gap between the surfaces."""
     dx = disks[j, Disk.X] - disks[i, Disk.X]
     dy = disks[j, Disk.Y] - disks[i, Disk.Y]
-    dist = np.sqrt(dx * dx + dy * dy)
-    inv_dist = 1.0 / dist
-    arm_i = disks[i, Disk.RADIUS] - 0.5 * (disks[i, Disk.RADIUS] + disks[j, Disk.RADIUS] - dist)
-    break_xy[p, 0] = disks[i, Disk.X] + dx * inv_dist * arm_i
-    break_xy[p, 1] = disks[i, Disk.Y] + dy * inv_dist * arm_i
+    nx, ny, _, arm_i, _ = pair_geometry(dx, dy, dx * dx + dy * dy, disks[i, Disk.RADIUS],
+                                        disks[j, Disk.RADIUS])
+    break_xy[p, 0] = disks[i, Disk.X] + nx * arm_i
+    break_xy[p, 1] = disks[i, Disk.Y] + ny * arm_i
 
 
 @njit(cache=True, error_model="numpy")
@@ -326,54 +381,22 @@ def add_contact_forces(first, last, disks, pi, pj, contact_shear, laws, dt, load
         if dist_sq > APART * length * length:  # surely apart, whatever the rounding
             contact_shear[p] = 0.0
             continue
-        dist = np.sqrt(dist_sq)
-        overlap = length - dist
+        nx, ny, overlap, arm_i, arm_j = pair_geometry(dx, dy, dist_sq, ri, rj)
         if overlap <= 0.0:
             contact_shear[p] = 0.0
             continue
-        inv_dist = 1.0 / dist
-        nx = dx * inv_dist
-        ny = dy * inv_dist
-        arm_i = ri - 0.5 * overlap
-        arm_j = rj - 0.5 * overlap
-        w = disks[i, Disk.SPIN] * arm_i + disks[j, Disk.SPIN] * arm_j
-        rvx = disks[j, Disk.VX] - disks[i, Disk.VX] + w * ny
-        rvy = disks[j, Disk.VY] - disks[i, Disk.VY] - w * nx
-        vs = rvy * nx - rvx * ny
-        fn, fs = _contact_force(p, overlap, min(ri, rj), 1.0 / length, vs, contact_shear, laws,
-                                dt)
+        _, vs = contact_velocity(disks[j, Disk.VX] - disks[i, Disk.VX],
+                                 disks[j, Disk.VY] - disks[i, Disk.VY], disks[i, Disk.SPIN],
+                                 disks[j, Disk.SPIN], nx, ny, arm_i, arm_j)
+        kn = contact_kn(min(ri, rj), 1.0 / length, laws)
+        fn, fs = contact_force(overlap, kn, contact_shear[p], vs, laws, dt)
+        contact_shear[p] = fs
         _add_pair_force(i, j, nx, ny, fn, fs, arm_i * fs, arm_j * fs, loads)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _contact_kn(rmin, inv_length, laws):
-    """A linear contact's normal stiffness (N/m): PFC 3.x/4.0's t·E_c, or PFC 5's
-    2·min(R)·t·E_c / (R_A + R_B) (t = 1 m)."""
-    return laws.E_c if laws.pfc4_contacts else 2.0 * rmin * laws.E_c * inv_length
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _contact_force(p, overlap, rmin, inv_length, vs, contact_shear, laws, dt):
-    """Normal and shear force of pair p's linear contact on i (along n and t), updating its
-    shear force."""
-    if overlap > 0.0 and laws.E_c > 0.0:
-        kn = _contact_kn(rmin, inv_length, laws)
-        shear = contact_shear[p] + kn * laws.ks_per_kn * vs * dt
-        cap = laws.mu * kn * overlap
-        if shear > cap:
-            shear = cap
-        elif shear < -cap:
-            shear = -cap
-        contact_shear[p] = shear
-        return -kn * overlap, shear  # fn along n on i: negative pushes i away from j
-    contact_shear[p] = 0.0
-    return 0.0, 0.0
-
-
-@njit(cache=True, error_model="numpy", inline="always")
 def _add_pair_force(i, j, nx, ny, fn, fs, mi, mj, loads):
-    fx = fn * nx - fs * ny
-    fy = fn * ny + fs * nx
+    fx, fy = force_xy(fn, fs, nx, ny)
     loads[i, Load.FORCE_X] += fx
     loads[i, Load.FORCE_Y] += fy
     loads[j, Load.FORCE_X] -= fx
