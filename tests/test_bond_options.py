@@ -5,7 +5,7 @@ import pytest
 from scipy import stats
 
 from rockcal import make_params
-from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION, INTACT
+from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION, INTACT, BondRow
 from rockcal.dem.simulate import advance, bond_strengths, new_state
 from rockcal.dem.specimen import STRENGTH_STREAM
 
@@ -71,7 +71,8 @@ def drive(state, velocity, spin: float = 0.0, steps: int = 1):
         advance(state, 1)
         if state.bonds.state[0] != INTACT:
             break
-        last = (state.bonds.fn[0] / (2 * R), state.bonds.fs[0] / (2 * R), state.bonds.m[0])
+        fn, fs, m = state.bonds.table[[BondRow.FN, BondRow.FS, BondRow.M], 0]
+        last = (fn / (2 * R), fs / (2 * R), m)
     return last
 
 

@@ -6,6 +6,7 @@ import pytest
 
 from rockcal import make_params
 from rockcal.dem.genesis import Genesis, vessel_contacts
+from rockcal.dem.laws import BondRow
 from rockcal.dem.packing import PRESSURE_TOLERANCE
 from rockcal.dem.simulate import advance, new_state, rebuild_neighbours
 from rockcal.dem.specimen import random_packing
@@ -69,7 +70,7 @@ def test_two_overlapping_disks_bonded_carry_no_force():
     pos = np.array([[0.0, 0.0], [1.9e-3, 0.0]])
     state = new_state(pos, np.array([1e-3, 1e-3]), [[0, 1]], make_params({}))
     advance(state, 100)
-    assert state.bonds.ref_overlap[0] == pytest.approx(1e-4)
+    assert state.bonds.table[BondRow.REF_OVERLAP, 0] == pytest.approx(1e-4)
     np.testing.assert_allclose(state.particles.pos, pos, atol=1e-15)
     # moved 1 um closer (not through a velocity, so the incremental bond does not see it),
     # the contact pushes with kn x 1 um: only the overlap added since bonding counts

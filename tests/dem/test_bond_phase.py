@@ -7,6 +7,7 @@ import numpy as np
 
 from rockcal import hexagonal
 from rockcal.dem import laws
+from rockcal.dem.laws import BondRow
 from rockcal.dem.simulate import new_state, rebuild_neighbours
 from rockcal.params import make_params
 
@@ -27,11 +28,12 @@ def test_tiles_give_the_sums_of_adding_pairs_one_by_one():
     pi, pj = state.neighbours.pi[:nb][order], state.neighbours.pj[:nb][order]
     swap = rng.random(nb) < 0.3
     pi, pj = np.where(swap, pj, pi), np.where(swap, pi, pj)
-    bonds = laws.new_bonds(state.bonds.ref_overlap[order], state.bonds.ten[order],
-                           state.bonds.coh[order], p.radius[pi], p.radius[pj])
+    table = state.bonds.table[:, order]
+    bonds = laws.new_bonds(table[BondRow.REF_OVERLAP], table[BondRow.TEN], table[BondRow.COH],
+                           p.radius[pi], p.radius[pj])
     area = 2 * p.radius.min()
-    bonds.fn[:] = rng.normal(0, 10e6 * area, nb)  # some beyond their strength
-    bonds.fs[:] = rng.normal(0, 10e6 * area, nb)
+    bonds.table[BondRow.FN] = rng.normal(0, 10e6 * area, nb)  # some beyond their strength
+    bonds.table[BondRow.FS] = rng.normal(0, 10e6 * area, nb)
     shear = rng.normal(0, 1e3, nb)
     assert nb > 2 * laws.TILE
 
@@ -58,6 +60,6 @@ def test_bonds_take_their_particles_new_radii_when_the_list_is_rebuilt():
     p.radius[:] *= np.linspace(0.9, 1.1, len(p.radius))
     rebuild_neighbours(state)
     ri, rj = p.radius[state.neighbours.pi[:nb]], p.radius[state.neighbours.pj[:nb]]
-    np.testing.assert_array_equal(state.bonds.table[laws.R_I], ri)
-    np.testing.assert_array_equal(state.bonds.table[laws.R_J], rj)
-    np.testing.assert_array_equal(state.bonds.table[laws.INV_LENGTH], 1.0 / (ri + rj))
+    np.testing.assert_array_equal(state.bonds.table[BondRow.R_I], ri)
+    np.testing.assert_array_equal(state.bonds.table[BondRow.R_J], rj)
+    np.testing.assert_array_equal(state.bonds.table[BondRow.INV_LENGTH], 1.0 / (ri + rj))

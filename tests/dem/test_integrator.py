@@ -10,7 +10,7 @@ history F_n and velocities v_(n+1/2) of successive single steps form the leapfro
 import numpy as np
 import pytest
 
-from rockcal.dem.laws import INTACT
+from rockcal.dem.laws import INTACT, BondRow
 from rockcal.dem.simulate import TIME_STEP_SAFETY, advance, new_state, scale_density, stable_time_step
 from rockcal.params import make_params
 
@@ -51,7 +51,7 @@ def run(state, steps):
     vel[0] = state.particles.vel
     for s in range(steps):
         advance(state, 1)
-        fn[s] = state.bonds.fn[0]
+        fn[s] = state.bonds.table[BondRow.FN, 0]
         vel[s + 1] = state.particles.vel
     return fn, vel
 

@@ -22,6 +22,7 @@ The loops index with unsigned integers (`uint64`): numba then adds no negative-i
 wraparound to each array access, which was a seventh of the engine's step.
 """
 
+from enum import IntEnum
 from typing import NamedTuple
 
 import numpy as np
@@ -31,29 +32,75 @@ INTACT, BROKEN_TENSION, BROKEN_SHEAR = 0, 1, 2
 # squared centre distance / squared contact distance above which a pair surely does not touch
 APART = 1.0 + 1e-9
 TILE = 128  # bonds whose law runs as one vector loop
-# a disk's row: all the force loops gather of it, and its inverse mass and inertia (64 bytes,
-# one cache line), and its load row: the force and moment summed on it
-X, Y, VX, VY, SPIN, RADIUS, INV_MASS, INV_INERTIA = range(8)
-FORCE_X, FORCE_Y, MOMENT = range(3)
-# rows of the bonds' table (`Bonds.table`), one column per bond: its forces and moment,
-# reference overlap, strengths, and its particles' radii R_i, R_j with 1 / (R_i + R_j), read
-# there rather than gathered and divided each step (`set_radii`)
-FN, FS, M, REF_OVERLAP, TEN, COH, R_I, R_J, INV_LENGTH = range(9)
-BOND_QUANTITIES = 9
-# rows of a tile: data gathered from the bonds' particles, then what the law hands back: the
-# contact's shear force, the mode a bond broke in, the pair's force and moments, and at rows
-# NEW + FN, NEW + FS, NEW + M the bond's new forces and moment
-DX, DY, DVX, DVY, SPIN_I, SPIN_J = range(6)
-SHEAR, MODE, FX, FY, MI, MJ = range(6, 12)
-NEW = 12
-TILE_ROWS = NEW + 3
+
+
+class Disk(IntEnum):
+    """Columns of a disk's row in `disks`: all the force loops gather of it, and its inverse
+    mass and inertia (64 bytes, one cache line)."""
+
+    X = 0
+    Y = 1
+    VX = 2
+    VY = 3
+    SPIN = 4
+    RADIUS = 5
+    INV_MASS = 6
+    INV_INERTIA = 7
+
+
+class Load(IntEnum):
+    """Columns of a disk's row in `loads`: the force and moment summed on it."""
+
+    FORCE_X = 0
+    FORCE_Y = 1
+    MOMENT = 2
+
+
+class BondRow(IntEnum):
+    """Rows of the bonds' table (`Bonds.table`), one column per bond."""
+
+    FN = 0  # normal force, tension positive, N
+    FS = 1  # shear force, N
+    M = 2  # moment, N m
+    REF_OVERLAP = 3  # overlap at installation (PFC's reference gap, negated), m
+    TEN = 4  # tensile strength, Pa
+    COH = 5  # cohesion, Pa
+    # its particles' radii R_i, R_j (m) and 1 / (R_i + R_j), read here rather than gathered
+    # and divided each step (`set_radii`)
+    R_I = 6
+    R_J = 7
+    INV_LENGTH = 8
+
+
+class TileRow(IntEnum):
+    """Rows of a tile (one column per bond of the tile): data gathered from the bonds'
+    particles, then what the law hands back."""
+
+    DX = 0  # x_j - x_i
+    DY = 1
+    DVX = 2  # v_j - v_i
+    DVY = 3
+    SPIN_I = 4
+    SPIN_J = 5
+    SHEAR = 6  # the contact's new shear force
+    MODE = 7  # the mode the bond broke in (INTACT: none)
+    FX = 8  # the pair's force on i and its moments on i and j
+    FY = 9
+    MI = 10
+    MJ = 11
+    FN = 12  # the bond's new forces and moment
+    FS = 13
+    M = 14
+
+
+TILE_ROWS = len(TileRow)  # a constant for the kernels, which cannot take an enum's length
 
 
 class Laws(NamedTuple):
     """The law constants, SI: contact modulus (Pa), ks/kn, friction, bond modulus (Pa),
     k̄s/k̄n, bond radius multiplier λ̄, tan of the bond friction angle, moment factor β̄, and
-    whether a contact's kn is PFC 3.x/4.0's t·E_c whatever the radii (1.0) rather than PFC 5's
-    2·min(R)·t·E_c / (R_A + R_B) (0.0)."""
+    whether a contact's kn is PFC 3.x/4.0's t·E_c whatever the radii (True) rather than
+    PFC 5's 2·min(R)·t·E_c / (R_A + R_B) (False)."""
 
     E_c: float
     ks_per_kn: float
@@ -63,43 +110,112 @@ class Laws(NamedTuple):
     lam: float
     tan_phi: float
     mcf: float
-    pfc4_contacts: float
+    pfc4_contacts: bool
 
 
 class Bonds(NamedTuple):
-    """Per-bond arrays, in the order of the first pairs of the pair list. fn to coh are the
-    rows of `table` (rows FN to COH, one column per bond), which the force loop reads."""
+    """Per-bond arrays, in the order of the first pairs of the pair list."""
 
     state: np.ndarray  # INTACT, BROKEN_TENSION or BROKEN_SHEAR
-    fn: np.ndarray  # normal force, tension positive, N
-    fs: np.ndarray  # shear force, N
-    m: np.ndarray  # moment, N m
     break_xy: np.ndarray  # where it broke, m
-    ref_overlap: np.ndarray  # overlap at installation (PFC's reference gap, negated), m
-    ten: np.ndarray  # tensile strength, Pa
-    coh: np.ndarray  # cohesion, Pa
-    table: np.ndarray
+    table: np.ndarray  # (len(BondRow), n): what the force loop reads and writes of a bond
 
 
 def new_bonds(ref_overlap, ten, coh, ri, rj) -> Bonds:
     """Intact bonds at zero force between particles of radii ri and rj."""
     n = len(ref_overlap)
-    table = np.zeros((BOND_QUANTITIES, n))
-    table[REF_OVERLAP] = ref_overlap
-    table[TEN] = ten
-    table[COH] = coh
-    bonds = Bonds(state=np.zeros(n, np.int64), fn=table[FN], fs=table[FS], m=table[M],
-                  break_xy=np.full((n, 2), np.nan), ref_overlap=table[REF_OVERLAP],
-                  ten=table[TEN], coh=table[COH], table=table)
+    table = np.zeros((len(BondRow), n))
+    table[BondRow.REF_OVERLAP] = ref_overlap
+    table[BondRow.TEN] = ten
+    table[BondRow.COH] = coh
+    bonds = Bonds(state=np.zeros(n, np.int64), break_xy=np.full((n, 2), np.nan), table=table)
     set_radii(bonds, ri, rj)
     return bonds
 
 
 def set_radii(bonds: Bonds, ri, rj) -> None:
     """The radii of the bonds' particles, kept in their table: set anew whenever they change."""
-    bonds.table[R_I] = ri
-    bonds.table[R_J] = rj
-    bonds.table[INV_LENGTH] = 1.0 / (bonds.table[R_I] + bonds.table[R_J])
+    table = bonds.table
+    table[BondRow.R_I] = ri
+    table[BondRow.R_J] = rj
+    table[BondRow.INV_LENGTH] = 1.0 / (table[BondRow.R_I] + table[BondRow.R_J])
+
+
+# The laws, each written once and called by every force loop. They keep the order of each
+# floating-point operation: a run's numbers are part of the engine's version.
+
+@njit(cache=True, error_model="numpy", inline="always")
+def pair_geometry(dx, dy, dist_sq, ri, rj):
+    """Unit normal (nx, ny) from i to j (j - i = (dx, dy), squared length dist_sq), the
+    overlap of the surfaces (negative: a gap) and the lever arms of the contact point,
+    mid-gap (or mid-overlap), which add up to the centre distance."""
+    dist = np.sqrt(dist_sq)
+    surface_overlap = (ri + rj) - dist
+    inv_dist = 1.0 / dist
+    nx = dx * inv_dist
+    ny = dy * inv_dist
+    arm_i = ri - 0.5 * surface_overlap
+    arm_j = rj - 0.5 * surface_overlap
+    return nx, ny, surface_overlap, arm_i, arm_j
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def contact_velocity(dvx, dvy, spin_i, spin_j, nx, ny, arm_i, arm_j):
+    """Velocity of j relative to i at the contact point, along n and t = (-ny, nx)."""
+    w = spin_i * arm_i + spin_j * arm_j
+    rvx = dvx + w * ny
+    rvy = dvy - w * nx
+    return rvx * nx + rvy * ny, rvy * nx - rvx * ny
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def contact_kn(rmin, inv_length, laws):
+    """A linear contact's normal stiffness (N/m): PFC 3.x/4.0's t·E_c, or PFC 5's
+    2·min(R)·t·E_c / (R_A + R_B) (t = 1 m)."""
+    return laws.E_c if laws.pfc4_contacts else 2.0 * rmin * laws.E_c * inv_length
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def contact_force(overlap, kn, last_shear, vs, laws, dt):
+    """Normal and shear force of a linear contact on i (along n and t): fn = -kn overlap
+    (negative pushes i away from j), the shear force last_shear + ks vs dt capped by
+    Coulomb's mu kn overlap; both zero when apart."""
+    touching = (overlap > 0.0) & (laws.E_c > 0.0)
+    shear = last_shear + kn * laws.ks_per_kn * vs * dt
+    cap = laws.mu * kn * overlap
+    shear = cap if shear > cap else shear
+    shear = -cap if shear < -cap else shear
+    return (-kn * overlap if touching else 0.0), (shear if touching else 0.0)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def parallel_bond_force(last_fn, last_fs, last_m, vn, vs, spin_change, rb, inv_length, laws,
+                        dt):
+    """A parallel bond's normal force (tension positive), shear force and moment after one
+    step, from the relative velocity (vn, vs) and spin_j - spin_i; bond radius rb."""
+    k_area_dt = laws.Ebar_c * inv_length * (2.0 * rb) * dt  # k̄n Ā dt; Ī = Ā R̄² / 3
+    fn = last_fn + k_area_dt * vn
+    fs = last_fs + k_area_dt * laws.ksbar_per_knbar * vs
+    m = last_m + k_area_dt * rb * rb / 3.0 * spin_change
+    return fn, fs, m
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def parallel_bond_breaks(fn, fs, m, rb, ten, coh, laws):
+    """Whether a parallel bond breaks in tension (Fn/Ā + β̄ |M| R̄ / Ī > σ̄c), else in shear
+    (|Fs|/Ā > c̄ - (Fn/Ā) tan φ̄)."""
+    inv_area = 1.0 / (2.0 * rb)
+    sigma = (fn + laws.mcf * 3.0 * abs(m) / rb) * inv_area  # |M| R̄ / Ī = 3 |M| / (R̄ Ā)
+    tau = abs(fs) * inv_area
+    tension = sigma > ten
+    shear = ~tension & (tau > coh - fn * inv_area * laws.tan_phi)
+    return tension, shear
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def force_xy(fn, fs, nx, ny):
+    """A pair's force on i along x and y from its parts along n and t = (-ny, nx)."""
+    return fn * nx - fs * ny, fn * ny + fs * nx
 
 
 @njit(cache=True, error_model="numpy")
@@ -127,93 +243,75 @@ def _gather(start, count, disks, pi, pj, tile):
         p = uint64(start) + q
         i = uint64(pi[p])
         j = uint64(pj[p])
-        tile[DX, q] = disks[j, X] - disks[i, X]
-        tile[DY, q] = disks[j, Y] - disks[i, Y]
-        tile[DVX, q] = disks[j, VX] - disks[i, VX]
-        tile[DVY, q] = disks[j, VY] - disks[i, VY]
-        tile[SPIN_I, q] = disks[i, SPIN]
-        tile[SPIN_J, q] = disks[j, SPIN]
+        tile[TileRow.DX, q] = disks[j, Disk.X] - disks[i, Disk.X]
+        tile[TileRow.DY, q] = disks[j, Disk.Y] - disks[i, Disk.Y]
+        tile[TileRow.DVX, q] = disks[j, Disk.VX] - disks[i, Disk.VX]
+        tile[TileRow.DVY, q] = disks[j, Disk.VY] - disks[i, Disk.VY]
+        tile[TileRow.SPIN_I, q] = disks[i, Disk.SPIN]
+        tile[TileRow.SPIN_J, q] = disks[j, Disk.SPIN]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _bond_law(start, count, bond_state, contact_shear, table, laws, dt, tile):
-    """The law of bonds start..start+count-1 from their particles' data in `tile` and their own
-    (contact shear force, `table`); it writes their new shear and bond forces, the mode they
-    broke in (0: none) and the force and moments on their particles to `tile`, as selections
-    rather than branches (it only reads the bonds' arrays: written to, they would keep the
-    loop from vectorising)."""
+    """The laws of bonded pairs start..start+count-1 (contact, then parallel bond while
+    intact) from their particles' data in `tile` and their own (contact shear force, `table`);
+    it writes their new shear and bond forces, the mode they broke in and the force and
+    moments on their particles to `tile`, as selections rather than branches (it only reads
+    the bonds' arrays: written to, they would keep the loop from vectorising)."""
     for q in range(uint64(count)):
         p = uint64(start) + q
-        dx = tile[DX, q]
-        dy = tile[DY, q]
-        dist = np.sqrt(dx * dx + dy * dy)
-        ri = table[R_I, p]
-        rj = table[R_J, p]
-        length = ri + rj
-        surface_overlap = length - dist
-        overlap = surface_overlap - table[REF_OVERLAP, p]
-        intact = bond_state[p] == INTACT
-        inv_dist = 1.0 / dist
-        nx = dx * inv_dist  # unit normal from i to j; tangent t = (-ny, nx)
-        ny = dy * inv_dist
+        dx = tile[TileRow.DX, q]
+        dy = tile[TileRow.DY, q]
+        ri = table[BondRow.R_I, p]
+        rj = table[BondRow.R_J, p]
+        nx, ny, surface_overlap, arm_i, arm_j = pair_geometry(dx, dy, dx * dx + dy * dy, ri, rj)
+        spin_i = tile[TileRow.SPIN_I, q]
+        spin_j = tile[TileRow.SPIN_J, q]
+        vn, vs = contact_velocity(tile[TileRow.DVX, q], tile[TileRow.DVY, q], spin_i, spin_j,
+                                  nx, ny, arm_i, arm_j)
         rmin = min(ri, rj)
-        inv_length = table[INV_LENGTH, p]
-        arm_i = ri - 0.5 * surface_overlap  # the contact point is mid-gap (or mid-overlap)
-        arm_j = rj - 0.5 * surface_overlap
-        w = tile[SPIN_I, q] * arm_i + tile[SPIN_J, q] * arm_j
-        rvx = tile[DVX, q] + w * ny
-        rvy = tile[DVY, q] - w * nx
-        vn = rvx * nx + rvy * ny
-        vs = rvy * nx - rvx * ny
-
-        touching = (overlap > 0.0) & (laws.E_c > 0.0)
-        kn = _contact_kn(rmin, inv_length, laws)
-        shear = contact_shear[p] + kn * laws.ks_per_kn * vs * dt
-        cap = laws.mu * kn * overlap
-        shear = cap if shear > cap else shear
-        shear = -cap if shear < -cap else shear
-        shear = shear if touching else 0.0
-        fn = -kn * overlap if touching else 0.0  # along n on i: negative pushes i away from j
-        fs = shear  # along t on i
+        inv_length = table[BondRow.INV_LENGTH, p]
+        overlap = surface_overlap - table[BondRow.REF_OVERLAP, p]
+        kn = contact_kn(rmin, inv_length, laws)
+        fn, fs = contact_force(overlap, kn, contact_shear[p], vs, laws, dt)
+        tile[TileRow.SHEAR, q] = fs
         mi = arm_i * fs
         mj = arm_j * fs
 
         rb = laws.lam * rmin
-        area = 2.0 * rb
-        k_area_dt = laws.Ebar_c * inv_length * area * dt  # k̄n Ā dt; Ī = Ā R̄² / 3
-        last_fn = table[FN, p]
-        last_fs = table[FS, p]
-        last_m = table[M, p]
-        bfn = last_fn + k_area_dt * vn
-        bfs = last_fs + k_area_dt * laws.ksbar_per_knbar * vs
-        bm = last_m + k_area_dt * rb * rb / 3.0 * (tile[SPIN_J, q] - tile[SPIN_I, q])
-        inv_area = 1.0 / area
-        sigma = (bfn + laws.mcf * 3.0 * abs(bm) / rb) * inv_area  # |M| R̄ / Ī = 3 |M| / (R̄ Ā)
-        tau = abs(bfs) * inv_area
-        tension = sigma > table[TEN, p]
-        holds = intact & ~tension & ~(tau > table[COH, p] - bfn * inv_area * laws.tan_phi)
-        broke = intact & ~holds
-        tile[MODE, q] = (BROKEN_TENSION if tension else BROKEN_SHEAR) if broke else INTACT
-        tile[SHEAR, q] = shear
-        tile[NEW + FN, q] = bfn if holds else (0.0 if broke else last_fn)
-        tile[NEW + FS, q] = bfs if holds else (0.0 if broke else last_fs)
-        tile[NEW + M, q] = bm if holds else (0.0 if broke else last_m)
+        last_fn = table[BondRow.FN, p]
+        last_fs = table[BondRow.FS, p]
+        last_m = table[BondRow.M, p]
+        bfn, bfs, bm = parallel_bond_force(last_fn, last_fs, last_m, vn, vs, spin_j - spin_i,
+                                           rb, inv_length, laws, dt)
+        in_tension, in_shear = parallel_bond_breaks(bfn, bfs, bm, rb, table[BondRow.TEN, p],
+                                                    table[BondRow.COH, p], laws)
+        intact = bond_state[p] == INTACT
+        broke = intact & (in_tension | in_shear)
+        holds = intact & ~broke
+        tile[TileRow.MODE, q] = (BROKEN_TENSION if in_tension else BROKEN_SHEAR) if broke else \
+            INTACT
+        tile[TileRow.FN, q] = bfn if holds else (0.0 if broke else last_fn)
+        tile[TileRow.FS, q] = bfs if holds else (0.0 if broke else last_fs)
+        tile[TileRow.M, q] = bm if holds else (0.0 if broke else last_m)
         fn = fn + bfn if holds else fn
         fs = fs + bfs if holds else fs
-        tile[MI, q] = mi + (arm_i * bfs + bm) if holds else mi
-        tile[MJ, q] = mj + (arm_j * bfs - bm) if holds else mj
-        tile[FX, q] = fn * nx - fs * ny
-        tile[FY, q] = fn * ny + fs * nx
+        tile[TileRow.MI, q] = mi + (arm_i * bfs + bm) if holds else mi
+        tile[TileRow.MJ, q] = mj + (arm_j * bfs - bm) if holds else mj
+        tile[TileRow.FX, q], tile[TileRow.FY, q] = force_xy(fn, fs, nx, ny)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _store(start, count, tile, contact_shear, table):
     """The tile's new contact shear forces, bond forces and moments to the bonds' arrays."""
     for q in range(uint64(count)):
-        contact_shear[uint64(start) + q] = tile[SHEAR, q]
-    for row in (FN, FS, M):
-        for q in range(uint64(count)):
-            table[row, uint64(start) + q] = tile[NEW + row, q]
+        contact_shear[uint64(start) + q] = tile[TileRow.SHEAR, q]
+    for q in range(uint64(count)):
+        table[BondRow.FN, uint64(start) + q] = tile[TileRow.FN, q]
+    for q in range(uint64(count)):
+        table[BondRow.FS, uint64(start) + q] = tile[TileRow.FS, q]
+    for q in range(uint64(count)):
+        table[BondRow.M, uint64(start) + q] = tile[TileRow.M, q]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -225,47 +323,46 @@ def _scatter(start, count, disks, pi, pj, tile, bonds, loads):
     sorted by i) and stored when i changes: no pair joins a disk to itself, so this is the
     same sum in the same order as adding pair by pair."""
     i_run = uint64(pi[start])
-    fx_run = loads[i_run, FORCE_X]
-    fy_run = loads[i_run, FORCE_Y]
-    m_run = loads[i_run, MOMENT]
+    fx_run = loads[i_run, Load.FORCE_X]
+    fy_run = loads[i_run, Load.FORCE_Y]
+    m_run = loads[i_run, Load.MOMENT]
     for q in range(uint64(count)):
         p = uint64(start) + q
         i = uint64(pi[p])
         j = uint64(pj[p])
-        if tile[MODE, q] != INTACT:
-            bonds.state[p] = int(tile[MODE, q])
+        if tile[TileRow.MODE, q] != INTACT:
+            bonds.state[p] = int(tile[TileRow.MODE, q])
             _record_break(p, i, j, disks, bonds.break_xy)
         if i != i_run:
-            loads[i_run, FORCE_X] = fx_run
-            loads[i_run, FORCE_Y] = fy_run
-            loads[i_run, MOMENT] = m_run
+            loads[i_run, Load.FORCE_X] = fx_run
+            loads[i_run, Load.FORCE_Y] = fy_run
+            loads[i_run, Load.MOMENT] = m_run
             i_run = i
-            fx_run = loads[i, FORCE_X]
-            fy_run = loads[i, FORCE_Y]
-            m_run = loads[i, MOMENT]
-        fx = tile[FX, q]
-        fy = tile[FY, q]
+            fx_run = loads[i, Load.FORCE_X]
+            fy_run = loads[i, Load.FORCE_Y]
+            m_run = loads[i, Load.MOMENT]
+        fx = tile[TileRow.FX, q]
+        fy = tile[TileRow.FY, q]
         fx_run += fx
         fy_run += fy
-        m_run += tile[MI, q]
-        loads[j, FORCE_X] -= fx
-        loads[j, FORCE_Y] -= fy
-        loads[j, MOMENT] += tile[MJ, q]
-    loads[i_run, FORCE_X] = fx_run
-    loads[i_run, FORCE_Y] = fy_run
-    loads[i_run, MOMENT] = m_run
+        m_run += tile[TileRow.MI, q]
+        loads[j, Load.FORCE_X] -= fx
+        loads[j, Load.FORCE_Y] -= fy
+        loads[j, Load.MOMENT] += tile[TileRow.MJ, q]
+    loads[i_run, Load.FORCE_X] = fx_run
+    loads[i_run, Load.FORCE_Y] = fy_run
+    loads[i_run, Load.MOMENT] = m_run
 
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _record_break(p, i, j, disks, break_xy):
     """Where bond p broke: its contact point, mid-gap between the surfaces."""
-    dx = disks[j, X] - disks[i, X]
-    dy = disks[j, Y] - disks[i, Y]
-    dist = np.sqrt(dx * dx + dy * dy)
-    inv_dist = 1.0 / dist
-    arm_i = disks[i, RADIUS] - 0.5 * (disks[i, RADIUS] + disks[j, RADIUS] - dist)
-    break_xy[p, 0] = disks[i, X] + dx * inv_dist * arm_i
-    break_xy[p, 1] = disks[i, Y] + dy * inv_dist * arm_i
+    dx = disks[j, Disk.X] - disks[i, Disk.X]
+    dy = disks[j, Disk.Y] - disks[i, Disk.Y]
+    nx, ny, _, arm_i, _ = pair_geometry(dx, dy, dx * dx + dy * dy, disks[i, Disk.RADIUS],
+                                        disks[j, Disk.RADIUS])
+    break_xy[p, 0] = disks[i, Disk.X] + nx * arm_i
+    break_xy[p, 1] = disks[i, Disk.Y] + ny * arm_i
 
 
 @njit(cache=True, error_model="numpy")
@@ -275,69 +372,37 @@ def add_contact_forces(first, last, disks, pi, pj, contact_shear, laws, dt, load
     for p in range(uint64(first), uint64(last)):
         i = uint64(pi[p])
         j = uint64(pj[p])
-        dx = disks[j, X] - disks[i, X]
-        dy = disks[j, Y] - disks[i, Y]
+        dx = disks[j, Disk.X] - disks[i, Disk.X]
+        dy = disks[j, Disk.Y] - disks[i, Disk.Y]
         dist_sq = dx * dx + dy * dy
-        ri = disks[i, RADIUS]
-        rj = disks[j, RADIUS]
+        ri = disks[i, Disk.RADIUS]
+        rj = disks[j, Disk.RADIUS]
         length = ri + rj
         if dist_sq > APART * length * length:  # surely apart, whatever the rounding
             contact_shear[p] = 0.0
             continue
-        dist = np.sqrt(dist_sq)
-        overlap = length - dist
+        nx, ny, overlap, arm_i, arm_j = pair_geometry(dx, dy, dist_sq, ri, rj)
         if overlap <= 0.0:
             contact_shear[p] = 0.0
             continue
-        inv_dist = 1.0 / dist
-        nx = dx * inv_dist
-        ny = dy * inv_dist
-        arm_i = ri - 0.5 * overlap
-        arm_j = rj - 0.5 * overlap
-        w = disks[i, SPIN] * arm_i + disks[j, SPIN] * arm_j
-        rvx = disks[j, VX] - disks[i, VX] + w * ny
-        rvy = disks[j, VY] - disks[i, VY] - w * nx
-        vs = rvy * nx - rvx * ny
-        fn, fs = _contact_force(p, overlap, min(ri, rj), 1.0 / length, vs, contact_shear, laws,
-                                dt)
+        _, vs = contact_velocity(disks[j, Disk.VX] - disks[i, Disk.VX],
+                                 disks[j, Disk.VY] - disks[i, Disk.VY], disks[i, Disk.SPIN],
+                                 disks[j, Disk.SPIN], nx, ny, arm_i, arm_j)
+        kn = contact_kn(min(ri, rj), 1.0 / length, laws)
+        fn, fs = contact_force(overlap, kn, contact_shear[p], vs, laws, dt)
+        contact_shear[p] = fs
         _add_pair_force(i, j, nx, ny, fn, fs, arm_i * fs, arm_j * fs, loads)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _contact_kn(rmin, inv_length, laws):
-    """A linear contact's normal stiffness (N/m): PFC 3.x/4.0's t·E_c, or PFC 5's
-    2·min(R)·t·E_c / (R_A + R_B) (t = 1 m)."""
-    return laws.E_c if laws.pfc4_contacts > 0.0 else 2.0 * rmin * laws.E_c * inv_length
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _contact_force(p, overlap, rmin, inv_length, vs, contact_shear, laws, dt):
-    """Normal and shear force of pair p's linear contact on i (along n and t), updating its
-    shear force."""
-    if overlap > 0.0 and laws.E_c > 0.0:
-        kn = _contact_kn(rmin, inv_length, laws)
-        shear = contact_shear[p] + kn * laws.ks_per_kn * vs * dt
-        cap = laws.mu * kn * overlap
-        if shear > cap:
-            shear = cap
-        elif shear < -cap:
-            shear = -cap
-        contact_shear[p] = shear
-        return -kn * overlap, shear  # fn along n on i: negative pushes i away from j
-    contact_shear[p] = 0.0
-    return 0.0, 0.0
-
-
-@njit(cache=True, error_model="numpy", inline="always")
 def _add_pair_force(i, j, nx, ny, fn, fs, mi, mj, loads):
-    fx = fn * nx - fs * ny
-    fy = fn * ny + fs * nx
-    loads[i, FORCE_X] += fx
-    loads[i, FORCE_Y] += fy
-    loads[j, FORCE_X] -= fx
-    loads[j, FORCE_Y] -= fy
-    loads[i, MOMENT] += mi
-    loads[j, MOMENT] += mj
+    fx, fy = force_xy(fn, fs, nx, ny)
+    loads[i, Load.FORCE_X] += fx
+    loads[i, Load.FORCE_Y] += fy
+    loads[j, Load.FORCE_X] -= fx
+    loads[j, Load.FORCE_Y] -= fy
+    loads[i, Load.MOMENT] += mi
+    loads[j, Load.MOMENT] += mj
 
 
 @njit(cache=True, error_model="numpy")
@@ -351,9 +416,9 @@ def add_wall_forces(first, last, disks, walls, wall_active, k_wall, loads, wall_
     on_left, on_right, on_bottom, on_top = wall_active[0], wall_active[1], wall_active[2], \
         wall_active[3]
     for k in range(uint64(first), uint64(last)):
-        x = disks[k, X]
-        y = disks[k, Y]
-        r = disks[k, RADIUS]
+        x = disks[k, Disk.X]
+        y = disks[k, Disk.Y]
+        r = disks[k, Disk.RADIUS]
         f_left = _pushing(k_wall * (left - (x - r))) if on_left else 0.0
         f_right = _pushing(k_wall * ((x + r) - right)) if on_right else 0.0
         f_bottom = _pushing(k_wall * (bottom - (y - r))) if on_bottom else 0.0
@@ -362,8 +427,8 @@ def add_wall_forces(first, last, disks, walls, wall_active, k_wall, loads, wall_
         wall_force[k, 1] = f_right
         wall_force[k, 2] = f_bottom
         wall_force[k, 3] = f_top
-        loads[k, FORCE_X] += f_left - f_right
-        loads[k, FORCE_Y] += f_bottom - f_top
+        loads[k, Load.FORCE_X] += f_left - f_right
+        loads[k, Load.FORCE_Y] += f_bottom - f_top
 
 
 @njit(cache=True, error_model="numpy", inline="always")

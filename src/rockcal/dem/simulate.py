@@ -23,8 +23,7 @@ from numba import njit, prange
 from scipy import special
 
 from rockcal.dem import laws, neighbours
-from rockcal.dem.laws import (FORCE_X, FORCE_Y, INV_INERTIA, INV_MASS, MOMENT, RADIUS, SPIN, VX,
-                              VY, X, Y)
+from rockcal.dem.laws import Disk, Load
 from rockcal.errors import InputError
 from rockcal.params import GPa, MPa, MicroParams
 
@@ -35,9 +34,8 @@ LEFT, RIGHT, BOTTOM, TOP = range(4)
 
 class Particles(NamedTuple):
     """Per-particle arrays; the engine changes them in place. They are views into the two
-    arrays the engine works on, one row per disk: `disks` (columns `laws.X` to
-    `laws.INV_INERTIA`, 64 bytes: what a force loop gathers of a disk is one cache line) and
-    `loads` (`laws.FORCE_X`, `laws.FORCE_Y`, `laws.MOMENT`)."""
+    arrays the engine works on, one row per disk: `disks` (columns `laws.Disk`, 64 bytes: what
+    a force loop gathers of a disk is one cache line) and `loads` (columns `laws.Load`)."""
 
     pos: np.ndarray  # (n, 2), m
     vel: np.ndarray  # (n, 2), m/s
@@ -54,16 +52,16 @@ class Particles(NamedTuple):
 def new_particles(pos, radius, inv_mass, inv_inertia) -> Particles:
     """Particles at rest, their rows aligned on cache lines."""
     n = pos.shape[0]
-    disks = _aligned_zeros(n, 8)
+    disks = _aligned_zeros(n, len(Disk))
     loads = _aligned_zeros(n, 4)
-    disks[:, X:Y + 1] = pos
-    disks[:, RADIUS] = radius
-    disks[:, INV_MASS] = inv_mass
-    disks[:, INV_INERTIA] = inv_inertia
-    return Particles(pos=disks[:, X:Y + 1], vel=disks[:, VX:VY + 1],
-                     spin=disks[:, SPIN], radius=disks[:, RADIUS],
-                     inv_mass=disks[:, INV_MASS], inv_inertia=disks[:, INV_INERTIA],
-                     force=loads[:, FORCE_X:FORCE_Y + 1], moment=loads[:, MOMENT],
+    disks[:, Disk.X:Disk.Y + 1] = pos
+    disks[:, Disk.RADIUS] = radius
+    disks[:, Disk.INV_MASS] = inv_mass
+    disks[:, Disk.INV_INERTIA] = inv_inertia
+    return Particles(pos=disks[:, Disk.X:Disk.Y + 1], vel=disks[:, Disk.VX:Disk.VY + 1],
+                     spin=disks[:, Disk.SPIN], radius=disks[:, Disk.RADIUS],
+                     inv_mass=disks[:, Disk.INV_MASS], inv_inertia=disks[:, Disk.INV_INERTIA],
+                     force=loads[:, Load.FORCE_X:Load.FORCE_Y + 1], moment=loads[:, Load.MOMENT],
                      disks=disks, loads=loads)
 
 
@@ -135,7 +133,7 @@ def law_constants(params: MicroParams, contact_stiffness: str = DEFAULT_CONTACT_
     return laws.Laws(params.E_c * GPa, 1.0 / params.kn_ks, params.mu, params.Ebar_c * GPa,
                      1.0 / params.knbar_ksbar, params.lambda_,
                      math.tan(math.radians(params.phi_b)), params.mcf,
-                     float(contact_stiffness == "pfc4"))
+                     contact_stiffness == "pfc4")
 
 
 def bond_strengths(params: MicroParams, draws: np.ndarray | None, n_bonds: int):
@@ -272,19 +270,19 @@ def _move(first, last, disks, loads, damping, dt, pos_at_build):
     list was built."""
     moved = 0.0
     for k in range(numba.uint64(first), numba.uint64(last)):
-        inv_mass = disks[k, INV_MASS]
+        inv_mass = disks[k, Disk.INV_MASS]
         if inv_mass > 0.0:
             for a in range(2):
-                f = loads[k, FORCE_X + a]
-                f -= damping * abs(f) * np.sign(disks[k, VX + a])
-                disks[k, VX + a] += f * inv_mass * dt
-            moment = loads[k, MOMENT]
-            m = moment - damping * abs(moment) * np.sign(disks[k, SPIN])
-            disks[k, SPIN] += m * disks[k, INV_INERTIA] * dt
-        disks[k, X] += disks[k, VX] * dt
-        disks[k, Y] += disks[k, VY] * dt
-        dx = disks[k, X] - pos_at_build[k, 0]
-        dy = disks[k, Y] - pos_at_build[k, 1]
+                f = loads[k, Load.FORCE_X + a]
+                f -= damping * abs(f) * np.sign(disks[k, Disk.VX + a])
+                disks[k, Disk.VX + a] += f * inv_mass * dt
+            moment = loads[k, Load.MOMENT]
+            m = moment - damping * abs(moment) * np.sign(disks[k, Disk.SPIN])
+            disks[k, Disk.SPIN] += m * disks[k, Disk.INV_INERTIA] * dt
+        disks[k, Disk.X] += disks[k, Disk.VX] * dt
+        disks[k, Disk.Y] += disks[k, Disk.VY] * dt
+        dx = disks[k, Disk.X] - pos_at_build[k, 0]
+        dy = disks[k, Disk.Y] - pos_at_build[k, 1]
         moved = max(moved, dx * dx + dy * dy)
     return moved
 
@@ -302,9 +300,9 @@ def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts, bond_o
     for s in range(n_steps):  # no array expressions: each would be a parallel region
         for b in prange(blocks):  # explicit loops: an array expression here would nest parfors
             for k in range(numba.uint64(starts[b]), numba.uint64(starts[b + 1])):
-                loads[k, FORCE_X] = 0.0
-                loads[k, FORCE_Y] = 0.0
-                loads[k, MOMENT] = 0.0
+                loads[k, Load.FORCE_X] = 0.0
+                loads[k, Load.FORCE_Y] = 0.0
+                loads[k, Load.MOMENT] = 0.0
             laws.add_bond_forces(bond_offsets[b], bond_offsets[b + 1], disks, pi, pj,
                                  contact_shear, bonds, law, dt, loads)
             laws.add_contact_forces(contact_offsets[b], contact_offsets[b + 1], disks, pi, pj,
