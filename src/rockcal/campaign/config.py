@@ -21,12 +21,12 @@ from rockcal.labtests.ucs import UCSValues as UCSTargets  # noqa: F401  (the UCS
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
-from rockcal.labtests.registry import lab_test
+from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS
 from rockcal.labtests.ucs import DEFAULT_MAX_AXIAL_STRAIN, DEFAULT_STRAIN, POST_PEAK_FRACTION
 from rockcal.params import NAMES, make_params
 
-RESPONSES = lab_test("ucs").targets  # what a UCS run gives and the calibration can fit
+RESPONSES = lab_test(PRIMARY_TEST).targets  # what the primary (UCS) test gives and the calibration can fit
 QUICK_RESOLUTION = 2  # `--quick`: R_min this many times the campaign's
 QUICK_DRAWS = 50  # `--quick`: at most this many target draws for the parameters' intervals
 

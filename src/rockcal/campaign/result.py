@@ -14,6 +14,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from rockcal.campaign.config import SpecimenSettings
 from rockcal.errors import InputError, from_validation_error
 from rockcal.inverse.uncertainty import Interval
+from rockcal.labtests.registry import PRIMARY_TEST
 
 RECORD_NAME = "record.json"
 
@@ -194,7 +195,7 @@ class CalibrationResult(_Part):
 
     def responses_by_test(self) -> dict[str, list[str]]:
         """The target responses of each lab test calibrated against."""
-        return self.target_tests or {"ucs": list(self.targets)}
+        return self.target_tests or {PRIMARY_TEST: list(self.targets)}
 
     def to_json(self, indent: int | None = None) -> str:
         """The record."""
