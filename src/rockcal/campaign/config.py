@@ -16,6 +16,7 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, ValidationError, field_validator, model_validator
 
+from rockcal.campaign.safe_text import unsafe_character
 from rockcal.campaign.targets import LabTargets, Section, Targets, ValidationTests
 from rockcal.campaign.targets import UCSTargets  # noqa: F401  (the UCS section, here too)
 from rockcal.dem.genesis import Genesis
@@ -31,8 +32,16 @@ QUICK_DRAWS = 50  # `--quick`: at most this many target draws for the parameters
 
 
 class Rock(Section):
-    name: str = "rock"
+    name: str = Field("rock", min_length=1, max_length=200)
     density_kg_m3: float = Field(2622.0, gt=0)
+
+    @field_validator("name")
+    @classmethod
+    def _printable(cls, name):
+        bad = unsafe_character(name)
+        if bad is not None:
+            raise ValueError(f"a rock name is one line of text; {name!r} holds {bad}")
+        return name
 
 
 class SpecimenSettings(Genesis):

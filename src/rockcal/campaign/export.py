@@ -14,6 +14,7 @@ import numpy as np
 from rockcal.campaign.config import SpecimenSettings
 from rockcal.campaign.forward import ENGINE
 from rockcal.campaign.result import read_result
+from rockcal.campaign.safe_text import comment_text
 from rockcal.errors import InputError
 from rockcal.params import GPa, MPa, MicroParams, make_params
 
@@ -86,6 +87,12 @@ UNITS = {"cm_densityVal": "kg/m3", "cm_Dlo": "m", "cm_Dup": "m", "pk_Pm": "Pa", 
 
 
 def header_lines(calibrated: Calibrated) -> list[str]:
+    """The export's header, one comment line each, in printable ASCII (`comment_text`): no
+    user text can leave its comment."""
+    return [comment_text(line) for line in _header(calibrated)]
+
+
+def _header(calibrated: Calibrated) -> list[str]:
     o = calibrated.origin
     verdict = "accepted" if o["accepted"] else "NOT accepted (closest verified point)"
     lines = [f"rockcal calibration of {o['rock']}: {verdict}, {o['dem_runs']} DEM runs",
@@ -147,7 +154,8 @@ def to_python(calibrated: Calibrated) -> str:
     """A PFC Python script that sets the FISH parameters (itasca.fish.set); outside PFC it only
     defines them."""
     values = pfc_parameters(calibrated.params, calibrated.specimen)
-    out = [f"# {line}" for line in header_lines(calibrated)]
+    # a fixed first line: the coding declaration no later comment can set
+    out = ["# -*- coding: utf-8 -*-"] + [f"# {line}" for line in header_lines(calibrated)]
     out.append("PARAMETERS = {")
     for name, value in values.items():
         unit = f"  # {UNITS[name]}" if name in UNITS else ""

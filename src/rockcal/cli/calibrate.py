@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Optional
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 from rich.table import Table
 
@@ -121,7 +122,7 @@ def report(out: Path = typer.Argument(..., help="Output folder of a campaign."))
         html = _write_report(result, store, out)
     finally:
         store.close()
-    Console(stderr=True).print(f"report: {html}")
+    Console(stderr=True).print(f"report: {escape(str(html))}")
 
 
 def _write_report(result: CalibrationResult, store, out: Path) -> Path:
@@ -136,11 +137,11 @@ def _print_plan(campaign, store, executor, note: str | None) -> None:
     from rockcal.campaign.plan import describe
 
     console = Console(stderr=True)
-    console.print(f"[bold]Calibrating {campaign.rock.name}[/]" + (" [yellow](quick look)[/]" if note else ""))
+    console.print(f"[bold]Calibrating {escape(campaign.rock.name)}[/]" + (" [yellow](quick look)[/]" if note else ""))
     if note:
-        console.print(f"  {note}", highlight=False)
+        console.print(f"  {note}", highlight=False, markup=False)
     for line in describe(campaign, store, getattr(executor, "workers", None)):
-        console.print("  " + line, highlight=False)
+        console.print("  " + line, highlight=False, markup=False)
 
 
 class _stage_progress:
@@ -238,7 +239,7 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None
     console = Console()
     verdict = "accepted" if s["accepted"] else "NOT accepted (closest shown)"
     kind = "Quick look at" if s["quick_look"] else "Calibration of"
-    table = Table(title=f"{kind} {s['rock']}: {verdict}, {s['dem_runs']} DEM runs")
+    table = Table(title=f"{kind} {escape(s['rock'])}: {verdict}, {s['dem_runs']} DEM runs")
     for column in ("", "value", "target", "error"):
         table.add_column(column)
     intervals = s["intervals"] or {}
@@ -267,7 +268,7 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None
                           "–" if error is None else f"{100 * error:+.1f} %")
     console.print(table)
     if s["quick_look"]:
-        console.print(f"[yellow]{s['quick_look']}[/]")
+        console.print(f"[yellow]{escape(s['quick_look'])}[/]")
     if s["warning"]:
-        console.print(f"[yellow]warning:[/] {s['warning']}")
-    console.print(f"objective: {s['objective']}\nreport: {html}")
+        console.print(f"[yellow]warning:[/] {escape(s['warning'])}")
+    console.print(f"objective: {escape(s['objective'])}\nreport: {escape(str(html))}")

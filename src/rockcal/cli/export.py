@@ -8,6 +8,7 @@ from typing import Optional
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 
 from rockcal.errors import InputError
 
@@ -32,7 +33,7 @@ def export(
         typer.echo(text, nl=False)
         return
     _write(to, text)
-    Console(stderr=True).print(f"wrote {to}")
+    Console(stderr=True).print(f"wrote {escape(str(to))}")
 
 
 def export_specimen(
@@ -53,7 +54,7 @@ def export_specimen(
         paths = write_specimen(specimen, calibrated.params, to)
     except OSError as exc:
         raise InputError("--to", f"cannot write to {to}: {exc.strerror}") from None
-    Console(stderr=True).print(f"wrote {paths[0]} ({specimen.n_particles} balls) and {paths[1]} "
+    Console(stderr=True).print(f"wrote {escape(str(paths[0]))} ({specimen.n_particles} balls) and {escape(str(paths[1]))} "
                                f"({len(specimen.bonds)} bonds)")
 
 
