@@ -7,6 +7,7 @@ source study) is used.
 
 from __future__ import annotations
 
+import io
 import math
 import tomllib
 from importlib import resources
@@ -16,9 +17,11 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, ValidationError, field_validator, model_validator
 
+from rockcal.campaign.raw_values import check_numbers
 from rockcal.campaign.safe_text import unsafe_character
 from rockcal.campaign.targets import LabTargets, Section, Targets, ValidationTests
 from rockcal.campaign.targets import UCSTargets  # noqa: F401  (the UCS section, here too)
+from rockcal.campaign.user_files import read_user_text
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
@@ -51,7 +54,7 @@ class SpecimenSettings(Genesis):
 
     rmin_mm: float = Field(0.25, gt=0)
     radius_ratio: float = Field(1.65, ge=1, le=10)
-    seed: int = 1
+    seed: int = Field(1, ge=0)
     width_mm: float = Field(50.0, gt=0)
     height_mm: float = Field(100.0, gt=0)
     beam_length_mm: float = Field(220.0, gt=0)
@@ -113,7 +116,7 @@ class Surrogate(Section):
     samples: int = Field(30, ge=4)
     checks: int = Field(3, ge=1)
     tolerance: float = Field(0.05, gt=0)  # the surrogate is trusted within this relative error
-    seed: int = 1
+    seed: int = Field(1, ge=0)
 
 
 class Optimizer(Section):
@@ -123,7 +126,7 @@ class Optimizer(Section):
     alpha: float = Field(1.0, ge=0)
     beta: float = Field(5.0, ge=0)
     rho: float = Field(0.5, gt=0, le=1)
-    seed: int = 1
+    seed: int = Field(1, ge=0)
 
 
 class Acceptance(Section):
@@ -140,7 +143,7 @@ class Uncertainty(Section):
     enabled: bool | None = None  # None: on when a calibration target gives a spread
     draws: int = Field(200, ge=10)
     packings: int = Field(3, ge=1)  # UCS packings at the identified point for the model scatter
-    seed: int = 1
+    seed: int = Field(1, ge=0)
 
 
 class Campaign(Section):
@@ -238,10 +241,7 @@ def load_campaign(path: Path | None) -> tuple[Campaign, str]:
     if path is None:
         text, base = default_text(), Path.cwd()
     else:
-        try:
-            text = Path(path).read_text()
-        except OSError as exc:
-            raise InputError("CONFIG", f"cannot read {path}: {exc.strerror}") from None
+        text = read_user_text(Path(path), "CONFIG")
         base = Path(path).resolve().parent
     return parse_campaign(text, base), text
 
@@ -253,6 +253,7 @@ def parse_campaign(text: str, base: Path) -> Campaign:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError("CONFIG", f"not valid TOML: {exc}") from None
+    check_numbers(data)
     try:
         campaign = Campaign.model_validate(data)
     except ValidationError as exc:
@@ -297,9 +298,10 @@ def _check_specimens(campaign: Campaign) -> None:
 def read_curve(path: Path) -> np.ndarray:
     """A measured stress-strain curve: rows of (axial strain, axial stress MPa), strain rising."""
     field = "targets.ucs.curve"
+    text = read_user_text(path, field)
     try:
-        rows = np.genfromtxt(path, delimiter=",", dtype=float, invalid_raise=True)
-    except (OSError, ValueError) as exc:
+        rows = np.genfromtxt(io.StringIO(text), delimiter=",", dtype=float, invalid_raise=True)
+    except ValueError as exc:
         raise InputError(field, f"cannot read {path}: {exc}") from None
     if rows.ndim == 2 and rows.shape[1] >= 2 and np.isnan(rows[0]).all():
         rows = rows[1:]  # a header line

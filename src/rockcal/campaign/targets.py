@@ -23,7 +23,7 @@ Spread = dict[str, float | tuple[float, float]]
 class Section(BaseModel):
     """A section of the campaign file: an unknown key is an error."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 class LabTargets(Section):

@@ -57,7 +57,7 @@ CONTACT_STIFFNESS = typer.Option(ContactStiffness(DEFAULT_CONTACT_STIFFNESS),
 SET = typer.Option([], "--set", help=SET_HELP)
 RMIN_MM = typer.Option(0.25, help="Smallest radius, mm.")
 RADIUS_RATIO = typer.Option(1.65, help="Largest / smallest radius.")
-SEED = typer.Option(1, help="Packing seed.")
+SEED = typer.Option(1, min=0, help="Packing seed.")
 SEEDS = typer.Option(1, help="Average over this many packings (seed, seed + 1, ...): mean and spread.")
 AS_JSON = typer.Option(False, "--json", help="Print one JSON object.")
 OUT = typer.Option(None, help="Write curve CSV, summary JSON and PNGs here.")
