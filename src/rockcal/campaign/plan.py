@@ -20,6 +20,7 @@ import numpy as np
 from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.engine_speed import probe_ms_per_step
 from rockcal.campaign.forward import run_spec
+from rockcal.campaign.retries import holds, retry_line
 from rockcal.campaign.procedure import (PACKINGS_AND_VALIDATION, SAMPLES_AND_CHECKS, packing_seeds,
                                         sample_points, validation_seeds)
 from rockcal.dem.specimen import packing_name, stored_packing
@@ -142,7 +143,7 @@ def stored_runs(campaign: Campaign, store) -> dict[str, int]:
         names = list(bounds)
         x, checks = sample_points(np.array([bounds[n] for n in names], float), campaign.surrogate)
         points += [(campaign.specimen, fixed | dict(zip(names, row))) for row in np.vstack([x, checks])]
-    return {test: sum(store.get(run_spec(test, specimen, campaign.fixed_params() | row)) is not None
+    return {test: sum(holds(store, run_spec(test, specimen, campaign.fixed_params() | row))
                       for specimen, row in points) for test in campaign.target_sections()}
 
 
@@ -239,8 +240,11 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
         + f" (then more verifications if needed, at most {campaign.acceptance.max_dem_runs} UCS runs)"
         + (f"; each parameter set runs {' and '.join(titles)}" if len(titles) > 1 else ""),
         f"runs of this campaign already in the store: {sum(stored_runs(campaign, store).values())} "
-        "(a run in the store is never run again)",
+        "(a run done is never run again)",
     ]
+    retry = retry_line(store)
+    if retry:
+        lines.append(retry)
     if workers:
         times, measured = run_times(campaign, store, sizes)
         basis = ("the mean of this store's UCS runs" if measured else
