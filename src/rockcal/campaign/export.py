@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rockcal.campaign.atomic import atomic_path
 from rockcal.campaign.config import SpecimenSettings
 from rockcal.campaign.forward import ENGINE
 from rockcal.campaign.result import read_result
@@ -194,12 +195,12 @@ def write_specimen(specimen, params: MicroParams, folder: Path) -> tuple[Path, P
     ten, coh = bond_strengths(params, specimen.bond_draws, len(bonds))
     folder.mkdir(parents=True, exist_ok=True)
     balls_path, bonds_path = folder / "balls.csv", folder / "bonds.csv"
-    with open(balls_path, "w", newline="") as f:
+    with atomic_path(balls_path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["id", "x_m", "y_m", "radius_m"])
         for i, ((x, y), r) in enumerate(zip(specimen.pos, specimen.radius), start=1):
             w.writerow([i, repr(float(x)), repr(float(y)), repr(float(r))])
-    with open(bonds_path, "w", newline="") as f:
+    with atomic_path(bonds_path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["ball1", "ball2", "tensile_strength_Pa", "cohesion_Pa"])
         for (i, j), t, c in zip(bonds, ten, coh):

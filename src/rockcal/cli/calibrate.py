@@ -3,7 +3,11 @@
 from __future__ import annotations
 
 import json
+import math
+import re
+import sqlite3
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Optional
 
@@ -26,77 +30,163 @@ def calibrate(
     config: Optional[Path] = typer.Argument(None, help="Campaign file (TOML); none: the embedded granite."),
     out: Optional[Path] = typer.Option(None, help="Output folder (run store, report); default runs/<rock name>, runs/<rock name>-quick with --quick."),
     workers: int = typer.Option(0, help="Parallel forward runs on this machine (0: one per core)."),
-    scheduler: Optional[str] = typer.Option(None, help="Dask scheduler: tcp://HOST:PORT, or local:N for N local workers."),
+    scheduler: Optional[str] = typer.Option(None, help="Dask scheduler: tls://HOST:PORT (with certificates), tcp://HOST:PORT, or local:N for N local workers."),
     time_limit_s: Optional[float] = typer.Option(None, help="Wall-time limit of one forward run, s; a run past it is recorded as timed out."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     resume: bool = typer.Option(False, "--resume", help="Go on with the campaign already in --out."),
     quick: bool = typer.Option(False, "--quick", help="A first look in minutes: the campaign at half "
                                "resolution (R_min doubled) with one validation beam and 50 draws for the "
                                "intervals; not the calibration."),
+    wait: bool = typer.Option(False, "--wait", help="If another rockcal is using --out, wait for it to end."),
+    tls_ca_file: Optional[Path] = typer.Option(None, help="tls:// scheduler: the cluster's CA certificate (PEM)."),
+    tls_cert: Optional[Path] = typer.Option(None, help="tls:// scheduler: this client's certificate (PEM)."),
+    tls_key: Optional[Path] = typer.Option(None, help="tls:// scheduler: this client's key (PEM; default: in --tls-cert)."),
 ) -> None:
     """Identify BPM micro-parameters from lab results (SPEC steps 1-8), with a report."""
     from rockcal.campaign.config import load_campaign, quick_look, quick_look_note
-    from rockcal.campaign.executors import make_executor
-    from rockcal.campaign.plan import stage_runs, stage_times
-    from rockcal.campaign.procedure import Calibration, CalibrationFailed
-    from rockcal.campaign.result import save_result
-    from rockcal.campaign.store import STORE_NAME, RunStore
+    from rockcal.campaign.io_errors import one_line_errors
+    from rockcal.campaign.sizes import check_campaign_sizes
+    from rockcal.campaign.store import STORE_NAME
+    from rockcal.campaign.store_lock import store_lock
 
     campaign, text = load_campaign(config)
     note = None
     if quick:
         campaign = quick_look(campaign)
         note = quick_look_note(campaign)
+    check_campaign_sizes(campaign)
     out = out if out is not None else default_out(campaign.rock.name, quick)
     if workers < 0:
         raise InputError("--workers", f"must be >= 0, got {workers}")
-    if time_limit_s is not None and not time_limit_s > 0:
-        raise InputError("--time-limit-s", f"must be > 0, got {time_limit_s}")
-    if (out / STORE_NAME).exists() and not resume:
-        raise InputError("--out", f"{out} already holds a campaign's runs; add --resume to go on "
-                                  "with it, or choose another folder")
-    if out.exists() and not out.is_dir():
-        raise InputError("--out", f"{out} is a file, not a folder")
-    if scheduler is not None:  # a malformed --scheduler fails before OUT gets a store
-        from rockcal.campaign.dask_executor import parse_scheduler
-
-        parse_scheduler(scheduler)
-    new_store = not (out / STORE_NAME).exists()
-    store = RunStore(out)
-    try:
-        check_same_kind(store, quick, out)
-        try:
-            executor = make_executor(store, workers=workers, scheduler=scheduler, time_limit_s=time_limit_s)
-        except InputError:  # e.g. an unreachable scheduler: leave no empty store behind
-            if new_store:
-                store.close()
-                store.delete()
-            raise
-        try:
-            store.save_document("campaign.toml", text)
-            store.save_document(QUICK_LOOK, note or "")
-            if not as_json:
-                _print_plan(campaign, store, executor, note)
-            times = stage_times(campaign, store, getattr(executor, "workers", 1))
-            with _stage_progress(as_json, stage_runs(campaign), times) as progress:
-                executor.on_live = progress.live
-                result = Calibration(campaign, executor, progress).run()
-        except CalibrationFailed as exc:
-            print(f"rockcal: calibration failed: {exc}", file=sys.stderr)
-            raise typer.Exit(1)
-        finally:
-            executor.close()
-        result = result.model_copy(update={"executed_runs": executor.executed, "quick_look": note})
-        save_result(store, result)
-        html = _write_report(result, store, out)
-    finally:
-        store.close()
+    if time_limit_s is not None and not (math.isfinite(time_limit_s) and time_limit_s > 0):
+        raise InputError("--time-limit-s", f"must be a finite number > 0, got {time_limit_s}")
+    tls = _cluster_options(scheduler, tls_ca_file, tls_cert, tls_key)  # before OUT gets a store
+    with one_line_errors(out), out_folder(out), store_lock(out, wait, _waiting):
+        if (out / STORE_NAME).exists() and not resume:
+            raise InputError("--out", f"{out} already holds a campaign's runs; add --resume to go on "
+                                      "with it, or choose another folder")
+        result, html = _run_campaign(campaign, text, note, out, quick, as_json,
+                                     dict(workers=workers, scheduler=scheduler, time_limit_s=time_limit_s, tls=tls))
     _print_summary(result, html, as_json)
 
 
+def _run_campaign(campaign, text: str, note: str | None, out: Path, quick: bool, as_json: bool, how: dict):
+    """Run the campaign on the store in OUT (held: `store_lock`); its result and report."""
+    from rockcal.campaign.executors import make_executor
+    from rockcal.campaign.plan import stage_runs, stage_times
+    from rockcal.campaign.procedure import Calibration, CalibrationFailed
+    from rockcal.campaign.result import save_result
+    from rockcal.campaign.store import STORE_NAME, RunStore
+
+    with _no_empty_store(out, not (out / STORE_NAME).exists()):
+        store = RunStore(out)
+        try:
+            check_same_kind(store, quick, out)
+            executor = make_executor(store, **how)
+            try:
+                store.save_document("campaign.toml", text)
+                store.save_document(QUICK_LOOK, note or "")
+                if not as_json:
+                    _print_plan(campaign, store, executor, note)
+                times = stage_times(campaign, store, getattr(executor, "workers", 1))
+                with _stage_progress(as_json, stage_runs(campaign), times) as progress:
+                    executor.on_live = progress.live
+                    result = Calibration(campaign, executor, progress).run()
+            except CalibrationFailed as exc:
+                print(f"rockcal: calibration failed: {exc}", file=sys.stderr)
+                raise typer.Exit(1)
+            finally:
+                executor.close()
+            result = result.model_copy(update={"executed_runs": executor.executed, "quick_look": note})
+            save_result(store, result)
+            html = _write_report(result, store, out)
+        finally:
+            store.close()
+    return result, html
+
+
+@contextmanager
+def _no_empty_store(out: Path, new: bool):
+    """A store made within the block and holding no run is removed if the block fails (an
+    unreachable scheduler, a disk full from the start)."""
+    from rockcal.campaign.store import STORE_NAME
+
+    try:
+        yield
+    except BaseException:
+        if new and _holds_no_run(out / STORE_NAME):
+            for suffix in ("", "-wal", "-shm", "-journal"):
+                Path(f"{out / STORE_NAME}{suffix}").unlink(missing_ok=True)
+        raise
+
+
+def _holds_no_run(path: Path) -> bool:
+    """The store at `path` surely holds no run (none, or no runs table yet)."""
+    try:
+        db = sqlite3.connect(f"{path.absolute().as_uri()}?mode=ro", uri=True)
+        try:
+            return db.execute("SELECT COUNT(*) FROM runs").fetchone()[0] == 0
+        finally:
+            db.close()
+    except sqlite3.Error as exc:
+        return "no such table" in str(exc) or not path.exists()
+
+
+def _cluster_options(scheduler: str | None, ca_file, cert, key):
+    """The --scheduler and --tls-* options checked without connecting: the TLSFiles, or None."""
+    if scheduler is None and ca_file is None and cert is None and key is None:
+        return None
+    from rockcal.campaign.dask_executor import parse_scheduler
+    from rockcal.campaign.dask_security import security_of, tls_files
+
+    tls = tls_files(ca_file, cert, key)
+    if scheduler is None:
+        raise InputError("--tls-ca-file", "the --tls-* options are for a tls://HOST:PORT --scheduler")
+    kind, _ = parse_scheduler(scheduler)
+    security_of(kind, tls)
+    return tls
+
+
+def _waiting(holder: str) -> None:
+    print(f"rockcal: waiting: the output folder is in use by another rockcal ({holder})", file=sys.stderr)
+
+
+class out_folder:
+    """OUT made if need be (InputError if it or a folder above it is a file); a folder made
+    here is removed again if the command fails before writing anything into it."""
+
+    def __init__(self, out: Path):
+        self.out = Path(out)
+        self.made = False
+
+    def __enter__(self):
+        if self.out.exists() and not self.out.is_dir():
+            raise InputError("--out", f"{self.out} is a file, not a folder")
+        if not self.out.exists():
+            self.out.mkdir(parents=True)
+            self.made = True
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if exc is not None and self.made:
+            try:
+                self.out.rmdir()  # only if empty
+            except OSError:
+                pass
+        return False
+
+
+PLAIN_NAME = re.compile(r"[^/\\\x00]+")
+
+
 def default_out(rock: str, quick: bool) -> Path:
-    """runs/<rock>, or runs/<rock>-quick for a quick look: never the calibration's folder."""
-    return DEFAULT_OUT / (f"{rock}-quick" if quick else rock)
+    """runs/<rock>, or runs/<rock>-quick for a quick look: never the calibration's folder; only
+    when the rock name is a plain folder name."""
+    name = f"{rock}-quick" if quick else rock
+    if not PLAIN_NAME.fullmatch(name) or name.startswith(".") or len(name.encode()) > 255:
+        raise InputError("rock.name", f"{rock!r} is not a plain folder name, so it cannot name the "
+                                      "output folder runs/<rock name>; give --out")
+    return DEFAULT_OUT / name
 
 
 def check_same_kind(store, quick: bool, out: Path) -> None:
@@ -110,26 +200,31 @@ def check_same_kind(store, quick: bool, out: Path) -> None:
 
 def report(out: Path = typer.Argument(..., help="Output folder of a campaign.")) -> None:
     """Rebuild OUT/report.html and its figures from the campaign's run store."""
+    from rockcal.campaign.io_errors import one_line_errors
     from rockcal.campaign.result import read_result
     from rockcal.campaign.store import RunStore
+    from rockcal.campaign.store_lock import store_lock
 
-    store = RunStore(out, create=False)
-    try:
-        result = read_result(store)
-        if result is None:
-            raise InputError("OUT", f"the campaign in {out} has not finished; run "
-                                    f"`rockcal calibrate --resume --out {out}`")
-        html = _write_report(result, store, out)
-    finally:
-        store.close()
+    with one_line_errors(out, "OUT"):
+        store = RunStore(out, create=False, readonly=True)
+        try:
+            with store_lock(out, field="OUT"):
+                result = read_result(store)
+                if result is None:
+                    raise InputError("OUT", f"the campaign in {out} has not finished; run "
+                                            f"`rockcal calibrate --resume --out {out}`")
+                html = _write_report(result, store, out)
+        finally:
+            store.close()
     Console(stderr=True).print(f"report: {escape(str(html))}")
 
 
 def _write_report(result: CalibrationResult, store, out: Path) -> Path:
+    from rockcal.campaign.atomic import write_atomic
     from rockcal.campaign.report import write_report
     from rockcal.campaign.result import RECORD_NAME
 
-    (out / RECORD_NAME).write_text(result.to_json(indent=1))
+    write_atomic(out / RECORD_NAME, result.to_json(indent=1))
     return write_report(result, store, out)
 
 
@@ -142,6 +237,9 @@ def _print_plan(campaign, store, executor, note: str | None) -> None:
         console.print(f"  {note}", highlight=False, markup=False)
     for line in describe(campaign, store, getattr(executor, "workers", None)):
         console.print("  " + line, highlight=False, markup=False)
+    if getattr(executor, "security_source", ""):
+        console.print(f"  cluster: TLS with the certificates of {executor.security_source}",
+                      highlight=False, markup=False)
 
 
 class _stage_progress:
