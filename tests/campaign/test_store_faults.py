@@ -250,3 +250,32 @@ def test_a_read_only_out_is_one_line(read_only_disk):
         assert "read-only" in stderr
     code, stderr = rockcal("export", out, "--format", "json")  # reading needs no writing
     assert code == 0, stderr
+
+
+def test_a_kill_while_writing_the_record_leaves_the_old_one_whole(finished, out, monkeypatch):
+    """Writing record.json and report.html cut short half way (a kill): the files in OUT are the
+    old ones, whole, and no temporary file is left."""
+    import pathlib
+
+    from rockcal.campaign.result import CalibrationResult
+    from rockcal.cli.calibrate import _write_report
+
+    store = RunStore(out, create=False, readonly=True)
+    result = CalibrationResult.from_json(store.document("record.json"))
+    (out / "record.json").write_text(result.to_json(indent=1))
+    before = {name: (out / name).read_bytes() for name in ("record.json", "report.html")}
+
+    def half_then_die(self, data, *args, **kwargs):
+        with open(self, "wb") as f:
+            f.write((data.encode() if isinstance(data, str) else data)[:len(data) // 2])
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pathlib.Path, "write_text", half_then_die)
+    monkeypatch.setattr(pathlib.Path, "write_bytes", half_then_die)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            _write_report(result, store, out)
+    finally:
+        store.close()
+    assert {name: (out / name).read_bytes() for name in before} == before
+    assert not [p.name for p in out.iterdir() if ".tmp" in p.name]
