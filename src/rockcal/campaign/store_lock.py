@@ -1,11 +1,11 @@
 """One writer per run store: an advisory lock (flock) on OUT/runs.lock, held for a campaign's
 life. The kernel drops it when its process dies, however it dies, so the lock of a dead
 process is simply taken; the file names the holder (pid, host, since) for the one who waits.
+Where there is no flock (Windows), no lock is held: keeping one writer is then the user's care.
 """
 
 from __future__ import annotations
 
-import fcntl
 import json
 import os
 import socket
@@ -15,6 +15,11 @@ from pathlib import Path
 from typing import Callable
 
 from rockcal.errors import InputError
+
+try:
+    import fcntl
+except ImportError:
+    fcntl = None
 
 LOCK_NAME = "runs.lock"
 
@@ -29,7 +34,7 @@ def holder_text(fd: int) -> str:
 
 
 def _open(path: Path) -> int:
-    return os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC, 0o644)
+    return os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0), 0o644)
 
 
 def _is_current(fd: int, path: Path) -> bool:
@@ -57,6 +62,9 @@ def store_lock(folder: Path, wait: bool = False, waiting: Callable[[str], None] 
     """Hold the lock of the store in `folder` (which must exist) within the block. Held
     elsewhere: an InputError naming the holder, or with `wait` block until it is free
     (`waiting(holder)` is told once)."""
+    if fcntl is None:
+        yield
+        return
     path = Path(folder) / LOCK_NAME
     told = False
     while True:

@@ -4,10 +4,7 @@ from __future__ import annotations
 
 import json
 import math
-import re
-import sqlite3
 import sys
-from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Optional
 
@@ -45,6 +42,7 @@ def calibrate(
     """Identify BPM micro-parameters from lab results (SPEC steps 1-8), with a report."""
     from rockcal.campaign.config import load_campaign, quick_look, quick_look_note
     from rockcal.campaign.io_errors import one_line_errors
+    from rockcal.campaign.out_folder import out_folder
     from rockcal.campaign.sizes import check_campaign_sizes
     from rockcal.campaign.store import STORE_NAME
     from rockcal.campaign.store_lock import store_lock
@@ -73,12 +71,13 @@ def calibrate(
 def _run_campaign(campaign, text: str, note: str | None, out: Path, quick: bool, as_json: bool, how: dict):
     """Run the campaign on the store in OUT (held: `store_lock`); its result and report."""
     from rockcal.campaign.executors import make_executor
+    from rockcal.campaign.out_folder import no_empty_store
     from rockcal.campaign.plan import stage_runs, stage_times
     from rockcal.campaign.procedure import Calibration, CalibrationFailed
     from rockcal.campaign.result import save_result
     from rockcal.campaign.store import STORE_NAME, RunStore
 
-    with _no_empty_store(out, not (out / STORE_NAME).exists()):
+    with no_empty_store(out, not (out / STORE_NAME).exists()):
         store = RunStore(out)
         try:
             check_same_kind(store, quick, out)
@@ -105,33 +104,6 @@ def _run_campaign(campaign, text: str, note: str | None, out: Path, quick: bool,
     return result, html
 
 
-@contextmanager
-def _no_empty_store(out: Path, new: bool):
-    """A store made within the block and holding no run is removed if the block fails (an
-    unreachable scheduler, a disk full from the start)."""
-    from rockcal.campaign.store import STORE_NAME
-
-    try:
-        yield
-    except BaseException:
-        if new and _holds_no_run(out / STORE_NAME):
-            for suffix in ("", "-wal", "-shm", "-journal"):
-                Path(f"{out / STORE_NAME}{suffix}").unlink(missing_ok=True)
-        raise
-
-
-def _holds_no_run(path: Path) -> bool:
-    """The store at `path` surely holds no run (none, or no runs table yet)."""
-    try:
-        db = sqlite3.connect(f"{path.absolute().as_uri()}?mode=ro", uri=True)
-        try:
-            return db.execute("SELECT COUNT(*) FROM runs").fetchone()[0] == 0
-        finally:
-            db.close()
-    except sqlite3.Error as exc:
-        return "no such table" in str(exc) or not path.exists()
-
-
 def _cluster_options(scheduler: str | None, ca_file, cert, key):
     """The --scheduler and --tls-* options checked without connecting: the TLSFiles, or None."""
     if scheduler is None and ca_file is None and cert is None and key is None:
@@ -151,39 +123,13 @@ def _waiting(holder: str) -> None:
     print(f"rockcal: waiting: the output folder is in use by another rockcal ({holder})", file=sys.stderr)
 
 
-class out_folder:
-    """OUT made if need be (InputError if it or a folder above it is a file); a folder made
-    here is removed again if the command fails before writing anything into it."""
-
-    def __init__(self, out: Path):
-        self.out = Path(out)
-        self.made = False
-
-    def __enter__(self):
-        if self.out.exists() and not self.out.is_dir():
-            raise InputError("--out", f"{self.out} is a file, not a folder")
-        if not self.out.exists():
-            self.out.mkdir(parents=True)
-            self.made = True
-        return self
-
-    def __exit__(self, kind, exc, tb):
-        if exc is not None and self.made:
-            try:
-                self.out.rmdir()  # only if empty
-            except OSError:
-                pass
-        return False
-
-
-PLAIN_NAME = re.compile(r"[^/\\\x00]+")
-
-
 def default_out(rock: str, quick: bool) -> Path:
     """runs/<rock>, or runs/<rock>-quick for a quick look: never the calibration's folder; only
     when the rock name is a plain folder name."""
+    from rockcal.campaign.out_folder import is_plain_name
+
     name = f"{rock}-quick" if quick else rock
-    if not PLAIN_NAME.fullmatch(name) or name.startswith(".") or len(name.encode()) > 255:
+    if not is_plain_name(name):
         raise InputError("rock.name", f"{rock!r} is not a plain folder name, so it cannot name the "
                                       "output folder runs/<rock name>; give --out")
     return DEFAULT_OUT / name
