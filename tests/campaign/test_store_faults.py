@@ -155,7 +155,7 @@ def test_copying_runs_sqlite_alone_after_a_kill_keeps_the_runs(tmp_path):
     copy = tmp_path / "copy"
     copy.mkdir()
     shutil.copy(killed / STORE_NAME, copy / STORE_NAME)
-    store = RunStore(copy, create=False, readonly=True)
+    store = RunStore(copy, create=False)
     assert store.count() == 3
     store.close()
 
@@ -260,7 +260,7 @@ def test_a_kill_while_writing_the_record_leaves_the_old_one_whole(finished, out,
     from rockcal.campaign.result import CalibrationResult
     from rockcal.cli.calibrate import _write_report
 
-    store = RunStore(out, create=False, readonly=True)
+    store = RunStore(out, create=False)
     result = CalibrationResult.from_json(store.document("record.json"))
     (out / "record.json").write_text(result.to_json(indent=1))
     before = {name: (out / name).read_bytes() for name in ("record.json", "report.html")}
