@@ -1,4 +1,4 @@
-"""The run store: every forward run of a campaign in one SQLite file (WAL), never run twice.
+"""The run store: every forward run of a campaign in one SQLite file, never run twice.
 
 A run is keyed by what determines its result: test kind, specimen, parameters and engine
 version. The driver alone writes (one campaign per store: `store_lock`), one transaction per
@@ -216,6 +216,11 @@ def _check_runs(db, path: Path) -> None:
             from_blob(curve), from_blob(cracks)
 
 
+def _known(version) -> bool:
+    """A store schema this rockcal reads (None: a store from before the meta row)."""
+    return version is None or (str(version[0]).isdigit() and int(version[0]) <= SCHEMA_VERSION)
+
+
 def _uri(path: Path, mode: str) -> str:
     """An SQLite URI of `path` (any characters in it quoted) opened in `mode`."""
     return f"{Path(path).absolute().as_uri()}?mode={mode}"
@@ -245,7 +250,7 @@ def _check_is_store(path: Path) -> None:
             if "runs" in tables:
                 columns = {r[1] for r in db.execute("PRAGMA table_info(runs)")}
                 check = [r[0] for r in db.execute("PRAGMA quick_check")]
-            if check == ["ok"] and set(RUN_COLUMNS) <= columns:
+            if check == ["ok"] and set(RUN_COLUMNS) <= columns and _known(version):
                 _check_runs(db, path)
         finally:
             db.close()
