@@ -34,11 +34,14 @@ def as_flags() -> fields_named:
     return fields_named(lambda field: field if field.startswith("-") else "--" + field.replace("_", "-"))
 
 
+_UNION_TAGS = {"float", "int", "str", "bool"}  # pydantic's names of a union's members in a location
+
+
 def from_validation_error(exc) -> InputError:
     """Turn a pydantic ValidationError into an InputError naming the first bad field; a
     validator's message "key: problem" names a key below the field it validated."""
     err = exc.errors()[0]
-    path = [str(p) for p in err.get("loc", ())]
+    path = [str(p) for p in err.get("loc", ()) if str(p) not in _UNION_TAGS and "[" not in str(p)]
     problem = err.get("msg", str(exc))
     cause = (err.get("ctx") or {}).get("error")
     if isinstance(cause, Exception):  # a validator's own message, without pydantic's prefix

@@ -15,9 +15,12 @@ from typing import Literal
 
 from pydantic import Field, ValidationError, field_validator, model_validator
 
+from rockcal.campaign.raw_values import check_numbers
+from rockcal.campaign.safe_text import unsafe_character
 from rockcal.campaign.targets import LabTargets, Section, Targets, ValidationTests
 from rockcal.labtests.lab_values import read_curve  # noqa: F401  (here too)
 from rockcal.labtests.ucs import UCSValues as UCSTargets  # noqa: F401  (the UCS section, here too)
+from rockcal.campaign.user_files import read_user_text
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
@@ -32,8 +35,16 @@ QUICK_DRAWS = 50  # `--quick`: at most this many target draws for the parameters
 
 
 class Rock(Section):
-    name: str = "rock"
+    name: str = Field("rock", min_length=1, max_length=200)
     density_kg_m3: float = Field(2622.0, gt=0)
+
+    @field_validator("name")
+    @classmethod
+    def _printable(cls, name):
+        bad = unsafe_character(name)
+        if bad is not None:
+            raise ValueError(f"a rock name is one line of text; {name!r} holds {bad}")
+        return name
 
 
 class SpecimenSettings(Genesis):
@@ -43,7 +54,7 @@ class SpecimenSettings(Genesis):
 
     rmin_mm: float = Field(0.25, gt=0, description="smallest grain radius, mm")
     radius_ratio: float = Field(1.65, ge=1, le=10, description="largest / smallest grain radius")
-    seed: int = Field(1, description="packing seed")
+    seed: int = Field(1, ge=0, description="packing seed")
     width_mm: float = Field(50.0, gt=0, description="UCS specimen width, mm")
     height_mm: float = Field(100.0, gt=0, description="UCS specimen height, mm")
     beam_length_mm: float = Field(220.0, gt=0, description="notched beam length, mm")
@@ -113,7 +124,7 @@ class Surrogate(Section):
     samples: int = Field(30, ge=4)
     checks: int = Field(3, ge=1)
     tolerance: float = Field(0.05, gt=0)  # the surrogate is trusted within this relative error
-    seed: int = 1
+    seed: int = Field(1, ge=0)
 
 
 class Optimizer(Section):
@@ -123,7 +134,7 @@ class Optimizer(Section):
     alpha: float = Field(1.0, ge=0)
     beta: float = Field(5.0, ge=0)
     rho: float = Field(0.5, gt=0, le=1)
-    seed: int = 1
+    seed: int = Field(1, ge=0)
 
 
 class Acceptance(Section):
@@ -140,7 +151,7 @@ class Uncertainty(Section):
     enabled: bool | None = None  # None: on when a calibration target gives a spread
     draws: int = Field(200, ge=10)
     packings: int = Field(3, ge=1)  # UCS packings at the identified point for the model scatter
-    seed: int = 1
+    seed: int = Field(1, ge=0)
 
 
 class MaterialChoice(Section):
@@ -252,10 +263,7 @@ def load_campaign(path: Path | None) -> tuple[Campaign, str]:
     if path is None:
         text, base = default_text(), Path.cwd()
     else:
-        try:
-            text = Path(path).read_text()
-        except OSError as exc:
-            raise InputError("CONFIG", f"cannot read {path}: {exc.strerror}") from None
+        text = read_user_text(Path(path), "CONFIG")
         base = Path(path).resolve().parent
     return parse_campaign(text, base), text
 
@@ -267,6 +275,7 @@ def parse_campaign(text: str, base: Path) -> Campaign:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError("CONFIG", f"not valid TOML: {exc}") from None
+    check_numbers(data)
     try:
         campaign = Campaign.model_validate(data)
     except ValidationError as exc:

@@ -5,6 +5,11 @@ a specimen once, through forward's specimen cache, and a worker without the driv
 cache regenerates it from its settings (packing is deterministic by seed). The driver alone
 writes the store, each run as soon as it finishes. A worker killed mid-run makes the scheduler
 run its tasks elsewhere; a task that still errors is a failed run, never an exception.
+
+Tasks and results are pickles: whoever reaches a scheduler can run code on its workers. A
+tls:// scheduler is reached with mutual TLS (`distributed.Security`), its certificates from
+--tls-ca-file/--tls-cert/--tls-key or from the Dask config (distributed.comm.tls); tcp:// is
+for a network no one else is on.
 """
 
 from __future__ import annotations
@@ -17,6 +22,7 @@ import time
 from concurrent.futures import CancelledError
 from typing import Callable, Iterable
 
+from rockcal.campaign.dask_security import CLEAR_TEXT, TLSFiles, security_of
 from rockcal.campaign.forward import ENGINE, Batch, execute
 from rockcal.campaign.store import RunResult, RunSpec, RunStore
 from rockcal.errors import InputError
@@ -25,12 +31,11 @@ log = logging.getLogger(__name__)
 
 OPTION = "--scheduler"
 CONNECT_TIMEOUT_S = 10.0
-FORMS = "tcp://HOST:PORT or local:N (N >= 1)"
-
-
+FORMS = "tls://HOST:PORT, tcp://HOST:PORT or local:N (N >= 1)"
 def parse_scheduler(scheduler: str) -> tuple[str, int | str]:
-    """("local", N) or ("tcp", "tcp://HOST:PORT"); InputError naming --scheduler for anything
-    else, or when Dask is not installed. Connects to nothing (the CLI checks before any store)."""
+    """("local", N), ("tls", "tls://HOST:PORT") or ("tcp", "tcp://HOST:PORT"); InputError naming
+    --scheduler for anything else, or when Dask is not installed. Connects to nothing (the CLI
+    checks before any store)."""
     if importlib.util.find_spec("distributed") is None:
         raise InputError(OPTION, "Dask is not installed; pip install 'rockcal[dask]'")
     text = scheduler.strip()
@@ -40,9 +45,9 @@ def parse_scheduler(scheduler: str) -> tuple[str, int | str]:
         if n < 1:
             raise InputError(OPTION, f"local:N needs N >= 1 workers, got {text!r}")
         return "local", n
-    tcp = re.fullmatch(r"tcp://([\w.-]+|\[[0-9A-Fa-f:.]+\]):(\d+)", text)
-    if tcp and 1 <= int(tcp.group(2)) <= 65535:
-        return "tcp", text
+    remote = re.fullmatch(r"(tcp|tls)://([\w.-]+|\[[0-9A-Fa-f:.]+\]):(\d+)", text)
+    if remote and 1 <= int(remote.group(3)) <= 65535:
+        return remote.group(1), text
     raise InputError(OPTION, f"expected {FORMS}, got {scheduler!r}")
 
 
@@ -63,19 +68,24 @@ def worker_engine() -> str:
 class DaskExecutor:
     """Runs specs through the store on a Dask cluster: tcp://HOST:PORT, or local:N processes."""
 
-    def __init__(self, store: RunStore, scheduler: str, time_limit_s: float | None = None):
+    def __init__(self, store: RunStore, scheduler: str, time_limit_s: float | None = None,
+                 tls: TLSFiles | None = None):
         self.store = store
         self.time_limit_s = time_limit_s
         self.executed = 0  # runs done by this executor (not found in the store)
+        self.tried: set[str] = set()  # keys run by this executor: a failure among them is not rerun
         self.cluster = None
         kind, where = parse_scheduler(scheduler)
         from distributed import Client, LocalCluster
 
+        security, self.security_source = security_of(kind, tls)  # where the certificates come from
         if kind == "local":
             self.cluster = _local_cluster(LocalCluster, where)
             self.client = Client(self.cluster)
         else:
-            self.client = _connect(Client, where)
+            if kind == "tcp":
+                log.warning(CLEAR_TEXT, where)
+            self.client = _connect(Client, where, security)
 
     def close(self) -> None:
         self.client.close()
@@ -87,7 +97,7 @@ class DaskExecutor:
         """Results in the order of `specs`; each new one is stored as soon as it is done."""
         from distributed import as_completed
 
-        batch = Batch(self.store, specs, progress)
+        batch = Batch(self.store, specs, progress, self.tried)
         submitted = time.perf_counter()
         futures = {self.client.submit(run_on_worker, spec, self.time_limit_s,
                                       key=f"rockcal-run-{spec.key}"): spec for spec in batch.todo}
@@ -124,7 +134,7 @@ def _one_line(exc: BaseException) -> str:
 
 def _local_cluster(LocalCluster, n: int):
     """N one-thread worker processes on loopback, no dashboard; workers see ROCKCAL_CACHE."""
-    env = {"ROCKCAL_CACHE": os.environ["ROCKCAL_CACHE"]} if "ROCKCAL_CACHE" in os.environ else {}
+    env = {name: os.environ[name] for name in ("ROCKCAL_CACHE", "ROCKCAL_MAX_GRAINS") if name in os.environ}
     if n > (os.cpu_count() or 1):
         log.warning("local:%d starts more worker processes than this machine's %d cores", n,
                     os.cpu_count() or 1)
@@ -135,13 +145,15 @@ def _local_cluster(LocalCluster, n: int):
         raise InputError(OPTION, f"cannot start local:{n}: {_one_line(exc)}") from None
 
 
-def _connect(Client, address: str):
-    """A client of the scheduler at `address` whose workers run this engine."""
+def _connect(Client, address: str, security=None):
+    """A client of the scheduler at `address` (with `security` for tls://) whose workers run
+    this engine."""
     try:
-        client = Client(address, timeout=CONNECT_TIMEOUT_S)
-    except (OSError, TimeoutError):
+        client = Client(address, timeout=CONNECT_TIMEOUT_S, security=security)
+    except (OSError, TimeoutError) as exc:
+        why = f" ({_one_line(exc)})" if security is not None and str(exc) else ""
         raise InputError(OPTION, f"cannot reach the Dask scheduler at {address} "
-                                 f"within {CONNECT_TIMEOUT_S:g} s") from None
+                                 f"within {CONNECT_TIMEOUT_S:g} s{why}") from None
     try:
         engines = client.run(worker_engine)
     except Exception as exc:

@@ -7,10 +7,11 @@ from rockcal.campaign.store import RunStore
 
 
 def make_executor(store: RunStore, *, workers: int = 0, scheduler: str | None = None,
-                  time_limit_s: float | None = None):
-    """The executor of a campaign: a local process pool, or a Dask cluster with `scheduler`."""
+                  time_limit_s: float | None = None, tls=None):
+    """The executor of a campaign: a local process pool, or a Dask cluster with `scheduler`
+    (reached with the `TLSFiles` `tls`, for tls://)."""
     if scheduler is None:
         return Executor(store, workers, time_limit_s)
     from rockcal.campaign.dask_executor import DaskExecutor
 
-    return DaskExecutor(store, scheduler, time_limit_s)
+    return DaskExecutor(store, scheduler, time_limit_s, tls)

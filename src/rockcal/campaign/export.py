@@ -11,9 +11,11 @@ from pathlib import Path
 
 import numpy as np
 
+from rockcal.campaign.atomic import atomic_path
 from rockcal.campaign.config import SpecimenSettings
 from rockcal.campaign.forward import ENGINE
 from rockcal.campaign.result import read_result
+from rockcal.campaign.safe_text import comment_text
 from rockcal.errors import InputError
 from rockcal.materials import DEFAULT_MATERIAL, material
 from rockcal.params import GPa, MicroParams, make_params
@@ -61,6 +63,12 @@ UNITS = {"cm_densityVal": "kg/m3", "cm_Dlo": "m", "cm_Dup": "m", "pk_Pm": "Pa", 
 
 
 def header_lines(calibrated: Calibrated) -> list[str]:
+    """The export's header, one comment line each, in printable ASCII (`comment_text`): no
+    user text can leave its comment."""
+    return [comment_text(line) for line in _header(calibrated)]
+
+
+def _header(calibrated: Calibrated) -> list[str]:
     o = calibrated.origin
     verdict = "accepted" if o["accepted"] else "NOT accepted (closest verified point)"
     lines = [f"rockcal calibration of {o['rock']}: {verdict}, {o['dem_runs']} DEM runs",
@@ -122,7 +130,8 @@ def to_python(calibrated: Calibrated) -> str:
     """A PFC Python script that sets the FISH parameters (itasca.fish.set); outside PFC it only
     defines them."""
     values = pfc_parameters(calibrated.params, calibrated.specimen)
-    out = [f"# {line}" for line in header_lines(calibrated)]
+    # a fixed first line: the coding declaration no later comment can set
+    out = ["# -*- coding: utf-8 -*-"] + [f"# {line}" for line in header_lines(calibrated)]
     out.append("PARAMETERS = {")
     for name, value in values.items():
         unit = f"  # {UNITS[name]}" if name in UNITS else ""
@@ -161,12 +170,12 @@ def write_specimen(specimen, params: MicroParams, folder: Path) -> tuple[Path, P
     ten, coh = bond_strengths(params, specimen.bond_draws, len(bonds))
     folder.mkdir(parents=True, exist_ok=True)
     balls_path, bonds_path = folder / "balls.csv", folder / "bonds.csv"
-    with open(balls_path, "w", newline="") as f:
+    with atomic_path(balls_path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["id", "x_m", "y_m", "radius_m"])
         for i, ((x, y), r) in enumerate(zip(specimen.pos, specimen.radius), start=1):
             w.writerow([i, repr(float(x)), repr(float(y)), repr(float(r))])
-    with open(bonds_path, "w", newline="") as f:
+    with atomic_path(bonds_path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["ball1", "ball2", "tensile_strength_Pa", "cohesion_Pa"])
         for (i, j), t, c in zip(bonds, ten, coh):

@@ -175,10 +175,13 @@ FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
 
 
 def draw(name: str, figure: Figure, result: CalibrationResult, store: RunStore, path: Path) -> str | None:
-    """Draw one figure; an error is logged and becomes the figure's note."""
+    """Draw one figure; an error is logged and becomes the figure's note, except a file's
+    (a full or read-only disk), which fails the report as a whole."""
     try:
         note = figure(result, store, path)
     except Exception as exc:  # a figure that cannot be drawn must not lose the report
+        if isinstance(exc, OSError) and exc.errno is not None:
+            raise
         logger.warning("report figure %s not drawn", name, exc_info=True)
         note = f"This figure could not be drawn ({type(exc).__name__}: {exc})."
     if note is not None:

@@ -163,15 +163,19 @@ class _Shown:
         self.executor._reading(item)
 
 
-def split_stored(store: RunStore, specs: list[RunSpec]) -> tuple[dict[str, RunResult], list[RunSpec]]:
-    """The results already in the store (by key) and the distinct specs still to run, whose
-    specimens are made here, once, into the disk cache that workers read."""
+def split_stored(store: RunStore, specs: list[RunSpec],
+                 tried: set[str] | frozenset = frozenset()) -> tuple[dict[str, RunResult], list[RunSpec]]:
+    """The results already in the store (by key) and the distinct specs still to run (a stored
+    failure runs again: `retries`), whose specimens are made here, once, into the disk cache
+    that workers read."""
+    from rockcal.campaign.retries import stored_result
+
     results: dict[str, RunResult] = {}
     todo: dict[str, RunSpec] = {}
     for spec in specs:
         if spec.key in results or spec.key in todo:
             continue
-        found = store.get(spec)
+        found = stored_result(store, spec, tried)
         if found is not None:
             results[spec.key] = found
         else:
@@ -191,6 +195,7 @@ class Executor:
         self._pool = None
         self._queue = None
         self.executed = 0  # runs done by this executor (not found in the store)
+        self.tried: set[str] = set()  # keys run by this executor: a failure among them is not rerun
         self.on_live: Callable[[str], None] | None = None  # shows `live_text` of running tests
         self._readings: dict[str, tuple] = {}
 
@@ -232,7 +237,7 @@ class Executor:
             progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
         """Results in the order of `specs`; each new one is stored as soon as it is done."""
         global _live
-        batch = Batch(self.store, specs, progress)
+        batch = Batch(self.store, specs, progress, self.tried)
         try:
             if self.workers == 1 or len(batch.todo) <= 1:
                 _live = _Shown(self)
@@ -278,9 +283,10 @@ class Batch:
     do, and the progress over both; each run done is stored as it finishes."""
 
     def __init__(self, store: RunStore, specs: Iterable[RunSpec],
-                 progress: Callable[[int, int], None] | None):
+                 progress: Callable[[int, int], None] | None, tried: set[str] | None = None):
         self.store, self.specs, self.progress = store, list(specs), progress
-        self.results, self.todo = split_stored(store, self.specs)
+        self.tried = set() if tried is None else tried  # keys run by the executor so far
+        self.results, self.todo = split_stored(store, self.specs, self.tried)
         self.total = len(self.results) + len(self.todo)
         self.executed = 0  # runs of this batch stored as done
         self._report()
@@ -289,6 +295,7 @@ class Batch:
         """Record a run's result; `store=False` keeps it out of the store (it runs again later)."""
         if store:
             self.store.put(spec, result)
+            self.tried.add(spec.key)
             self.executed += 1
         self.results[spec.key] = result
         self._report()

@@ -20,6 +20,7 @@ import numpy as np
 
 from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.engine_speed import probe_ms_per_step
+from rockcal.campaign.retries import holds, retry_line
 from rockcal.campaign.procedure import (STEPS, packing_seeds, sample_runs, search_space, sensitivity_runs,
                                         start, validation_seeds)
 from rockcal.dem.specimen import packing_name, stored_packing
@@ -112,7 +113,7 @@ def stored_runs(campaign: Campaign, store) -> dict[str, int]:
         specs += sample_runs(replace(state, bounds=bounds, fixed=fixed)).specs
     stored: dict[str, int] = {test: 0 for test in campaign.target_sections()}
     for spec in specs:
-        stored[spec.kind] += store.get(spec) is not None
+        stored[spec.kind] += holds(store, spec)
     return stored
 
 
@@ -209,8 +210,11 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
         + f" (then more verifications if needed, at most {campaign.acceptance.max_dem_runs} UCS runs)"
         + (f"; each parameter set runs {' and '.join(titles)}" if len(titles) > 1 else ""),
         f"runs of this campaign already in the store: {sum(stored_runs(campaign, store).values())} "
-        "(a run in the store is never run again)",
+        "(a run done is never run again)",
     ]
+    retry = retry_line(store)
+    if retry:
+        lines.append(retry)
     if workers:
         times, measured = run_times(campaign, store, sizes)
         basis = ("the mean of this store's UCS runs" if measured else

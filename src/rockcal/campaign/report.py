@@ -12,6 +12,7 @@ import base64
 import html
 from pathlib import Path
 
+from rockcal.campaign.atomic import atomic_path, write_atomic
 from rockcal.campaign.config import SpecimenSettings
 from rockcal.campaign.figures import FIGURES, draw
 from rockcal.campaign.result import CalibrationResult, SurrogateCheck
@@ -221,7 +222,7 @@ def write_report(result: CalibrationResult, store: RunStore, out: Path) -> Path:
     """Write the figures and OUT/report.html of a calibration; returns the HTML path."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    figures = "\n".join(_figure(title, caption, out / name, draw(name, figure, result, store, out / name))
+    figures = "\n".join(_figure(title, caption, out / name, _drawn(name, figure, result, store, out))
                       for title, name, caption, figure in FIGURES)
     rock = html.escape(result.rock)
     page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>rockcal calibration — {rock}"
@@ -231,6 +232,13 @@ def write_report(result: CalibrationResult, store: RunStore, out: Path) -> Path:
             f"\n<h3>Validation: notched-beam bending</h3>{_validation(result)}\n{_checks(result)}"
             f"\n{_failed(result)}"
             f"\n{figures}\n</body></html>\n")
-    path = out / REPORT_NAME
-    path.write_text(page, encoding="utf-8")
-    return path
+    return write_atomic(out / REPORT_NAME, page)
+
+
+def _drawn(name: str, figure, result: CalibrationResult, store: RunStore, out: Path) -> str | None:
+    """Draw a figure into OUT/name whole (`atomic_path`): its note, or None when drawn."""
+    with atomic_path(out / name) as tmp:
+        note = draw(name, figure, result, store, tmp)  # a figure left out removes its file
+    if note is not None:
+        (out / name).unlink(missing_ok=True)
+    return note

@@ -1,14 +1,26 @@
 """Entry point of the `rockcal` command; every user mistake ends as one line on stderr and exit 2."""
 
+import os
 import sys
+from typing import Optional
 
 import typer
 
+from rockcal.dem.grain_limit import DEFAULT_MAX_GRAINS, ENV, FLAG
 from rockcal.errors import InputError
 
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="Calibrate bonded-particle DEM micro-parameters of rock from lab tests.")
+
+
+@app.callback()
+def _options(max_grains: Optional[int] = typer.Option(
+        None, FLAG, min=1, help=f"Make specimens of up to this many grains (default {DEFAULT_MAX_GRAINS:,}, "
+                                f"or ${ENV}); a larger one is refused before its genesis.")) -> None:
+    """Calibrate bonded-particle DEM micro-parameters of rock from lab tests."""
+    if max_grains is not None:
+        os.environ[ENV] = str(max_grains)  # seen by the pool's and a local cluster's workers too
 
 
 def _register() -> None:

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import json
+import math
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Optional
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 from rich.table import Table
 
@@ -25,77 +27,112 @@ def calibrate(
     config: Optional[Path] = typer.Argument(None, help="Campaign file (TOML); none: the embedded granite."),
     out: Optional[Path] = typer.Option(None, help="Output folder (run store, report); default runs/<rock name>, runs/<rock name>-quick with --quick."),
     workers: int = typer.Option(0, help="Parallel forward runs on this machine (0: one per core)."),
-    scheduler: Optional[str] = typer.Option(None, help="Dask scheduler: tcp://HOST:PORT, or local:N for N local workers."),
+    scheduler: Optional[str] = typer.Option(None, help="Dask scheduler: tls://HOST:PORT (with certificates), tcp://HOST:PORT, or local:N for N local workers."),
     time_limit_s: Optional[float] = typer.Option(None, help="Wall-time limit of one forward run, s; a run past it is recorded as timed out."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     resume: bool = typer.Option(False, "--resume", help="Go on with the campaign already in --out."),
     quick: bool = typer.Option(False, "--quick", help="A first look in minutes: the campaign at half "
                                "resolution (R_min doubled) with one validation beam and 50 draws for the "
                                "intervals; not the calibration."),
+    wait: bool = typer.Option(False, "--wait", help="If another rockcal is using --out, wait for it to end."),
+    tls_ca_file: Optional[Path] = typer.Option(None, help="tls:// scheduler: the cluster's CA certificate (PEM)."),
+    tls_cert: Optional[Path] = typer.Option(None, help="tls:// scheduler: this client's certificate (PEM)."),
+    tls_key: Optional[Path] = typer.Option(None, help="tls:// scheduler: this client's key (PEM; default: in --tls-cert)."),
 ) -> None:
     """Identify BPM micro-parameters from lab results (SPEC steps 1-8), with a report."""
     from rockcal.campaign.config import load_campaign, quick_look, quick_look_note
-    from rockcal.campaign.executors import make_executor
-    from rockcal.campaign.plan import stage_runs, stage_times
-    from rockcal.campaign.procedure import CalibrationFailed, calibrate as run_campaign
-    from rockcal.campaign.result import save_result
-    from rockcal.campaign.store import STORE_NAME, RunStore
+    from rockcal.campaign.io_errors import one_line_errors
+    from rockcal.campaign.out_folder import out_folder
+    from rockcal.campaign.sizes import check_campaign_sizes
+    from rockcal.campaign.store import STORE_NAME
+    from rockcal.campaign.store_lock import store_lock
 
     campaign, text = load_campaign(config)
     note = None
     if quick:
         campaign = quick_look(campaign)
         note = quick_look_note(campaign)
+    check_campaign_sizes(campaign)
     out = out if out is not None else default_out(campaign.rock.name, quick)
     if workers < 0:
         raise InputError("--workers", f"must be >= 0, got {workers}")
-    if time_limit_s is not None and not time_limit_s > 0:
-        raise InputError("--time-limit-s", f"must be > 0, got {time_limit_s}")
-    if (out / STORE_NAME).exists() and not resume:
-        raise InputError("--out", f"{out} already holds a campaign's runs; add --resume to go on "
-                                  "with it, or choose another folder")
-    if out.exists() and not out.is_dir():
-        raise InputError("--out", f"{out} is a file, not a folder")
-    if scheduler is not None:  # a malformed --scheduler fails before OUT gets a store
-        from rockcal.campaign.dask_executor import parse_scheduler
-
-        parse_scheduler(scheduler)
-    new_store = not (out / STORE_NAME).exists()
-    store = RunStore(out)
-    try:
-        check_same_kind(store, quick, out)
-        try:
-            executor = make_executor(store, workers=workers, scheduler=scheduler, time_limit_s=time_limit_s)
-        except InputError:  # e.g. an unreachable scheduler: leave no empty store behind
-            if new_store:
-                store.close()
-                store.delete()
-            raise
-        try:
-            store.save_document("campaign.toml", text)
-            store.save_document(QUICK_LOOK, note or "")
-            if not as_json:
-                _print_plan(campaign, store, executor, note)
-            times = stage_times(campaign, store, getattr(executor, "workers", 1))
-            with _stage_progress(as_json, stage_runs(campaign), times) as progress:
-                executor.on_live = progress.live
-                result = run_campaign(campaign, executor, progress)
-        except CalibrationFailed as exc:
-            print(f"rockcal: calibration failed: {exc}", file=sys.stderr)
-            raise typer.Exit(1)
-        finally:
-            executor.close()
-        result = result.model_copy(update={"executed_runs": executor.executed, "quick_look": note})
-        save_result(store, result)
-        html = _write_report(result, store, out)
-    finally:
-        store.close()
+    if time_limit_s is not None and not (math.isfinite(time_limit_s) and time_limit_s > 0):
+        raise InputError("--time-limit-s", f"must be a finite number > 0, got {time_limit_s}")
+    tls = _cluster_options(scheduler, tls_ca_file, tls_cert, tls_key)  # before OUT gets a store
+    with one_line_errors(out), out_folder(out), store_lock(out, wait, _waiting):
+        if (out / STORE_NAME).exists() and not resume:
+            raise InputError("--out", f"{out} already holds a campaign's runs; add --resume to go on "
+                                      "with it, or choose another folder")
+        result, html = _run_campaign(campaign, text, note, out, quick, as_json,
+                                     dict(workers=workers, scheduler=scheduler, time_limit_s=time_limit_s, tls=tls))
     _print_summary(result, html, as_json)
 
 
+def _run_campaign(campaign, text: str, note: str | None, out: Path, quick: bool, as_json: bool, how: dict):
+    """Run the campaign on the store in OUT (held: `store_lock`); its result and report."""
+    from rockcal.campaign.executors import make_executor
+    from rockcal.campaign.out_folder import no_empty_store
+    from rockcal.campaign.plan import stage_runs, stage_times
+    from rockcal.campaign.procedure import CalibrationFailed, calibrate as run_campaign
+    from rockcal.campaign.result import save_result
+    from rockcal.campaign.store import STORE_NAME, RunStore
+
+    with no_empty_store(out, not (out / STORE_NAME).exists()):
+        store = RunStore(out)
+        try:
+            check_same_kind(store, quick, out)
+            executor = make_executor(store, **how)
+            try:
+                store.save_document("campaign.toml", text)
+                store.save_document(QUICK_LOOK, note or "")
+                if not as_json:
+                    _print_plan(campaign, store, executor, note)
+                times = stage_times(campaign, store, getattr(executor, "workers", 1))
+                with _stage_progress(as_json, stage_runs(campaign), times) as progress:
+                    executor.on_live = progress.live
+                    result = run_campaign(campaign, executor, progress)
+            except CalibrationFailed as exc:
+                print(f"rockcal: calibration failed: {exc}", file=sys.stderr)
+                raise typer.Exit(1)
+            finally:
+                executor.close()
+            result = result.model_copy(update={"executed_runs": executor.executed, "quick_look": note})
+            save_result(store, result)
+            html = _write_report(result, store, out)
+        finally:
+            store.close()
+    return result, html
+
+
+def _cluster_options(scheduler: str | None, ca_file, cert, key):
+    """The --scheduler and --tls-* options checked without connecting: the TLSFiles, or None."""
+    if scheduler is None and ca_file is None and cert is None and key is None:
+        return None
+    from rockcal.campaign.dask_executor import parse_scheduler
+    from rockcal.campaign.dask_security import security_of, tls_files
+
+    tls = tls_files(ca_file, cert, key)
+    if scheduler is None:
+        raise InputError("--tls-ca-file", "the --tls-* options are for a tls://HOST:PORT --scheduler")
+    kind, _ = parse_scheduler(scheduler)
+    security_of(kind, tls)
+    return tls
+
+
+def _waiting(holder: str) -> None:
+    print(f"rockcal: waiting: the output folder is in use by another rockcal ({holder})", file=sys.stderr)
+
+
 def default_out(rock: str, quick: bool) -> Path:
-    """runs/<rock>, or runs/<rock>-quick for a quick look: never the calibration's folder."""
-    return DEFAULT_OUT / (f"{rock}-quick" if quick else rock)
+    """runs/<rock>, or runs/<rock>-quick for a quick look: never the calibration's folder; only
+    when the rock name is a plain folder name."""
+    from rockcal.campaign.out_folder import is_plain_name
+
+    name = f"{rock}-quick" if quick else rock
+    if not is_plain_name(name):
+        raise InputError("rock.name", f"{rock!r} is not a plain folder name, so it cannot name the "
+                                      "output folder runs/<rock name>; give --out")
+    return DEFAULT_OUT / name
 
 
 def check_same_kind(store, quick: bool, out: Path) -> None:
@@ -109,26 +146,31 @@ def check_same_kind(store, quick: bool, out: Path) -> None:
 
 def report(out: Path = typer.Argument(..., help="Output folder of a campaign.")) -> None:
     """Rebuild OUT/report.html and its figures from the campaign's run store."""
+    from rockcal.campaign.io_errors import one_line_errors
     from rockcal.campaign.result import read_result
     from rockcal.campaign.store import RunStore
+    from rockcal.campaign.store_lock import store_lock
 
-    store = RunStore(out, create=False)
-    try:
-        result = read_result(store)
-        if result is None:
-            raise InputError("OUT", f"the campaign in {out} has not finished; run "
-                                    f"`rockcal calibrate --resume --out {out}`")
-        html = _write_report(result, store, out)
-    finally:
-        store.close()
-    Console(stderr=True).print(f"report: {html}")
+    with one_line_errors(out, "OUT"):
+        store = RunStore(out, create=False, readonly=True)
+        try:
+            with store_lock(out, field="OUT"):
+                result = read_result(store)
+                if result is None:
+                    raise InputError("OUT", f"the campaign in {out} has not finished; run "
+                                            f"`rockcal calibrate --resume --out {out}`")
+                html = _write_report(result, store, out)
+        finally:
+            store.close()
+    Console(stderr=True).print(f"report: {escape(str(html))}")
 
 
 def _write_report(result: CalibrationResult, store, out: Path) -> Path:
+    from rockcal.campaign.atomic import write_atomic
     from rockcal.campaign.report import write_report
     from rockcal.campaign.result import RECORD_NAME
 
-    (out / RECORD_NAME).write_text(result.to_json(indent=1))
+    write_atomic(out / RECORD_NAME, result.to_json(indent=1))
     return write_report(result, store, out)
 
 
@@ -136,11 +178,14 @@ def _print_plan(campaign, store, executor, note: str | None) -> None:
     from rockcal.campaign.plan import describe
 
     console = Console(stderr=True)
-    console.print(f"[bold]Calibrating {campaign.rock.name}[/]" + (" [yellow](quick look)[/]" if note else ""))
+    console.print(f"[bold]Calibrating {escape(campaign.rock.name)}[/]" + (" [yellow](quick look)[/]" if note else ""))
     if note:
-        console.print(f"  {note}", highlight=False)
+        console.print(f"  {note}", highlight=False, markup=False)
     for line in describe(campaign, store, getattr(executor, "workers", None)):
-        console.print("  " + line, highlight=False)
+        console.print("  " + line, highlight=False, markup=False)
+    if getattr(executor, "security_source", ""):
+        console.print(f"  cluster: TLS with the certificates of {executor.security_source}",
+                      highlight=False, markup=False)
 
 
 class _stage_progress:
@@ -229,7 +274,7 @@ def summary(result: CalibrationResult) -> dict:
 
 
 def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None:
-    from rockcal.labtests.registry import lab_test
+    from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 
     s = summary(result)
     if as_json:
@@ -238,7 +283,7 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None
     console = Console()
     verdict = "accepted" if s["accepted"] else "NOT accepted (closest shown)"
     kind = "Quick look at" if s["quick_look"] else "Calibration of"
-    table = Table(title=f"{kind} {s['rock']}: {verdict}, {s['dem_runs']} DEM runs")
+    table = Table(title=f"{kind} {escape(s['rock'])}: {verdict}, {s['dem_runs']} DEM runs")
     for column in ("", "value", "target", "error"):
         table.add_column(column)
     intervals = s["intervals"] or {}
@@ -250,7 +295,7 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None
     for test, names in s["target_tests"].items():
         for name in names:
             value, error = (s["verified"] or {}).get(name), (s["relative_errors"] or {}).get(name)
-            label = name if test == "ucs" else f"{name} ({lab_test(test).title})"
+            label = name if test == PRIMARY_TEST else f"{name} ({lab_test(test).title})"
             table.add_row(label, "–" if value is None else f"{value:.4g}", f"{s['targets'][name]:.4g}",
                           "–" if error is None else f"{100 * error:+.1f} %")
     if s["K_IC_MPa_sqrt_m"] is not None:
@@ -267,7 +312,7 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None
                           "–" if error is None else f"{100 * error:+.1f} %")
     console.print(table)
     if s["quick_look"]:
-        console.print(f"[yellow]{s['quick_look']}[/]")
+        console.print(f"[yellow]{escape(s['quick_look'])}[/]")
     if s["warning"]:
-        console.print(f"[yellow]warning:[/] {s['warning']}")
-    console.print(f"objective: {s['objective']}\nreport: {html}")
+        console.print(f"[yellow]warning:[/] {escape(s['warning'])}")
+    console.print(f"objective: {escape(s['objective'])}\nreport: {escape(str(html))}")

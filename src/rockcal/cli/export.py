@@ -8,6 +8,7 @@ from typing import Optional
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 
 from rockcal.errors import InputError
 
@@ -32,7 +33,7 @@ def export(
         typer.echo(text, nl=False)
         return
     _write(to, text)
-    Console(stderr=True).print(f"wrote {to}")
+    Console(stderr=True).print(f"wrote {escape(str(to))}")
 
 
 def export_specimen(
@@ -48,29 +49,34 @@ def export_specimen(
     calibrated = _calibration(out)
     if to.exists() and not to.is_dir():
         raise InputError("--to", f"{to} is a file, not a folder")
+    from rockcal.campaign.io_errors import one_line_errors
+
     spec = run_spec(PRIMARY_TEST, calibrated.specimen, calibrated.params.key())
     specimen = specimen_of(PRIMARY_TEST, spec.specimen)
-    try:
+    with one_line_errors(to, "--to"):
         paths = write_specimen(specimen, calibrated.params, to)
-    except OSError as exc:
-        raise InputError("--to", f"cannot write to {to}: {exc.strerror}") from None
-    Console(stderr=True).print(f"wrote {paths[0]} ({specimen.n_particles} balls) and {paths[1]} "
+    Console(stderr=True).print(f"wrote {escape(str(paths[0]))} ({specimen.n_particles} balls) and {escape(str(paths[1]))} "
                                f"({len(specimen.bonds)} bonds)")
 
 
 def _calibration(out: Path):
     from rockcal.campaign.export import read_calibration
+    from rockcal.campaign.io_errors import one_line_errors
     from rockcal.campaign.store import RunStore
 
-    store = RunStore(out, create=False)
-    try:
-        return read_calibration(store, out)
-    finally:
-        store.close()
+    with one_line_errors(out, "OUT"):
+        store = RunStore(out, create=False, readonly=True)
+        try:
+            return read_calibration(store, out)
+        finally:
+            store.close()
 
 
 def _write(path: Path, text: str) -> None:
+    """Write the export whole or not at all (a link at `path` is replaced, not followed)."""
+    from rockcal.campaign.atomic import write_atomic
+
     try:
-        path.write_text(text)
+        write_atomic(path, text)
     except OSError as exc:
         raise InputError("--to", f"cannot write {path}: {exc.strerror}") from None

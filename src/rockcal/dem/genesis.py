@@ -28,7 +28,7 @@ class Genesis(BaseModel):
     """Genesis settings of a random specimen (see the module docstring for their PFC names).
     The defaults reproduce the source study's PFC2D results (docs/benchmarks.md)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     install_gap: float = Field(0.6, ge=0, le=10, description="bond installation gap / R_min")
     cloud_porosity: float = Field(0.09, gt=0, lt=1, description="porosity of the grain cloud")

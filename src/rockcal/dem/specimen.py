@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from rockcal.dem.genesis import Genesis, floaters, install_bonds
+from rockcal.dem.grain_limit import check_grains, expected_grains
 from rockcal.dem.neighbours import spatial_order
 from rockcal.errors import InputError
 
@@ -85,6 +86,8 @@ def check_geometry(width_mm: float, height_mm: float, rmin_mm: float, radius_rat
 def hexagonal(width_mm: float, height_mm: float, radius_mm: float) -> Specimen:
     """Equal disks on a triangular lattice, rows along x, every touching pair bonded."""
     check_geometry(width_mm, height_mm, radius_mm, 1.0)
+    check_grains("specimen", f"a hexagonal {width_mm:g} x {height_mm:g} mm specimen of R {radius_mm:g} mm",
+                 width_mm * height_mm / (2 * np.sqrt(3) * radius_mm**2))
     r = radius_mm * 1e-3
     width, height = width_mm * 1e-3, height_mm * 1e-3
     rows = int((height - 2 * r) / (np.sqrt(3) * r)) + 1
@@ -108,6 +111,8 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
     """A specimen made by PFC's material genesis (`rockcal.dem.genesis`); kept on disk (found
     in the cache, or among the packings shipped with rockcal) unless `cache` is False."""
     check_geometry(width_mm, height_mm, rmin_mm, radius_ratio)
+    if isinstance(seed, bool) or int(seed) != seed or seed < 0:
+        raise InputError("seed", f"must be a whole number >= 0, got {seed}")
     genesis = genesis or Genesis()
     name = packing_name(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis)
     label = (f"random {width_mm:g}x{height_mm:g} mm, Rmin {rmin_mm:g} mm x{radius_ratio:g}, "
@@ -119,6 +124,8 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
     else:
         from rockcal.dem.packing import pack_box
 
+        check_grains("specimen", f"a {label}",
+                     expected_grains(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity))
         pos, radius, pressure = pack_box(width_mm * 1e-3, height_mm * 1e-3, rmin_mm * 1e-3,
                                          radius_ratio, seed, genesis.cloud_porosity,
                                          genesis.pressure_mpa)

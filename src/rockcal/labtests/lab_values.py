@@ -5,6 +5,7 @@ of its target responses as an optional number > 0 (`values_model`)."""
 
 from __future__ import annotations
 
+import io
 import math
 from functools import lru_cache
 from pathlib import Path
@@ -22,7 +23,7 @@ Spread = dict[str, float | tuple[float, float]]
 class Section(BaseModel):
     """A section of the campaign file: an unknown key is an error."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 class LabValues(Section):
@@ -88,9 +89,12 @@ def values_model(test) -> type[LabValues]:
 
 def read_curve(path: Path, field: str = "targets.ucs.curve") -> np.ndarray:
     """A measured stress-strain curve: rows of (axial strain, axial stress MPa), strain rising."""
+    from rockcal.campaign.user_files import read_user_text
+
+    text = read_user_text(path, field)
     try:
-        rows = np.genfromtxt(path, delimiter=",", dtype=float, invalid_raise=True)
-    except (OSError, ValueError) as exc:
+        rows = np.genfromtxt(io.StringIO(text), delimiter=",", dtype=float, invalid_raise=True)
+    except ValueError as exc:
         raise InputError(field, f"cannot read {path}: {exc}") from None
     if rows.ndim == 2 and rows.shape[1] >= 2 and np.isnan(rows[0]).all():
         rows = rows[1:]  # a header line

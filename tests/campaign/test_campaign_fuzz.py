@@ -1,0 +1,164 @@
+"""A table of broken campaign files through `rockcal calibrate` (in this process: it must stop
+while checking its input): each is one line on stderr naming what is wrong, exit code 2, and
+no store, folder or run made."""
+
+import sys
+
+import pytest
+
+from rockcal.cli.app import main
+
+BASE = """[rock]
+name = "granite"
+[targets.ucs]
+E_GPa = 20.0
+nu = 0.25
+ucs_MPa = 40.0
+[specimen]
+rmin_mm = 0.4
+width_mm = 8
+height_mm = 16
+[search]
+bounds = { E_c = [10, 30], sigma_c = [20, 60] }
+fixed = { mu = 0.5 }
+[surrogate]
+samples = 6
+checks = 1
+[optimizer]
+iterations = 20
+[acceptance]
+max_dem_runs = 9
+"""
+SENSITIVITY = "[sensitivity]\narray = 'L16(4^5)'\nlevels = { E_c = [15, 20, 25, 30], sigma_c = [20, 30, 40, 50] }\n"
+BENDING = "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0\n"
+BRAZILIAN = "[targets.brazilian]\nsigma_t_MPa = 9.0\n"
+
+
+def edit(old: str, new: str) -> str:
+    assert old in BASE, old
+    return BASE.replace(old, new, 1)
+
+
+def add(line: str, after: str) -> str:
+    return edit(after, f"{after}\n{line}")
+
+
+CASES = [  # (case, campaign file as text or bytes, the start of the message after "rockcal: error: ")
+    # numbers that are not finite, named by the key as the file writes it
+    ("E_GPa inf", edit("E_GPa = 20.0", "E_GPa = inf"), "targets.ucs.E_GPa: must be a finite number"),
+    ("E_GPa nan", edit("E_GPa = 20.0", "E_GPa = nan"), "targets.ucs.E_GPa: must be a finite number"),
+    ("ucs_MPa -inf", edit("ucs_MPa = 40.0", "ucs_MPa = -inf"), "targets.ucs.ucs_MPa: must be a finite"),
+    ("nu nan", edit("nu = 0.25", "nu = nan"), "targets.ucs.nu: must be a finite number"),
+    ("spread sd inf", add("spread = { E_GPa = inf }", "ucs_MPa = 40.0"), "targets.ucs.spread.E_GPa: must be a finite"),
+    ("spread range to inf", add("spread = { E_GPa = [19, inf] }", "ucs_MPa = 40.0"),
+     "targets.ucs.spread.E_GPa[1]: must be a finite"),
+    ("weight nan", add("weights = { nu = nan }", "ucs_MPa = 40.0"), "targets.ucs.weights.nu: must be a finite"),
+    ("rmin nan", edit("rmin_mm = 0.4", "rmin_mm = nan"), "specimen.rmin_mm: must be a finite"),
+    ("radius ratio nan", add("radius_ratio = nan", "height_mm = 16"), "specimen.radius_ratio: must be a finite"),
+    ("width inf", edit("width_mm = 8", "width_mm = inf"), "specimen.width_mm: must be a finite"),
+    ("height nan", edit("height_mm = 16", "height_mm = nan"), "specimen.height_mm: must be a finite"),
+    ("install gap nan", add("install_gap = nan", "height_mm = 16"), "specimen.install_gap: must be a finite"),
+    ("cloud porosity nan", add("cloud_porosity = nan", "height_mm = 16"), "specimen.cloud_porosity: must be"),
+    ("pressure inf", add("pressure_mpa = inf", "height_mm = 16"), "specimen.pressure_mpa: must be a finite"),
+    ("stop fraction nan", add("stop_fraction = nan", "height_mm = 16"), "specimen.stop_fraction: must be"),
+    ("float past double", add("install_gap = 1e400", "height_mm = 16"), "specimen.install_gap: must be a finite"),
+    ("bound inf", edit("E_c = [10, 30]", "E_c = [10, inf]"), "search.bounds.E_c[1]: must be a finite"),
+    ("bound nan", edit("E_c = [10, 30]", "E_c = [nan, 30]"), "search.bounds.E_c[0]: must be a finite"),
+    ("fixed nan", edit("mu = 0.5", "mu = nan"), "search.fixed.mu: must be a finite"),
+    ("density inf", add("density_kg_m3 = inf", 'name = "granite"'), "rock.density_kg_m3: must be a finite"),
+    ("surrogate tolerance nan", add("tolerance = nan", "checks = 1"), "surrogate.tolerance: must be a finite"),
+    ("acceptance tolerance nan", add("tolerance = nan", "max_dem_runs = 9"), "acceptance.tolerance: must be"),
+    ("alpha inf", add("alpha = inf", "iterations = 20"), "optimizer.alpha: must be a finite"),
+    ("rho nan", add("rho = nan", "iterations = 20"), "optimizer.rho: must be a finite"),
+    ("sensitivity level nan", BASE + SENSITIVITY.replace("25, 30]", "25, nan]"),
+     "sensitivity.levels.E_c[3]: must be a finite"),
+    ("sensitivity threshold nan", BASE + SENSITIVITY + "threshold = nan\n", "sensitivity.threshold: must be"),
+    ("sensitivity rmin inf", BASE + SENSITIVITY + "rmin_mm = inf\n", "sensitivity.rmin_mm: must be a finite"),
+    ("Brazilian target inf", BASE + BRAZILIAN.replace("9.0", "inf"), "targets.brazilian.sigma_t_MPa: must be"),
+    ("K_IC nan", BASE + BENDING.replace("1.0", "nan"), "targets.bending.K_IC_MPa_sqrt_m: must be"),
+    ("lab bar diameter inf", BASE + BENDING + "diameter_mm = inf\n", "targets.bending.diameter_mm: must be"),
+    # seeds and integers
+    ("specimen seed -1", add("seed = -1", "height_mm = 16"), "specimen.seed: Input should be greater than"),
+    ("surrogate seed -1", add("seed = -1", "checks = 1"), "surrogate.seed: Input should be greater than"),
+    ("optimizer seed -5", add("seed = -5", "iterations = 20"), "optimizer.seed: Input should be greater than"),
+    ("uncertainty seed -1", BASE + "[uncertainty]\nseed = -1\n", "uncertainty.seed: Input should be greater"),
+    ("seed not whole", add("seed = 1.5", "height_mm = 16"), "specimen.seed: Input should be a valid integer"),
+    ("seed past 64 bits", add("seed = 99999999999999999999999", "height_mm = 16"),
+     "specimen.seed: 99999999999999999999999 is beyond TOML's 64-bit integers"),
+    ("samples -3", edit("samples = 6", "samples = -3"), "surrogate.samples: Input should be greater"),
+    ("max runs 0", edit("max_dem_runs = 9", "max_dem_runs = 0"), "acceptance.max_dem_runs: Input should be"),
+    ("bending seeds 0", add("bending_seeds = 0", "height_mm = 16"), "specimen.bending_seeds: Input should be"),
+    # values out of range
+    ("nu 0.5", edit("nu = 0.25", "nu = 0.5"), "targets.ucs.nu: Input should be less than 0.5"),
+    ("E_GPa negative", edit("E_GPa = 20.0", "E_GPa = -20.0"), "targets.ucs.E_GPa: Input should be greater"),
+    ("radius ratio 20", add("radius_ratio = 20", "height_mm = 16"), "specimen.radius_ratio: Input should be"),
+    ("acceptance tolerance 1.5", add("tolerance = 1.5", "max_dem_runs = 9"), "acceptance.tolerance: Input"),
+    ("rmin 0", edit("rmin_mm = 0.4", "rmin_mm = 0"), "specimen.rmin_mm: Input should be greater than 0"),
+    # the file itself
+    ("binary bytes", bytes(range(256)), "CONFIG: "),
+    ("UTF-16", BASE.encode("utf-16"), "CONFIG: "),
+    ("Latin-1 rock name", BASE.replace("granite", "Granit S\xfcd").encode("latin-1"), "CONFIG: "),
+    ("NUL byte", BASE.replace("[surrogate]", "\x00[surrogate]"), "CONFIG: not valid TOML"),
+    ("not TOML", BASE + "[[[", "CONFIG: not valid TOML"),
+    ("duplicate key", add("E_GPa = 21.0", "E_GPa = 20.0"), "CONFIG: not valid TOML"),
+    ("empty file", "", "targets: Field required"),
+    ("number as words", edit("E_GPa = 20.0", 'E_GPa = "twenty"'), "targets.ucs.E_GPa: Input should be a valid number"),
+    ("number as a date", edit("E_GPa = 20.0", "E_GPa = 2024-01-01"), "targets.ucs.E_GPa: Input should be a valid number"),
+    ("table as array", edit("fixed = { mu = 0.5 }", "fixed = [0.5]"), "search.fixed: Input should be a valid"),
+    ("unknown section", BASE + "[triaxial]\nsigma3 = 10\n", "triaxial: Extra inputs are not permitted"),
+    ("curve is a device", add('curve = "/dev/zero"', "ucs_MPa = 40.0"), "targets.ucs.curve: /dev/zero is larger"),
+    ("curve is a folder", add('curve = "/"', "ucs_MPa = 40.0"), "targets.ucs.curve: cannot read /"),
+    # the rock's name
+    ("rock name with a newline", edit('name = "granite"', 'name = "a\\nb"'), "rock.name: a rock name is one line"),
+    ("rock name with an escape", edit('name = "granite"', 'name = "a\\u001b[2J"'), "rock.name: a rock name is"),
+    ("rock name empty", edit('name = "granite"', 'name = ""'), "rock.name: String should have at least 1"),
+    ("rock name 300 long", edit('name = "granite"', f'name = "{"x" * 300}"'), "rock.name: String should have"),
+    # sizes past the grain limit, refused before any genesis
+    ("rmin 0.0001", edit("rmin_mm = 0.4", "rmin_mm = 0.0001"), "specimen: the UCS specimen's packing"),
+    ("width 1e300", edit("width_mm = 8", "width_mm = 1e300"), "specimen: the UCS specimen's packing"),
+    ("beam of fine grains", BASE.replace("rmin_mm = 0.4", "rmin_mm = 0.004") + BENDING,
+     "specimen: the UCS specimen's packing"),
+    ("sensitivity on fine grains", BASE + SENSITIVITY + "rmin_mm = 0.001\n",
+     "sensitivity.rmin_mm: the UCS specimen's packing"),
+]
+DEFAULT_FOLDER = [  # (case, rock name): no --out, so the name would pick the folder
+    ("parent", "../../x"), ("absolute", "/tmp/x"), ("dot", "."), ("two dots", ".."), ("slash", "a/b"),
+    ("backslash", "a\\\\b"), ("hidden", ".x"), ("rich markup", "[/]"),
+]
+
+
+def run_cli(args, monkeypatch, capsys) -> tuple[int, str]:
+    monkeypatch.setattr(sys, "argv", ["rockcal", *map(str, args)])
+    with pytest.raises(SystemExit) as exit:
+        main()
+    return exit.value.code, capsys.readouterr().err
+
+
+def check_refused(code: int, stderr: str, message: str) -> None:
+    assert code == 2, stderr
+    lines = stderr.splitlines()
+    assert len(lines) == 1, stderr
+    assert lines[0].startswith("rockcal: error: " + message), lines[0]
+
+
+def test_the_table_is_large():
+    assert len(CASES) + len(DEFAULT_FOLDER) >= 60
+
+
+@pytest.mark.parametrize("text, message", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
+def test_a_broken_campaign_file(text, message, tmp_path, monkeypatch, capsys):
+    config = tmp_path / "campaign.toml"
+    config.write_bytes(text if isinstance(text, bytes) else text.encode())
+    code, stderr = run_cli(["calibrate", config, "--out", tmp_path / "out", "--workers", "1"], monkeypatch, capsys)
+    check_refused(code, stderr, message)
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("rock", [c[1] for c in DEFAULT_FOLDER], ids=[c[0] for c in DEFAULT_FOLDER])
+def test_a_rock_name_that_is_not_a_folder_name_needs_out(rock, tmp_path, monkeypatch, capsys):
+    (tmp_path / "campaign.toml").write_text(edit('name = "granite"', f'name = "{rock}"'))
+    monkeypatch.chdir(tmp_path)
+    code, stderr = run_cli(["calibrate", "campaign.toml", "--workers", "1"], monkeypatch, capsys)
+    check_refused(code, stderr, "rock.name: ")
+    assert "give --out" in stderr
+    assert list(tmp_path.iterdir()) == [tmp_path / "campaign.toml"]
