@@ -21,7 +21,7 @@ from rockcal.campaign.config import SpecimenSettings, parse_campaign  # noqa: E4
 from rockcal.campaign.dask_executor import DaskExecutor, parse_scheduler  # noqa: E402
 from rockcal.campaign.dask_security import TLSFiles  # noqa: E402
 from rockcal.campaign.forward import run_spec  # noqa: E402
-from rockcal.campaign.procedure import Calibration  # noqa: E402
+from rockcal.campaign.procedure import calibrate  # noqa: E402
 from rockcal.campaign.store import RunStore  # noqa: E402
 from rockcal.cli.app import main  # noqa: E402
 from rockcal.errors import InputError  # noqa: E402
@@ -100,7 +100,7 @@ def test_a_tiny_campaign_runs_on_a_tls_cluster(pki, tls_cluster, tmp_path):
     store = RunStore(tmp_path)
     executor = DaskExecutor(store, address, tls=TLSFiles(p["ca"], p["cert"], p["key"]))
     try:
-        result = Calibration(parse_campaign(CAMPAIGN, tmp_path), executor).run()
+        result = calibrate(parse_campaign(CAMPAIGN, tmp_path), executor)
     finally:
         executor.close()
     assert executor.security_source == "--tls-ca-file, --tls-cert and --tls-key"

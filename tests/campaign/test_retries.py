@@ -6,7 +6,7 @@ import numpy as np
 from rockcal.campaign.config import SpecimenSettings, parse_campaign
 from rockcal.campaign.forward import Executor, run_spec
 from rockcal.campaign.plan import describe
-from rockcal.campaign.procedure import Calibration, CalibrationFailed
+from rockcal.campaign.procedure import CalibrationFailed, calibrate
 from rockcal.campaign.retries import MAX_TRIES
 from rockcal.campaign.store import RunStore
 from rockcal.dem.specimen import cache_dir, packing_name, stored_packing
@@ -88,7 +88,7 @@ def test_a_campaign_of_timed_out_runs_resumes_and_the_first_screen_says_so(tmp_p
     campaign = parse_campaign(CAMPAIGN, tmp_path)
     store = RunStore(tmp_path)
     try:
-        Calibration(campaign, Executor(store, workers=1, time_limit_s=1e-4)).run()
+        calibrate(campaign, Executor(store, workers=1, time_limit_s=1e-4))
         raise AssertionError("every run timed out: the calibration cannot go on")
     except CalibrationFailed:
         pass
@@ -98,6 +98,6 @@ def test_a_campaign_of_timed_out_runs_resumes_and_the_first_screen_says_so(tmp_p
     assert lines[3].startswith(f"failed runs in the store: {timed_out} ({timed_out} timed out); each "
                                f"is run again if this campaign needs it (at most {MAX_TRIES} tries)")
     executor = Executor(store, workers=1)
-    result = Calibration(campaign, executor).run()
+    result = calibrate(campaign, executor)
     assert result.dem_runs >= 1 and executor.executed >= timed_out
     assert not result.failed_runs

@@ -13,7 +13,7 @@ import pytest
 
 from rockcal.campaign.config import parse_campaign
 from rockcal.campaign.forward import Executor
-from rockcal.campaign.procedure import Calibration
+from rockcal.campaign.procedure import calibrate
 from rockcal.campaign.result import save_result
 from rockcal.campaign.store import STORE_NAME, RunStore
 
@@ -47,7 +47,7 @@ def finished(tmp_path_factory):
     config.write_text(CAMPAIGN)
     out = folder / "out"
     store = RunStore(out)
-    result = Calibration(parse_campaign(CAMPAIGN, folder), Executor(store, workers=1)).run()
+    result = calibrate(parse_campaign(CAMPAIGN, folder), Executor(store, workers=1))
     store.save_document("campaign.toml", CAMPAIGN)
     save_result(store, result)
     store.close()
