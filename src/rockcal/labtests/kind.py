@@ -28,6 +28,22 @@ class Response:
 
 
 @dataclass(frozen=True)
+class Setting:
+    """A specimen setting a test brings with it (beyond those every campaign knows): its
+    default and unit, `check(value)` raising an InputError that names it, and whether a command
+    or a campaign may give a list of values (`series`): one run per value, in `check_series`'s
+    order (which rejects an empty, unsorted or repeated list, naming the setting)."""
+
+    name: str
+    default: Any
+    unit: str
+    check: Callable[[Any], None]
+    help: str
+    series: bool = False
+    check_series: Callable[[list], None] | None = None
+
+
+@dataclass(frozen=True)
 class Outline:
     """A test's specimen as a plan sees it: in words, and the packing it is cut from (width and
     height, mm) with the share of that packing's grains it keeps."""
@@ -47,7 +63,11 @@ class LabTest:
     has each response as an attribute; `reading(x, y)` puts what `progress` gets into words;
     `outline(settings)` is the specimen's `Outline`; `title` names the test in a sentence.
     `revision` counts changes of the test's procedure within one engine version: a stored run
-    of an earlier revision is not reused."""
+    of an earlier revision is not reused. `curve_columns` name the columns of its result's
+    curve (a CSV's header). `own_settings` declare the settings among `settings` that only this
+    test has (default, check, whether a list of them makes a series of runs); over a series,
+    `combine(responses of each run, in order)` gives `combined_responses` (the envelope of
+    confined compression tests)."""
 
     name: str
     responses: tuple[Response, ...]
@@ -59,6 +79,10 @@ class LabTest:
     outline: Callable[[dict], Outline]
     title: str  # the test's name in a sentence
     revision: int = 1
+    curve_columns: tuple[str, ...] = ()
+    own_settings: tuple[Setting, ...] = ()
+    combine: Callable[[list[dict]], dict] | None = None
+    combined_responses: tuple[Response, ...] = ()
 
     @property
     def targets(self) -> tuple[str, ...]:
