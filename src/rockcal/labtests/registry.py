@@ -4,13 +4,14 @@
 from __future__ import annotations
 
 from rockcal.errors import InputError
-from rockcal.labtests import bending, brazilian, ucs
+from rockcal.labtests import bending, biaxial, brazilian, ucs
 from rockcal.labtests.kind import LabTest
 
 LAB_TESTS: dict[str, LabTest] = {test.name: test for test in (
     ucs.TEST,
     bending.TEST,
     brazilian.TEST,
+    biaxial.TEST,
 )}
 
 
