@@ -13,12 +13,12 @@ from rockcal.labtests.registry import LAB_TESTS, lab_test
 
 
 def test_every_test_is_registered_under_its_name():
-    assert list(LAB_TESTS) == ["ucs", "bending", "brazilian", "biaxial"]
+    assert list(LAB_TESTS) == ["ucs", "bending", "brazilian", "biaxial", "direct_tension"]
     assert all(lab_test(name).name == name for name in LAB_TESTS)
 
 
 def test_an_unknown_test_is_an_error_naming_the_known_ones():
-    with pytest.raises(InputError, match="no lab test named 'triaxial'; known: ucs, bending, brazilian, biaxial"):
+    with pytest.raises(InputError, match="no lab test named 'triaxial'; known: ucs, bending, brazilian, biaxial, direct_tension"):
         run_spec("triaxial", SpecimenSettings(), {})
 
 

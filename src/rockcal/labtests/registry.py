@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from rockcal.errors import InputError
-from rockcal.labtests import bending, biaxial, brazilian, ucs
+from rockcal.labtests import bending, biaxial, brazilian, direct_tension, ucs
 from rockcal.labtests.kind import LabTest
 
 LAB_TESTS: dict[str, LabTest] = {test.name: test for test in (
@@ -12,6 +12,7 @@ LAB_TESTS: dict[str, LabTest] = {test.name: test for test in (
     bending.TEST,
     brazilian.TEST,
     biaxial.TEST,
+    direct_tension.TEST,
 )}
 
 
