@@ -109,3 +109,12 @@ def test_the_ucs_curve_counts_broken_bonds_and_gives_ci_and_cd():
     assert first_break <= r.ci_MPa <= r.cd_MPa <= r.ucs_MPa
     assert r.ci_ratio == pytest.approx(r.ci_MPa / r.ucs_MPa)
     assert 0 < r.ci_strain_ratio <= 1 and r.cd_ratio == pytest.approx(r.cd_MPa / r.ucs_MPa)
+
+
+def test_the_figure_marks_ci_and_cd(tmp_path):
+    from rockcal.labtests.damage import plot_crack_stresses
+
+    axial, lateral = synthetic_curve()
+    path = tmp_path / "crack_stresses.png"
+    plot_crack_stresses(np.column_stack([axial, lateral, Q, sustained_count()]), path)
+    assert path.stat().st_size > 20_000

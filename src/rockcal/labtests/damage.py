@@ -142,3 +142,39 @@ def ci_by_crack_strain(q, crack, tolerance: float) -> float:
 def cd_by_reversal(axial, lateral, q) -> float:
     """The q (MPa) at the largest areal compaction before the peak (the curve's last row)."""
     return float(np.asarray(q, float)[int(np.argmax(areal_strain(axial, lateral)))])
+
+
+def plot_crack_stresses(curve, path, title: str = "Compression test") -> None:
+    """Two panels of a compression curve up to its peak (columns: axial, lateral strain, q MPa,
+    bonds broken): q against the axial, lateral (shown negative) and areal strain, and the
+    bonds broken and the crack areal strain against q; CI (both readings) and CD marked."""
+    from rockcal.plots import _save, plt  # matplotlib without a display (Agg)
+
+    axial, lateral, q, broken = np.asarray(curve, float)[:, :4].T
+    found = crack_stresses(axial, lateral, q, broken)
+    peak = int(np.argmax(q))
+    axial, lateral, q, broken = axial[:peak + 1], lateral[:peak + 1], q[:peak + 1], broken[:peak + 1]
+    _, _, crack = crack_strain(axial, lateral, q)
+    marks = (("CI", found.ci_MPa, "tab:orange"), ("CI (crack strain)", found.ci_strain_MPa, "tab:purple"),
+             ("CD", found.cd_MPa, "tab:red"))
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
+    left.plot(100 * axial, q, label="axial")
+    left.plot(-100 * lateral, q, label="lateral")
+    left.plot(100 * areal_strain(axial, lateral), q, label="areal")
+    right.plot(q, broken, color="k", label="bonds broken")
+    twin = right.twinx()
+    twin.plot(q, 1e6 * crack.strain, color="tab:purple", lw=0.8, label="crack areal strain")
+    twin.set_ylabel("crack areal strain (10⁻⁶)")
+    for name, stress, colour in marks:
+        text = f"{name} {stress:.0f} MPa ({stress / found.peak_MPa:.2f})"
+        left.axhline(stress, color=colour, ls=":", label=text)
+        right.axvline(stress, color=colour, ls=":", label=text)
+    left.set_xlabel("strain (%)  (lateral shown negative)")
+    left.set_ylabel("deviatoric stress q (MPa)")
+    right.set_xlabel("deviatoric stress q (MPa)")
+    right.set_ylabel("bonds broken")
+    for ax in (left, right):
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="upper left")
+    fig.suptitle(title)
+    _save(fig, path)
