@@ -20,7 +20,8 @@ def synthetic_curve(noise=0.0, seed=0):
     """Axial and lateral strain of an elastic plane (E, nu) that dilates past ONSET."""
     rng = np.random.default_rng(seed)
     axial = Q / E_MPA + noise * rng.standard_normal(len(Q))
-    lateral = NU * Q / E_MPA + C * np.maximum(0.0, Q - ONSET) ** 2 + noise * rng.standard_normal(len(Q))
+    lateral = (NU * Q / E_MPA + C * np.maximum(0.0, Q - ONSET) ** 2
+               + noise * rng.standard_normal(len(Q)))
     return axial, lateral
 
 

@@ -26,7 +26,8 @@ def test_sigma_t_is_the_peak_force_over_the_width(pulled, prism):
     peak = int(np.argmax(pulled.curve[:, 1]))
     assert pulled.sigma_t_direct_MPa == pulled.curve[peak, 1] > 0
     assert pulled.P_max_kN_per_m == pytest.approx(pulled.sigma_t_direct_MPa * prism.width_m * 1e3)
-    assert pulled.curve.shape[1] == 3 and pulled.curve[-1, 2] == pulled.n_broken_tension + pulled.n_broken_shear
+    assert pulled.curve.shape[1] == 3
+    assert pulled.curve[-1, 2] == pulled.n_broken_tension + pulled.n_broken_shear
 
 
 def test_the_prism_breaks_in_tension_between_the_grips(pulled, prism):
@@ -57,7 +58,8 @@ def test_sigma_t_scales_with_the_bond_tensile_strength(pulled, prism, factor):
 
 def test_the_lab_test_declares_its_grip_and_runs_from_its_settings(prism, pulled):
     test = lab_test("direct_tension")
-    result = test.run(make_params({}), prism, {"grip_fraction": 0.1, "contact_stiffness": "pfc4"}, None)
+    settings = {"grip_fraction": 0.1, "contact_stiffness": "pfc4"}
+    result = test.run(make_params({}), prism, settings, None)
     np.testing.assert_array_equal(result.curve, pulled.curve)
     (grip,) = test.own_settings
     assert grip.name == "grip_fraction" and grip.default == 0.1 and not grip.series

@@ -33,7 +33,8 @@ def test_mohr_coulomb_recovers_phi_and_c(phi_deg, c_MPa):
 
 @pytest.mark.parametrize("sigma_ci, m_i", [(200.0, 32.0), (150.0, 10.0), (80.0, 5.0)])
 def test_hoek_brown_recovers_sigma_ci_and_m_i(sigma_ci, m_i):
-    """Granite (m_i 32 in Hoek's table) and softer rocks; Hoek's regression is exact on exact peaks."""
+    """Granite (m_i 32 in Hoek's table) and softer rocks: Hoek's regression is exact on exact
+    peaks."""
     fit = fit_hoek_brown(SIGMA3, hoek_brown_peaks(sigma_ci, m_i))
     assert fit.sigma_ci_MPa == pytest.approx(sigma_ci, rel=1e-12)
     assert fit.m_i == pytest.approx(m_i, rel=1e-12)

@@ -136,7 +136,8 @@ def simulate_biaxial(params: MicroParams | dict | None = None, specimen: Specime
         q = platens.load() / area - s3
         return Reading(q, axial, (axial, (width - width0) / width0, q / 1e6))
 
-    loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / ucs.DENSITY_SCALED_SPEED, DISTRIBUTED_DAMAGE)
+    loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / ucs.DENSITY_SCALED_SPEED,
+                      DISTRIBUTED_DAMAGE)
     state.step, seated_at = 0, state.step  # the loading counts its own steps (its ramp)
     curve = load_to_failure(state, loading, platens.chunk, platens.move, read,
                             lambda reading: loading.fallen_below(stop_fraction, reading.load),
@@ -209,8 +210,8 @@ TEST = LabTest(
     outline=lambda s: Outline(f"biaxial {s['width_mm']:g} x {s['height_mm']:g} mm, "
                               f"sigma3 {s['confinement_mpa']:g} MPa", s["width_mm"], s["height_mm"]),
     curve_columns=CURVE_COLUMNS, own_settings=(CONFINEMENT,), combine=envelope,
-    combined_responses=(Response("phi_deg", "degrees"), Response("c_MPa", "MPa"), Response("m_i", ""),
-                        Response("sigma_ci_MPa", "MPa"),
-                        Response("mc_sigma_c_MPa", "MPa", target=False),
-                        Response("mc_r2", "", target=False), Response("mc_rms_MPa", "MPa", target=False),
-                        Response("hb_r2", "", target=False), Response("hb_rms_MPa", "MPa", target=False)))
+    combined_responses=(
+        Response("phi_deg", "degrees"), Response("c_MPa", "MPa"), Response("m_i", ""),
+        Response("sigma_ci_MPa", "MPa"), Response("mc_sigma_c_MPa", "MPa", target=False),
+        Response("mc_r2", "", target=False), Response("mc_rms_MPa", "MPa", target=False),
+        Response("hb_r2", "", target=False), Response("hb_rms_MPa", "MPa", target=False)))

@@ -155,7 +155,8 @@ def plot_crack_stresses(curve, path, title: str = "Compression test") -> None:
     peak = int(np.argmax(q))
     axial, lateral, q, broken = axial[:peak + 1], lateral[:peak + 1], q[:peak + 1], broken[:peak + 1]
     _, _, crack = crack_strain(axial, lateral, q)
-    marks = (("CI", found.ci_MPa, "tab:orange"), ("CI (crack strain)", found.ci_strain_MPa, "tab:purple"),
+    marks = (("CI", found.ci_MPa, "tab:orange"),
+             ("CI (crack strain)", found.ci_strain_MPa, "tab:purple"),
              ("CD", found.cd_MPa, "tab:red"))
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
     left.plot(100 * axial, q, label="axial")

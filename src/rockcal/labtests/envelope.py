@@ -101,8 +101,8 @@ def fit_hoek_brown(sigma3_MPa, sigma1_MPa) -> HoekBrown:
     sigma_ci = math.sqrt(intercept)
     m_i = float(slope / sigma_ci)
     fitted = s3 + sigma_ci * np.sqrt(np.maximum(m_i * s3 / sigma_ci + 1, 0))
-    return HoekBrown(sigma_ci_MPa=sigma_ci, m_i=m_i, r2=float(sxy**2 / (sxx * syy)) if syy > 0 else 1.0,
-                     rms_MPa=_rms(s1 - fitted))
+    r2 = float(sxy**2 / (sxx * syy)) if syy > 0 else 1.0
+    return HoekBrown(sigma_ci_MPa=sigma_ci, m_i=m_i, r2=r2, rms_MPa=_rms(s1 - fitted))
 
 
 def envelope_responses(sigma3_MPa, sigma1_MPa) -> dict[str, float]:

@@ -51,7 +51,8 @@ class WallServo:
         specimen's current height (side walls) or width (platens), thickness t."""
         at = self.state.walls.pos
         height, width = at[TOP] - at[BOTTOM], at[RIGHT] - at[LEFT]
-        return self.state.walls.total_force() / (np.array([height, height, width, width]) * THICKNESS_M)
+        lengths = np.array([height, height, width, width])
+        return self.state.walls.total_force() / (lengths * THICKNESS_M)
 
     def update(self) -> None:
         """Set the servo walls' speeds from the stresses they bear now."""
@@ -65,7 +66,8 @@ class WallServo:
             push = gain * (stress[w] - self.target)
             self.integral[w] = float(np.clip(self.integral[w] + self.beta * push, -self.limit,
                                              self.limit))
-            walls.vel[w] = OUTWARD[w] * float(np.clip(push + self.integral[w], -self.limit, self.limit))
+            speed = float(np.clip(push + self.integral[w], -self.limit, self.limit))
+            walls.vel[w] = OUTWARD[w] * speed
 
     def hold(self) -> None:
         """Stop the servo walls."""
