@@ -13,21 +13,21 @@ from rockcal.labtests.registry import LAB_TESTS, lab_test
 
 
 def test_every_test_is_registered_under_its_name():
-    assert list(LAB_TESTS) == ["ucs", "bending", "brazilian"]
+    assert list(LAB_TESTS) == ["ucs", "bending", "brazilian", "biaxial", "direct_tension"]
     assert all(lab_test(name).name == name for name in LAB_TESTS)
 
 
 def test_an_unknown_test_is_an_error_naming_the_known_ones():
-    with pytest.raises(InputError, match="no lab test named 'triaxial'; known: ucs, bending, brazilian"):
+    with pytest.raises(InputError, match="no lab test named 'triaxial'; known: ucs, bending, brazilian, biaxial, direct_tension"):
         run_spec("triaxial", SpecimenSettings(), {})
 
 
 def test_a_tests_revision_keys_only_its_own_runs():
-    """A changed procedure (UCS revision 3, bending revision 7) makes new keys for its runs, not
+    """A changed procedure (UCS revision 4, bending revision 7) makes new keys for its runs, not
     for the others'."""
     settings = SpecimenSettings()
     assert run_spec("brazilian", settings, {}).engine == ENGINE
-    for kind, revision in (("ucs", 3), ("bending", 7)):
+    for kind, revision in (("ucs", 4), ("bending", 7)):
         spec = run_spec(kind, settings, {})
         assert lab_test(kind).revision == revision
         assert spec.engine == f"{ENGINE}, {kind} test revision {revision}"

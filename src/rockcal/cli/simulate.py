@@ -21,7 +21,9 @@ from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from rockcal.campaign.config import SpecimenSettings
-from rockcal.errors import InputError, fields_named
+from pydantic import ValidationError
+
+from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.labtests.kind import LabTest
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material
@@ -69,8 +71,13 @@ def flag_of(test: LabTest, setting: str) -> str:
 
 def _setting_options(test: LabTest) -> dict:
     """An option per specimen setting the test reads (and --packing where it has a lattice)."""
-    options = {}
+    options, own = {}, {s.name: s for s in test.own_settings}
     for setting in test.settings:
+        if setting in own:
+            o = own[setting]
+            kind, default = (str, f"{o.default:g}") if o.series else (type(o.default), o.default)
+            options[setting] = (kind, typer.Option(default, flag_of(test, setting), help=o.help))
+            continue
         info = SpecimenSettings.model_fields[setting]
         kind = info.annotation
         default = dict(test.defaults).get(setting, info.default)
@@ -93,21 +100,53 @@ def simulate(test: LabTest, options: dict) -> None:
     packing = options.pop("packing", "random")
     if seeds < 1:
         raise InputError("--seeds", f"must be >= 1, got {seeds}")
+    series, values = _series(test, options)
     settings = _checked_settings(test, options)
     run = {"params": params.key(), "contact_stiffness": settings.get("contact_stiffness")}
     if chosen.name != DEFAULT_MATERIAL:
         run["model"] = chosen.name
+    if series is None:
+        summary = _on_packings(test, params, settings, packing, seeds, run, as_json, out, test.name)
+        return _show(test, summary, as_json)
+    runs = [_on_packings(test, params, settings | {series: v}, packing, seeds, run, as_json, out,
+                         f"{test.name}_{series}_{v:g}") for v in values]
+    for summary in runs if not as_json else []:
+        _show(test, summary, as_json=False)
+    combined = test.combine(runs) | run | {"runs": runs}
+    if out is not None:
+        _write_text(out / f"{test.name}_summary.json", json.dumps(combined, indent=2))
+    _show_combined(test, combined, as_json)
+
+
+def _series(test: LabTest, options: dict) -> tuple[str | None, list]:
+    """The test's list-valued setting and its values (each one run), parsed from its option."""
+    for s in test.own_settings:
+        if s.series:
+            text = options.pop(s.name)
+            try:
+                values = [float(v) for v in str(text).split(",") if v.strip()]
+            except ValueError:
+                raise InputError(flag_of(test, s.name), f"a comma-separated list of numbers, got {text!r}") from None
+            with fields_named({s.name: flag_of(test, s.name)}):
+                s.check_series(values)
+            options[s.name] = values[0]
+            return s.name, values
+    return None, []
+
+
+def _on_packings(test, params, settings, packing, seeds, run, as_json, out, name) -> dict:
+    """A test on `seeds` packings: one packing's summary, or their mean and spread."""
     per_seed = []
     for k, seed in enumerate(seed_list(settings["seed"], seeds)):
         label = f"{test.title} test" + (f", packing {k + 1}/{seeds}" if seeds > 1 else "")
         result, specimen = _run_one(test, params, settings | {"seed": seed}, packing, label, as_json)
         per_seed.append(result.summary() | specimen.description() | run | {"specimen": specimen.label, "seed": seed})
         if out is not None:
-            write_outputs(out, test, result, per_seed[-1], seed if seeds > 1 else None)
+            write_outputs(out, test, result, per_seed[-1], name if seeds == 1 else f"{name}_seed{seed}")
     summary = per_seed[0] if seeds == 1 else _over_seeds(per_seed, settings["seed"], run)
     if out is not None and seeds > 1:
-        _write_text(out / f"{test.name}_summary.json", json.dumps(summary, indent=2))
-    _show(test, summary, as_json)
+        _write_text(out / f"{name}_summary.json", json.dumps(summary, indent=2))
+    return summary
 
 
 def _checked_settings(test: LabTest, options: dict) -> dict:
@@ -116,15 +155,15 @@ def _checked_settings(test: LabTest, options: dict) -> dict:
         if isinstance(value, float) and not math.isfinite(value):
             raise InputError(flag_of(test, setting), f"must be a finite number, got {value}")
     rename = {setting: flag_of(test, setting) for setting in test.settings}
+    own = {s.name: s for s in test.own_settings}
     with fields_named(lambda field: rename.get(field.removeprefix("specimen."), field)):
-        from pydantic import ValidationError
-
-        from rockcal.errors import from_validation_error
         try:
-            values = SpecimenSettings(**options)
+            values = SpecimenSettings(**{k: v for k, v in options.items() if k not in own})
         except ValidationError as exc:
             raise from_validation_error(exc) from None
-        settings = test.settings_of(values)
+        for name, setting in own.items():
+            setting.check(options[name])
+        settings = test.settings_of(values) | {name: options[name] for name in own}
         test.check(settings)
     return settings
 
@@ -150,12 +189,10 @@ def _over_seeds(per_seed: list[dict], seed: int, run: dict) -> dict:
         "specimen": specimen, "seeds": seed_list(seed, count), "per_seed": per_seed}
 
 
-def write_outputs(out: Path, test: LabTest, result, summary: dict, seed: int | None) -> None:
-    """A run's curve (CSV), summary (JSON), crack pattern and curve (PNG), named after the test
-    (and the packing's seed when there are several)."""
+def write_outputs(out: Path, test: LabTest, result, summary: dict, name: str) -> None:
+    """A run's curve (CSV), summary (JSON), crack pattern and curve (PNG), named `name`."""
     from rockcal import plots
 
-    name = test.name if seed is None else f"{test.name}_seed{seed}"
     try:
         out.mkdir(parents=True, exist_ok=True)
         np.savetxt(out / f"{name}_curve.csv", result.curve, delimiter=",", fmt="%.8g",
@@ -189,6 +226,17 @@ def _show(test: LabTest, summary: dict, as_json: bool) -> None:
     table.add_row("broken bonds tension / shear",
                   f"{summary['n_broken_tension']:.0f} / {summary['n_broken_shear']:.0f}")
     table.add_row("steps, wall time", f"{summary['steps']:.0f}, {summary['wall_s']:.1f} s")
+    Console().print(table)
+
+
+def _show_combined(test: LabTest, combined: dict, as_json: bool) -> None:
+    """What a series of runs gives together (e.g. the strength envelope)."""
+    if as_json:
+        typer.echo(json.dumps(combined))
+        return
+    table = Table(title=f"{test.title}: {len(combined['runs'])} runs together", show_header=False)
+    for r in test.combined_responses:
+        table.add_row(r.label or r.name, _value(combined, r.name, r.unit))
     Console().print(table)
 
 

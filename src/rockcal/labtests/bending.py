@@ -10,15 +10,12 @@ thickness (PFC2D convention).
 
 from __future__ import annotations
 
-from typing import ClassVar
-
-from pydantic import Field
-
 import time
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, ClassVar
 
 import numpy as np
+from pydantic import Field
 
 from rockcal.dem.carving import cut_bonds, keep_particles, outside_rectangle
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, new_state, scale_density

@@ -10,15 +10,12 @@ load for a while without splitting the disk). Tensile strength sigma_t = 2 P / (
 
 from __future__ import annotations
 
-from typing import ClassVar
-
-from pydantic import Field
-
 import time
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, ClassVar
 
 import numpy as np
+from pydantic import Field
 
 from rockcal.dem.carving import inside_circle, keep_particles
 from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, TOP

@@ -29,6 +29,22 @@ class Response:
 
 
 @dataclass(frozen=True)
+class Setting:
+    """A specimen setting a test brings with it (beyond those every campaign knows): its
+    default and unit, `check(value)` raising an InputError that names it, and whether a command
+    or a campaign may give a list of values (`series`): one run per value, in `check_series`'s
+    order (which rejects an empty, unsorted or repeated list, naming the setting)."""
+
+    name: str
+    default: Any
+    unit: str
+    check: Callable[[Any], None]
+    help: str
+    series: bool = False
+    check_series: Callable[[list], None] | None = None
+
+
+@dataclass(frozen=True)
 class Outline:
     """A test's specimen as a plan sees it: in words, and the packing it is cut from (width and
     height, mm) with the share of that packing's grains it keeps."""
@@ -48,7 +64,11 @@ class LabTest:
     has each response as an attribute; `reading(x, y)` puts what `progress` gets into words;
     `outline(settings)` is the specimen's `Outline`; `title` names the test in a sentence.
     `revision` counts changes of the test's procedure within one engine version: a stored run
-    of an earlier revision is not reused."""
+    of an earlier revision is not reused. `curve_columns` name the columns of its result's
+    curve (a CSV's header). `own_settings` declare the settings among `settings` that only this
+    test has (default, check, whether a list of them makes a series of runs); over a series,
+    `combine(responses of each run, in order)` gives `combined_responses` (the envelope of
+    confined compression tests)."""
 
     name: str
     responses: tuple[Response, ...]
@@ -68,6 +88,9 @@ class LabTest:
     defaults: tuple[tuple[str, Any], ...] = ()  # (setting, its default for this test alone)
     hexagonal: Callable[[dict], Any] | None = None  # its specimen as a hexagonal lattice, if it has one
     help: str = ""  # what `rockcal simulate <name>` does, in a line
+    own_settings: tuple[Setting, ...] = ()  # settings it brings beyond the campaign file's [specimen]
+    combine: Callable[[list[dict]], dict] | None = None  # one response set from a series' runs
+    combined_responses: tuple[Response, ...] = ()  # what `combine` gives
 
     @property
     def targets(self) -> tuple[str, ...]:
@@ -75,8 +98,10 @@ class LabTest:
         return tuple(r.name for r in self.responses if r.target)
 
     def settings_of(self, specimen_settings) -> dict:
-        """This test's settings, in their order, from an object that has them as attributes."""
-        return {name: getattr(specimen_settings, name) for name in self.settings}
+        """This test's settings, in their order, from an object that has them as attributes (a
+        setting of its own that the object lacks at its default)."""
+        own = {s.name: s.default for s in self.own_settings}
+        return {name: getattr(specimen_settings, name, own.get(name)) for name in self.settings}
 
     def key_settings(self, specimen_settings) -> dict:
         """The settings that key a stored run: `settings_of` less LATER_SETTINGS at their old

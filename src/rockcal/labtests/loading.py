@@ -146,7 +146,9 @@ class Reading(NamedTuple):
 def load_to_failure(state: State, loading: Loading, chunk: int, move: Callable[[float], None],
                     read: Callable[[], Reading], may_stop: Callable[[Reading], bool],
                     max_travel: float, *, full_speed_past_peak: bool = False,
-                    progress: Callable[[float, float], None] | None = None) -> np.ndarray:
+                    progress: Callable[[float, float], None] | None = None,
+                    control: Callable[[], None] | None = None,
+                    control_steps: int = 1) -> np.ndarray:
     """Load the specimen quasi-statically until the test may stop; its curve.
 
     The test configures what differs: `move(factor)` sets its boundary's speed (the platens',
@@ -155,14 +157,20 @@ def load_to_failure(state: State, loading: Loading, chunk: int, move: Callable[[
     `max_travel` stops it at the latest. With `full_speed_past_peak` the loading goes back to
     full speed once the peak is known (`loading.peak_known`): the load has fallen below
     PAST_PEAK_FRACTION of it with bonds broken. progress(first, last value of the sample) is
-    called after each chunk. The curve is the samples after a first row of zeros, the specimen
-    unloaded.
+    called after each chunk. `control()`, a boundary the test servo-controls, is called every
+    `control_steps` steps within each chunk (splitting a chunk changes no number). The curve is
+    the samples after a first row of zeros, the specimen unloaded.
     """
     samples = []
     while True:
         move(loading.speed(state.step, np.count_nonzero(state.bonds.state), chunk,
                            loading.peak_known))
-        advance(state, chunk)
+        if control is None:
+            advance(state, chunk)
+        else:
+            for done in range(0, chunk, control_steps):
+                control()
+                advance(state, min(control_steps, chunk - done))
         reading = read()
         samples.append(reading.sample)
         loading.update(state.step, reading.load, reading.travel)

@@ -1,31 +1,32 @@
 """The virtual uniaxial compression test: frictionless platens closing at constant speed.
 
 Readings as PFC users make them: UCS = peak axial stress; E and nu secant at half the peak;
-nu from the lateral displacement of the sides. The axial strain is read from the platen
-separation (FISHTank's wall-based strain, "platen") or from the specimen's own top and bottom
-particles, like gauges on a lab sample ("gauge"). The platens (`rockcal.labtests.platens`)
-close at a quasi-static speed on the density-scaled specimen (`simulate.scale_density`), slower
-where bonds break (`rockcal.labtests.loading`); the test stops once the stress has fallen below
-a fraction of the peak (FISHTank's ct_loadFac), or at the maximum axial strain.
+nu from the lateral displacement of the sides; the crack-initiation and crack-damage stresses
+from the curve and its count of broken bonds (`rockcal.labtests.damage`). The axial strain is
+read from the platen separation (FISHTank's wall-based strain, "platen") or from the specimen's
+own top and bottom particles, like gauges on a lab sample ("gauge"). The platens
+(`rockcal.labtests.platens`) close at a quasi-static speed on the density-scaled specimen
+(`simulate.scale_density`), slower where bonds break (`rockcal.labtests.loading`); the test
+stops once the stress has fallen below a fraction of the peak (FISHTank's ct_loadFac), or at
+the maximum axial strain.
 """
 
 from __future__ import annotations
 
+import time
+from dataclasses import dataclass
 from pathlib import Path
-from typing import ClassVar
+from typing import Callable, ClassVar
 
 import numpy as np
 from pydantic import Field
-
-import time
-from dataclasses import dataclass
-from typing import Callable
 
 from rockcal.dem import measure
 from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, TOP, THICKNESS_M, scale_density
 from rockcal.dem.specimen import Specimen, check_geometry, hexagonal, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.lab_values import LabValues, read_curve
+from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of
 from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       check_stop_fraction, load_to_failure)
@@ -42,17 +43,25 @@ DEFAULT_MAX_AXIAL_STRAIN = 0.02
 # are this much shorter, for the same equilibrium: on three full-size granite specimens halving
 # the speed moves E, nu and UCS by at most 1.0 % (docs/benchmarks.md, "Density scaling").
 DENSITY_SCALED_SPEED = 1.6
+COMPRESSION_CURVE = ("axial_strain", "lateral_strain", "axial_stress_MPa", "broken_bonds")
 
 
 @dataclass
 class UCSResult(LabResult):
-    """Responses of a UCS test; its curve's columns: axial strain, lateral strain, stress MPa."""
+    """Responses of a UCS test; its curve's columns: axial strain, lateral strain, stress MPa,
+    bonds broken so far."""
 
     E_GPa: float
     nu: float
     strain: str  # how the axial strain was read: "gauge" or "platen"
     ucs_MPa: float
     peak_axial_strain: float
+    ci_MPa: float
+    ci_ratio: float
+    ci_strain_MPa: float
+    ci_strain_ratio: float
+    cd_MPa: float
+    cd_ratio: float
 
 
 def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | None = None, *,
@@ -83,7 +92,10 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
     width0, height0 = measure.gauge_lengths(state.particles.pos, sets)
     area = specimen.width_m * THICKNESS_M
 
+    broken = [0]  # bonds broken so far at each reading, after the unloaded first row
+
     def read() -> Reading:
+        broken.append(np.count_nonzero(state.bonds.state))
         width, height = measure.gauge_lengths(state.particles.pos, sets)
         if strain == "platen":
             axial = 1.0 - (state.walls.pos[TOP] - state.walls.pos[BOTTOM]) / (top - bottom)
@@ -96,10 +108,11 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
     curve = load_to_failure(state, loading, platens.chunk, platens.move, read,
                             lambda reading: loading.fallen_below(stop_fraction, reading.load),
                             max_axial_strain, progress=progress)
+    curve = np.column_stack([curve, broken])
     E_MPa, nu, k = measure.secant_at_half_peak(curve[:, 0], curve[:, 1], curve[:, 2])
     return UCSResult(E_GPa=E_MPa / 1e3, nu=nu, strain=strain, ucs_MPa=float(curve[k, 2]),
                      peak_axial_strain=float(curve[k, 0]), curve=curve,
-                     **run_fields(state, specimen, started))
+                     **crack_stresses(*curve.T).responses, **run_fields(state, specimen, started))
 
 
 def _check(s: dict) -> None:
@@ -153,14 +166,17 @@ TEST = LabTest(
     help="Uniaxial compression test: E and nu (secant at half peak), UCS, stress-strain curve.",
     responses=(Response("E_GPa", "GPa", label="E"), Response("nu", "", label="Poisson's ratio"),
                Response("ucs_MPa", "MPa", label="UCS"),
-               Response("peak_axial_strain", "", target=False, label="axial strain at peak")),
+               Response("peak_axial_strain", "", target=False, label="axial strain at peak"),
+               *CRACK_RESPONSES),
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
               "stop_fraction", "contact_stiffness", "max_axial_strain"),
-    curve_columns=("axial_strain", "lateral_strain", "axial_stress_MPa"), plot="stress_strain",
+    plot="stress_strain",
     hexagonal=lambda s: hexagonal(s["width_mm"], s["height_mm"], s["rmin_mm"]),
     check=_check, make=_specimen, run=_run,
     reading=lambda strain, stress_MPa: f"strain {100 * strain:.3f} %, {stress_MPa:.1f} MPa",
     outline=lambda s: Outline(f"UCS {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"],
                               s["height_mm"]),
-    revision=3)  # 2: the platens slow down by half at 4 bonds broken per ramp, not 2 (issue 15);
-                 # 3: density-scaled masses, the platens 1.6x faster (issue 15)
+    curve_columns=COMPRESSION_CURVE,
+    revision=4)  # 2: the platens slow down by half at 4 bonds broken per ramp, not 2 (issue 15);
+                 # 3: density-scaled masses, the platens 1.6x faster (issue 15);
+                 # 4: the curve's 4th column, bonds broken; CI and CD (issue 38)

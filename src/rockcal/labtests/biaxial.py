@@ -1,0 +1,217 @@
+"""Confined (biaxial) compression of the UCS specimen, as FISHTank's compression test `ct`
+with a confining pressure `ct_Pc` (`ct.fis`, ct_testType 0).
+
+The specimen sits between four rigid frictionless walls. Seating: all four walls are
+servo-controlled to the confining stress sigma3 (`rockcal.labtests.servo`) until equilibrium:
+each wall within SEATING_TOLERANCE of sigma3 and the mean unbalanced force below
+EQUILIBRIUM_RATIO x sigma3 x mean grain diameter x t. Axial loading: the strains are zeroed, the
+platens close as in the UCS test (`rockcal.labtests.ucs`: same speed on the density-scaled
+specimen, same loading rule) while the side walls keep sigma3. Readings as a lab makes them:
+the deviatoric stress q = sigma1 - sigma3 (sigma1: the platens' force on the specimen's
+original width; sigma3: the side walls' mean stress), E and nu secant at half the peak q, the
+peak sigma1, CI and CD (`rockcal.labtests.damage`, in q). At sigma3 = 0 there is nothing to seat
+and the side walls never touch: the test is the UCS test, to the last bit.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from rockcal.dem import measure
+from rockcal.dem.simulate import (BOTTOM, DEFAULT_CONTACT_STIFFNESS, LEFT, RIGHT, THICKNESS_M, TOP,
+                                  advance, scale_density)
+from rockcal.dem.specimen import Specimen, random_packing
+from rockcal.errors import InputError
+from rockcal.labtests import ucs
+from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
+from rockcal.labtests.envelope import envelope_responses
+from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, Setting
+from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
+                                      check_stop_fraction, load_to_failure)
+from rockcal.labtests.platens import Platens
+from rockcal.labtests.result import LabResult, run_fields
+from rockcal.labtests.servo import SPEED_LIMIT, STEPS, WallServo
+from rockcal.params import MPa, MicroParams, make_params
+
+SEATING_TOLERANCE = 0.005  # each wall's stress within this of sigma3 (FISHTank's ct_PTol)
+EQUILIBRIUM_RATIO = 1e-4  # mean unbalanced force / (sigma3 x mean diameter x t)
+SEATING_ROUNDS = 20_000  # servo updates at most before the seating counts as failed
+MAX_CONFINEMENT_MPA = 1000.0
+CURVE_COLUMNS = ("axial_strain", "lateral_strain", "deviatoric_stress_MPa", "broken_bonds",
+                 "confinement_MPa")
+
+
+@dataclass
+class BiaxialResult(LabResult):
+    """Responses of a confined compression test; its curve's columns: CURVE_COLUMNS (strains
+    from the start of axial loading, q = sigma1 - sigma3 and sigma3 measured, MPa)."""
+
+    confinement_MPa: float  # the sigma3 asked for
+    sigma1_MPa: float  # peak axial stress
+    q_MPa: float  # peak deviatoric stress
+    E_GPa: float
+    nu: float
+    peak_axial_strain: float
+    sigma3_MPa: float  # the side walls' mean stress over the loading up to the peak
+    seating_steps: int
+    ci_MPa: float
+    ci_ratio: float
+    ci_strain_MPa: float
+    ci_strain_ratio: float
+    cd_MPa: float
+    cd_ratio: float
+
+
+def check_confinement(confinement_mpa) -> None:
+    """A confining stress is a finite number in [0, MAX_CONFINEMENT_MPA] MPa."""
+    if not (isinstance(confinement_mpa, (int, float)) and not isinstance(confinement_mpa, bool)
+            and 0 <= confinement_mpa <= MAX_CONFINEMENT_MPA):
+        raise InputError("confinement_mpa", f"must be a number in [0, {MAX_CONFINEMENT_MPA:g}] MPa, "
+                                            f"got {confinement_mpa!r}")
+
+
+def check_confinements(values: list) -> None:
+    """A series of confinements: not empty, each valid, increasing without repeats."""
+    if len(values) == 0:
+        raise InputError("confinement_mpa", "needs at least one confinement")
+    for value in values:
+        check_confinement(value)
+    if any(b <= a for a, b in zip(values, values[1:])):
+        raise InputError("confinement_mpa", f"must increase without repeats, got {list(values)}")
+
+
+def simulate_biaxial(params: MicroParams | dict | None = None, specimen: Specimen | None = None,
+                     confinement_mpa: float = 10.0, *, rate_factor: float = 1.0,
+                     max_axial_strain: float = ucs.DEFAULT_MAX_AXIAL_STRAIN,
+                     strain: str = ucs.DEFAULT_STRAIN, stop_fraction: float = ucs.POST_PEAK_FRACTION,
+                     contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
+                     progress: Callable[[float, float], None] | None = None) -> BiaxialResult:
+    """Run the confined compression test at `confinement_mpa`; the other arguments as
+    `ucs.simulate_ucs` (the stop fraction applies to q). progress(axial strain, q MPa)."""
+    started = time.perf_counter()
+    if not isinstance(params, MicroParams):
+        params = make_params(params or {})
+    check_confinement(confinement_mpa)
+    if not 0 < max_axial_strain <= 0.5:
+        raise InputError("max_axial_strain", f"must be in (0, 0.5], got {max_axial_strain}")
+    if strain not in ucs.STRAIN_READINGS:
+        raise InputError("strain", f"must be one of {', '.join(ucs.STRAIN_READINGS)}, got {strain!r}")
+    check_stop_fraction(stop_fraction)
+    specimen = specimen or random_packing(50.0, 100.0)
+    platens = Platens(specimen, params, ucs.DENSITY_SCALED_SPEED * rate_factor, contact_stiffness)
+    state = platens.state
+    scale_density(state)
+    sigma3 = confinement_mpa * MPa
+    sides = None
+    seating_steps = 0
+    if sigma3 > 0:
+        walls = state.walls
+        walls.pos[LEFT] = (specimen.pos[:, 0] - specimen.radius).min()
+        walls.pos[RIGHT] = (specimen.pos[:, 0] + specimen.radius).max()
+        walls.active[LEFT] = walls.active[RIGHT] = True
+        limit = SPEED_LIMIT * platens.speed
+        seating_steps = seat(state, WallServo(state, (LEFT, RIGHT, BOTTOM, TOP), sigma3, limit),
+                             2 * specimen.radius.mean())
+        sides = WallServo(state, (LEFT, RIGHT), sigma3, limit)
+    sets = measure.boundary_sets(specimen.pos, specimen.radius, 0.5 * specimen.radius.min())
+    width0, height0 = measure.gauge_lengths(state.particles.pos, sets)
+    bottom, top = state.walls.pos[BOTTOM], state.walls.pos[TOP]
+    area = specimen.width_m * THICKNESS_M
+    broken = [0]  # bonds broken and sigma3 (MPa) at each reading, from the start of loading
+    confining = [0.0 if sides is None else float(sides.stresses()[[LEFT, RIGHT]].mean()) / MPa]
+
+    def read() -> Reading:
+        broken.append(np.count_nonzero(state.bonds.state))
+        width, height = measure.gauge_lengths(state.particles.pos, sets)
+        if strain == "platen":
+            axial = 1.0 - (state.walls.pos[TOP] - state.walls.pos[BOTTOM]) / (top - bottom)
+        else:
+            axial = (height0 - height) / height0
+        s3 = 0.0 if sides is None else float(sides.stresses()[[LEFT, RIGHT]].mean())
+        confining.append(s3 / MPa)
+        q = platens.load() / area - s3
+        return Reading(q, axial, (axial, (width - width0) / width0, q / 1e6))
+
+    loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / ucs.DENSITY_SCALED_SPEED,
+                      DISTRIBUTED_DAMAGE)
+    state.step, seated_at = 0, state.step  # the loading counts its own steps (its ramp)
+    curve = load_to_failure(state, loading, platens.chunk, platens.move, read,
+                            lambda reading: loading.fallen_below(stop_fraction, reading.load),
+                            max_axial_strain, progress=progress,
+                            control=None if sides is None else sides.update, control_steps=STEPS)
+    state.step += seated_at
+    curve = np.column_stack([curve, broken, confining])
+    E_MPa, nu, k = measure.secant_at_half_peak(curve[:, 0], curve[:, 1], curve[:, 2])
+    return BiaxialResult(
+        confinement_MPa=float(confinement_mpa), sigma1_MPa=float(curve[k, 2] + curve[k, 4]),
+        q_MPa=float(curve[k, 2]), E_GPa=E_MPa / 1e3, nu=nu, peak_axial_strain=float(curve[k, 0]),
+        sigma3_MPa=float(curve[1:k + 1, 4].mean()) if k else float(confinement_mpa),
+        seating_steps=seating_steps, curve=curve,
+        **crack_stresses(*curve[:, :4].T).responses, **run_fields(state, specimen, started))
+
+
+def seat(state, servo: WallServo, grain_diameter: float) -> int:
+    """Servo all four walls to the confining stress until equilibrium; the steps it took."""
+    scale = servo.target * grain_diameter * THICKNESS_M
+    free = state.particles.inv_mass > 0
+    start = state.step
+    for _ in range(SEATING_ROUNDS):
+        servo.update()
+        advance(state, servo.steps)
+        off = np.abs(servo.stresses() / servo.target - 1.0)
+        if off.max() < SEATING_TOLERANCE:
+            unbalanced = np.hypot(*state.particles.force[free].T).mean()
+            if unbalanced < EQUILIBRIUM_RATIO * scale:
+                servo.hold()
+                return state.step - start
+    raise RuntimeError(f"the specimen did not settle at {servo.target / MPa:g} MPa in "
+                       f"{state.step - start} steps")
+
+
+def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BiaxialResult:
+    return simulate_biaxial(params, specimen, s["confinement_mpa"], strain=s["strain"],
+                            stop_fraction=s["stop_fraction"],
+                            contact_stiffness=s["contact_stiffness"], progress=progress)
+
+
+def _check(s: dict) -> None:
+    ucs.TEST.check(s)
+    check_confinement(s["confinement_mpa"])
+
+
+def envelope(runs: list[dict]) -> dict:
+    """The peaks of a series of runs (their responses, confinements increasing) and the
+    strength envelope through them (`rockcal.labtests.envelope`)."""
+    sigma3 = [r["confinement_MPa"] for r in runs]
+    sigma1 = [r["sigma1_MPa"] for r in runs]
+    return {"confinement_MPa": sigma3, "sigma1_MPa": sigma1} | envelope_responses(sigma3, sigma1)
+
+
+CONFINEMENT = Setting("confinement_mpa", 0.0, "MPa", check_confinement,
+                      "confining stress sigma3 (side walls servo-controlled), MPa; a list, "
+                      "e.g. 0,5,10,20, runs one test per value and fits the envelope",
+                      series=True, check_series=check_confinements)
+
+TEST = LabTest(
+    name="biaxial", title="confined compression",
+    responses=(Response("sigma1_MPa", "MPa"), Response("confinement_MPa", "MPa", target=False),
+               Response("q_MPa", "MPa", target=False), Response("E_GPa", "GPa", target=False),
+               Response("nu", "", target=False),
+               Response("peak_axial_strain", "", target=False),
+               Response("sigma3_MPa", "MPa", target=False), *CRACK_RESPONSES),
+    settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
+              "stop_fraction", "contact_stiffness", "confinement_mpa"),
+    check=_check, make=ucs.TEST.make, run=_run,
+    reading=lambda strain, q_MPa: f"strain {100 * strain:.3f} %, q {q_MPa:.1f} MPa",
+    outline=lambda s: Outline(f"biaxial {s['width_mm']:g} x {s['height_mm']:g} mm, "
+                              f"sigma3 {s['confinement_mpa']:g} MPa", s["width_mm"], s["height_mm"]),
+    curve_columns=CURVE_COLUMNS, own_settings=(CONFINEMENT,), combine=envelope,
+    combined_responses=(
+        Response("phi_deg", "degrees"), Response("c_MPa", "MPa"), Response("m_i", ""),
+        Response("sigma_ci_MPa", "MPa"), Response("mc_sigma_c_MPa", "MPa", target=False),
+        Response("mc_r2", "", target=False), Response("mc_rms_MPa", "MPa", target=False),
+        Response("hb_r2", "", target=False), Response("hb_rms_MPa", "MPa", target=False)))

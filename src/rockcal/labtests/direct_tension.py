@@ -1,0 +1,148 @@
+"""Virtual direct tension of a prism held by rigid grips, as FISHTank's direct-tension test
+(`tt.fis`): the grains whose centres lie within a grip length of either end are the grips
+(their velocities prescribed, their spin held at zero, as PFC's `ball fix velocity spin`),
+pulled apart at a quasi-static speed.
+
+Gripped ends rather than a dog-bone: the lab's direct tension test glues end caps to a plain
+cylinder or prism (ISRM 1978 suggested method), which the rigid grips are; a dog-bone must be
+carved from the packing, and its neck's curve then concentrates stress at a few particles,
+while the grips keep the UCS test's specimen, packing and bonds, so that sigma_t and the UCS
+come from the same virtual rock. The grips also hold the ends from contracting sideways, as
+glued caps do.
+
+sigma_t = P_max / (W t), P the force the specimen pulls each grip back with (mean of the two),
+W the prism's width. The grips move at the UCS test's strain rate over the free length between
+them, on the density-scaled specimen (`simulate.scale_density`); the speed drops to its
+slowest from the first broken bond on (`loading.LOCALISED_DAMAGE`: one crack decides the peak)
+and returns to full once the force has fallen well past the peak; the test stops once the
+force is below POST_PEAK_FRACTION of the peak.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, new_state, scale_density
+from rockcal.dem.specimen import Specimen, random_packing
+from rockcal.errors import InputError
+from rockcal.labtests import ucs
+from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, Setting
+from rockcal.labtests.loading import (LOCALISED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
+                                      load_to_failure)
+from rockcal.labtests.platens import STRAIN_PER_STEP_PER_ROW
+from rockcal.labtests.result import LabResult, run_fields
+from rockcal.params import MicroParams, make_params
+
+GRIP_FRACTION = 0.1  # grip length / prism height at each end (FISHTank's tt_tg default, 0.1 H)
+POST_PEAK_FRACTION = 0.5
+DEFAULT_MAX_STRAIN = 0.01  # grip opening / free length at which the test stops at the latest
+CURVE_COLUMNS = ("axial_strain", "tensile_stress_MPa", "broken_bonds")
+
+
+@dataclass
+class DirectTensionResult(LabResult):
+    """Responses of a direct tension test; its curve's columns: CURVE_COLUMNS (the strain is
+    the grips' opening over the free length between them)."""
+
+    sigma_t_direct_MPa: float
+    P_max_kN_per_m: float
+    peak_axial_strain: float
+    free_length_mm: float
+
+
+def check_grip(grip_fraction) -> None:
+    """A grip holds a share of the prism's height in (0, 0.4] at each end."""
+    if not (isinstance(grip_fraction, (int, float)) and 0 < grip_fraction <= 0.4):
+        raise InputError("grip_fraction", f"must be in (0, 0.4], got {grip_fraction!r}")
+
+
+def grips(specimen: Specimen, grip_fraction: float) -> tuple[np.ndarray, np.ndarray]:
+    """The grains of the bottom and top grips: centres within grip_fraction x height of the
+    prism's ends."""
+    y = specimen.pos[:, 1]
+    grip = grip_fraction * specimen.height_m
+    return np.flatnonzero(y < y.min() + grip), np.flatnonzero(y > y.max() - grip)
+
+
+def simulate_direct_tension(params: MicroParams | dict | None = None,
+                            specimen: Specimen | None = None, *,
+                            grip_fraction: float = GRIP_FRACTION, rate_factor: float = 1.0,
+                            max_strain: float = DEFAULT_MAX_STRAIN,
+                            contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
+                            progress: Callable[[float, float], None] | None = None
+                            ) -> DirectTensionResult:
+    """Pull the prism apart; defaults: granite parameters on the UCS test's 50 x 100 mm prism.
+    progress(axial strain, stress MPa) is called as the test goes."""
+    started = time.perf_counter()
+    if not isinstance(params, MicroParams):
+        params = make_params(params or {})
+    check_grip(grip_fraction)
+    if not 0 < max_strain <= 0.5:
+        raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
+    specimen = specimen or random_packing(50.0, 100.0)
+    bottom, top = grips(specimen, grip_fraction)
+    state = new_state(specimen.pos, specimen.radius, specimen.bonds, params,
+                      driven=np.concatenate([bottom, top]), bond_draws=specimen.bond_draws,
+                      contact_stiffness=contact_stiffness)
+    scale_density(state)
+    pos, force = state.particles.pos, state.particles.force
+    free_length = (pos[:, 1][top].min() - pos[:, 1][bottom].max())
+    rows = free_length / (2 * specimen.radius.mean())
+    speed = 0.5 * ucs.DENSITY_SCALED_SPEED * rate_factor * STRAIN_PER_STEP_PER_ROW / rows \
+        * free_length / state.dt
+    b0, t0 = bottom[0], top[0]
+    opening0 = pos[t0, 1] - pos[b0, 1]
+    area = specimen.width_m * THICKNESS_M
+    broken = [0]
+
+    def move(factor: float) -> None:
+        state.particles.vel[bottom, 1] = -speed * factor
+        state.particles.vel[top, 1] = speed * factor
+
+    def read() -> Reading:
+        broken.append(np.count_nonzero(state.bonds.state))
+        strain = (pos[t0, 1] - pos[b0, 1] - opening0) / free_length
+        pull = 0.5 * (force[bottom, 1].sum() - force[top, 1].sum())  # N per m, tension positive
+        return Reading(pull, strain, (strain, pull / area / 1e6))
+
+    loading = Loading(RAMP_STEPS_PER_ROW * rows / ucs.DENSITY_SCALED_SPEED, LOCALISED_DAMAGE)
+    curve = load_to_failure(state, loading, max(5, int(rows / 8)), move, read,
+                            lambda reading: loading.fallen_below(POST_PEAK_FRACTION, reading.load),
+                            max_strain, full_speed_past_peak=True, progress=progress)
+    curve = np.column_stack([curve, broken])
+    k = int(np.argmax(curve[:, 1]))
+    return DirectTensionResult(
+        sigma_t_direct_MPa=float(curve[k, 1]), P_max_kN_per_m=float(curve[k, 1] * area * 1e3),
+        peak_axial_strain=float(curve[k, 0]), free_length_mm=1e3 * free_length, curve=curve,
+        **run_fields(state, specimen, started))
+
+
+def _check(s: dict) -> None:
+    ucs.TEST.check(s)
+    check_grip(s["grip_fraction"])
+
+
+def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> DirectTensionResult:
+    return simulate_direct_tension(params, specimen, grip_fraction=s["grip_fraction"],
+                                   contact_stiffness=s["contact_stiffness"], progress=progress)
+
+
+GRIP = Setting("grip_fraction", GRIP_FRACTION, "", check_grip,
+               "grip length / prism height at each end (FISHTank's tt_tg / H)")
+
+TEST = LabTest(
+    name="direct_tension", title="direct tension",
+    responses=(Response("sigma_t_direct_MPa", "MPa"),
+               Response("P_max_kN_per_m", "kN/m", target=False),
+               Response("peak_axial_strain", "", target=False)),
+    settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS,
+              "grip_fraction", "contact_stiffness"),
+    check=_check, make=ucs.TEST.make, run=_run,
+    reading=lambda strain, stress_MPa: f"strain {100 * strain:.4f} %, {stress_MPa:.2f} MPa",
+    outline=lambda s: Outline(f"direct tension {s['width_mm']:g} x {s['height_mm']:g} mm",
+                              s["width_mm"], s["height_mm"]),
+    curve_columns=CURVE_COLUMNS, own_settings=(GRIP,))
