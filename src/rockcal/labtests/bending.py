@@ -18,15 +18,33 @@ import numpy as np
 from pydantic import Field
 
 from rockcal.dem.carving import cut_bonds, keep_particles, outside_rectangle
-from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, new_state, scale_density
 from rockcal.dem.genesis import Genesis
+from rockcal.dem.simulate import (
+    DEFAULT_CONTACT_STIFFNESS,
+    THICKNESS_M,
+    new_state,
+    scale_density,
+)
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kic import senb_kic
+from rockcal.labtests.kind import (
+    GENESIS,
+    LabTest,
+    Outline,
+    Response,
+    genesis_of,
+    load_reading,
+)
 from rockcal.labtests.lab_values import LabValues
-from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of, load_reading
-from rockcal.labtests.loading import (NOTCH_TIP_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
-                                      check_stop_fraction, load_to_failure)
+from rockcal.labtests.loading import (
+    NOTCH_TIP_DAMAGE,
+    RAMP_STEPS_PER_ROW,
+    Loading,
+    Reading,
+    check_stop_fraction,
+    load_to_failure,
+)
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.params import MicroParams, make_params
 

@@ -18,14 +18,26 @@ import numpy as np
 from pydantic import Field
 
 from rockcal.dem.carving import inside_circle, keep_particles
-from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, TOP
 from rockcal.dem.genesis import Genesis
+from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, TOP
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
+from rockcal.labtests.kind import (
+    GENESIS,
+    LabTest,
+    Outline,
+    Response,
+    genesis_of,
+    load_reading,
+)
 from rockcal.labtests.lab_values import LabValues
-from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of, load_reading
-from rockcal.labtests.loading import (LOCALISED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
-                                      load_to_failure)
+from rockcal.labtests.loading import (
+    LOCALISED_DAMAGE,
+    RAMP_STEPS_PER_ROW,
+    Loading,
+    Reading,
+    load_to_failure,
+)
 from rockcal.labtests.platens import Platens
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.params import MicroParams, make_params

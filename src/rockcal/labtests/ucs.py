@@ -22,14 +22,26 @@ import numpy as np
 from pydantic import Field
 
 from rockcal.dem import measure
-from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, TOP, THICKNESS_M, scale_density
+from rockcal.dem.simulate import (
+    BOTTOM,
+    DEFAULT_CONTACT_STIFFNESS,
+    THICKNESS_M,
+    TOP,
+    scale_density,
+)
 from rockcal.dem.specimen import Specimen, check_geometry, hexagonal, random_packing
 from rockcal.errors import InputError
-from rockcal.labtests.lab_values import LabValues, read_curve
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of
-from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
-                                      check_stop_fraction, load_to_failure)
+from rockcal.labtests.lab_values import LabValues, read_curve
+from rockcal.labtests.loading import (
+    DISTRIBUTED_DAMAGE,
+    RAMP_STEPS_PER_ROW,
+    Loading,
+    Reading,
+    check_stop_fraction,
+    load_to_failure,
+)
 from rockcal.labtests.platens import Platens
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.params import MicroParams, make_params
