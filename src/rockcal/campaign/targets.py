@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from pydantic import ConfigDict, ValidationError, field_validator, model_validator
 
+from rockcal.errors import from_validation_error
 from rockcal.labtests.lab_values import LabValues, Section, Spread, values_model  # noqa: F401
 from rockcal.labtests.registry import LAB_TESTS, PRIMARY_TEST, lab_test
 
@@ -50,10 +51,9 @@ def _section(name: str, value) -> LabValues:
     try:
         return values_model(lab_test(name)).model_validate(value)
     except ValidationError as exc:
-        err = exc.errors()[0]
-        cause = (err.get("ctx") or {}).get("error")
-        loc = ".".join(str(p) for p in (name, *err.get("loc", ())))
-        raise ValueError(f"{loc}: {cause if isinstance(cause, Exception) else err['msg']}") from None
+        error = from_validation_error(exc)
+        field = name if error.field == "input" else f"{name}.{error.field}"
+        raise ValueError(f"{field}: {error.problem}") from None
 
 
 class ValidationTests(Section):
