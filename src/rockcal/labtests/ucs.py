@@ -14,7 +14,7 @@ the maximum axial strain.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable, ClassVar
 
@@ -47,6 +47,7 @@ from rockcal.labtests.result import LabResult, run_fields
 from rockcal.params import MicroParams, make_params
 
 POST_PEAK_FRACTION = 0.7
+CRACK_TARGETS = ("ci_MPa", "ci_ratio", "cd_MPa", "cd_ratio")  # a lab reads these too
 STRAIN_READINGS = ("gauge", "platen")
 DEFAULT_STRAIN = "gauge"
 DEFAULT_MAX_AXIAL_STRAIN = 0.02
@@ -150,6 +151,10 @@ class UCSValues(LabValues):
     E_GPa: float | None = Field(None, gt=0)
     nu: float | None = Field(None, gt=0, lt=0.5)
     ucs_MPa: float | None = Field(None, gt=0)
+    ci_MPa: float | None = Field(None, gt=0)  # crack initiation, by the onset of cracking
+    ci_ratio: float | None = Field(None, gt=0, le=1)  # CI / UCS
+    cd_MPa: float | None = Field(None, gt=0)  # crack damage, at the reversal of volumetric strain
+    cd_ratio: float | None = Field(None, gt=0, le=1)  # CD / UCS
     curve: Path | None = None  # CSV: axial strain, axial stress (MPa)
 
     def derived(self) -> tuple[str, ...]:
@@ -179,7 +184,7 @@ TEST = LabTest(
     responses=(Response("E_GPa", "GPa", label="E"), Response("nu", "", label="Poisson's ratio"),
                Response("ucs_MPa", "MPa", label="UCS"),
                Response("peak_axial_strain", "", target=False, label="axial strain at peak"),
-               *CRACK_RESPONSES),
+               *(replace(r, target=r.name in CRACK_TARGETS) for r in CRACK_RESPONSES)),
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
               "stop_fraction", "contact_stiffness", "max_axial_strain"),
     plot="stress_strain",
