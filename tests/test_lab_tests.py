@@ -49,7 +49,7 @@ def test_a_setting_added_later_keys_a_run_only_away_from_its_old_value(kind):
 
 
 def test_the_ucs_targets_are_the_ucs_tests_measured_responses():
-    assert RESPONSES == ("E_GPa", "nu", "ucs_MPa")
+    assert RESPONSES == ("E_GPa", "nu", "ucs_MPa", "ci_MPa", "ci_ratio", "cd_MPa", "cd_ratio")
     assert set(RESPONSES) <= set(UCSTargets.model_fields)
 
 
