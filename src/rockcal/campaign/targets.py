@@ -31,8 +31,9 @@ class LabTargets(Section):
     spread of each and its weight in the objective (default 1)."""
 
     test: ClassVar[str]
-    spread: Spread = {}
-    weights: dict[str, float] = {}
+    spread: Spread = Field({}, description="The lab's spread of a response: its sd, or the [min, max] of the lab's "
+                           "samples; turns the parameters' intervals on.")
+    weights: dict[str, float] = Field({}, description="Weight of a response in the objective (default 1).")
 
     def scalars(self) -> dict[str, float]:
         """The responses given, by name."""
@@ -67,10 +68,11 @@ class UCSTargets(LabTargets):
     """Lab results of the uniaxial compression test (at least one response)."""
 
     test: ClassVar[str] = "ucs"
-    E_GPa: float | None = Field(None, gt=0)
-    nu: float | None = Field(None, gt=0, lt=0.5)
-    ucs_MPa: float | None = Field(None, gt=0)
-    curve: Path | None = None  # CSV: axial strain, axial stress (MPa)
+    E_GPa: float | None = Field(None, gt=0, description="Young's modulus E, GPa (secant at half the peak).")
+    nu: float | None = Field(None, gt=0, lt=0.5, description="Poisson's ratio ν (secant at half the peak).")
+    ucs_MPa: float | None = Field(None, gt=0, description="Uniaxial compressive strength, MPa.")
+    curve: Path | None = Field(None, description="CSV of the measured curve: axial strain, axial stress (MPa); "
+                               "gives E and UCS when they are not given, and the curve's fit (RE, CC).")
 
     def derived(self) -> tuple[str, ...]:
         return ("E_GPa", "ucs_MPa") if self.curve is not None else ()
@@ -80,21 +82,24 @@ class BrazilianTargets(LabTargets):
     """Lab result of the Brazilian (splitting tensile) test."""
 
     test: ClassVar[str] = "brazilian"
-    sigma_t_MPa: float = Field(gt=0)
+    sigma_t_MPa: float = Field(gt=0, description="Brazilian tensile strength σ_t = 2P/(πDt), MPa.")
 
 
 class BendingTargets(LabTargets):
     """Lab results of the notched three-point bending test."""
 
     test: ClassVar[str] = "bending"
-    K_IC_MPa_sqrt_m: float = Field(gt=0)
-    P_max_kN: float | None = Field(None, gt=0)  # of the lab's round bar, to cross-check K_IC
-    diameter_mm: float = Field(50.0, gt=0)
-    notch_mm: float = Field(18.0, gt=0)
-    span_mm: float = Field(160.0, gt=0)
+    K_IC_MPa_sqrt_m: float = Field(gt=0, description="Fracture toughness K_IC, MPa·m^0.5.")
+    P_max_kN: float | None = Field(None, gt=0, description="Peak load of the lab's round bar, kN, to cross-check "
+                                   "K_IC with Ouchterlony's formula.")
+    diameter_mm: float = Field(50.0, gt=0, description="The lab bar's diameter D, mm.")
+    notch_mm: float = Field(18.0, gt=0, description="The lab bar's notch depth a, mm.")
+    span_mm: float = Field(160.0, gt=0, description="The lab bar's support span S, mm.")
 
 
 class Targets(Section):
+    """The lab results, one section per lab test."""
+
     ucs: UCSTargets
     brazilian: BrazilianTargets | None = None
     bending: BendingTargets | None = None
@@ -109,7 +114,8 @@ class ValidationTests(Section):
     """The tests given in [targets] that are validation checks only, run at the identified
     parameters (default: bending); the others are calibrated against."""
 
-    tests: list[str] = ["bending"]
+    tests: list[str] = Field(["bending"], description="Tests given in [targets] that are checks only, run at the "
+                             "identified parameters: bending, brazilian.")
 
     @field_validator("tests")
     @classmethod
