@@ -1,4 +1,4 @@
-"""The inverse procedure end to end (SPEC steps 1-8): sensitivity runs and range analysis,
+"""The inverse procedure end to end: sensitivity runs and range analysis,
 Latin hypercube runs, Gaussian RBF surrogate and its check, ant colony search on the
 surrogate, DEM verification and the adaptive loop, the intervals of the identified parameters
 (when the lab gives a spread), then the validation checks.

@@ -33,7 +33,7 @@ def calibrate(
                                "resolution (R_min doubled) with one validation beam and 50 draws for the "
                                "intervals; not the calibration."),
 ) -> None:
-    """Identify BPM micro-parameters from lab results (SPEC steps 1-8), with a report."""
+    """Identify BPM micro-parameters from lab results by the inverse procedure, with a report."""
     from rockcal.campaign.config import load_campaign, quick_look, quick_look_note
     from rockcal.campaign.executors import make_executor
     from rockcal.campaign.plan import stage_runs, stage_times

@@ -33,7 +33,7 @@ DEFAULT_MAX_AXIAL_STRAIN = 0.02
 # The specimen's masses are density-scaled (`simulate.scale_density`), so its platens close
 # this much faster than an unscaled specimen's, and their ramp and the loading rule's window
 # are this much shorter, for the same equilibrium: on three full-size granite specimens halving
-# the speed moves E, nu and UCS by at most 1.0 % (docs/benchmarks.md, "Density scaling").
+# the speed moves E, nu and UCS by at most 1.0 %.
 DENSITY_SCALED_SPEED = 1.6
 
 
@@ -119,5 +119,5 @@ TEST = LabTest(
     reading=lambda strain, stress_MPa: f"strain {100 * strain:.3f} %, {stress_MPa:.1f} MPa",
     outline=lambda s: Outline(f"UCS {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"],
                               s["height_mm"]),
-    revision=3)  # 2: the platens slow down by half at 4 bonds broken per ramp, not 2 (issue 15);
-                 # 3: density-scaled masses, the platens 1.6x faster (issue 15)
+    revision=3)  # part of every stored UCS run's key: raise it when the test's numbers change
+                 # (what changed in each revision: CHANGELOG.md)
