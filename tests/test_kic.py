@@ -50,6 +50,7 @@ def test_beam_kic_scales_with_load_and_size():
     assert senb_kic(160e3, 0.64, 0.20, 0.072) == pytest.approx(2 * base)
 
 
+@pytest.mark.slow
 def test_kic_command():
     run = rockcal("kic", "--pmax-kn", "1.453", "--diameter-mm", "50", "--notch-mm", "18",
                   "--span-mm", "160", "--json")
@@ -57,6 +58,7 @@ def test_kic_command():
     assert json.loads(run.stdout)["K_IC_MPa_sqrt_m"] == pytest.approx(0.973, abs=5e-4)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("args, field", [
     (["--notch-mm", "60"], "--notch-mm"),
     (["--pmax-kn", "-1"], "--pmax-kn"),
