@@ -142,7 +142,7 @@ def test_bad_geometry_is_one_line_and_exit_2(args, field):
 
 @pytest.mark.slow
 def test_the_fall_must_last_two_flexural_periods_of_the_beam():
-    """The source's beam at the source's point (issue 14): Euler-Bernoulli's first period,
+    """The source's beam at the source's point: Euler-Bernoulli's first period,
     T = 2 sqrt(12) S^2 / (pi W c), is 254 us, 4 130 steps at R_min 0.5 mm, where the load
     read at the pin after the pin touched swings with a period of about 4 100 steps. It grows
     as S^2 / W, and as the square root of the masses where they are density-scaled."""
@@ -163,7 +163,7 @@ def test_the_fall_must_last_two_flexural_periods_of_the_beam():
 
 
 def test_a_swing_of_the_beam_below_the_stop_fraction_does_not_stop_it():
-    """The load read at the pin of issue 14's beam (seed 1, strength sd 0.46 x mean): 5.03 kN/m
+    """The load read at the pin of a full-size beam at R_min 0.5 mm (seed 1, strength sd 0.46 x mean): 5.03 kN/m
     while the pin was still fast, down to 30 % of it 1 750 steps later as the beam swung away,
     back up within a period (about 4 100 steps). The old rule (a fall counts at once) stopped
     there; a fall must now last two periods, which a real one does."""
