@@ -3,7 +3,7 @@
 Run by hand:  python benchmarks/aco_comparison.py [--seeds 15] [--budget 10000]
 For each problem and method, over seeds: success rate (best objective reaches the target
 within the evaluation budget) and evaluations to reach the target (median over the
-successful seeds). Prints a markdown table (the one in docs/inverse.md).
+successful seeds). Prints a markdown table (the one in docs/concepts/inverse-procedure.md).
 
 mealpy's ACOR is included when MEALPY_PYTHON names a Python interpreter with mealpy
 installed (mealpy 3 pins numpy < 2, so it cannot share rockcal's environment); that

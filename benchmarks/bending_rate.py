@@ -20,7 +20,7 @@ from rockcal.labtests import bending
 from rockcal.labtests.seeds import seed_list
 from rockcal.params import make_params
 
-CAMPAIGN_POINT = {"E_c": 21.42, "kn_ks": 1.970, "sigma_c": 36.28}  # runs/granite-bench5's, rounded
+CAMPAIGN_POINT = {"E_c": 21.42, "kn_ks": 1.970, "sigma_c": 36.28}  # an identified point of the granite campaign, rounded
 
 
 def main() -> None:

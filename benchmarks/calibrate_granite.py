@@ -6,8 +6,8 @@ time, the DEM runs used, the identified parameters, the verified errors and K_IC
 is also given in "UCS units": divided by one full-size UCS run at the source's identified point
 (granite specimen and strength spread, all threads) timed in the same benchmark, so that
 machines of different speed compare: the fastest of `--reference-runs` (2) timings before the
-campaign and one after it, the unit their mean (a shared machine's speed drifts over half an
-hour: the reference took 66.4 s before and 80.5 s after runs/granite-bench9); that run's E, nu
+campaign and one after it, the unit their mean (a shared machine's speed can drift by a fifth
+over half an hour); that run's E, nu
 and UCS are printed too.
 """
 

@@ -1,6 +1,6 @@
 """Engine throughput: time per step by phase (and of the bond phase's parts, each alone),
 particle-steps/s on 1 and 2 threads, and the ratio to the bare bond loop
-(`../shared/bench/bond_loop.py`) run in the same process.
+(`benchmarks/bond_loop.py`) run in the same process.
 
 Run by hand: `python benchmarks/engine_profile.py [--steps 1000] [--rounds 3] [--bond-loop PATH]`. The
 specimen is the full-size UCS one (50 x 100 mm, R_min 0.25 mm, granite genesis) at the source
@@ -122,7 +122,7 @@ def bare_loop_seconds_per_step(module, n: int, steps: int) -> tuple[float, int]:
 @njit
 def _bare_step_with_bond_state(pos, vel, rot, spin, force, moment, bi, bj, kn, ks, kb, rest, inv_m,
                                inv_i, rad, dt, nsteps, rows, shear):
-    """The bare loop's step (`../shared/bench/bond_loop.py`) carrying what a PFC bond must keep
+    """The bare loop's step (`bond_loop.py`) carrying what a PFC bond must keep
     from step to step: it reads and writes each bond's normal and shear forces, moment and contact
     shear force, and reads its reference overlap and two strengths; its arithmetic stays the
     bare loop's. The engine's floor, less the PFC law's own arithmetic."""
@@ -196,7 +196,7 @@ def main() -> None:
                         help="the engine and the bare loop timed in turn this many times; the "
                              "fastest of each counts (timings on a shared machine move 10-20 %%)")
     parser.add_argument("--bond-loop", type=Path,
-                        default=Path(__file__).resolve().parents[2] / "shared/bench/bond_loop.py")
+                        default=Path(__file__).resolve().parent / "bond_loop.py")
     args = parser.parse_args()
     cap = numba.config.NUMBA_NUM_THREADS
     state = ucs_state()

@@ -1,8 +1,8 @@
 """What moves the notched beam's K_IC and the UCS apart: PFC bond settings at the source's
-identified point (the validation issue's factor table).
+identified point.
 
 Run by hand: `python benchmarks/kic_factors.py [--store runs/kic-factors] [--rmin-mm 0.25]
-[--seeds 3] [--workers 2] [--only cv0,cv023]`. Each factor is a set of micro-parameters on top
+[--seeds 3] [--workers 2] [--only cv0,cv023] [--contact-stiffness pfc5]`. Each factor is a set of micro-parameters on top
 of the source's identified point (E_c 21.65 GPa, kn/ks 1.9, sigma_c 36.55 MPa, tau_c 90 MPa,
 mu 0.5), on the granite campaign's specimens or with some of their settings changed
 (installation gap, notch); per factor: K_IC and P_max of the full-size
@@ -22,6 +22,7 @@ import numpy as np
 from rockcal.campaign.config import load_campaign
 from rockcal.campaign.forward import Executor, run_spec
 from rockcal.campaign.store import RunStore
+from rockcal.dem.simulate import CONTACT_STIFFNESS
 
 LAB = {"K_IC_MPa_sqrt_m": 1.057, "ucs_MPa": 138.8}
 SPREAD = {"sigma_c_cv": 0.23, "tau_c_cv": 0.23}  # the granite default (Potyondy & Cundall's)
@@ -50,6 +51,8 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--only", default="", help="comma-separated factor names (default: all)")
+    parser.add_argument("--contact-stiffness", default=None, choices=CONTACT_STIFFNESS,
+                        help="default: the granite campaign's")
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args()
 
@@ -57,6 +60,8 @@ def main() -> None:
     specimen = granite.specimen
     if args.rmin_mm is not None:
         specimen = specimen.model_copy(update={"rmin_mm": args.rmin_mm})
+    if args.contact_stiffness is not None:
+        specimen = specimen.model_copy(update={"contact_stiffness": args.contact_stiffness})
     names = [n for n in args.only.split(",") if n] or list(FACTORS)
     unknown = sorted(set(names) - set(FACTORS))
     if unknown:

@@ -4,7 +4,7 @@ Run by hand: `python benchmarks/pc2004_granite.py [--seeds 3] [--strain gauge|pl
 [--contact-stiffness pfc4|pfc5]` (pfc4: their PFC2D 3.x's contacts, kn = t E_c). Specimen
 31.7 x 63.4 mm, R_min 0.27 mm, ratio 1.66, touching pairs bonded (installation gap 0), cloud
 porosity 0.08; E_c = Ebar_c = 62 GPa, kn/ks 2.5, sigma_c = tau_c = 157 +- 36 MPa, mu 0.5
-(`../shared/data/pc2004_ldb_pfc2d.csv`). Prints E and q_u per packing and their means beside
+(Potyondy & Cundall 2004, IJRMMS 41:1329, Lac du Bonnet granite). Prints E and q_u per packing and their means beside
 PFC2D's 70.9 GPa and 199.1 MPa.
 """
 

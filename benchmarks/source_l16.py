@@ -1,11 +1,10 @@
 """The source study's 16 PFC2D UCS runs (its Table 3, L16 orthogonal experiment), run by rockcal.
 
-Run by hand: `python benchmarks/source_l16.py [--store runs/granite] [--rmin-mm 0.25]
+Run by hand: `python benchmarks/source_l16.py [--store runs/source-l16] [--rmin-mm 0.25]
 [--install-gap G] [--strain platen] [--set sigma_c_cv=0.23] [--workers 2] [--runs 1,5,9]`. Prints, per point, rockcal's E,
 nu, UCS beside PFC2D's and the errors (E and UCS relative, nu absolute), the worst of each and
 whether every point is within the goal (E 5 %, nu 0.02, UCS 10 %). Runs go through a run store
-(resumable, never run twice): the embedded granite campaign's sensitivity stage runs the same
-16 points, so `--store runs/granite` shares them with `rockcal calibrate --out runs/granite`.
+(resumable, never run twice). The source's table is `benchmarks/data/source_table3_l16.csv`.
 Unset specimen settings are the granite campaign's; `--set` adds micro-parameters the table
 leaves at their defaults (bond options such as the strength spread).
 """
@@ -25,7 +24,7 @@ from rockcal.campaign.forward import Executor, run_spec, specimen_of
 from rockcal.campaign.store import RunStore
 from rockcal.params import make_params, parse_assignments
 
-TABLE = Path(__file__).resolve().parents[2] / "shared" / "data" / "source_table3_l16.csv"
+TABLE = Path(__file__).resolve().parent / "data" / "source_table3_l16.csv"
 GOAL = {"E": 0.05, "nu": 0.02, "ucs": 0.10}
 SETTINGS = ("rmin_mm", "install_gap", "cloud_porosity", "pressure_mpa", "strain", "seed", "contact_stiffness")
 

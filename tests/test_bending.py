@@ -33,6 +33,7 @@ def result(specimen):
     return simulate_bending(make_params({}), specimen, SMALL)
 
 
+@pytest.mark.slow
 def test_notch_is_carved_and_bonds_reindexed(specimen):
     x, y, r = specimen.pos[:, 0], specimen.pos[:, 1], specimen.radius
     in_notch = (np.abs(x - 0.033) < 0.0005 + r) & (y - r < 0.0054)
@@ -42,6 +43,7 @@ def test_notch_is_carved_and_bonds_reindexed(specimen):
     assert specimen.bonds.max() < specimen.n_particles and (specimen.bonds[:, 0] < specimen.bonds[:, 1]).all()
 
 
+@pytest.mark.slow
 def test_crack_starts_at_the_notch_tip(result):
     """A centred notch: the first broken bonds lie within a few particle diameters of its tip."""
     tip = np.array(result.notch_tip_m)
@@ -51,6 +53,7 @@ def test_crack_starts_at_the_notch_tip(result):
     assert result.n_broken_tension > result.n_broken_shear
 
 
+@pytest.mark.slow
 def test_peak_load_gives_k_ic(result):
     assert result.P_max_kN_per_m > 0 and result.displacement_at_peak_mm > 0
     assert result.K_IC_MPa_sqrt_m * 1e6 == pytest.approx(
@@ -58,6 +61,7 @@ def test_peak_load_gives_k_ic(result):
     assert result.curve[-1, 1] < 0.3 * result.P_max_kN_per_m  # run on past the peak: cracked
 
 
+@pytest.mark.slow
 def test_a_notch_of_zero_width_cuts_bonds_and_keeps_every_particle():
     beam = Beam(44.0, 10.0, 3.6, 0.0, 32.0)
     whole = random_packing(44.0, 10.0, 0.25, 1.65, 1)
@@ -71,6 +75,7 @@ def test_a_notch_of_zero_width_cuts_bonds_and_keeps_every_particle():
         assert yi + (0.022 - xi) / (xj - xi) * (yj - yi) < 0.0036
 
 
+@pytest.mark.slow
 def test_seed_mean_k_ic_changes_far_less_than_the_peak_load_with_notch_depth():
     """Sharp (cut) notches 4.5 and 6 mm deep in the small beam (15 and 20 mm at full size),
     three packings each: the mean peak load falls with the deeper notch, the mean K_IC moves
@@ -89,11 +94,13 @@ def test_seed_mean_k_ic_changes_far_less_than_the_peak_load_with_notch_depth():
     assert abs(k_change) < abs(load_change) / 2
 
 
+@pytest.mark.slow
 def test_halving_the_loading_speed_changes_k_ic_little(specimen, result):
     slow = simulate_bending(make_params({}), specimen, SMALL, rate_factor=0.5)
     assert slow.K_IC_MPa_sqrt_m == pytest.approx(result.K_IC_MPa_sqrt_m, rel=0.03)
 
 
+@pytest.mark.slow
 def test_stopping_once_p_max_is_certain_finds_the_same_peak_sooner(specimen, result):
     """A run for K_IC alone stops once the load has stayed below 0.9 of the peak for two
     flexural periods: the same run up to there, so the same P_max, with fewer steps."""
@@ -103,6 +110,7 @@ def test_stopping_once_p_max_is_certain_finds_the_same_peak_sooner(specimen, res
     np.testing.assert_array_equal(early.curve, result.curve[:len(early.curve)])
 
 
+@pytest.mark.slow
 def test_bending_command_json_and_outputs(tmp_path):
     run = rockcal("simulate", "bending", "--length-mm", "44", "--height-mm", "10", "--notch-mm", "3.6",
                   "--notch-width-mm", "1", "--span-mm", "32", "--json", "--out", str(tmp_path))
@@ -115,6 +123,7 @@ def test_bending_command_json_and_outputs(tmp_path):
                                                     "bending_cracks.png", "bending_curve.png"}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("args, field", [
     (["--notch-mm", "60"], "--notch-mm"),
     (["--span-mm", "230"], "--span-mm"),
@@ -131,8 +140,9 @@ def test_bad_geometry_is_one_line_and_exit_2(args, field):
     assert len(lines) == 1 and field in lines[0], run.stderr
 
 
+@pytest.mark.slow
 def test_the_fall_must_last_two_flexural_periods_of_the_beam():
-    """The source's beam at the source's point (issue 14): Euler-Bernoulli's first period,
+    """The source's beam at the source's point: Euler-Bernoulli's first period,
     T = 2 sqrt(12) S^2 / (pi W c), is 254 us, 4 130 steps at R_min 0.5 mm, where the load
     read at the pin after the pin touched swings with a period of about 4 100 steps. It grows
     as S^2 / W, and as the square root of the masses where they are density-scaled."""
@@ -153,7 +163,7 @@ def test_the_fall_must_last_two_flexural_periods_of_the_beam():
 
 
 def test_a_swing_of_the_beam_below_the_stop_fraction_does_not_stop_it():
-    """The load read at the pin of issue 14's beam (seed 1, strength sd 0.46 x mean): 5.03 kN/m
+    """The load read at the pin of a full-size beam at R_min 0.5 mm (seed 1, strength sd 0.46 x mean): 5.03 kN/m
     while the pin was still fast, down to 30 % of it 1 750 steps later as the beam swung away,
     back up within a period (about 4 100 steps). The old rule (a fall counts at once) stopped
     there; a fall must now last two periods, which a real one does."""

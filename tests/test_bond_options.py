@@ -114,6 +114,7 @@ def test_moment_contribution_factor_scales_the_bending_stress():
     assert moments[0.5] / moments[1.0] == pytest.approx(2.0, rel=0.01)
 
 
+@pytest.mark.slow
 def test_strength_spread_weakens_potyondy_cundall_granite_but_leaves_its_modulus():
     """P&C 2004's granite on a small specimen with its own genesis (touching pairs bonded):
     drawing the strengths 157 +- 36 MPa instead of a constant 157 leaves the elastic curve as
@@ -132,6 +133,7 @@ def test_strength_spread_weakens_potyondy_cundall_granite_but_leaves_its_modulus
     assert constant.E_GPa == pytest.approx(70.9, rel=0.15)  # PFC2D's, on a specimen this small
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("stop_fraction", [0.7, 0.9])
 def test_weak_bonds_breaking_in_the_ramp_do_not_end_the_test(stop_fraction):
     """With spread strengths the weakest bonds break as the platens reach speed; the platens

@@ -10,6 +10,8 @@ import pytest
 from rockcal import make_params
 from rockcal.labtests.brazilian import brazilian_disk, simulate_brazilian
 
+pytestmark = pytest.mark.slow  # DEM runs and specimens of minutes: deselect with -m "not slow"
+
 
 @pytest.fixture(scope="module")
 def disk():

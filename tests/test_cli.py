@@ -13,6 +13,7 @@ def rockcal(*args):
     return subprocess.run([sys.executable, "-m", "rockcal", *args], capture_output=True, text=True)
 
 
+@pytest.mark.slow
 def test_simulate_ucs_json_and_outputs(tmp_path):
     run = rockcal("simulate", "ucs", *SMALL, "--set", "sigma_c=30", "--json", "--out", str(tmp_path))
     assert run.returncode == 0, run.stderr
@@ -26,6 +27,7 @@ def test_simulate_ucs_json_and_outputs(tmp_path):
     assert {p.name for p in tmp_path.iterdir()} >= {"ucs_curve.csv", "ucs_summary.json", "ucs_cracks.png"}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("args, field", [
     (["--set", "E_c=-5"], "E_c"),
     (["--set", "kn_ks=0"], "kn_ks"),
@@ -57,6 +59,7 @@ def test_bad_input_is_one_line_and_exit_2(args, field):
     assert_one_line_error(rockcal("simulate", "ucs", *SMALL, *args), field)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("test, args, flag", [
     ("bending", ["--length-mm", "2"], "--length-mm"),  # too short for its particles
     ("bending", ["--span-mm", "300"], "--span-mm"),

@@ -40,6 +40,7 @@ def test_floaters_left_when_the_rounds_run_out_are_counted(monkeypatch, caplog):
     assert f"{specimen.floaters} of {specimen.n_particles} grains" in caplog.text
 
 
+@pytest.mark.slow
 def test_grain_count_follows_the_cloud_porosity():
     mean_area = np.pi * (RMIN_MM * 1e-3) ** 2 * (1 + RATIO + RATIO**2) / 3
     area = WIDTH_MM * HEIGHT_MM * 1e-6

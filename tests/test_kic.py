@@ -1,4 +1,4 @@
-"""K_IC formulas: the lab's round bar (SPEC numbers), the notched beam against published tables."""
+"""K_IC formulas: the lab's round bar (the source study's numbers), the notched beam against published tables."""
 
 import json
 import math
@@ -16,7 +16,7 @@ def rockcal(*args):
 
 
 def test_round_bar_formula_gives_the_granite_value():
-    """SPEC: P_max 1.453 kN, D 50 mm, a 18 mm, S 160 mm -> Y 9.362, K_IC 0.973 MPa m^0.5."""
+    """The source's bar: P_max 1.453 kN, D 50 mm, a 18 mm, S 160 mm -> Y 9.362, K_IC 0.973 MPa m^0.5."""
     assert ouchterlony_Y(18 / 50) == pytest.approx(9.362, abs=5e-4)
     assert round_bar_kic(1453.0, 0.050, 0.018, 0.160) / 1e6 == pytest.approx(0.973, abs=5e-4)
 
@@ -50,6 +50,7 @@ def test_beam_kic_scales_with_load_and_size():
     assert senb_kic(160e3, 0.64, 0.20, 0.072) == pytest.approx(2 * base)
 
 
+@pytest.mark.slow
 def test_kic_command():
     run = rockcal("kic", "--pmax-kn", "1.453", "--diameter-mm", "50", "--notch-mm", "18",
                   "--span-mm", "160", "--json")
@@ -57,6 +58,7 @@ def test_kic_command():
     assert json.loads(run.stdout)["K_IC_MPa_sqrt_m"] == pytest.approx(0.973, abs=5e-4)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("args, field", [
     (["--notch-mm", "60"], "--notch-mm"),
     (["--pmax-kn", "-1"], "--pmax-kn"),

@@ -1,4 +1,4 @@
-"""The bonded hexagonal lattice against its exact plane moduli (SPEC: the physics check)."""
+"""The bonded hexagonal lattice against its exact plane moduli (the physics check)."""
 
 import numpy as np
 import pytest

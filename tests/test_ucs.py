@@ -10,7 +10,7 @@ def small_specimen():
     # Seed 2. On specimens this small a packing's damage path may switch with the rate: halving
     # it moves UCS by +0.0, -0.5, +0.9, -4.3, -2.8, -2.6 % on seeds 1-6 (PFC 3.x/4.0's contacts;
     # PFC 5's: -4.2, -0.5, -0.4, -0.3, -9.2, -0.2 %), E and nu by < 0.9 % on all; seed 2 moves
-    # alike under both. The full-size figures: benchmarks/ucs_full_size.py, docs/benchmarks.md.
+    # alike under both. The full-size figures: benchmarks/ucs_full_size.py.
     return random_packing(20, 40, 0.25, 1.65, seed=2)
 
 
@@ -19,6 +19,7 @@ def specimen():
     return small_specimen()
 
 
+@pytest.mark.slow
 def test_packing_is_dense_and_bonded(specimen):
     assert specimen.porosity < 0.22
     assert specimen.coordination() > 3.5
@@ -27,12 +28,14 @@ def test_packing_is_dense_and_bonded(specimen):
     assert inside.all()
 
 
+@pytest.mark.slow
 def test_specimen_cache_returns_the_same_packing(specimen):
     again = small_specimen()
     np.testing.assert_array_equal(again.pos, specimen.pos)
     np.testing.assert_array_equal(again.bonds, specimen.bonds)
 
 
+@pytest.mark.slow
 def test_quasi_static_halving_the_rate(specimen):
     params = make_params({})
     fast = simulate_ucs(params, specimen)
@@ -42,6 +45,7 @@ def test_quasi_static_halving_the_rate(specimen):
         assert getattr(slow, key) == pytest.approx(getattr(fast, key), rel=0.02), key
 
 
+@pytest.mark.slow
 def test_same_inputs_same_numbers():
     spec = random_packing(10, 20, 0.25, 1.65, seed=3)
     params = make_params({"sigma_c": 30})
@@ -51,6 +55,7 @@ def test_same_inputs_same_numbers():
     np.testing.assert_array_equal(a.positions, b.positions)
 
 
+@pytest.mark.slow
 def test_strength_scales_with_bond_strength(specimen):
     """Bond strengths do not enter the response before damage; doubling them doubles UCS."""
     weak = simulate_ucs(make_params({"sigma_c": 20, "tau_c": 50, "mu": 0}), specimen)

@@ -98,9 +98,11 @@ def range_bars(R: dict[str, dict[str, float]], chosen: list[str], path: Path, no
     _save(fig, path)
 
 
-def parity(points: dict[str, dict[str, tuple[list, list]]], tolerance: float, path: Path) -> None:
+def parity(points: dict[str, dict[str, tuple[list, list]]], tolerance: float, path: Path,
+           x: str = "DEM", y: str = "surrogate", title: str = "Surrogate against DEM") -> None:
     """Surrogate prediction against DEM value per response (points[response][label] = (dem,
-    predicted)), with the 1:1 line and the ±tolerance band."""
+    predicted)), with the 1:1 line and the ±tolerance band; `x`, `y` and `title` name the two
+    sources when they are others (rockcal against PFC2D, say)."""
     fig, axes = plt.subplots(1, len(points), figsize=(3.8 * len(points), 3.9), squeeze=False)
     for ax, (response, series) in zip(axes[0], points.items()):
         values = [v for dem, pred in series.values() for v in (*dem, *pred)]
@@ -112,14 +114,14 @@ def parity(points: dict[str, dict[str, tuple[list, list]]], tolerance: float, pa
                         color="tab:green", alpha=0.15, label=f"±{100 * tolerance:g} %")
         for (label, (dem, pred)), marker in zip(series.items(), "os^"):
             ax.plot(dem, pred, marker, ls="none", label=label)
-        ax.set_xlabel(f"DEM {_label(response, RESPONSE_LABELS)}", fontsize=8)
-        ax.set_ylabel(f"surrogate {_label(response, RESPONSE_LABELS)}", fontsize=8)
+        ax.set_xlabel(f"{x} {_label(response, RESPONSE_LABELS)}", fontsize=8)
+        ax.set_ylabel(f"{y} {_label(response, RESPONSE_LABELS)}", fontsize=8)
         ax.set_title(_label(response, RESPONSE_LABELS), fontsize=9)
         ax.set_xlim(line)
         ax.set_ylim(line)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
-    fig.suptitle("Surrogate against DEM")
+    fig.suptitle(title)
     _save(fig, path)
 
 

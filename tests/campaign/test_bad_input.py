@@ -16,6 +16,8 @@ from rockcal.campaign.config import SpecimenSettings
 from rockcal.campaign.forward import Executor, run_spec
 from rockcal.campaign.store import SCHEMA_VERSION, STORE_NAME, RunStore
 
+pytestmark = pytest.mark.slow  # each case runs the rockcal command in a new process
+
 CAMPAIGN = """
 [targets.ucs]
 E_GPa = 20.0

@@ -13,6 +13,8 @@ import pytest
 import rockcal
 from rockcal.campaign.store import RunStore
 
+pytestmark = pytest.mark.slow  # DEM runs and specimens of minutes: deselect with -m "not slow"
+
 TRUE = {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 40.0}
 FIXED = {"tau_c": 200.0, "mu": 0.5}
 # About 200 disks: too few for every packing to read nu. On seed 1 of generator v6 the lateral

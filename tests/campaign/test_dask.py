@@ -61,6 +61,7 @@ def specs(settings, n, **fixed):
     return [run_spec("ucs", settings, {"E_c": 15.0 + i, "sigma_c": 40.0} | fixed) for i in range(n)]
 
 
+@pytest.mark.slow
 def test_campaign_on_dask_gives_the_serial_answer_bit_for_bit(tmp_path):
     records = {}
     for name, make in (("serial", lambda s: Executor(s, workers=1)),
@@ -83,6 +84,7 @@ def test_campaign_on_dask_gives_the_serial_answer_bit_for_bit(tmp_path):
     assert dask.dem_run_keys == serial.dem_run_keys
 
 
+@pytest.mark.slow
 def test_workers_without_the_drivers_cache_make_the_same_specimen(cluster, worker_cache, tmp_path):
     spec = specs(TINY, 1, mu=0.35)
     serial = Executor(RunStore(tmp_path / "serial"), workers=1).run(spec)[0]
@@ -132,6 +134,7 @@ def run_killing_a_worker(executor, batch):
     return results, killed
 
 
+@pytest.mark.slow
 def test_a_worker_killed_mid_run_loses_nothing_and_duplicates_nothing(cluster, tmp_path):
     store = RunStore(tmp_path)
     executor = DaskExecutor(store, cluster.scheduler_address)
@@ -149,6 +152,7 @@ def test_a_worker_killed_mid_run_loses_nothing_and_duplicates_nothing(cluster, t
     assert [store.get(s).responses for s in batch] == [r.responses for r in results]
 
 
+@pytest.mark.slow
 def test_a_task_that_keeps_killing_workers_is_a_failed_run(cluster, tmp_path):
     store = RunStore(tmp_path)
     executor = DaskExecutor(store, cluster.scheduler_address)
@@ -165,6 +169,7 @@ def test_a_task_that_keeps_killing_workers_is_a_failed_run(cluster, tmp_path):
     assert [store.get(s).status for s in batch] == [r.status for r in results]
 
 
+@pytest.mark.slow
 def test_a_run_that_raises_is_stored_as_failed_and_the_batch_completes(cluster, tmp_path):
     narrow = SpecimenSettings(rmin_mm=0.4, width_mm=2, height_mm=16)  # narrower than 4 particles
     batch = specs(TINY, 3, mu=0.45) + specs(narrow, 1)
@@ -183,6 +188,7 @@ def test_a_run_that_raises_is_stored_as_failed_and_the_batch_completes(cluster, 
     assert store.executions() == {s.key: 1 for s in batch}
 
 
+@pytest.mark.slow
 def test_a_run_past_its_time_limit_is_recorded_as_timed_out(cluster, tmp_path):
     store = RunStore(tmp_path)
     executor = DaskExecutor(store, cluster.scheduler_address, time_limit_s=0.01)

@@ -19,6 +19,8 @@ from rockcal.dem.simulate import bond_strengths
 from rockcal.dem.specimen import random_packing
 from rockcal.params import make_params
 
+pytestmark = pytest.mark.slow  # a small calibration campaign, then the rockcal command in a new process
+
 IDENTIFIED = {"E_c": 21.65, "kn_ks": 1.9, "sigma_c": 36.55, "sigma_c_cv": 0.2, "tau_c": 90.0,
               "tau_c_sd": 15.0, "phi_b": 12.0, "mcf": 0.8, "mu": 0.5, "density": 2622.0}
 CAMPAIGN = """

@@ -20,6 +20,8 @@ import pytest
 import rockcal
 from rockcal.labtests.brazilian import brazilian_disk, simulate_brazilian
 
+pytestmark = pytest.mark.slow  # DEM runs and specimens of minutes: deselect with -m "not slow"
+
 TRUE = {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 30.0, "tau_c": 45.0}
 RECOVERED_WITHIN = {"E_c": 0.05, "kn_ks": 0.05, "sigma_c": 0.10, "tau_c": 0.05}  # see above
 FIXED = {"mu": 0.5}

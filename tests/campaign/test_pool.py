@@ -6,9 +6,13 @@ import signal
 import threading
 import time
 
+import pytest
+
 from rockcal.campaign.config import SpecimenSettings
 from rockcal.campaign.forward import Executor, run_spec
 from rockcal.campaign.store import RunStore
+
+pytestmark = pytest.mark.slow  # DEM runs and specimens of minutes: deselect with -m "not slow"
 
 SETTINGS = SpecimenSettings(rmin_mm=0.3, width_mm=12, height_mm=24)  # ~1 s a run
 

@@ -5,6 +5,8 @@ import html
 import subprocess
 import sys
 
+import pytest
+
 from rockcal.campaign.config import load_campaign, parse_campaign, quick_look, quick_look_note
 from rockcal.campaign.procedure import calibrate
 from rockcal.campaign.report import write_report
@@ -50,6 +52,7 @@ def test_a_quick_look_without_a_beam_does_not_promise_one(tmp_path):
     assert "beam" not in quick_look_note(quick_look(parse_campaign(TINY, tmp_path)))
 
 
+@pytest.mark.slow
 def test_the_first_screen_says_quick_look_and_its_folder_is_its_own(tmp_path):
     (tmp_path / "tiny.toml").write_text(TINY)
 
@@ -70,6 +73,7 @@ def test_the_first_screen_says_quick_look_and_its_folder_is_its_own(tmp_path):
     assert again.returncode == 2 and again.stderr.startswith("rockcal: error: --quick: ")
 
 
+@pytest.mark.slow
 def test_the_report_and_json_of_a_quick_look_say_so(tmp_path):
     quick = quick_look(parse_campaign(TINY, tmp_path))
     note = quick_look_note(quick)

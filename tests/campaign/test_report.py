@@ -16,6 +16,8 @@ from rockcal.campaign.report import write_report
 from rockcal.campaign.result import CalibrationResult, Check, FailedRun, Validation
 from rockcal.campaign.store import RunStore
 
+pytestmark = pytest.mark.slow  # a small calibration campaign, then the report from it
+
 TOML = '''
 [targets.ucs]
 nu = 0.2

@@ -1,9 +1,17 @@
-"""The campaign files shipped in docs/ load, and differ from the embedded granite only in what
-their header says."""
+"""The campaign files shipped in docs/ and shown in the README load; the tough granite differs
+from the embedded one only in what its header says; the tutorial's campaign runs as the
+tutorial says."""
 
+import json
+import re
+import subprocess
+import sys
 from pathlib import Path
 
-from rockcal.campaign.config import load_campaign
+import pytest
+
+from rockcal.campaign.config import load_campaign, parse_campaign
+from rockcal.campaign.plan import specimens_to_make
 
 DOCS = Path(__file__).parents[2] / "docs" / "campaigns"
 
@@ -20,3 +28,52 @@ def test_the_tough_granite_differs_from_the_embedded_one_only_in_its_settings_an
     assert tough.search.fixed == {"tau_c": 90.0, "mu": 0.5}  # constant strengths
     assert tough.sensitivity is None and tough.search.bounds["sigma_c"] == (10.0, 28.0)
     assert tough.targets == granite.targets and tough.rock == granite.rock
+
+
+ROOT = Path(__file__).parents[2]
+
+
+def readme_campaign() -> str:
+    """The campaign file the README shows (its one TOML block)."""
+    text = (ROOT / "README.md").read_text()
+    blocks = re.findall(r"```toml\n(.*?)```", text, flags=re.S)
+    assert len(blocks) == 1
+    return blocks[0]
+
+
+def test_the_readme_campaign_is_a_valid_campaign_of_about_twenty_lines():
+    campaign = parse_campaign(readme_campaign(), ROOT)
+    assert set(campaign.target_sections()) == {"ucs"} and campaign.validation_tests() == ["bending"]
+    assert campaign.wants_uncertainty() and set(campaign.search.bounds) == {"E_c", "kn_ks", "sigma_c"}
+    assert len(readme_campaign().strip().splitlines()) <= 25
+
+
+def test_the_tutorial_campaign_runs_on_the_shipped_half_resolution_specimens():
+    """So the tutorial starts at once: every specimen it needs ships with rockcal."""
+    tutorial, _ = load_campaign(str(DOCS / "tutorial.toml"))
+    granite, _ = load_campaign(None)
+    assert tutorial.targets == granite.targets
+    assert tutorial.specimen.rmin_mm == 0.5 and tutorial.specimen.bending_seeds == 1
+    assert not specimens_to_make(tutorial)
+
+
+@pytest.mark.slow
+def test_the_tutorial_campaign_runs_end_to_end(tmp_path):
+    """The tutorial's commands, as it gives them: calibrate, report, export, export-specimen."""
+    out = tmp_path / "tutorial"
+
+    def rockcal(*args):
+        run = subprocess.run([sys.executable, "-m", "rockcal", *map(str, args)], capture_output=True,
+                             text=True, timeout=1800)
+        assert run.returncode == 0, run.stderr
+        return run.stdout
+
+    result = json.loads(rockcal("calibrate", DOCS / "tutorial.toml", "--out", out, "--json"))
+    assert result["accepted"] and result["rock"] == "tutorial-granite"
+    assert all(abs(e) <= 0.05 for e in result["relative_errors"].values())
+    assert set(result["intervals"]) == {"E_c", "kn_ks", "sigma_c"} and result["K_IC_MPa_sqrt_m"] > 0
+    assert (out / "report.html").exists() and (out / "parameter_draws.png").exists()
+    fish = rockcal("export", out, "--format", "pfc-fish")
+    assert "pbm_emod" in fish and "mpSetPBParams" in fish
+    rockcal("export-specimen", out, "--to", tmp_path / "specimen")
+    assert (tmp_path / "specimen" / "balls.csv").exists() and (tmp_path / "specimen" / "bonds.csv").exists()

@@ -2,6 +2,7 @@
 genesis makes, and the first screen says which specimens must still be made."""
 
 import numpy as np
+import pytest
 
 from rockcal.campaign.config import load_campaign, parse_campaign, quick_look
 from rockcal.campaign.plan import describe, specimens, specimens_to_make
@@ -26,6 +27,7 @@ def test_the_embedded_campaigns_run_on_shipped_packings_only():
     assert specimens_to_make(granite) == [] and specimens_to_make(quick_look(granite)) == []
 
 
+@pytest.mark.slow
 def test_a_shipped_packing_is_what_genesis_makes():
     """The smallest: the sensitivity runs' half-resolution UCS packing (3 251 grains), made anew
     without any cache (`benchmarks/shipped_specimens.py --check` checks them all)."""

@@ -28,6 +28,7 @@ def _run(tmp_path, name: str, env: dict) -> str:
     return done.stdout.strip()
 
 
+@pytest.mark.slow
 def test_the_numbers_do_not_depend_on_numpys_simd_code(tmp_path):
     umath = (np._core if hasattr(np, "_core") else np.core)._multiarray_umath  # numpy 2, 1.26
     found = [f for f in getattr(umath, "__cpu_dispatch__", []) if umath.__cpu_features__.get(f)]

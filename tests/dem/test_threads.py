@@ -3,9 +3,12 @@
 
 import numba
 import numpy as np
+import pytest
 
 from rockcal import hexagonal, simulate_ucs
 from rockcal.dem.neighbours import block_starts
+
+pytestmark = pytest.mark.slow  # DEM runs and specimens of minutes: deselect with -m "not slow"
 
 PARAMS = {"E_c": 20, "kn_ks": 2.0, "sigma_c": 10, "tau_c": 20, "sigma_c_cv": 0.3, "tau_c_cv": 0.3}
 

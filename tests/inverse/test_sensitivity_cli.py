@@ -37,6 +37,7 @@ def analyze(*args):
     return CliRunner().invoke(sensitivity.app, ["analyze", *map(str, args)])
 
 
+@pytest.mark.slow
 def test_json_output_and_bar_chart(tmp_path):
     path = write_results(tmp_path / "runs.csv")
     run = analyze(path, "--factors", FACTORS, "--responses", "E,nu,UCS", "--json", "--out", tmp_path / "out")
@@ -84,6 +85,7 @@ def bad_files(tmp_path):
     return good, nan, text, short
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case, field", [
     ("missing-column", "--factors"),
     ("nan", "nan.csv"),

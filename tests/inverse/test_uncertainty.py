@@ -41,6 +41,7 @@ def intervals_for(surrogate, relative_spread, responses=("E_GPa", "nu", "ucs_MPa
                                NAMES, draws=60, seed=3)["intervals"]
 
 
+@pytest.mark.slow
 def test_intervals_contain_the_truth_and_shrink_with_the_spread(surrogate):
     wide, narrow = intervals_for(surrogate, 0.03), intervals_for(surrogate, 0.01)
     for k, name in enumerate(NAMES):
@@ -51,6 +52,7 @@ def test_intervals_contain_the_truth_and_shrink_with_the_spread(surrogate):
         assert width(narrow) == pytest.approx(width(wide) / 3, rel=0.35), name
 
 
+@pytest.mark.slow
 def test_model_scatter_widens_the_intervals(surrogate):
     lab_only = intervals_for(surrogate, 0.01)
     with_scatter = intervals_for(surrogate, 0.01, scatter={"E_GPa": 0.03, "nu": 0.0, "ucs_MPa": 0.03})

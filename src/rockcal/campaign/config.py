@@ -35,8 +35,10 @@ QUICK_DRAWS = 50  # `--quick`: at most this many target draws for the parameters
 
 
 class Rock(Section):
-    name: str = Field("rock", min_length=1, max_length=200)
-    density_kg_m3: float = Field(2622.0, gt=0)
+    """The rock: its name (the output folder's and the report's) and density."""
+
+    name: str = Field("rock", min_length=1, max_length=200, description="Names the default output folder (runs/NAME) and the report.")
+    density_kg_m3: float = Field(2622.0, gt=0, description="Density of the rock, kg/m³ (the particles' density).")
 
     @field_validator("name")
     @classmethod
@@ -52,30 +54,31 @@ class SpecimenSettings(Genesis):
     beam: one genesis for all) and how the UCS test reads them (defaults: the source's; the
     genesis keys are `rockcal.dem.genesis.Genesis`'s)."""
 
-    rmin_mm: float = Field(0.25, gt=0, description="smallest grain radius, mm")
-    radius_ratio: float = Field(1.65, ge=1, le=10, description="largest / smallest grain radius")
-    seed: int = Field(1, ge=0, description="packing seed")
-    width_mm: float = Field(50.0, gt=0, description="UCS specimen width, mm")
-    height_mm: float = Field(100.0, gt=0, description="UCS specimen height, mm")
-    beam_length_mm: float = Field(220.0, gt=0, description="notched beam length, mm")
-    beam_height_mm: float = Field(50.0, gt=0, description="notched beam depth W, mm")
-    notch_mm: float = Field(18.0, gt=0, description="notch depth a, mm (bottom edge, mid-span)")
-    notch_width_mm: float = Field(2.0, ge=0, description="notch width, mm; 0 cuts the bonds (a sharp crack)")
-    span_mm: float = Field(160.0, gt=0, description="distance S between the beam's supports, mm")
-    disk_diameter_mm: float = Field(50.0, gt=0, description="Brazilian disk diameter D, mm")
-    bending_seeds: int = Field(1, ge=1, description="validation K_IC: mean over packings seed, seed + 1, ...")
-    strain: Literal["gauge", "platen"] = Field(
-        DEFAULT_STRAIN, description="UCS axial strain read from the specimen's own end grains (gauge) "
-                                    "or from the platens (platen, PFC's)")
-    stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1, description=(
-        "UCS and bending: stop once past the peak the load is below this fraction of it (PFC ct_loadFac)"))
-    contact_stiffness: Literal[CONTACT_STIFFNESS] = Field(
-        DEFAULT_CONTACT_STIFFNESS, description="a contact's kn from E_c as PFC 3.x/4.0 (pfc4: t E_c) or "
-                                               "PFC 5+ does (pfc5: 2 min(R) t E_c / (R_A + R_B))")
+    rmin_mm: float = Field(0.25, gt=0, description="Smallest particle radius R_min, mm: the resolution.")
+    radius_ratio: float = Field(1.65, ge=1, le=10, description="Largest / smallest radius; radii are uniform between.")
+    seed: int = Field(1, ge=0, description="Packing seed; other packings (intervals, validation beams) take seed + 1, ...")
+    width_mm: float = Field(50.0, gt=0, description="UCS specimen width, mm.")
+    height_mm: float = Field(100.0, gt=0, description="UCS specimen height, mm.")
+    beam_length_mm: float = Field(220.0, gt=0, description="Notched beam length, mm.")
+    beam_height_mm: float = Field(50.0, gt=0, description="Notched beam depth W, mm.")
+    notch_mm: float = Field(18.0, gt=0, description="Notch depth a, mm, from the beam's lower edge at mid-span.")
+    notch_width_mm: float = Field(2.0, ge=0, description="Notch width, mm; 0 is a cut: the bonds across the notch line "
+                                  "are removed (a sharp crack).")
+    span_mm: float = Field(160.0, gt=0, description="Distance S between the beam's supports, mm.")
+    disk_diameter_mm: float = Field(50.0, gt=0, description="Diameter of the Brazilian test's disk, mm.")
+    bending_seeds: int = Field(1, ge=1, description="The validation K_IC is the mean over this many packings of the "
+                               "beam (seed, seed + 1, ...).")
+    strain: Literal["gauge", "platen"] = Field(DEFAULT_STRAIN, description="Axial strain of the UCS test read on the "
+                                               "specimen's end particles (gauge) or from the platens (platen, PFC's).")
+    stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1, description="UCS and bending runs stop once past "
+                                 "the peak the load is below this fraction of it (PFC's ct_loadFac).")
+    contact_stiffness: Literal[CONTACT_STIFFNESS] = Field(DEFAULT_CONTACT_STIFFNESS, description="A contact's kn "
+                                                          "from E_c as PFC 3.x/4.0 (pfc4: t E_c) or PFC 5+ (pfc5: "
+                                                          "2 min(R) t E_c / (R_A + R_B)) computes it.")
     # left out of a record at its default, as out of a run's key (`kind.LATER_SETTINGS`)
     max_axial_strain: float = Field(DEFAULT_MAX_AXIAL_STRAIN, gt=0, le=0.5,
                                     exclude_if=lambda v: v == DEFAULT_MAX_AXIAL_STRAIN,
-                                    description="UCS: stop at this axial strain at the latest")
+                                    description="UCS: stop at this axial strain at the latest.")
 
 
 def _check_names(values: dict) -> None:
@@ -85,10 +88,17 @@ def _check_names(values: dict) -> None:
 
 
 class Sensitivity(Section):
-    array: str = "L16(4^5)"
-    levels: dict[str, list[float]]
-    threshold: float | None = Field(None, gt=0, le=1)  # also invert factors with R >= threshold x max R
-    rmin_mm: float | None = Field(None, gt=0)  # R_min of the sensitivity runs; default: the specimen's
+    """Sensitivity runs on an orthogonal array and their range analysis: which parameter
+    drives which response (optional when [search] bounds name the parameters to invert)."""
+
+    array: str = Field("L16(4^5)", description="Orthogonal array: L4(2^3), L8(2^7), L9(3^4), L16(4^5), L18(2^1 3^7), "
+                       "L25(5^6) or L27(3^13).")
+    levels: dict[str, list[float]] = Field(description="The level values of each factor (micro-parameter), "
+                                           "as many as the array's levels.")
+    threshold: float | None = Field(None, gt=0, le=1, description="Also invert every factor whose range R is at "
+                                    "least this fraction of the largest R of a response.")
+    rmin_mm: float | None = Field(None, gt=0, description="R_min of the sensitivity runs, mm (default: the "
+                                  "specimen's); coarser grains rank the factors alike in a fraction of the time.")
 
     @field_validator("levels")
     @classmethod
@@ -101,8 +111,11 @@ class Sensitivity(Section):
 
 
 class Search(Section):
-    bounds: dict[str, tuple[float, float]] = {}
-    fixed: dict[str, float] = {}
+    """The parameters to invert and their box; the others held fixed."""
+
+    bounds: dict[str, tuple[float, float]] = Field({}, description="[low, high] of each parameter to invert.")
+    fixed: dict[str, float] = Field({}, description="Values of parameters held constant (others keep rockcal's "
+                                    "defaults, the source study's granite).")
 
     @field_validator("bounds")
     @classmethod
@@ -121,43 +134,55 @@ class Search(Section):
 
 
 class Surrogate(Section):
-    samples: int = Field(30, ge=4)
-    checks: int = Field(3, ge=1)
-    tolerance: float = Field(0.05, gt=0)  # the surrogate is trusted within this relative error
-    seed: int = Field(1, ge=0)
+    """The Latin hypercube runs the RBF surrogate is fitted on, and its check runs."""
+
+    samples: int = Field(30, ge=4, description="Latin hypercube DEM runs in the search box.")
+    checks: int = Field(3, ge=1, description="Fresh random DEM runs that check the surrogate.")
+    tolerance: float = Field(0.05, gt=0, description="The surrogate is trusted when every check is within this "
+                             "relative error.")
+    seed: int = Field(1, ge=0, description="Seed of the Latin hypercube and the check points.")
 
 
 class Optimizer(Section):
-    method: Literal["aco", "ant-system", "acor"] = "aco"
-    ants: int = Field(50, ge=2)
-    iterations: int = Field(200, ge=1)
-    alpha: float = Field(1.0, ge=0)
-    beta: float = Field(5.0, ge=0)
-    rho: float = Field(0.5, gt=0, le=1)
-    seed: int = Field(1, ge=0)
+    """Ant colony optimisation on the surrogate."""
+
+    method: Literal["aco", "ant-system", "acor"] = Field("aco", description="The source's Ant System (aco = "
+                                                         "ant-system) or ACO_R (acor; alpha, beta and rho do not "
+                                                         "apply to it).")
+    ants: int = Field(50, ge=2, description="Ants per iteration.")
+    iterations: int = Field(200, ge=1, description="Iterations of the colony.")
+    alpha: float = Field(1.0, ge=0, description="Ant System: weight of the pheromone.")
+    beta: float = Field(5.0, ge=0, description="Ant System: weight of the heuristic desirability.")
+    rho: float = Field(0.5, gt=0, le=1, description="Ant System: evaporation rate of the pheromone.")
+    seed: int = Field(1, ge=0, description="Seed of the search.")
 
 
 class Acceptance(Section):
-    tolerance: float = Field(0.05, gt=0, lt=1)
-    max_dem_runs: int = Field(80, ge=1)
-    # distinct optima of the surrogate verified per loop round, at once on as many workers
-    # (2: a 2-core machine); set here, not by --workers, so the workers never change the result
-    candidates: int = Field(2, ge=1)
+    """When a verified point is accepted, and the budget of DEM runs."""
+
+    tolerance: float = Field(0.05, gt=0, lt=1, description="Accept a point when every response is within this "
+                             "relative error of the lab's.")
+    max_dem_runs: int = Field(80, ge=1, description="Budget of parameter sets run in the DEM (UCS runs).")
+    # set here, not by --workers, so that the workers never change the result
+    candidates: int = Field(2, ge=1, description="Distinct optima of the surrogate verified at once per loop "
+                            "round.")
 
 
 class Uncertainty(Section):
     """Intervals of the identified parameters (Monte Carlo on the surrogate)."""
 
-    enabled: bool | None = None  # None: on when a calibration target gives a spread
-    draws: int = Field(200, ge=10)
-    packings: int = Field(3, ge=1)  # UCS packings at the identified point for the model scatter
-    seed: int = Field(1, ge=0)
+    enabled: bool | None = Field(None, description="Default: on when a calibration target gives a spread.")
+    draws: int = Field(200, ge=10, description="Target sets drawn from the lab's spread, each solved on the "
+                       "surrogate.")
+    packings: int = Field(3, ge=1, description="UCS packings run at the identified point for the model's own "
+                          "scatter (the first is the verified run).")
+    seed: int = Field(1, ge=0, description="Seed of the draws.")
 
 
 class MaterialChoice(Section):
     """[material]: the bonded material the campaign calibrates (`rockcal.materials`)."""
 
-    model: str = DEFAULT_MATERIAL
+    model: str = Field(DEFAULT_MATERIAL, description="The bonded material: " + ", ".join(MATERIALS) + ".")
 
     @field_validator("model")
     @classmethod

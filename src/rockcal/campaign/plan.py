@@ -1,7 +1,7 @@
 """What a campaign will run and about how long it will take: shown before it starts.
 
 A run's time is the mean of the test's runs on the same specimen that the store already holds;
-without any, it is scaled from the full-size granite UCS run of docs/benchmarks.md by this
+without any, it is scaled from a full-size granite UCS run on a reference machine by this
 machine's speed against the reference machine's (`engine_speed`: a one-second probe). Work per
 step grows with the grains, and the steps of a test with its rows of grains (the loading speed
 is set per row), so a run's time goes about as (grains x rows)^1.1 (measured on idle cores); a
@@ -27,16 +27,16 @@ from rockcal.dem.specimen import packing_name, stored_packing
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
-# its mean UCS run on one thread, two at a time on idle cores (runs/granite-bench10, UCS revision 3,
-# docs/benchmarks.md), on a machine where engine_speed.probe_ms_per_step() gave REFERENCE_PROBE_MS
-# (the mean of 0.70 before that campaign and 0.62 after it)
+# the embedded granite campaign's mean full-size UCS run, one thread, two at a time on idle
+# cores, on a machine where engine_speed.probe_ms_per_step() gave REFERENCE_PROBE_MS: scaled by
+# this machine's probe, it gives this machine's run time before the store holds a run
 REFERENCE_RUN_S = 77.3
 REFERENCE_PROBE_MS = 0.66
-# run time ~ work^WORK_EXPONENT: with the readings compiled, a half-resolution UCS run takes 1/10.3
-# of the full-size one at the same point, on one thread (work 1/8; 1/8.5 before, runs/granite-bench8)
+# run time ~ work^WORK_EXPONENT: a half-resolution UCS run (1/8 of the work) takes about 1/10 of
+# the full-size one at the same point on one thread (a small specimen stays in the caches)
 WORK_EXPONENT = 1.1
-LONE_RUN_SPEED_UP = 1.4  # measured alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
-DRAW_S = 0.05  # one search on the surrogate for the parameters' intervals (main process; 200 took 8 s in runs/granite-bench4)
+LONE_RUN_SPEED_UP = 1.4  # a run alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
+DRAW_S = 0.05  # one search on the surrogate for the parameters' intervals (main process)
 
 
 def grain_count(width_mm: float, height_mm: float, s: SpecimenSettings) -> int:

@@ -163,7 +163,7 @@ def _verdict(result: CalibrationResult) -> str:
         text += (f" Its UCS / K_IC is {ucs / v.K_IC_MPa_sqrt_m:.0f} m^-0.5 against the rock's "
                  f"{lab_ucs / v.lab_K_IC_MPa_sqrt_m:.0f}: the model is "
                  f"{'tougher' if v.K_IC_error > 0 else 'more brittle'} for its compressive "
-                 "strength than this rock (docs/benchmarks.md, \"What moves K_IC and UCS apart\").")
+                 "strength than this rock.")
         text += (" Constant bond strengths, a wider installation gap and a cut notch raise "
                  "UCS / K_IC, a narrower gap lowers it: recalibrated with bonds within 0.9, 1.1 "
                  "and 1.2 R_min, the granite's K_IC went from +99 % to +24 %, +5.8 % and -13 % "

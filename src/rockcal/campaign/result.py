@@ -153,7 +153,7 @@ class Check(_Part):
 
 
 class CalibrationResult(_Part):
-    """A campaign's result (SPEC steps 2-8), in the order the procedure finds it: its inputs,
+    """A campaign's result, in the order the procedure finds it: its inputs,
     each step's outcome, then the identified parameters (`identified`; every micro-parameter
     in `identified_params`), their verified responses and errors, and the validation. A
     parameter set's responses are those of every test calibrated against, in one dict; the

@@ -60,7 +60,8 @@ class ValidationTests(Section):
     """The tests given in [targets] that are validation checks only, run at the identified
     parameters (default: bending); the others are calibrated against."""
 
-    tests: list[str] = ["bending"]
+    tests: list[str] = Field(["bending"], description="Tests given in [targets] that are checks only, run at the "
+                             "identified parameters: bending, brazilian.")
 
     @field_validator("tests")
     @classmethod

@@ -39,7 +39,7 @@ def calibrate(
     tls_cert: Optional[Path] = typer.Option(None, help="tls:// scheduler: this client's certificate (PEM)."),
     tls_key: Optional[Path] = typer.Option(None, help="tls:// scheduler: this client's key (PEM; default: in --tls-cert)."),
 ) -> None:
-    """Identify BPM micro-parameters from lab results (SPEC steps 1-8), with a report."""
+    """Identify BPM micro-parameters from lab results by the inverse procedure, with a report."""
     from rockcal.campaign.config import load_campaign, quick_look, quick_look_note
     from rockcal.campaign.io_errors import one_line_errors
     from rockcal.campaign.out_folder import out_folder

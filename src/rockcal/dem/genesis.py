@@ -26,7 +26,7 @@ CONTACT_GAP = 1e-6  # gaps below this fraction of R_min count as contact (floati
 
 class Genesis(BaseModel):
     """Genesis settings of a random specimen (see the module docstring for their PFC names).
-    The defaults reproduce the source study's PFC2D results (docs/benchmarks.md)."""
+    The defaults reproduce the source study's PFC2D results (its L16 table)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 

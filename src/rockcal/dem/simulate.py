@@ -122,7 +122,8 @@ def _column_sums(a):
 # method, or PFC 3.x/4.0's ball stiffnesses 2·t·E_c in series (Potyondy & Cundall 2004).
 CONTACT_STIFFNESS = ("pfc5", "pfc4")
 # PFC 3.x/4.0's by default: the PFC2D of Potyondy & Cundall (2004) and of the source study, whose
-# parameters (E_c, kn/ks) rockcal calibrates (docs/benchmarks.md, "PFC 3.x/4.0's contact stiffness").
+# parameters (E_c, kn/ks) rockcal calibrates; with it the source's own PFC2D table is met (the
+# documentation's Validation pages).
 DEFAULT_CONTACT_STIFFNESS = "pfc4"
 
 

@@ -124,7 +124,7 @@ def is_orthogonal(array: np.ndarray) -> bool:
 
 
 def to_values(array: np.ndarray, levels: dict[str, list[float]]) -> dict[str, np.ndarray]:
-    """Coded levels -> factor values: factor k takes column k; level i is levels[factor][i].
+    """Coded levels -> factor values: factor k takes column k; level i is `levels[factor][i]`.
 
     The array needs at least as many columns as factors, and each factor exactly as many
     values as its column has levels. Unused columns are left out.

@@ -1,4 +1,4 @@
-"""The misfit F between measured and computed responses (SPEC step 4).
+"""The misfit F between measured and computed responses (the objective of the inverse procedure).
 
 F = Σ_i w_i e_i² + Σ_c w_c RE_c², where for each scalar response i
 - "relative" (default): e_i = (y_i^c − y_i^m) / y_i^m, so E in GPa, ν and UCS in MPa weigh

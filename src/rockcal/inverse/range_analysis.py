@@ -31,7 +31,7 @@ class FactorEffect:
 
 @dataclass(frozen=True)
 class RangeAnalysis:
-    """effects[response][factor] -> FactorEffect; factor and response orders as given."""
+    """`effects[response][factor]` -> FactorEffect; factor and response orders as given."""
 
     factors: tuple[str, ...]
     responses: tuple[str, ...]

@@ -56,9 +56,9 @@ PIN_RADIUS_MM = 5.0
 # slower where bonds break, full speed again once P_max is known (`rockcal.labtests.loading`).
 PIN_STEP_PER_RADIUS = 2e-6
 # Until the first bond breaks the beam is linear elastic and the pin runs at INTACT_PIN_SPEED x
-# that speed; the granite's first bond breaks at 60-90 % of P_max. 4x (revision 7, 2x before):
-# on the campaign's three full-size beams 30 % fewer steps, the three-beam K_IC +1.0 %, and
-# -1.3 % at half the pin speed; 8x moved one beam's K_IC by -2 % (docs/benchmarks.md).
+# that speed; the granite's first bond breaks at 60-90 % of P_max. At 4x the mean K_IC of the
+# granite's three full-size beams moves by -1.3 % at half the pin speed; 8x moves one beam's
+# K_IC by -2 %, too much.
 INTACT_PIN_SPEED = 4.0
 DEFAULT_MAX_DISPLACEMENT_MM = 1.0
 # The crack runs unstably from the peak on; by default the test goes on until the load has
@@ -76,9 +76,9 @@ POST_PEAK_FRACTION = 0.3
 CONFIRM_FLEXURAL_PERIODS = 2.0
 # The beam's grains are density-scaled (`simulate.scale_density`, as in the UCS test): it rings
 # and its waves cross in fewer steps, and its pin runs this much faster with a ramp and window
-# this much shorter. On the campaign's three full-size beams: 19 % fewer steps, the mean K_IC
-# as before (+0.05 %), and halving the speed moves it by -1.1 %; 1.3x moved it by -2.1 % and
-# 1.6x by -2.6 % (docs/benchmarks.md, "Density scaling of the beams").
+# this much shorter. The fastest that keeps the granite's three-beam K_IC within 2 % at half
+# the speed: 1.3x moves it by -2.1 %, because a beam's crack path follows its loading more than
+# a UCS specimen's distributed damage does.
 DENSITY_SCALED_SPEED = 1.15
 
 
@@ -312,11 +312,12 @@ class BendingValues(LabValues):
     """Lab results of the notched three-point bending test."""
 
     test: ClassVar[str] = "bending"
-    K_IC_MPa_sqrt_m: float = Field(gt=0)
-    P_max_kN: float | None = Field(None, gt=0)  # of the lab's round bar, to cross-check K_IC
-    diameter_mm: float = Field(50.0, gt=0)
-    notch_mm: float = Field(18.0, gt=0)
-    span_mm: float = Field(160.0, gt=0)
+    K_IC_MPa_sqrt_m: float = Field(gt=0, description="Fracture toughness K_IC, MPa·m^0.5.")
+    P_max_kN: float | None = Field(None, gt=0, description="Peak load of the lab's round bar, kN, to cross-check "
+                                   "K_IC with Ouchterlony's formula.")
+    diameter_mm: float = Field(50.0, gt=0, description="The lab bar's diameter D, mm.")
+    notch_mm: float = Field(18.0, gt=0, description="The lab bar's notch depth a, mm.")
+    span_mm: float = Field(160.0, gt=0, description="The lab bar's support span S, mm.")
 
 
 TEST = LabTest(
@@ -335,10 +336,5 @@ TEST = LabTest(
     check=_check, make=_specimen, run=_run, reading=load_reading,
     outline=lambda s: Outline(f"beam {s['beam_length_mm']:g} x {s['beam_height_mm']:g} mm",
                               s["beam_length_mm"], s["beam_height_mm"]),
-    revision=7)  # 2: the pin slowed by the bonds breaking, not 8x from the first break on;
-# 3: loads count two flexural periods after the pin touches, and a fall below the peak
-# once it has lasted as long (issue 14); 4: that fall lasts whether or not the pin slowed down
-# meanwhile, and once the peak is known the end of the test counts at once (issue 15);
-# 5: the pin runs at twice its speed until the first bond breaks (issue 15); 6: density-scaled
-# grains, the pin 1.15x faster (issue 15); 7: the pin at 4x its speed until the first bond breaks
-# (issue 15)
+    revision=7)  # part of every stored bending run's key: raise it when the test's numbers change
+# (what changed in each revision: CHANGELOG.md)

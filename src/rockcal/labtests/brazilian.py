@@ -136,7 +136,7 @@ class BrazilianValues(LabValues):
     """Lab result of the Brazilian (splitting tensile) test."""
 
     test: ClassVar[str] = "brazilian"
-    sigma_t_MPa: float = Field(gt=0)
+    sigma_t_MPa: float = Field(gt=0, description="Brazilian tensile strength σ_t = 2P/(πDt), MPa.")
 
 
 TEST = LabTest(

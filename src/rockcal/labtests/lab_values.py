@@ -31,8 +31,9 @@ class LabValues(Section):
     spread of each and its weight in the objective (default 1)."""
 
     test: ClassVar[str]
-    spread: Spread = {}
-    weights: dict[str, float] = {}
+    spread: Spread = Field({}, description="The lab's spread of a response: its sd, or the [min, max] of the lab's "
+                           "samples; turns the parameters' intervals on.")
+    weights: dict[str, float] = Field({}, description="Weight of a response in the objective (default 1).")
 
     def scalars(self) -> dict[str, float]:
         """The responses given, by name."""

@@ -12,12 +12,10 @@ breaking calms down. Isolated weak bonds breaking far below the peak thus cost l
 the cascade at the peak runs at the slowest speed. Until the first bond breaks the specimen is
 linear elastic, and a test may load it faster there (`intact_speed`). In a UCS test damage
 spreads through the specimen (DISTRIBUTED_DAMAGE: halving the loading rate of the full-size
-granite specimen at the source's point moves E, nu and UCS by at most 1.5 %,
-docs/benchmarks.md); in bending the
+granite specimen at the source's point moves E, nu and UCS by at most 1.5 %); in bending the
 30-40 bonds at the notch tip break in a burst (NOTCH_TIP_DAMAGE: on three 110 x 25 mm beams
 this rule and the slowest speed from the first break agree within 1.3 % in K_IC, with a third
-of the steps; the pin runs at twice its speed until the first break, at about 60 % of the
-peak). The Brazilian disk crushes under the platens long before it splits, and there
+of the steps; the pin runs faster until the first break, at 60-90 % of the peak). The Brazilian disk crushes under the platens long before it splits, and there
 the loading runs at the slowest speed from the first broken bond on (LOCALISED_DAMAGE). Where
 the test no longer needs the peak (bending and Brazilian tests once the load has fallen well
 past it) it may run at full speed.
@@ -36,7 +34,7 @@ from rockcal.errors import InputError
 
 SLOWEST = 8.0
 # breaks_at_half_speed of each kind of damage
-DISTRIBUTED_DAMAGE = 4.0  # UCS (2 until issue 15: 14-18 % more steps, E, nu, UCS within 1.8 %)
+DISTRIBUTED_DAMAGE = 4.0  # UCS: a full-size specimen has many bonds, so a few breaking per ramp is no cascade
 NOTCH_TIP_DAMAGE = 2.0
 LOCALISED_DAMAGE = 0.0  # slowest from the first break
 # The loading is ramped in over RAMP_STEPS_PER_ROW x (rows of particles across the loaded

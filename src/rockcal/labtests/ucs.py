@@ -54,7 +54,7 @@ DEFAULT_MAX_AXIAL_STRAIN = 0.02
 # The specimen's masses are density-scaled (`simulate.scale_density`), so its platens close
 # this much faster than an unscaled specimen's, and their ramp and the loading rule's window
 # are this much shorter, for the same equilibrium: on three full-size granite specimens halving
-# the speed moves E, nu and UCS by at most 1.0 % (docs/benchmarks.md, "Density scaling").
+# the speed moves E, nu and UCS by at most 1.0 %.
 DENSITY_SCALED_SPEED = 1.6
 COMPRESSION_CURVE = ("axial_strain", "lateral_strain", "axial_stress_MPa", "broken_bonds")
 
@@ -148,14 +148,15 @@ class UCSValues(LabValues):
     """Lab results of the uniaxial compression test (at least one response)."""
 
     test: ClassVar[str] = "ucs"
-    E_GPa: float | None = Field(None, gt=0)
-    nu: float | None = Field(None, gt=0, lt=0.5)
-    ucs_MPa: float | None = Field(None, gt=0)
-    ci_MPa: float | None = Field(None, gt=0)  # crack initiation, by the onset of cracking
-    ci_ratio: float | None = Field(None, gt=0, le=1)  # CI / UCS
-    cd_MPa: float | None = Field(None, gt=0)  # crack damage, at the reversal of volumetric strain
-    cd_ratio: float | None = Field(None, gt=0, le=1)  # CD / UCS
-    curve: Path | None = None  # CSV: axial strain, axial stress (MPa)
+    E_GPa: float | None = Field(None, gt=0, description="Young's modulus E, GPa (secant at half the peak).")
+    nu: float | None = Field(None, gt=0, lt=0.5, description="Poisson's ratio ν (secant at half the peak).")
+    ucs_MPa: float | None = Field(None, gt=0, description="Uniaxial compressive strength, MPa.")
+    ci_MPa: float | None = Field(None, gt=0, description="Crack initiation stress CI, MPa (the onset of cracking).")
+    ci_ratio: float | None = Field(None, gt=0, le=1, description="CI / UCS.")
+    cd_MPa: float | None = Field(None, gt=0, description="Crack damage stress CD, MPa (the reversal of the volumetric strain).")
+    cd_ratio: float | None = Field(None, gt=0, le=1, description="CD / UCS.")
+    curve: Path | None = Field(None, description="CSV of the measured curve: axial strain, axial stress (MPa); "
+                               "gives E and UCS when they are not given, and the curve's fit (RE, CC).")
 
     def derived(self) -> tuple[str, ...]:
         return ("E_GPa", "ucs_MPa") if self.curve is not None else ()
@@ -194,6 +195,5 @@ TEST = LabTest(
     outline=lambda s: Outline(f"UCS {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"],
                               s["height_mm"]),
     curve_columns=COMPRESSION_CURVE,
-    revision=4)  # 2: the platens slow down by half at 4 bonds broken per ramp, not 2 (issue 15);
-                 # 3: density-scaled masses, the platens 1.6x faster (issue 15);
-                 # 4: the curve's 4th column, bonds broken; CI and CD (issue 38)
+    revision=4)  # part of every stored UCS run's key: raise it when the test's numbers change
+                 # (what changed in each revision: CHANGELOG.md)
