@@ -8,7 +8,7 @@ The primary test (UCS) is always calibrated against; another test given is too, 
 
 from __future__ import annotations
 
-from pydantic import ConfigDict, ValidationError, field_validator, model_validator
+from pydantic import ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from rockcal.errors import from_validation_error
 from rockcal.labtests.lab_values import LabValues, Section, Spread, values_model  # noqa: F401

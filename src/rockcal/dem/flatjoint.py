@@ -1,7 +1,7 @@
 """PFC's 2D flat-joint contact (Potyondy 2012; the `flatjoint` contact model of PFC 5-9) as a
 standalone law over plain arrays, not yet wired into the step kernels.
 
-The interface (PFC manual, "Flat-Joint Model"; see docs/flatjoint-notes.md):
+The interface (PFC manual, "Flat-Joint Model"; see the docs, "FISHTank's flat-joint names"):
 - a segment of half-length R̄ = λ min(R_i, R_j) (`fj_rmul` = λ; `fj_radius` = R̄), unit
   thickness, centred at the contact point (mid-gap, as for the parallel bond in `laws.py`) and
   normal to the line of centres; it is cut into N_r elements of equal length L = 2R̄ / N_r
