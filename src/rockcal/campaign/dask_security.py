@@ -12,7 +12,7 @@ from rockcal.errors import InputError
 
 OPTION = "--scheduler"
 CLEAR_TEXT = ("%s carries runs and results unencrypted, and anyone who reaches the scheduler can "
-              "run code on its workers; use tls:// with certificates (docs: "Secure a cluster with TLS")")
+              "run code on its workers; use tls:// with certificates (the docs' how-to: Secure a cluster with TLS)")
 
 
 @dataclass(frozen=True)
