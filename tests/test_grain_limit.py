@@ -35,7 +35,7 @@ def test_a_specimen_past_the_limit_is_one_line_before_genesis(args, grains, monk
 
 
 def test_the_flag_raises_the_limit(monkeypatch, capsys):
-    monkeypatch.delenv(ENV, raising=False)
+    monkeypatch.setenv(ENV, "1000000")  # the flag sets it: monkeypatch then removes it again
     code, stderr = run_cli(["--max-grains", "100", "simulate", "ucs", "--width-mm", "20", "--height-mm", "40",
                             "--rmin-mm", "0.4"], monkeypatch, capsys)
     assert code == 2 and "past the limit of 100 grains" in stderr and "--max-grains 809" in stderr
