@@ -56,6 +56,6 @@ def test_the_estimate_is_the_grain_clouds_count():
 
 def test_a_negative_seed_is_refused(monkeypatch, capsys):
     code, stderr = run_cli(["simulate", "ucs", "--seed", "-1"], monkeypatch, capsys)
-    assert code == 2 and len(stderr.splitlines()) == 1 and "'--seed'" in stderr, stderr
+    assert code == 2 and len(stderr.splitlines()) == 1 and "--seed" in stderr, stderr
     with pytest.raises(InputError, match="^seed: must be a whole number >= 0"):
         random_packing(20, 40, 0.4, seed=-1)
