@@ -274,7 +274,6 @@ def _bond_law(start, count, bond_state, contact_shear, table, laws, dt, tile):
         overlap = surface_overlap - table[BondRow.REF_OVERLAP, p]
         kn = contact_kn(rmin, inv_length, laws)
         fn, fs = contact_force(overlap, kn, contact_shear[p], vs, laws, dt)
-        tile[TileRow.SHEAR, q] = fs
         mi = arm_i * fs
         mj = arm_j * fs
 
@@ -291,6 +290,7 @@ def _bond_law(start, count, bond_state, contact_shear, table, laws, dt, tile):
         holds = intact & ~broke
         tile[TileRow.MODE, q] = (BROKEN_TENSION if in_tension else BROKEN_SHEAR) if broke else \
             INTACT
+        tile[TileRow.SHEAR, q] = fs  # stored among the last: stored early, it slows the loop
         tile[TileRow.FN, q] = bfn if holds else (0.0 if broke else last_fn)
         tile[TileRow.FS, q] = bfs if holds else (0.0 if broke else last_fs)
         tile[TileRow.M, q] = bm if holds else (0.0 if broke else last_m)
