@@ -63,15 +63,13 @@ def test_the_toy_test_runs_through_rockcal_simulate(toy, tmp_path):
     assert (tmp_path / "toy_seed2_curve.csv").read_text().startswith("x,twice_E_c_GPa")
 
 
-def test_a_campaign_calibrates_against_the_toy_test(toy, tmp_path):
-    true_E_c = 18.0
-    specimen = random_packing(SPECIMEN["width_mm"], SPECIMEN["height_mm"], SPECIMEN["rmin_mm"], seed=SPECIMEN["seed"])
-    E_GPa = simulate_ucs({"E_c": true_E_c}, specimen).E_GPa
+def _calibrate(E_GPa: float, twice_E_c_GPa: float, folder, **acceptance):
+    """A campaign fitting the UCS test's E and the toy test, E_c searched in [10, 30] GPa."""
     text = f"""
 [targets.ucs]
 E_GPa = {E_GPa!r}
 [targets.toy]
-twice_E_c_GPa = {2 * true_E_c}
+twice_E_c_GPa = {twice_E_c_GPa!r}
 [specimen]
 {chr(10).join(f"{k} = {v}" for k, v in SPECIMEN.items())}
 [search]
@@ -80,10 +78,29 @@ bounds = {{ E_c = [10, 30] }}
 samples = 4
 checks = 1
 [acceptance]
-tolerance = 0.02
-max_dem_runs = 10
+{chr(10).join(f"{k} = {v}" for k, v in acceptance.items())}
 """
-    record = calibrate(parse_campaign(text, tmp_path), Executor(RunStore(tmp_path / "out"), workers=1))
+    return calibrate(parse_campaign(text, folder), Executor(RunStore(folder / "out"), workers=1))
+
+
+def test_a_campaign_calibrates_against_the_toy_test(toy, tmp_path):
+    true_E_c = 18.0
+    specimen = random_packing(SPECIMEN["width_mm"], SPECIMEN["height_mm"], SPECIMEN["rmin_mm"], seed=SPECIMEN["seed"])
+    E_GPa = simulate_ucs({"E_c": true_E_c}, specimen).E_GPa
+    record = _calibrate(E_GPa, 2 * true_E_c, tmp_path, tolerance=0.02, max_dem_runs=10)
     assert record.target_tests == {"ucs": ["E_GPa"], "toy": ["twice_E_c_GPa"]}
     assert record.accepted and record.identified["E_c"] == pytest.approx(true_E_c, rel=0.02)
     assert record.verified["twice_E_c_GPa"] == pytest.approx(2 * record.identified["E_c"])
+
+
+def test_a_campaign_whose_targets_conflict_ends_with_a_verdict_naming_them(toy, tmp_path):
+    # the UCS test's E wants E_c = 18, the toy test wants E_c = 25: at best both within about 16 %
+    specimen = random_packing(SPECIMEN["width_mm"], SPECIMEN["height_mm"], SPECIMEN["rmin_mm"], seed=SPECIMEN["seed"])
+    E_GPa = simulate_ucs({"E_c": 18.0}, specimen).E_GPa
+    record = _calibrate(E_GPa, 50.0, tmp_path, tolerance=0.02, max_dem_runs=8)
+    assert not record.accepted
+    conflict, = record.verdict.conflicts
+    assert sorted(conflict.targets) == ["E_GPa", "twice_E_c_GPa"]
+    assert conflict.least_error == pytest.approx(2 / (1 / 18 + 1 / 25) / 18 - 1, abs=0.02)  # at E_c = 20.9
+    assert record.verdict.unreachable == {}
+    assert len(record.verdict.trade_off.errors) >= 5  # the samples, checks and verifications seen

@@ -68,7 +68,8 @@ def _finish(fig, ax, xlabel: str, ylabel: str, title: str, path: Path) -> None:
     _save(fig, path)
 
 
-RESPONSE_LABELS = {"E_GPa": "E (GPa)", "nu": "Poisson's ratio ν (–)", "ucs_MPa": "UCS (MPa)"}
+RESPONSE_LABELS = {"E_GPa": "E (GPa)", "nu": "Poisson's ratio ν (–)", "ucs_MPa": "UCS (MPa)",
+                   "K_IC_MPa_sqrt_m": "K_IC (MPa·m^0.5)"}
 PARAMETER_LABELS = {"E_c": "E_c (GPa)", "Ebar_c": "Ē_c (GPa)", "kn_ks": "kn/ks (–)",
                     "knbar_ksbar": "k̄n/k̄s (–)", "sigma_c": "σ_c (MPa)", "tau_c": "τ_c (MPa)",
                     "mu": "μ (–)", "lambda": "λ (–)", "density": "density (kg/m³)",
@@ -155,6 +156,25 @@ def loop_errors(errors: dict[str, list], tolerance: float, path: Path) -> None:
     ax.set_xticks(range(1, n + 1))
     _finish(fig, ax, "loop iteration (DEM verification)", "(simulated − target) / target (%)",
             "Verified responses against the targets", path)
+
+
+def trade_off(errors, pareto: list[int], best: list[float], responses: list[str], tolerance: float,
+              path: Path) -> None:
+    """Two responses' relative errors (%) at every DEM run of the search, their Pareto front
+    (the runs no other beats in both) and the best compromise, with the tolerance box."""
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    e = 100 * np.asarray(errors, float).reshape(-1, 2)
+    t = 100 * tolerance
+    ax.add_patch(plt.Rectangle((-t, -t), 2 * t, 2 * t, color="tab:green", alpha=0.15,
+                               label=f"both within ±{tolerance * 100:g} %"))
+    ax.plot(e[:, 0], e[:, 1], "o", color="0.6", label="DEM runs of the search")
+    ax.plot(e[pareto, 0], e[pareto, 1], "o-", color="tab:red", label="Pareto front (|errors|)")
+    ax.plot(100 * best[0], 100 * best[1], "k*", ms=12, label="best compromise")
+    ax.axhline(0, color="black", lw=0.8)
+    ax.axvline(0, color="black", lw=0.8)
+    first, second = (_label(r, RESPONSE_LABELS).split(" (")[0] for r in responses)
+    _finish(fig, ax, f"{first}: (simulated − target) / target (%)",
+            f"{second}: (simulated − target) / target (%)", "The trade-off between two targets", path)
 
 
 def calibrated_curve(curve, measured, path: Path, title: str) -> None:

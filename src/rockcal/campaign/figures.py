@@ -77,6 +77,16 @@ def _loop(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
     return None
 
 
+def _trade_off(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    """The two most conflicting targets, when no verified point met them all."""
+    if result.verdict is None:
+        return "Every target met: no trade-off to show."
+    t = result.verdict.trade_off
+    plots.trade_off(t.errors, t.pareto, [result.errors[r] for r in t.responses], t.responses,
+                    result.tolerance, path)
+    return None
+
+
 def _missing(run: StoredRun | None, what: str) -> str | None:
     """Why a stored run cannot be drawn, or None when it can."""
     if run is None:
@@ -160,6 +170,9 @@ FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
      _convergence),
     ("Verification loop", "loop_errors.png",
      "Relative error of the DEM responses at each optimum found on the surrogate.", _loop),
+    ("Trade-off", "trade_off.png",
+     "When no verified point meets every target: the relative errors of the two targets that "
+     "conflict most at every DEM run of the search, and the runs no other beats in both.", _trade_off),
     ("Parameter intervals", "parameter_draws.png",
      "Each point: the parameters the surrogate gives for one target set drawn from the lab's "
      "spread and the model's scatter over packings; +: the identified point.", _parameter_draws),

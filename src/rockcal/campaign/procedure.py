@@ -28,6 +28,7 @@ from rockcal.campaign.goals import Goals, goals_of
 from rockcal.campaign.result import (CalibrationResult, FailedRun, Iteration, Samples, Sensitivity,
                                      SurrogateCheck)
 from rockcal.campaign.store import RunResult, RunSpec
+from rockcal.campaign.verdict import verdict_of
 from rockcal.campaign.validation import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
 from rockcal.inverse import RBFSurrogate, Objective, ant_colony, design, latin_hypercube, range_analysis
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
@@ -442,7 +443,14 @@ def result_of(state: State) -> CalibrationResult:
         verified=state.iterations[best].verified, errors=state.iterations[best].errors,
         tolerance=campaign.acceptance.tolerance, objective=state.objective, dem_runs=len(state.dem_runs),
         best_iteration=best, dem_run_keys=list(state.dem_runs), final_ucs_run_key=final_ucs_run_key,
-        **state.final)
+        verdict=None if state.accepted is not None else _verdict(state), **state.final)
+
+
+def _verdict(state: State):
+    """Which targets conflict, read on the surrogate of every run and on the runs seen."""
+    surrogate = _fit(state, state.train_x, state.train_y)
+    return verdict_of(state.goals.targets, state.campaign.acceptance.tolerance, state.box,
+                      surrogate.predict, state.train_y, state.iterations[state.best()].errors)
 
 
 # -- shared pieces -------------------------------------------------------------------------------

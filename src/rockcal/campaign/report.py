@@ -51,7 +51,10 @@ def _overview(result: CalibrationResult) -> str:
     titles = [lab_test(test).title for test in result.responses_by_test()]
     runs = "DEM runs used (UCS)" if titles == ["UCS"] else \
         f"DEM runs used (parameter sets, each run in {' and '.join(titles)})"
-    rows = [["rock", result.rock], ["result", verdict], ["objective", result.objective],
+    rows = [["rock", result.rock], ["result", verdict]]
+    if result.verdict is not None:
+        rows.append(["why", result.verdict.text])
+    rows += [["objective", result.objective],
             [runs, result.dem_runs],
             ["surrogate check", _check_text(result.surrogate_check)]]
     fit = result.curve_fit

@@ -152,6 +152,32 @@ class Check(_Part):
     message: str | None = _absent()  # why the run did not give a result
 
 
+class Conflict(_Part):
+    """Two targets no point of the search box meets together within the tolerance."""
+
+    targets: list[str]
+    least_error: float  # the surrogate's least larger relative error of the two in the box
+
+
+class TradeOff(_Part):
+    """Two responses' relative errors at every DEM run of the search, and the runs no other
+    beats in both (their indices, by the first response's error)."""
+
+    responses: list[str]
+    errors: list[list[float]]
+    pareto: list[int]
+
+
+class Verdict(_Part):
+    """Why no verified point met every target (`rockcal.campaign.verdict`)."""
+
+    unreachable: Values  # target: the surrogate's least relative error alone, above the tolerance
+    conflicts: list[Conflict]  # the pairs that conflict, most first
+    least_error_all: float  # the surrogate's least largest relative error over every target
+    trade_off: TradeOff
+    text: str
+
+
 class CalibrationResult(_Part):
     """A campaign's result, in the order the procedure finds it: its inputs,
     each step's outcome, then the identified parameters (`identified`; every micro-parameter
@@ -190,6 +216,7 @@ class CalibrationResult(_Part):
     curve_fit: CurveFit | None = _absent()
     validation: Validation | None = _absent()
     checks: list[Check] | None = _absent()
+    verdict: Verdict | None = _absent()  # when not accepted: which targets conflict
     executed_runs: int | None = _absent()  # by this call of `rockcal calibrate`
     quick_look: str | None = _absent()  # what the quick look (`--quick`) was; None: the calibration
 

@@ -270,6 +270,7 @@ def summary(result: CalibrationResult) -> dict:
         "failed_runs": len(result.failed_runs),
         "checks": [c.model_dump(mode="json") for c in result.checks or []],
         "intervals": None if u is None else {n: i.to_dict() for n, i in u.intervals.items()},
+        "verdict": None if result.verdict is None else result.verdict.text,
     }
 
 
@@ -311,6 +312,8 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None
                           check["status"] if value is None else f"{value:.4g}", f"{lab:.4g}",
                           "–" if error is None else f"{100 * error:+.1f} %")
     console.print(table)
+    if s["verdict"]:
+        console.print(f"[red]verdict:[/] {escape(s['verdict'])}")
     if s["quick_look"]:
         console.print(f"[yellow]{escape(s['quick_look'])}[/]")
     if s["warning"]:
