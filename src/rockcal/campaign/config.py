@@ -21,7 +21,7 @@ from rockcal.campaign.targets import LabTargets, Section, Targets, ValidationTes
 from rockcal.labtests.lab_values import read_curve  # noqa: F401  (here too)
 from rockcal.labtests.ucs import UCSValues as UCSTargets  # noqa: F401  (the UCS section, here too)
 from rockcal.campaign.user_files import read_user_text
-from rockcal.dem.genesis import Genesis
+from rockcal.dem.genesis import Genesis, make_genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
@@ -81,10 +81,24 @@ class SpecimenSettings(Genesis):
                                     description="UCS: stop at this axial strain at the latest.")
 
 
-def _check_names(values: dict) -> None:
+# genesis settings a campaign may search (in [search] bounds or [sensitivity] levels) beside the
+# micro-parameters: the installation gap only decides which pairs of the packed grains bond
+SEARCHED_GENESIS = ("install_gap",)
+
+
+def _check_names(values: dict, genesis: bool = True) -> None:
+    known = (*NAMES, *SEARCHED_GENESIS) if genesis else NAMES
     for name in values:
-        if name not in NAMES:
-            raise ValueError(f"{name}: unknown parameter; known: {', '.join(NAMES)}")
+        if name in SEARCHED_GENESIS and not genesis:
+            raise ValueError(f"{name}: a genesis setting; set it in [specimen], or search it in [search] bounds")
+        if name not in known:
+            raise ValueError(f"{name}: unknown parameter; known: {', '.join(known)}")
+
+
+def split_genesis(values: dict) -> tuple[dict, dict]:
+    """A parameter set's micro-parameters, and the genesis settings searched among them."""
+    return ({k: v for k, v in values.items() if k not in SEARCHED_GENESIS},
+            {k: v for k, v in values.items() if k in SEARCHED_GENESIS})
 
 
 class Sensitivity(Section):
@@ -113,7 +127,8 @@ class Sensitivity(Section):
 class Search(Section):
     """The parameters to invert and their box; the others held fixed."""
 
-    bounds: dict[str, tuple[float, float]] = Field({}, description="[low, high] of each parameter to invert.")
+    bounds: dict[str, tuple[float, float]] = Field({}, description="[low, high] of each parameter to invert; "
+                                                   "may name install_gap (a fraction of R_min, as in [specimen]).")
     fixed: dict[str, float] = Field({}, description="Values of parameters held constant (others keep rockcal's "
                                     "defaults, the source study's granite).")
 
@@ -129,7 +144,7 @@ class Search(Section):
     @field_validator("fixed")
     @classmethod
     def _fixed(cls, fixed):
-        _check_names(fixed)
+        _check_names(fixed, genesis=False)
         return fixed
 
 
@@ -336,7 +351,10 @@ def _check_values(campaign: Campaign) -> None:
                    for v in levels]
     for key, name, value in values:
         try:
-            make_params(fixed | {name: value})
+            if name in SEARCHED_GENESIS:
+                make_genesis({name: value})
+            else:
+                make_params(fixed | {name: value})
         except InputError as exc:
             raise InputError(key, exc.problem) from None
 

@@ -22,7 +22,7 @@ from typing import Callable
 
 import numpy as np
 
-from rockcal.campaign.config import Campaign, SpecimenSettings
+from rockcal.campaign.config import Campaign, SpecimenSettings, split_genesis
 from rockcal.campaign.forward import SPECIMEN_KEYS, run_spec
 from rockcal.campaign.goals import Goals, goals_of
 from rockcal.campaign.result import (CalibrationResult, FailedRun, Iteration, Samples, Sensitivity,
@@ -139,8 +139,10 @@ def start(campaign: Campaign) -> State:
 # -- forward runs of parameter sets ------------------------------------------------------------
 
 def spec_of(state: State, test: str, settings: SpecimenSettings, row: dict) -> RunSpec:
-    """The run of `test` with the parameters `row` (and the fixed ones) of the campaign's material."""
-    return run_spec(test, settings, state.fixed | row, state.campaign.material.model)
+    """The run of `test` with the parameters `row` (and the fixed ones) of the campaign's
+    material, on the specimen `settings` with the genesis settings `row` searches."""
+    params, genesis = split_genesis(state.fixed | row)
+    return run_spec(test, settings.model_copy(update=genesis), params, state.campaign.material.model)
 
 
 def point_specs(state: State, points: list[Point]) -> list[RunSpec]:
@@ -297,7 +299,8 @@ def _reusable(state: State, names: list[str], box: np.ndarray) -> list[int]:
 
 
 def _params(state: State, row: dict) -> dict:
-    return material(state.campaign.material.model).make(state.fixed | row).key()
+    params, genesis = split_genesis(state.fixed | row)
+    return material(state.campaign.material.model).make(params).key() | genesis
 
 
 # -- step 3: search on the surrogate and DEM verification (a loop) -------------------------------
@@ -429,16 +432,17 @@ def result_of(state: State) -> CalibrationResult:
     """What the campaign found, from the last state."""
     campaign, goals, best = state.campaign, state.goals, state.best()
     identified = state.identified()
+    params, genesis = split_genesis(state.fixed | identified)
     final_ucs_run_key = spec_of(state, PRIMARY_TEST, campaign.specimen, identified).key
     return CalibrationResult(
         rock=campaign.rock.name, targets=goals.targets, target_tests=goals.tests,
-        weights=goals.weights or None, specimen=campaign.specimen,
+        weights=goals.weights or None, specimen=campaign.specimen.model_copy(update=genesis),
         measured_curve=None if goals.curve is None else goals.curve.tolist(),
         failed_runs=list(state.failed_runs), ucs_specimen=state.specimen_description,
         sensitivity=state.sensitivity, parameters=state.names, bounds=state.bounds, fixed=state.fixed,
         samples=state.samples, surrogate_check=state.surrogate_check,
         iterations=list(state.iterations), accepted=state.accepted is not None, identified=identified,
-        identified_params=material(campaign.material.model).make(state.fixed | identified).key(),
+        identified_params=material(campaign.material.model).make(params).key(),
         material=None if campaign.material.model == DEFAULT_MATERIAL else campaign.material.model,
         verified=state.iterations[best].verified, errors=state.iterations[best].errors,
         tolerance=campaign.acceptance.tolerance, objective=state.objective, dem_runs=len(state.dem_runs),
