@@ -156,6 +156,11 @@ class Surrogate(Section):
     tolerance: float = Field(0.05, gt=0, description="The surrogate is trusted when every check is within this "
                              "relative error.")
     seed: int = Field(1, ge=0, description="Seed of the Latin hypercube and the check points.")
+    coarse_samples: int = Field(0, ge=0, description="Multi-fidelity: Latin hypercube runs at coarse resolution "
+                                "(R_min x coarse_factor) that train a low-fidelity surrogate, which the samples "
+                                "correct; 0: none.")
+    coarse_factor: float = Field(2.0, gt=1, le=4, description="R_min of the coarse samples over the campaign's "
+                                 "(2: about 1/8 of a run's work).")
 
 
 class Optimizer(Section):
@@ -265,6 +270,10 @@ class Campaign(Section):
         rmin_mm if given (the range analysis ranks the factors alike on coarser grains)."""
         rmin = self.sensitivity.rmin_mm if self.sensitivity else None
         return self.specimen if rmin is None else self.specimen.model_copy(update={"rmin_mm": rmin})
+
+    def coarse_specimen(self) -> SpecimenSettings:
+        """The specimen settings of the coarse samples: R_min x [surrogate] coarse_factor."""
+        return self.specimen.model_copy(update={"rmin_mm": self.surrogate.coarse_factor * self.specimen.rmin_mm})
 
     def fixed_params(self) -> dict[str, float]:
         """Parameters held constant: the density of the rock, then [search].fixed."""

@@ -21,8 +21,8 @@ import numpy as np
 from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.engine_speed import probe_ms_per_step
 from rockcal.campaign.retries import holds, retry_line
-from rockcal.campaign.procedure import (STEPS, packing_seeds, sample_runs, search_space, sensitivity_runs,
-                                        start, validation_seeds)
+from rockcal.campaign.procedure import (STEPS, coarse_sample_runs, packing_seeds, sample_runs, search_space,
+                                        sensitivity_runs, start, validation_seeds)
 from rockcal.dem.specimen import packing_name, stored_packing
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 
@@ -69,12 +69,12 @@ def stages(campaign: Campaign) -> list[tuple[str, str, int]]:
 
 def specimens(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
     """(test, specimen settings) of the specimens the campaign runs tests on, one per packing
-    they are cut from: the sensitivity runs', the calibration's, its other packings' and the
-    validation tests'."""
+    they are cut from: those of the steps on coarser grains (sensitivity, coarse samples), the
+    calibration's, its other packings' and the validation tests'."""
     s = campaign.specimen
     seeds = packing_seeds(campaign) if campaign.wants_uncertainty() else [s.seed]
-    out = [(test, campaign.sensitivity_specimen()) for test in campaign.target_sections()
-           if campaign.sensitivity is not None]
+    out = [(test, step.specimen(campaign)) for step in STEPS for test in step.planned(campaign)
+           if step.specimen(campaign) != s]
     out += [(test, s.model_copy(update={"seed": seed})) for test in campaign.target_sections()
             for seed in seeds]
     out += [(test, s.model_copy(update={"seed": seed})) for test in campaign.validation_tests()
@@ -110,7 +110,8 @@ def stored_runs(campaign: Campaign, store) -> dict[str, int]:
     specs = sensitivity_runs(state).specs
     if campaign.search.bounds:
         bounds, fixed = search_space(campaign, [])
-        specs += sample_runs(replace(state, bounds=bounds, fixed=fixed)).specs
+        searched = replace(state, bounds=bounds, fixed=fixed)
+        specs += coarse_sample_runs(searched).specs + sample_runs(searched).specs
     stored: dict[str, int] = {test: 0 for test in campaign.target_sections()}
     for spec in specs:
         stored[spec.kind] += holds(store, spec)
@@ -176,12 +177,12 @@ def stage_times(campaign: Campaign, store, workers: int) -> dict[str, tuple[int,
     batch)."""
     sizes = {test: specimen_size(test, campaign.specimen) for test in campaign.tests()}
     times, _ = run_times(campaign, store, sizes)
-    coarser = {test: (specimen_size(test, campaign.sensitivity_specimen())[2] / size[2]) ** WORK_EXPONENT
-               for test, size in sizes.items()}  # the sensitivity runs' time over the others'
+    specimen = {step.stage: step.specimen(campaign) for step in STEPS}
     work: dict[str, tuple[int, float]] = {}  # stage: runs, their one-worker seconds
     for stage, test, n in runs_to_do(campaign, store):
         runs, seconds = work.get(stage, (0, 0.0))
-        scale = coarser[test] if stage == "sensitivity" else 1.0
+        # a stage on coarser grains: its runs' time over the campaign specimen's
+        scale = (specimen_size(test, specimen[stage])[2] / sizes[test][2]) ** WORK_EXPONENT
         work[stage] = (runs + n, seconds + n * times[test] * scale)
     return {stage: (runs, stage_rounds(runs, workers) * seconds / runs if runs else 0.0)
             for stage, (runs, seconds) in work.items()}
@@ -239,9 +240,9 @@ def _genesis(campaign: Campaign) -> str:
 
 
 def _resolution(campaign: Campaign, stage: str) -> str:
-    """The sensitivity stage's own R_min, where it differs from the campaign's."""
-    own = campaign.sensitivity_specimen().rmin_mm
-    return f" (R_min {own:g} mm)" if stage == "sensitivity" and own != campaign.specimen.rmin_mm else ""
+    """A stage's own R_min, where it differs from the campaign's."""
+    own = next(step.specimen(campaign).rmin_mm for step in STEPS if step.stage == stage)
+    return f" (R_min {own:g} mm)" if own != campaign.specimen.rmin_mm else ""
 
 
 def _duration(seconds: float) -> str:

@@ -1,5 +1,6 @@
 """The inverse procedure as a declared list of steps: sensitivity (orthogonal array, range
-analysis), Latin hypercube samples and the surrogate's checks, the search on the surrogate and
+analysis), coarse Latin hypercube samples (multi-fidelity, when asked for), Latin hypercube
+samples and the surrogate's checks, the search on the surrogate and
 its DEM verification (a loop, until a verified point is accepted), then the packings and
 validation runs at the identified point (the parameters' intervals, the curve fit, the checks).
 
@@ -31,6 +32,7 @@ from rockcal.campaign.store import RunResult, RunSpec
 from rockcal.campaign.verdict import verdict_of
 from rockcal.campaign.validation import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
 from rockcal.inverse import RBFSurrogate, Objective, ant_colony, design, latin_hypercube, range_analysis
+from rockcal.inverse.multifidelity import CorrectedSurrogate
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.labtests.seeds import seed_list
 from rockcal.materials import DEFAULT_MATERIAL, material
@@ -43,6 +45,7 @@ Progress = Callable[[str, int, int], None]  # progress(stage, done, total)
 Point = tuple[SpecimenSettings, dict]  # a parameter set on a specimen
 
 SAMPLES_AND_CHECKS = "samples and checks"  # the stage of the Latin hypercube runs and checks
+COARSE_SAMPLES = "coarse samples"  # the stage of the multi-fidelity search's coarse runs
 # the stage of the runs at the identified point: the other packings and the validation tests
 PACKINGS_AND_VALIDATION = "packings and validation"
 
@@ -62,6 +65,9 @@ class State:
     sensitivity: Sensitivity | None = None
     samples: Samples | None = None
     surrogate_check: SurrogateCheck | None = None
+    coarse: Samples | None = None  # the coarse samples (multi-fidelity), and the runs that train
+    coarse_x: np.ndarray | None = None  # the low-fidelity surrogate with their responses
+    coarse_y: list = field(default_factory=list)
     train_x: np.ndarray | None = None  # the surrogate's training points and their responses
     train_y: list = field(default_factory=list)
     iterations: tuple[Iteration, ...] = ()
@@ -107,12 +113,14 @@ class Runs:
 class Step:
     """A step of the procedure: its stage name (the progress bar's and the first screen's),
     the runs it needs from the state so far, the runs the first screen counts for each test
-    before the campaign starts, and whether it runs again (the verification loop)."""
+    before the campaign starts, whether it runs again (the verification loop) and the specimen
+    settings its runs use (their resolution)."""
 
     stage: str
     runs: Callable[[State], Runs]
     planned: Callable[[Campaign], dict[str, int]]
     again: Callable[[State], bool] = lambda state: False
+    specimen: Callable[[Campaign], SpecimenSettings] = lambda campaign: campaign.specimen
 
 
 def calibrate(campaign: Campaign, executor, progress: Progress | None = None) -> CalibrationResult:
@@ -245,7 +253,30 @@ def sensitivity_runs(state: State) -> Runs:
     return Runs(point_specs(state, points), fold)
 
 
-# -- step 2: samples, surrogate and its check ----------------------------------------------------
+# -- step 2: coarse samples (multi-fidelity), samples, surrogate and its check -------------------
+
+def coarse_sample_runs(state: State) -> Runs:
+    """The Latin hypercube runs at coarse resolution ([surrogate] coarse_samples): with the
+    sensitivity runs that are runs of the search at that resolution, they train the
+    low-fidelity surrogate that the full-resolution samples correct (none: no runs)."""
+    campaign, names, box = state.campaign, state.names, state.box
+    s = campaign.surrogate
+    if not s.coarse_samples:
+        return Runs([], lambda results, progress: state)
+    x = _round_rows(latin_hypercube(box, s.coarse_samples, seed=s.seed + 2))
+    specimen = campaign.coarse_specimen()
+    points = [(specimen, dict(zip(names, row))) for row in x]
+
+    def fold(results, progress) -> State:
+        new, y = folded(state, COARSE_SAMPLES, points, results)
+        reused = _reusable(new, names, box, specimen)
+        coarse_x, coarse_y = _usable(np.vstack([x, _points(new.sensitivity, reused, names)]),
+                                     y + [new.sensitivity.run_responses[i] for i in reused])
+        return replace(new, coarse=Samples(x=x.tolist(), responses=y, reused_sensitivity_runs=reused or None),
+                       coarse_x=coarse_x, coarse_y=coarse_y)
+
+    return Runs(point_specs(state, points), fold)
+
 
 def sample_runs(state: State) -> Runs:
     """The Latin hypercube runs and the check runs as one batch; the surrogate on the samples
@@ -258,7 +289,7 @@ def sample_runs(state: State) -> Runs:
     def fold(results, progress) -> State:
         new, y_all = folded(state, SAMPLES_AND_CHECKS, points, results)
         y, y_checks = y_all[:len(x)], y_all[len(x):]
-        reused = _reusable(new, names, box)
+        reused = _reusable(new, names, box, campaign.specimen)
         train_x, train_y = _usable(np.vstack([x, _points(new.sensitivity, reused, names)]),
                                    y + [new.sensitivity.run_responses[i] for i in reused])
         surrogate = _fit(new, train_x, train_y)
@@ -282,11 +313,11 @@ def _check(state: State, surrogate: RBFSurrogate, checks, y_checks, check_x, che
         tolerance=tolerance, epsilon=surrogate.epsilon)
 
 
-def _reusable(state: State, names: list[str], box: np.ndarray) -> list[int]:
-    """The sensitivity runs that are runs of the search: inside the box, with every other
-    parameter at its fixed value (the very run a sample at that point would be)."""
+def _reusable(state: State, names: list[str], box: np.ndarray, specimen: SpecimenSettings) -> list[int]:
+    """The sensitivity runs that are runs of the search on `specimen`: inside the box, with
+    every other parameter at its fixed value (the very run a sample at that point would be)."""
     study, campaign = state.sensitivity, state.campaign
-    if study is None or campaign.sensitivity_specimen() != campaign.specimen:
+    if study is None or campaign.sensitivity_specimen() != specimen:
         return []
     keep = []
     for i, (row, responses) in enumerate(zip(study.runs, study.run_responses)):
@@ -421,7 +452,10 @@ def _final_planned(campaign: Campaign) -> dict[str, int]:
 
 
 STEPS: tuple[Step, ...] = (
-    Step("sensitivity", sensitivity_runs, lambda c: _per_test(c, len(sensitivity_rows(c)))),
+    Step("sensitivity", sensitivity_runs, lambda c: _per_test(c, len(sensitivity_rows(c))),
+         specimen=lambda c: c.sensitivity_specimen()),
+    Step(COARSE_SAMPLES, coarse_sample_runs, lambda c: _per_test(c, c.surrogate.coarse_samples),
+         specimen=lambda c: c.coarse_specimen()),
     Step(SAMPLES_AND_CHECKS, sample_runs, lambda c: _per_test(c, c.surrogate.samples + c.surrogate.checks)),
     Step("verification", verification_runs, lambda c: _per_test(c, 1), again=lambda state: not state.settled),
     Step(PACKINGS_AND_VALIDATION, final_runs, _final_planned),
@@ -440,7 +474,7 @@ def result_of(state: State) -> CalibrationResult:
         measured_curve=None if goals.curve is None else goals.curve.tolist(),
         failed_runs=list(state.failed_runs), ucs_specimen=state.specimen_description,
         sensitivity=state.sensitivity, parameters=state.names, bounds=state.bounds, fixed=state.fixed,
-        samples=state.samples, surrogate_check=state.surrogate_check,
+        coarse_samples=state.coarse, samples=state.samples, surrogate_check=state.surrogate_check,
         iterations=list(state.iterations), accepted=state.accepted is not None, identified=identified,
         identified_params=material(campaign.material.model).make(params).key(),
         material=None if campaign.material.model == DEFAULT_MATERIAL else campaign.material.model,
@@ -470,8 +504,16 @@ def optimise(campaign: Campaign, objective, box, seed: int | None = None):
                       alpha=o.alpha, beta=o.beta, rho=o.rho, seed=seed, vectorized=True)
 
 
-def _fit(state: State, x, y) -> RBFSurrogate:
-    return RBFSurrogate(x, {r: np.array([v[r] for v in y]) for r in state.goals.targets}, state.box)
+def _fit(state: State, x, y) -> RBFSurrogate | CorrectedSurrogate:
+    """The surrogate of the full-resolution runs x, y; with coarse samples, the low-fidelity
+    surrogate of the coarse runs corrected by them."""
+    def responses(rows):
+        return {r: np.array([v[r] for v in rows]) for r in state.goals.targets}
+
+    if state.coarse_x is None:
+        return RBFSurrogate(x, responses(y), state.box)
+    low = RBFSurrogate(state.coarse_x, responses(state.coarse_y), state.box)
+    return CorrectedSurrogate(low, x, responses(y), state.box)
 
 
 def _fill_failed(table: dict[str, list]) -> dict[str, np.ndarray]:

@@ -57,6 +57,9 @@ def _overview(result: CalibrationResult) -> str:
     rows += [["objective", result.objective],
             [runs, result.dem_runs],
             ["surrogate check", _check_text(result.surrogate_check)]]
+    if result.coarse_samples is not None:
+        rows.append(["multi-fidelity", f"{len(result.coarse_samples.x)} coarse runs train the surrogate, "
+                     f"{len(result.samples.x)} full-resolution samples correct it"])
     fit = result.curve_fit
     if fit:
         rows.append(["stress–strain fit", f"RE {fit.RE:.3f}, CC {fit.CC:.3f}"])

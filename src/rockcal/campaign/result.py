@@ -198,6 +198,7 @@ class CalibrationResult(_Part):
     parameters: list[str]  # the inverted ones
     bounds: dict[str, tuple[float, float]]
     fixed: Values
+    coarse_samples: Samples | None = _absent()  # multi-fidelity: the coarse runs (R_min x coarse_factor)
     samples: Samples
     surrogate_check: SurrogateCheck
     iterations: list[Iteration]

@@ -1,0 +1,35 @@
+"""The multi-fidelity surrogate: ρ ŷ_l + δ meets the high-fidelity runs exactly, and a
+high-fidelity response that is a multiple of the low one is recovered everywhere from a few runs."""
+
+import numpy as np
+import pytest
+
+from rockcal.inverse import RBFSurrogate, latin_hypercube
+from rockcal.inverse.multifidelity import CorrectedSurrogate
+
+BOX = [[0.0, 1.0], [0.0, 2.0]]
+
+
+def _low(x):
+    x = np.atleast_2d(x)
+    return {"y": 1.0 + x[:, 0] ** 2 + np.sin(x[:, 1])}
+
+
+def _corrected(high, n_high=4):
+    x_low = latin_hypercube(BOX, 40, seed=1)
+    low = RBFSurrogate(x_low, _low(x_low), BOX)
+    x_high = latin_hypercube(BOX, n_high, seed=2)
+    return CorrectedSurrogate(low, x_high, high(x_high), BOX), x_high
+
+
+def test_it_meets_the_high_fidelity_runs():
+    surrogate, x_high = _corrected(lambda x: {"y": 0.7 * _low(x)["y"] + 0.2 * np.atleast_2d(x)[:, 0]})
+    expected = 0.7 * _low(x_high)["y"] + 0.2 * x_high[:, 0]
+    assert surrogate.predict(x_high)["y"] == pytest.approx(expected, rel=1e-9)
+
+
+def test_a_multiple_of_the_low_fidelity_response_is_recovered_everywhere():
+    surrogate, _ = _corrected(lambda x: {"y": 1.25 * _low(x)["y"]})
+    assert surrogate.rho["y"] == pytest.approx(1.25, rel=1e-3)
+    probe = latin_hypercube(BOX, 200, seed=3)
+    assert surrogate.predict(probe)["y"] == pytest.approx(1.25 * _low(probe)["y"], rel=2e-3)
