@@ -77,3 +77,18 @@ def test_the_tutorial_campaign_runs_end_to_end(tmp_path):
     assert "pbm_emod" in fish and "mpSetPBParams" in fish
     rockcal("export-specimen", out, "--to", tmp_path / "specimen")
     assert (tmp_path / "specimen" / "balls.csv").exists() and (tmp_path / "specimen" / "bonds.csv").exists()
+
+
+def test_an_embedded_rock_is_taken_by_name_and_an_unknown_name_is_refused(tmp_path, monkeypatch):
+    from rockcal.campaign.config import embedded_rocks
+    from rockcal.errors import InputError
+
+    monkeypatch.chdir(tmp_path)
+    assert "granite" in embedded_rocks()
+    for rock in embedded_rocks():
+        campaign, _ = load_campaign(rock)
+        assert campaign.rock.name.lower().startswith(rock[:3])
+    assert load_campaign("granite") == load_campaign(None)
+    with pytest.raises(InputError, match="no embedded rock of that name") as error:
+        load_campaign("granit")
+    assert error.value.field == "CONFIG"

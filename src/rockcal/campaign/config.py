@@ -302,15 +302,28 @@ def quick_look_note(quick: Campaign) -> str:
             "full-resolution calibration")
 
 
-def default_text() -> str:
-    """The embedded granite campaign (TOML)."""
-    return resources.files("rockcal.campaign").joinpath("granite.toml").read_text()
+DEFAULT_ROCK = "granite"
 
 
-def load_campaign(path: Path | None) -> tuple[Campaign, str]:
-    """The campaign and its TOML text; InputError naming the key for anything wrong."""
-    if path is None:
-        text, base = default_text(), Path.cwd()
+def embedded_rocks() -> list[str]:
+    """The names of the campaigns shipped with rockcal (`rockcal calibrate NAME`)."""
+    return sorted(f.name.removesuffix(".toml") for f in resources.files("rockcal.campaign").iterdir()
+                  if f.name.endswith(".toml"))
+
+
+def default_text(rock: str = DEFAULT_ROCK) -> str:
+    """An embedded campaign (TOML), by its rock's name."""
+    return resources.files("rockcal.campaign").joinpath(f"{rock}.toml").read_text()
+
+
+def load_campaign(path: Path | str | None) -> tuple[Campaign, str]:
+    """The campaign of a file, or of an embedded rock by name (a file of that name wins), and
+    its TOML text; InputError naming the key for anything wrong."""
+    if path is None or (str(path) in embedded_rocks() and not Path(path).exists()):
+        text, base = default_text(str(path or DEFAULT_ROCK)), Path.cwd()
+    elif not Path(path).suffix and not Path(path).exists():
+        raise InputError("CONFIG", f"no file {path} and no embedded rock of that name "
+                                   f"(embedded: {', '.join(embedded_rocks())})")
     else:
         text = read_user_text(Path(path), "CONFIG")
         base = Path(path).resolve().parent

@@ -24,7 +24,8 @@ QUICK_LOOK = "quick look"  # the store's document naming what the quick look was
 
 
 def calibrate(
-    config: Optional[Path] = typer.Argument(None, help="Campaign file (TOML); none: the embedded granite."),
+    config: Optional[Path] = typer.Argument(None, help="Campaign file (TOML), or an embedded rock by name "
+                                            "(granite, ldb); none: the embedded granite."),
     out: Optional[Path] = typer.Option(None, help="Output folder (run store, report); default runs/<rock name>, runs/<rock name>-quick with --quick."),
     workers: int = typer.Option(0, help="Parallel forward runs on this machine (0: one per core)."),
     scheduler: Optional[str] = typer.Option(None, help="Dask scheduler: tls://HOST:PORT (with certificates), tcp://HOST:PORT, or local:N for N local workers."),
