@@ -109,3 +109,28 @@ def test_halving_the_loading_rate_moves_the_confined_peak_little(specimen, confi
     slow = simulate_biaxial(make_params({}), specimen, SIGMA3, rate_factor=0.5)
     for key in ("sigma1_MPa", "E_GPa", "nu"):
         assert getattr(slow, key) == pytest.approx(getattr(confined, key), rel=0.02), key
+
+
+def test_a_series_on_the_command_line_writes_the_envelope_and_the_curves(tmp_path):
+    """`rockcal simulate biaxial` over two confinements: each run's peak, the envelope through
+    them, its figure and the curves together; over one confinement, no envelope."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from rockcal.cli.app import _register, app
+
+    _register()
+    small = ["simulate", "biaxial", "--width-mm", "10", "--height-mm", "20", "--rmin-mm", "0.4", "--seed", "2"]
+    run = CliRunner().invoke(app, [*small, "--confinement-mpa", "0,5", "--json", "--out", str(tmp_path)])
+    assert run.exit_code == 0, run.output
+    found = json.loads(run.output.splitlines()[-1])
+    assert found["confinement_MPa"] == [0.0, 5.0] and found["sigma1_MPa"][1] > found["sigma1_MPa"][0]
+    assert found["phi_deg"] > 0 and found["c_MPa"] > 0
+    for name in ("biaxial_strength_envelope.png", "biaxial_confined_compression_curves.png",
+                 "biaxial_confinement_mpa_5_curve.png"):
+        assert (tmp_path / name).stat().st_size > 10_000, name
+    one = CliRunner().invoke(app, [*small, "--confinement-mpa", "5", "--out", str(tmp_path / "one")])
+    assert one.exit_code == 0, one.output
+    assert not (tmp_path / "one" / "biaxial_strength_envelope.png").exists()
+    assert (tmp_path / "one" / "biaxial_confined_compression_curves.png").exists()

@@ -41,12 +41,46 @@ def _specimen_figsize(width_m: float, height_m: float) -> tuple[float, float]:
     return 10, 2 + 8 * height_m / width_m
 
 
-def stress_strain(curve, path: Path, title: str) -> None:
-    """Axial stress against axial and lateral strain (%)."""
+def stress_strain(curve, path: Path, title: str, stress: str = "axial stress (MPa)") -> None:
+    """Axial stress against axial and lateral strain (%), with CI and CD marked when the curve
+    counts its broken bonds (a compression curve's fourth column)."""
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.plot(100 * curve[:, 0], curve[:, 2], label="axial")
     ax.plot(-100 * curve[:, 1], curve[:, 2], label="lateral")
-    _finish(fig, ax, "strain (%)  (lateral shown negative)", "axial stress (MPa)", title, path)
+    mark_crack_stresses(ax, curve)
+    _finish(fig, ax, "strain (%)  (lateral shown negative)", stress, title, path)
+
+
+def deviatoric_stress_strain(curve, path: Path, title: str) -> None:
+    """A confined compression curve: q = sigma1 - sigma3 against axial and lateral strain."""
+    stress_strain(curve, path, title, "deviatoric stress q = σ1 − σ3 (MPa)")
+
+
+def mark_crack_stresses(ax, curve) -> None:
+    """CI (onset of cracking) and CD (reversal of the areal strain) as dotted lines, when the
+    curve has its column of broken bonds (`rockcal.labtests.damage`)."""
+    from rockcal.labtests.damage import crack_stresses
+
+    curve = np.asarray(curve, float)
+    if curve.ndim != 2 or curve.shape[1] < 4 or len(curve) < 3:
+        return
+    found = crack_stresses(*curve[:, :4].T)
+    for name, stress, colour in (("CI", found.ci_MPa, "tab:orange"), ("CD", found.cd_MPa, "tab:red")):
+        ax.axhline(stress, color=colour, ls=":",
+                   label=f"{name} {stress:.0f} MPa ({stress / found.peak_MPa:.2f} of the peak)")
+
+
+def confined_curves(runs: list[tuple[dict, np.ndarray]], path: Path, title: str) -> None:
+    """The curves of a series of confined compression runs, (responses, curve) each: q against
+    the axial strain (solid) and the lateral strain (dashed, shown negative), one colour per
+    confinement."""
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    for (responses, curve), colour in zip(runs, plt.rcParams["axes.prop_cycle"].by_key()["color"] * 4):
+        label = f"σ3 {responses['confinement_MPa']:g} MPa: peak σ1 {responses['sigma1_MPa']:.0f} MPa"
+        ax.plot(100 * curve[:, 0], curve[:, 2], color=colour, label=label)
+        ax.plot(-100 * curve[:, 1], curve[:, 2], color=colour, ls="--", lw=0.8)
+    _finish(fig, ax, "strain (%)  (axial solid, lateral dashed, shown negative)",
+            "deviatoric stress q = σ1 − σ3 (MPa)", title, path)
 
 
 def load_displacement(curve, path: Path, title: str) -> None:
@@ -185,6 +219,7 @@ def calibrated_curve(curve, measured, path: Path, title: str) -> None:
     ax.plot(-100 * curve[:, 1], curve[:, 2], ls="--", label="simulated, lateral")
     if measured is not None:
         ax.plot(100 * measured[:, 0], measured[:, 1], "k.", ms=3, label="measured, axial")
+    mark_crack_stresses(ax, curve)
     _finish(fig, ax, "strain (%)  (lateral shown negative)", "axial stress (MPa)", title, path)
 
 

@@ -113,6 +113,17 @@ CAMPAIGNS = [  # (case, campaign text, the key the error must name)
     ("Brazilian spread of a UCS response", edit("[specimen]", "[targets.brazilian]\nsigma_t_MPa = 9.0\n"
                                                 "spread = { E_GPa = 1.0 }\n[specimen]"),
      "targets.brazilian.spread.E_GPa"),
+    *[(f"confinements {case}", edit("[specimen]", f"[targets.biaxial]\nconfinement_mpa = {values}\n"
+                                     f"phi_deg = 40\n[specimen]"), "targets.biaxial.confinement_mpa")
+      for case, values in (("unsorted", "[10, 5]"), ("negative", "[-5, 5]"), ("empty", "[]"),
+                           ("repeated", "[5, 5]"), ("one, for an envelope", "[5]"))],
+    ("peaks not one per confinement", edit("[specimen]", "[targets.biaxial]\nconfinement_mpa = [0, 5]\n"
+                                           "sigma1_MPa = [100]\n[specimen]"), "targets.biaxial.sigma1_MPa"),
+    ("confined section without a target", edit("[specimen]", "[targets.biaxial]\nconfinement_mpa = [0, 5]\n"
+                                               "[specimen]"), "targets.biaxial"),
+    ("CI target of a test without curves", edit("[specimen]", "[targets.direct_tension]\n"
+                                                "sigma_t_direct_MPa = 9\nci_MPa = 50\n[specimen]"),
+     "targets.direct_tension.ci_MPa"),
     ("validation by an unknown test", CAMPAIGN + "[validation]\ntests = ['triaxial']\n", "validation.tests"),
     ("UCS as a validation check", CAMPAIGN + "[validation]\ntests = ['ucs']\n", "validation.tests"),
     ("validation without its targets", CAMPAIGN + "[validation]\ntests = ['brazilian']\n",

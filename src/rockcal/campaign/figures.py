@@ -6,6 +6,7 @@ validation run) is left out, and says why in a note; drawing one never raises.
 from __future__ import annotations
 
 import logging
+from functools import partial
 from pathlib import Path
 from typing import Callable
 
@@ -16,6 +17,9 @@ from rockcal.campaign.forward import specimen_of
 from rockcal.campaign.result import CalibrationResult
 from rockcal.campaign.store import RunStore, StoredRun
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
+from rockcal.labtests.damage import plot_crack_stresses
+from rockcal.labtests.kind import SeriesFigure
+from rockcal.labtests.registry import lab_test
 
 logger = logging.getLogger(__name__)
 
@@ -111,6 +115,30 @@ def _stress_strain(result: CalibrationResult, store: RunStore, path: Path) -> st
     return None
 
 
+def _crack_stresses(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    """CI and CD on the UCS curve at the identified parameters, with the bonds broken."""
+    run = store.run(result.final_ucs_run_key)
+    if (why := _missing(run, "UCS run at the identified parameters")) is not None:
+        return why
+    if run.curve.shape[1] < 4:
+        return "The UCS run at the identified parameters kept no count of broken bonds."
+    plot_crack_stresses(run.curve, path, "UCS test at the identified parameters")
+    return None
+
+
+def _series(keys: list[str], figure: SeriesFigure, title: str, result: CalibrationResult, store: RunStore,
+            path: Path) -> str | None:
+    """A figure of a series' runs at the identified parameters together (the envelope)."""
+    runs = [store.run(key) for key in keys]
+    for value, run in enumerate(runs):
+        if (why := _missing(run, f"run {value + 1} of the series")) is not None:
+            return why
+    if len(runs) < figure.min_runs:
+        return f"{figure.title}: needs {figure.min_runs} runs or more, the campaign has {len(runs)}."
+    figure.draw([(run.responses, run.curve) for run in runs], path, title)
+    return None
+
+
 def _cracks(key: str, what: str, store: RunStore, path: Path) -> str | None:
     """Broken bonds of a stored run over its undeformed specimen."""
     run = store.run(key)
@@ -177,7 +205,12 @@ FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
      "Each point: the parameters the surrogate gives for one target set drawn from the lab's "
      "spread and the model's scatter over packings; +: the identified point.", _parameter_draws),
     ("Stress–strain curve", "stress_strain.png",
-     "UCS test at the identified parameters; the measured curve when one was given.", _stress_strain),
+     "UCS test at the identified parameters; the measured curve when one was given; CI (onset of "
+     "cracking) and CD (reversal of the areal strain) dotted.", _stress_strain),
+    ("Crack initiation and crack damage, UCS", "crack_stresses_ucs.png",
+     "Up to the peak: the stress against the axial, lateral and areal strain, and the bonds broken "
+     "and the crack areal strain against the stress; CI (onset of cracking, and by the crack "
+     "volumetric strain) and CD (reversal of the areal strain) marked.", _crack_stresses),
     ("Crack pattern, UCS", "cracks_ucs.png",
      "Broken bonds: tension red, shear blue.", _ucs_cracks),
     ("Crack pattern, bending", "cracks_bending.png",
@@ -185,6 +218,19 @@ FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
     ("Load–displacement, bending", "bending_curve.png",
      "Load per metre of thickness against the load-point displacement.", _bending_curve),
 )
+
+
+def figures_of(result: CalibrationResult) -> list[tuple[str, str, str, Figure]]:
+    """FIGURES, then the figures of each test run as a series at the identified parameters
+    (a confined compression test's envelope and curves), as its registry entry declares them."""
+    extra = []
+    for test, keys in (result.series_runs or {}).items():
+        kind = lab_test(test)
+        for figure in kind.series_figures:
+            title = f"{kind.title[0].upper()}{kind.title[1:]}: {figure.title.lower()}"
+            extra.append((title, figure.file(test), figure.caption,
+                          partial(_series, keys, figure, f"{title}\nat the identified parameters")))
+    return [*FIGURES, *extra]
 
 
 def draw(name: str, figure: Figure, result: CalibrationResult, store: RunStore, path: Path) -> str | None:

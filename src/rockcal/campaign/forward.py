@@ -38,12 +38,14 @@ SPECIMEN_KEYS = ("n_particles", "porosity", "coordination", "bonds_per_particle"
 ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
 
 
-def run_spec(kind: str, specimen_settings, params: dict, model: str = DEFAULT_MATERIAL) -> RunSpec:
-    """The spec of a run of the lab test `kind`: its specimen settings, and `params` of the
-    material `model` completed with the defaults so the key is total (the material is named
-    among them unless it is the default, so the runs stored before materials keep their keys)."""
+def run_spec(kind: str, specimen_settings, params: dict, model: str = DEFAULT_MATERIAL,
+             own: dict | None = None) -> RunSpec:
+    """The spec of a run of the lab test `kind`: its specimen settings (with `own`, settings
+    of the test's own such as a confinement, over them), and `params` of the material `model`
+    completed with the defaults so the key is total (the material is named among them unless
+    it is the default, so the runs stored before materials keep their keys)."""
     test = lab_test(kind)
-    specimen = tuple(test.key_settings(specimen_settings).items())
+    specimen = tuple((test.key_settings(specimen_settings) | (own or {})).items())
     full = material(model).make(params).key() | ({} if model == DEFAULT_MATERIAL else {"model": model})
     engine = ENGINE if test.revision == 1 else f"{ENGINE}, {kind} test revision {test.revision}"
     return RunSpec(kind, specimen, tuple(sorted(full.items())), engine)

@@ -22,7 +22,7 @@ from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.engine_speed import probe_ms_per_step
 from rockcal.campaign.retries import holds, retry_line
 from rockcal.campaign.procedure import (STEPS, coarse_sample_runs, packing_seeds, sample_runs, search_space,
-                                        sensitivity_runs, start, validation_seeds)
+                                        sensitivity_runs, series_values, start, validation_seeds)
 from rockcal.dem.specimen import packing_name, stored_packing
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 
@@ -202,7 +202,7 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
     runs: dict[str, int] = {}
     for _, test, n in runs_to_do(campaign, store):
         runs[test] = runs.get(test, 0) + n
-    titles = [lab_test(test).title for test in campaign.target_sections()]
+    titles = [_runs_text(campaign, test) for test in campaign.target_sections()]
     lines = [
         "specimens: " + "; ".join(f"{text}, about {grains} grains" for text, grains, _ in sizes.values())
         + f" (R {s.rmin_mm:g} to {s.rmin_mm * s.radius_ratio:.3g} mm)",
@@ -227,6 +227,15 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
                      f"still to do ({_duration(times[PRIMARY_TEST])} per UCS run on one worker: {basis})"
                      + _genesis(campaign))
     return lines
+
+
+def _runs_text(campaign: Campaign, test: str) -> str:
+    """A test's runs at each parameter set in words: its title, and the values of its series."""
+    kind, values = lab_test(test), series_values(campaign, test)
+    if not values:
+        return kind.title
+    return (f"{kind.title} at {len(values)} values of {kind.series.name} "
+            f"({', '.join(f'{v:g}' for v in values)} {kind.series.unit})")
 
 
 def _genesis(campaign: Campaign) -> str:

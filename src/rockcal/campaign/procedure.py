@@ -8,8 +8,9 @@ A step is a function of the results so far (`State`) that returns the forward ru
 and how to fold their results into the next state (`Runs`). `calibrate` passes the runs to
 the executor it is given (serial, process pool or Dask) and folds; the first screen
 (`rockcal.campaign.plan`) reads the same list to count the runs. Each parameter set runs every
-lab test calibrated against, and their responses make one dict: the steps see one forward
-model whatever the tests behind it.
+lab test calibrated against (a test with a series, such as confined compression at several
+confinements, one run per value, folded by the test's `combine`), and their responses make one
+dict: the steps see one forward model whatever the tests behind it.
 
 Every forward run goes through the executor and its store, and every other step is seeded,
 so running a campaign again (after a kill, or to rebuild a report) gives the same answer and
@@ -19,6 +20,7 @@ runs only what the store does not hold.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from itertools import islice
 from typing import Callable
 
 import numpy as np
@@ -146,35 +148,87 @@ def start(campaign: Campaign) -> State:
 
 # -- forward runs of parameter sets ------------------------------------------------------------
 
-def spec_of(state: State, test: str, settings: SpecimenSettings, row: dict) -> RunSpec:
+def spec_of(state: State, test: str, settings: SpecimenSettings, row: dict, own: dict | None = None) -> RunSpec:
     """The run of `test` with the parameters `row` (and the fixed ones) of the campaign's
-    material, on the specimen `settings` with the genesis settings `row` searches."""
+    material, on the specimen `settings` with the genesis settings `row` searches, with `own`
+    of the test's own settings (a value of its series)."""
     params, genesis = split_genesis(state.fixed | row)
-    return run_spec(test, settings.model_copy(update=genesis), params, state.campaign.material.model)
+    return run_spec(test, settings.model_copy(update=genesis), params, state.campaign.material.model, own)
+
+
+def series_values(campaign: Campaign, test: str) -> list:
+    """The values of a test's series as its [targets.<test>] gives them ([] for a test run once)."""
+    return campaign.targets.given()[test].series()
+
+
+def runs_of(campaign: Campaign, test: str) -> list[dict]:
+    """A test's runs at one parameter set, as its own settings: one per value of its series,
+    or one run."""
+    setting = lab_test(test).series
+    return [{setting.name: v} for v in series_values(campaign, test)] or [{}]
+
+
+def specs_of_test(state: State, test: str, settings: SpecimenSettings, row: dict) -> list[RunSpec]:
+    """The runs of `test` at one parameter set (`runs_of`)."""
+    return [spec_of(state, test, settings, row, own) for own in runs_of(state.campaign, test)]
 
 
 def point_specs(state: State, points: list[Point]) -> list[RunSpec]:
     """The runs of every test calibrated against at each point, test by test."""
-    return [spec_of(state, test, settings, row) for test in state.goals.tests for settings, row in points]
+    return [spec for test in state.goals.tests for settings, row in points
+            for spec in specs_of_test(state, test, settings, row)]
+
+
+def grouped(state: State, n: int, results: list[RunResult]) -> list[dict[str, list[RunResult]]]:
+    """Each of `n` points' results by test, from results in `point_specs`'s order."""
+    points: list[dict[str, list[RunResult]]] = [{} for _ in range(n)]
+    rest = iter(results)
+    for test in state.goals.tests:
+        k = len(runs_of(state.campaign, test))
+        for runs in points:
+            runs[test] = list(islice(rest, k))
+    return points
+
+
+def point_responses(state: State, runs: dict[str, list[RunResult]]) -> tuple[dict | None, list[tuple[str, str]]]:
+    """One point's responses from its runs by test (`merge_responses`), or None with why:
+    (test, message) of each failed run, or of a series its test cannot combine (peaks that
+    give no envelope)."""
+    failures = [(t, r.message) for t, results in runs.items() for r in results if r.status != "ok"]
+    if failures:
+        return None, failures
+    by_test = {}
+    for test, results in runs.items():
+        try:
+            by_test[test] = responses_of_test(state.campaign, test, [r.responses for r in results])
+        except Exception as exc:  # a series its test cannot combine: the point failed
+            return None, [(test, f"{type(exc).__name__}: {exc}")]
+    return merge_responses(by_test), []
+
+
+def responses_of_test(campaign: Campaign, test: str, runs: list[dict]) -> dict:
+    """A test's responses at one parameter set: the primary test's whole (its other readings
+    too), another's targets (`LabTest.point_responses`: a series folded)."""
+    if test == PRIMARY_TEST:
+        return dict(runs[0])
+    return lab_test(test).point_responses(runs, series_values(campaign, test))
 
 
 def folded(state: State, stage: str, points: list[Point], results: list[RunResult]) -> tuple[State, list]:
     """The responses of each point (None when one of its runs failed), with the runs counted
     against the budget and the failures recorded; CalibrationFailed if every point failed."""
-    tests, n = list(state.goals.tests), len(points)
-    by_test = {t: results[k * n:(k + 1) * n] for k, t in enumerate(tests)}
+    per_point = grouped(state, len(points), results)
     primary = specs_keys(state, points)
     responses, failed = [], []
-    for i in range(n):
-        runs = {t: by_test[t][i] for t in tests}
-        failed += [FailedRun(stage=stage if t == PRIMARY_TEST else f"{stage} ({t})", message=r.message)
-                   for t, r in runs.items() if r.status != "ok"]
-        ok = all(r.status == "ok" for r in runs.values())
-        responses.append(merge_responses({t: r.responses for t, r in runs.items()}) if ok else None)
+    for runs in per_point:
+        found, failures = point_responses(state, runs)
+        failed += [FailedRun(stage=stage if t == PRIMARY_TEST else f"{stage} ({t})", message=m)
+                   for t, m in failures]
+        responses.append(found)
     state = replace(state, dem_runs=state.dem_runs + tuple(k for k in dict.fromkeys(primary)
                                                             if k not in state.dem_runs),
                     failed_runs=state.failed_runs + tuple(failed),
-                    specimen_description=state.specimen_description or _description(state, points, by_test))
+                    specimen_description=state.specimen_description or _description(state, points, per_point))
     if failed and all(r is None for r in responses):
         raise CalibrationFailed(f"every forward run of stage '{stage}' failed; first: {failed[0].message}")
     return state, responses
@@ -185,20 +239,20 @@ def specs_keys(state: State, points: list[Point]) -> list[str]:
     return [spec_of(state, PRIMARY_TEST, settings, row).key for settings, row in points]
 
 
-def _description(state: State, points: list[Point], by_test: dict) -> dict | None:
+def _description(state: State, points: list[Point], per_point: list[dict]) -> dict | None:
     """The specimen of the first primary-test run that succeeded on the campaign's specimen."""
-    done = next((r.responses for r, (settings, _) in zip(by_test[PRIMARY_TEST], points)
-                 if r.status == "ok" and settings == state.campaign.specimen), None)
+    done = next((runs[PRIMARY_TEST][0].responses for runs, (settings, _) in zip(per_point, points)
+                 if runs[PRIMARY_TEST][0].status == "ok" and settings == state.campaign.specimen), None)
     return None if done is None else {k: done[k] for k in SPECIMEN_KEYS if k in done}
 
 
 def merge_responses(by_test: dict[str, dict]) -> dict:
-    """One parameter set's responses: the primary test's whole (its other readings too), and
-    the target responses of each other test."""
+    """One parameter set's responses: the primary test's (`responses_of_test`), then each other
+    test's."""
     merged = dict(by_test[PRIMARY_TEST])
     for test, responses in by_test.items():
         if test != PRIMARY_TEST:
-            merged |= {r: responses[r] for r in lab_test(test).targets}
+            merged |= responses
     return merged
 
 
@@ -356,8 +410,8 @@ def verification_runs(state: State) -> Runs:
         tolerance = campaign.acceptance.tolerance
         passed = [i for i, it in enumerate(iterations) if _within(it.errors, tolerance)]
         start_at = len(new.iterations)
-        primary = list(state.goals.tests).index(PRIMARY_TEST) * len(points)
-        curves = dict(zip(specs_keys(new, points), (r.curve for r in results[primary:primary + len(points)])))
+        curves = dict(zip(specs_keys(new, points),
+                          (runs[PRIMARY_TEST][0].curve for runs in grouped(state, len(points), results))))
         return replace(
             new, iterations=new.iterations + tuple(iterations), objective=objective.describe(),
             train_x=np.vstack([new.train_x, *[x for x, _ in fresh]]), train_y=new.train_y + [v for _, v in fresh],
@@ -404,11 +458,12 @@ def final_runs(state: State) -> Runs:
     the validation tests' (the longest, first), then the other packings of the calibrated tests
     (the parameters' intervals); folded into the intervals, the curve fit and the checks."""
     campaign, identified = state.campaign, state.identified()
-    validation = {test: [spec_of(state, test, campaign.specimen.model_copy(update={"seed": s}), identified)
-                         for s in validation_seeds(campaign, test)] for test in campaign.validation_tests()}
+    validation = {test: [spec for s in validation_seeds(campaign, test) for spec in
+                         specs_of_test(state, test, campaign.specimen.model_copy(update={"seed": s}), identified)]
+                  for test in campaign.validation_tests()}
     packings = [(campaign.specimen.model_copy(update={"seed": s}), identified)
                 for s in packing_seeds(campaign)] if campaign.wants_uncertainty() else []
-    specs = [spec for test_specs in validation.values() for spec in test_specs] + point_specs(state, packings)
+    specs = [spec for runs in validation.values() for spec in runs] + point_specs(state, packings)
 
     def fold(results, progress) -> State:
         done = dict(zip((spec.key for spec in specs), results))
@@ -440,14 +495,16 @@ def validation_seeds(campaign: Campaign, test: str) -> list[int]:
 # -- the list ----------------------------------------------------------------------------------
 
 def _per_test(campaign: Campaign, n: int) -> dict[str, int]:
-    return {test: n for test in campaign.target_sections()} if n else {}
+    """The runs of each test calibrated against at `n` parameter sets."""
+    return {test: n * len(runs_of(campaign, test)) for test in campaign.target_sections()} if n else {}
 
 
 def _final_planned(campaign: Campaign) -> dict[str, int]:
-    planned = {test: len(validation_seeds(campaign, test)) for test in campaign.validation_tests()}
+    planned = {test: len(validation_seeds(campaign, test)) * len(runs_of(campaign, test))
+               for test in campaign.validation_tests()}
     if campaign.wants_uncertainty():
-        for test in campaign.target_sections():
-            planned[test] = planned.get(test, 0) + campaign.uncertainty.packings - 1
+        for test, n in _per_test(campaign, campaign.uncertainty.packings - 1).items():
+            planned[test] = planned.get(test, 0) + n
     return planned
 
 
@@ -468,6 +525,8 @@ def result_of(state: State) -> CalibrationResult:
     identified = state.identified()
     params, genesis = split_genesis(state.fixed | identified)
     final_ucs_run_key = spec_of(state, PRIMARY_TEST, campaign.specimen, identified).key
+    series_runs = {test: [spec.key for spec in specs_of_test(state, test, campaign.specimen, identified)]
+                   for test in campaign.tests() if series_values(campaign, test)}
     return CalibrationResult(
         rock=campaign.rock.name, targets=goals.targets, target_tests=goals.tests,
         weights=goals.weights or None, specimen=campaign.specimen.model_copy(update=genesis),
@@ -481,6 +540,7 @@ def result_of(state: State) -> CalibrationResult:
         verified=state.iterations[best].verified, errors=state.iterations[best].errors,
         tolerance=campaign.acceptance.tolerance, objective=state.objective, dem_runs=len(state.dem_runs),
         best_iteration=best, dem_run_keys=list(state.dem_runs), final_ucs_run_key=final_ucs_run_key,
+        series_runs=series_runs or None,
         verdict=None if state.accepted is not None else _verdict(state), **state.final)
 
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from rockcal.campaign.atomic import atomic_path, write_atomic
 from rockcal.campaign.config import SpecimenSettings
-from rockcal.campaign.figures import FIGURES, draw
+from rockcal.campaign.figures import draw, figures_of
 from rockcal.campaign.result import CalibrationResult, SurrogateCheck
 from rockcal.campaign.store import RunStore
 from rockcal.labtests.registry import lab_test
@@ -229,7 +229,7 @@ def write_report(result: CalibrationResult, store: RunStore, out: Path) -> Path:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     figures = "\n".join(_figure(title, caption, out / name, _drawn(name, figure, result, store, out))
-                      for title, name, caption, figure in FIGURES)
+                      for title, name, caption, figure in figures_of(result))
     rock = html.escape(result.rock)
     page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>rockcal calibration — {rock}"
             f"</title><style>{CSS}</style></head><body><h1>{_title(result)} {rock}</h1>{_quick_look(result)}"

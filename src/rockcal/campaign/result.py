@@ -145,7 +145,7 @@ class Check(_Part):
 
     test: str
     lab: Values
-    run_key: str
+    run_key: str  # the first run of a series
     status: str
     responses: Responses | None = _absent()
     errors: Values | None = _absent()
@@ -214,6 +214,9 @@ class CalibrationResult(_Part):
     dem_run_keys: list[str]
     uncertainty: Uncertainty | None = _absent()
     final_ucs_run_key: str
+    # the runs at the identified point of each test run as a series (confined compression at
+    # each confinement), on the campaign's packing; None: no such test
+    series_runs: dict[str, list[str]] | None = _absent()
     curve_fit: CurveFit | None = _absent()
     validation: Validation | None = _absent()
     checks: list[Check] | None = _absent()

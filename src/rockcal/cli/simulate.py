@@ -106,16 +106,25 @@ def simulate(test: LabTest, options: dict) -> None:
     if chosen.name != DEFAULT_MATERIAL:
         run["model"] = chosen.name
     if series is None:
-        summary = _on_packings(test, params, settings, packing, seeds, run, as_json, out, test.name)
+        summary, _ = _on_packings(test, params, settings, packing, seeds, run, as_json, out, test.name)
         return _show(test, summary, as_json)
-    runs = [_on_packings(test, params, settings | {series: v}, packing, seeds, run, as_json, out,
+    done = [_on_packings(test, params, settings | {series: v}, packing, seeds, run, as_json, out,
                          f"{test.name}_{series}_{v:g}") for v in values]
+    runs = [summary for summary, _ in done]
     for summary in runs if not as_json else []:
         _show(test, summary, as_json=False)
     combined = test.combine(runs) | run | {"runs": runs}
     if out is not None:
         _write_text(out / f"{test.name}_summary.json", json.dumps(combined, indent=2))
+        _draw_series(test, done, out)
     _show_combined(test, combined, as_json)
+
+
+def _draw_series(test: LabTest, done: list[tuple[dict, np.ndarray]], out: Path) -> None:
+    """The test's figures of a series' runs together (the envelope), each as OUT/<test>_<title>.png."""
+    for figure in test.series_figures:
+        if len(done) >= figure.min_runs:
+            figure.draw(done, out / figure.file(test.name), f"{test.title}: {figure.title.lower()}")
 
 
 def _series(test: LabTest, options: dict) -> tuple[str | None, list]:
@@ -134,19 +143,21 @@ def _series(test: LabTest, options: dict) -> tuple[str | None, list]:
     return None, []
 
 
-def _on_packings(test, params, settings, packing, seeds, run, as_json, out, name) -> dict:
-    """A test on `seeds` packings: one packing's summary, or their mean and spread."""
-    per_seed = []
+def _on_packings(test, params, settings, packing, seeds, run, as_json, out, name) -> tuple[dict, np.ndarray]:
+    """A test on `seeds` packings: one packing's summary, or their mean and spread; and the
+    first packing's curve."""
+    per_seed, curves = [], []
     for k, seed in enumerate(seed_list(settings["seed"], seeds)):
         label = f"{test.title} test" + (f", packing {k + 1}/{seeds}" if seeds > 1 else "")
         result, specimen = _run_one(test, params, settings | {"seed": seed}, packing, label, as_json)
+        curves.append(result.curve)
         per_seed.append(result.summary() | specimen.description() | run | {"specimen": specimen.label, "seed": seed})
         if out is not None:
             write_outputs(out, test, result, per_seed[-1], name if seeds == 1 else f"{name}_seed{seed}")
     summary = per_seed[0] if seeds == 1 else _over_seeds(per_seed, settings["seed"], run)
     if out is not None and seeds > 1:
         _write_text(out / f"{name}_summary.json", json.dumps(summary, indent=2))
-    return summary
+    return summary, curves[0]
 
 
 def _checked_settings(test: LabTest, options: dict) -> dict:
@@ -236,7 +247,8 @@ def _show_combined(test: LabTest, combined: dict, as_json: bool) -> None:
         return
     table = Table(title=f"{test.title}: {len(combined['runs'])} runs together", show_header=False)
     for r in test.combined_responses:
-        table.add_row(r.label or r.name, _value(combined, r.name, r.unit))
+        if r.name in combined:  # an envelope needs two runs or more
+            table.add_row(r.label or r.name, _value(combined, r.name, r.unit))
     Console().print(table)
 
 

@@ -17,9 +17,10 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, ClassVar
 
 import numpy as np
+from pydantic import Field, model_validator
 
 from rockcal.dem import measure
 from rockcal.dem.simulate import (BOTTOM, DEFAULT_CONTACT_STIFFNESS, LEFT, RIGHT, THICKNESS_M, TOP,
@@ -28,8 +29,9 @@ from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests import ucs
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
-from rockcal.labtests.envelope import envelope_responses
-from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, Setting
+from rockcal.labtests.envelope import envelope_responses, plot_envelope
+from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, SeriesFigure, Setting, series_name
+from rockcal.labtests.lab_values import LabValues
 from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       check_stop_fraction, load_to_failure)
 from rockcal.labtests.platens import Platens
@@ -184,12 +186,80 @@ def _check(s: dict) -> None:
 
 
 def envelope(runs: list[dict]) -> dict:
-    """The peaks of a series of runs (their responses, confinements increasing) and the
-    strength envelope through them (`rockcal.labtests.envelope`)."""
+    """The peaks of a series of runs (their responses, confinements increasing) and, over two
+    confinements or more, the strength envelope through them (`rockcal.labtests.envelope`)."""
     sigma3 = [r["confinement_MPa"] for r in runs]
     sigma1 = [r["sigma1_MPa"] for r in runs]
-    return {"confinement_MPa": sigma3, "sigma1_MPa": sigma1} | envelope_responses(sigma3, sigma1)
+    peaks = {"confinement_MPa": sigma3, "sigma1_MPa": sigma1}
+    return peaks | envelope_responses(sigma3, sigma1) if len(runs) > 1 else peaks
 
+
+ENVELOPE_TARGETS = ("phi_deg", "c_MPa", "m_i", "sigma_ci_MPa")
+
+
+class BiaxialValues(LabValues):
+    """Lab results of confined compression at a series of confinements: the peaks, or the
+    envelope fitted through them, or both."""
+
+    test: ClassVar[str] = "biaxial"
+    confinement_mpa: list[float] = Field(description="The confinements σ3 tested, MPa: increasing, ≥ 0; each is "
+                                         "one run at every parameter set.")
+    sigma1_MPa: list[float] | None = Field(None, description="Peak σ1 at each confinement, MPa (named "
+                                           "sigma1_MPa@<σ3>MPa in spread, weights and the report).")
+    phi_deg: float | None = Field(None, gt=0, lt=90, description="Mohr–Coulomb friction angle φ, degrees.")
+    c_MPa: float | None = Field(None, gt=0, description="Mohr–Coulomb cohesion c, MPa.")
+    m_i: float | None = Field(None, gt=0, description="Hoek–Brown m_i of the intact rock.")
+    sigma_ci_MPa: float | None = Field(None, gt=0, description="Hoek–Brown σ_ci of the intact rock, MPa.")
+
+    def scalars(self) -> dict[str, float]:
+        """The envelope's values given, then each peak by its confinement (sigma1_MPa@5MPa)."""
+        given = {k: getattr(self, k) for k in ENVELOPE_TARGETS if getattr(self, k) is not None}
+        return given | {series_name("sigma1_MPa", s3, "MPa"): s1
+                        for s3, s1 in zip(self.confinement_mpa, self.sigma1_MPa or [])}
+
+    @model_validator(mode="before")
+    @classmethod
+    def _confinements(cls, data):
+        values = data.get("confinement_mpa") if isinstance(data, dict) else None
+        if isinstance(values, list):
+            try:
+                check_confinements(values)
+            except InputError as exc:
+                raise ValueError(f"confinement_mpa: {exc.problem}") from None
+        return data
+
+    @model_validator(mode="after")
+    def _peaks(self):
+        s3, s1 = self.confinement_mpa, self.sigma1_MPa
+        if s1 is not None and len(s1) != len(s3):
+            raise ValueError(f"sigma1_MPa: one peak per confinement, got {len(s1)} for {len(s3)}")
+        if s1 is not None and any(not a < b for a, b in zip(s3, s1)):
+            raise ValueError(f"sigma1_MPa: each peak must exceed its confinement, got {s1} at {s3}")
+        fitted = [k for k in ENVELOPE_TARGETS if getattr(self, k) is not None]
+        if fitted and len(s3) < 2:
+            raise ValueError(f"confinement_mpa: the envelope ({fitted[0]}) needs two confinements or more")
+        if not fitted and s1 is None:
+            raise ValueError(f"give sigma1_MPa or one of {', '.join(ENVELOPE_TARGETS)}")
+        return self
+
+
+def _draw_envelope(runs: list[tuple[dict, np.ndarray]], path, title: str) -> None:
+    plot_envelope([r["confinement_MPa"] for r, _ in runs], [r["sigma1_MPa"] for r, _ in runs], path, title)
+
+
+def _draw_curves(runs: list[tuple[dict, np.ndarray]], path, title: str) -> None:
+    from rockcal.plots import confined_curves
+
+    confined_curves(runs, path, title)
+
+
+SERIES_FIGURES = (
+    SeriesFigure("Strength envelope", "Peak σ1 at each confinement σ3 with the least-squares "
+                 "Mohr–Coulomb line and Hoek's regression of the intact Hoek–Brown curve.", _draw_envelope,
+                 min_runs=2),
+    SeriesFigure("Confined compression curves", "Deviatoric stress q = σ1 − σ3 against the axial "
+                 "(solid) and lateral (dashed) strain at each confinement.", _draw_curves),
+)
 
 CONFINEMENT = Setting("confinement_mpa", 0.0, "MPa", check_confinement,
                       "confining stress sigma3 (side walls servo-controlled), MPa; a list, "
@@ -197,6 +267,7 @@ CONFINEMENT = Setting("confinement_mpa", 0.0, "MPa", check_confinement,
                       series=True, check_series=check_confinements)
 
 TEST = LabTest(
+    lab_values=BiaxialValues,
     name="biaxial", title="confined compression",
     responses=(Response("sigma1_MPa", "MPa"), Response("confinement_MPa", "MPa", target=False),
                Response("q_MPa", "MPa", target=False), Response("E_GPa", "GPa", target=False),
@@ -210,6 +281,7 @@ TEST = LabTest(
     outline=lambda s: Outline(f"biaxial {s['width_mm']:g} x {s['height_mm']:g} mm, "
                               f"sigma3 {s['confinement_mpa']:g} MPa", s["width_mm"], s["height_mm"]),
     curve_columns=CURVE_COLUMNS, own_settings=(CONFINEMENT,), combine=envelope,
+    plot="deviatoric_stress_strain", series_figures=SERIES_FIGURES,
     combined_responses=(
         Response("phi_deg", "degrees"), Response("c_MPa", "MPa"), Response("m_i", ""),
         Response("sigma_ci_MPa", "MPa"), Response("mc_sigma_c_MPa", "MPa", target=False),

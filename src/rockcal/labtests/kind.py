@@ -45,6 +45,21 @@ class Setting:
 
 
 @dataclass(frozen=True)
+class SeriesFigure:
+    """A figure of a series' runs together (the envelope through the peaks): its title, caption
+    and `draw(runs, path, title)`, runs being (responses, curve) in the series' order."""
+
+    title: str
+    caption: str
+    draw: Callable[[list[tuple[dict, Any]], Any, str], None]
+    min_runs: int = 1  # it needs this many runs (an envelope: two)
+
+    def file(self, test: str) -> str:
+        """Its PNG file's name for a test: biaxial_strength_envelope.png."""
+        return f"{test}_{self.title.lower().replace(' ', '_')}.png"
+
+
+@dataclass(frozen=True)
 class Outline:
     """A test's specimen as a plan sees it: in words, and the packing it is cut from (width and
     height, mm) with the share of that packing's grains it keeps."""
@@ -68,7 +83,7 @@ class LabTest:
     curve (a CSV's header). `own_settings` declare the settings among `settings` that only this
     test has (default, check, whether a list of them makes a series of runs); over a series,
     `combine(responses of each run, in order)` gives `combined_responses` (the envelope of
-    confined compression tests)."""
+    confined compression tests) and `series_figures` draw the runs together."""
 
     name: str
     responses: tuple[Response, ...]
@@ -91,6 +106,27 @@ class LabTest:
     own_settings: tuple[Setting, ...] = ()  # settings it brings beyond the campaign file's [specimen]
     combine: Callable[[list[dict]], dict] | None = None  # one response set from a series' runs
     combined_responses: tuple[Response, ...] = ()  # what `combine` gives
+    series_figures: tuple[SeriesFigure, ...] = ()  # figures of a series' runs together
+
+    @property
+    def series(self) -> Setting | None:
+        """Its setting a list of values of which makes a series of runs, if it has one."""
+        return next((s for s in self.own_settings if s.series), None)
+
+    def point_responses(self, runs: list[dict], values: list) -> dict:
+        """The responses of one parameter set from its runs: the targets of its one run, or
+        (a series, one run per value of `values`) what `combine` gives, each list of a
+        target response spread out by value (`series_name`)."""
+        if not values:
+            return {r: runs[0][r] for r in self.targets}
+        unit = self.series.unit
+        found = {}
+        for name, value in self.combine(runs).items():
+            if not isinstance(value, list):
+                found[name] = value
+            elif name in self.targets:
+                found |= {series_name(name, v, unit): x for v, x in zip(values, value)}
+        return found
 
     @property
     def targets(self) -> tuple[str, ...]:
@@ -120,6 +156,11 @@ class LabTest:
     def responses_of(self, result) -> dict:
         """The declared responses of a test's result, in their declared order."""
         return {r.name: getattr(result, r.name) for r in self.responses}
+
+
+def series_name(response: str, value: float, unit: str) -> str:
+    """A response of one run of a series, by its value: sigma1_MPa@5MPa."""
+    return f"{response}@{value:g}{unit}"
 
 
 def genesis_of(settings: dict) -> Genesis:

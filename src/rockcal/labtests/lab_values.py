@@ -41,6 +41,14 @@ class LabValues(Section):
 
         return {k: getattr(self, k) for k in lab_test(self.test).targets if getattr(self, k) is not None}
 
+    def series(self) -> list:
+        """The values of its test's series setting given here (a run each at every parameter
+        set: the confinements of confined compression), or [] for a test run once."""
+        from rockcal.labtests.registry import lab_test
+
+        setting = lab_test(self.test).series
+        return list(getattr(self, setting.name, None) or []) if setting else []
+
     def derived(self) -> tuple[str, ...]:
         """Responses the section gives another way (from a measured curve)."""
         return ()
