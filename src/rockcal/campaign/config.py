@@ -20,7 +20,7 @@ from rockcal.campaign.safe_text import unsafe_character
 from rockcal.campaign.targets import LabTargets, Section, Targets, ValidationTests
 from rockcal.labtests.lab_values import read_curve  # noqa: F401  (here too)
 from rockcal.labtests.ucs import UCSValues as UCSTargets  # noqa: F401  (the UCS section, here too)
-from rockcal.campaign.user_files import read_user_text
+from rockcal.user_files import read_user_text
 from rockcal.dem.genesis import Genesis, make_genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error

@@ -15,6 +15,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
 from rockcal.errors import InputError
+from rockcal.user_files import read_user_text
 
 # the lab's spread of a response: its sd, or the [min, max] of the lab's samples
 Spread = dict[str, float | tuple[float, float]]
@@ -98,8 +99,6 @@ def values_model(test) -> type[LabValues]:
 
 def read_curve(path: Path, field: str = "targets.ucs.curve") -> np.ndarray:
     """A measured stress-strain curve: rows of (axial strain, axial stress MPa), strain rising."""
-    from rockcal.campaign.user_files import read_user_text
-
     text = read_user_text(path, field)
     try:
         rows = np.genfromtxt(io.StringIO(text), delimiter=",", dtype=float, invalid_raise=True)
