@@ -227,28 +227,28 @@ def _write_text(path: Path, text: str) -> None:
 
 def _show(test: LabTest, summary: dict, as_json: bool) -> None:
     """The responses as a table (with their spread over packings), or one JSON object."""
-    if as_json:
-        typer.echo(json.dumps(summary))
-        return
-    table = Table(title=f"{test.title} test — {summary['specimen']}", show_header=False)
-    for r in test.responses:
-        table.add_row(r.label or r.name, _value(summary, r.name, r.unit))
-    table.add_row("particles / bonds", f"{summary['n_particles']:.0f} / {summary['n_bonds']:.0f}")
-    table.add_row("broken bonds tension / shear",
-                  f"{summary['n_broken_tension']:.0f} / {summary['n_broken_shear']:.0f}")
-    table.add_row("steps, wall time", f"{summary['steps']:.0f}, {summary['wall_s']:.1f} s")
-    Console().print(table)
+    rows = [(r.label or r.name, _value(summary, r.name, r.unit)) for r in test.responses]
+    rows += [("particles / bonds", f"{summary['n_particles']:.0f} / {summary['n_bonds']:.0f}"),
+             ("broken bonds tension / shear", f"{summary['n_broken_tension']:.0f} / {summary['n_broken_shear']:.0f}"),
+             ("steps, wall time", f"{summary['steps']:.0f}, {summary['wall_s']:.1f} s")]
+    _print(f"{test.title} test — {summary['specimen']}", rows, summary, as_json)
 
 
 def _show_combined(test: LabTest, combined: dict, as_json: bool) -> None:
     """What a series of runs gives together (e.g. the strength envelope)."""
+    rows = [(r.label or r.name, _value(combined, r.name, r.unit)) for r in test.combined_responses
+            if r.name in combined]  # an envelope needs two runs or more
+    _print(f"{test.title}: {len(combined['runs'])} runs together", rows, combined, as_json)
+
+
+def _print(title: str, rows: list[tuple[str, str]], data: dict, as_json: bool) -> None:
+    """A table of (name, value) rows, or `data` as one JSON object."""
     if as_json:
-        typer.echo(json.dumps(combined))
+        typer.echo(json.dumps(data))
         return
-    table = Table(title=f"{test.title}: {len(combined['runs'])} runs together", show_header=False)
-    for r in test.combined_responses:
-        if r.name in combined:  # an envelope needs two runs or more
-            table.add_row(r.label or r.name, _value(combined, r.name, r.unit))
+    table = Table(title=title, show_header=False)
+    for row in rows:
+        table.add_row(*row)
     Console().print(table)
 
 

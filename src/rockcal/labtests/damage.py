@@ -40,10 +40,13 @@ NOISE_MULTIPLE = 3.0  # crack strain below -this x its scatter over the elastic 
 MIN_TOLERANCE = 1e-9  # the tolerance of a noiseless curve (strain)
 # The responses of every compression test. Not yet targets: a campaign section must first hold
 # them (`campaign.targets.LabTargets.scalars` reads every target of its test).
-CRACK_RESPONSES = (Response("ci_MPa", "MPa", target=False), Response("ci_ratio", "", target=False),
-                   Response("ci_strain_MPa", "MPa", target=False),
-                   Response("ci_strain_ratio", "", target=False),
-                   Response("cd_MPa", "MPa", target=False), Response("cd_ratio", "", target=False))
+CRACK_RESPONSES = (
+    Response("ci_MPa", "MPa", target=False, label="crack initiation CI (cracking onset)"),
+    Response("ci_ratio", "", target=False, label="CI / peak"),
+    Response("ci_strain_MPa", "MPa", target=False, label="CI (crack volumetric strain)"),
+    Response("ci_strain_ratio", "", target=False, label="CI (crack strain) / peak"),
+    Response("cd_MPa", "MPa", target=False, label="crack damage CD (areal strain reversal)"),
+    Response("cd_ratio", "", target=False, label="CD / peak"))
 
 
 @dataclass(frozen=True)
