@@ -92,3 +92,10 @@ def test_an_embedded_rock_is_taken_by_name_and_an_unknown_name_is_refused(tmp_pa
     with pytest.raises(InputError, match="no embedded rock of that name") as error:
         load_campaign("granit")
     assert error.value.field == "CONFIG"
+
+
+def test_the_multi_fidelity_granite_differs_from_the_embedded_one_only_in_its_surrogate():
+    granite, _ = load_campaign(None)
+    multi, _ = load_campaign(str(DOCS / "granite-multifidelity.toml"))
+    assert multi.model_dump(exclude={"surrogate"}) == granite.model_dump(exclude={"surrogate"})
+    assert (multi.surrogate.coarse_samples, multi.surrogate.samples, multi.surrogate.checks) == (20, 4, 2)
