@@ -29,9 +29,12 @@ from rockcal.labtests.seeds import mean_over_seeds, seed_list
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material
 from rockcal.params import parse_assignments
 
-SET_HELP = ("Micro-parameter NAME=VALUE, repeatable: E_c, Ebar_c (GPa), kn_ks, knbar_ksbar, "
-            "sigma_c, tau_c, sigma_c_sd, tau_c_sd (MPa) or sigma_c_cv, tau_c_cv (sd / mean), "
-            "phi_b (degrees), mcf, mu, lambda, density (kg/m3), damping.")
+SET_HELP = ("Micro-parameter NAME=VALUE, repeatable. Parallel bond: E_c, Ebar_c (GPa), kn_ks, "
+            "knbar_ksbar, sigma_c, tau_c, sigma_c_sd, tau_c_sd (MPa) or sigma_c_cv, tau_c_cv "
+            "(sd / mean), phi_b (degrees), mcf, mu, lambda. Flat joint (--model flatjoint): "
+            "fj_emod, lnm_emod (GPa), fj_kratio, lnm_krat, fj_ten, fj_coh (MPa) and their _sd "
+            "(MPa) or _cv, fj_fa (degrees), fj_fric, lnm_fric, fj_nr, fj_rmul, fjm_rmulCode, "
+            "fjm_B_frac, fjm_G_frac, fjm_G_m, fjm_G_sd (mm). Both: density (kg/m3), damping.")
 Model = Enum("Model", [(name, name) for name in MATERIALS], type=str)
 Packing = Enum("Packing", [("random", "random"), ("hexagonal", "hexagonal")], type=str)
 SHARED = {  # the options of every test: name -> (annotation, typer option)
@@ -95,7 +98,7 @@ def simulate(test: LabTest, options: dict) -> None:
     """Run a test on `--seeds` packings, show (or print as JSON) its responses, write its files."""
     options = {k: v.value if isinstance(v, Enum) else v for k, v in options.items()}
     chosen = material(options.pop("model"), "--model")
-    params = chosen.make(parse_assignments(options.pop("set_")))
+    params = chosen.params(parse_assignments(options.pop("set_")))
     seeds, as_json, out = options.pop("seeds"), options.pop("as_json"), options.pop("out")
     packing = options.pop("packing", "random")
     if seeds < 1:
