@@ -59,6 +59,7 @@ def test_bad_input_is_one_line_and_exit_2(args, field):
     assert_one_line_error(rockcal("simulate", "ucs", *SMALL, *args), field)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("args, field", [
     (["--model", "parallel_bond", "--set", "fj_emod=1"], "fj_emod"),  # a flat-joint name
     (["--model", "flatjoint", "--set", "E_c=20"], "E_c"),  # a parallel-bond name

@@ -51,7 +51,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from numba import njit, uint64
 
 from rockcal.dem.laws import Disk, Load, contact_velocity, force_xy, pair_geometry
 
@@ -159,13 +159,14 @@ def element_normal_force(kn, gap, theta, xc, length, bonded):
     return kn * s0, -kn * s1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def update_joint(p, rbar, dn, ds, dtheta, table, state, elements):
     """PFC's flat-joint force-displacement law for joint p of half-length `rbar` (m), given the
     relative motion of the step: normal displacement dn (opening positive), shear displacement
     ds (of j relative to i along t) and bend-rotation dtheta (θ_j - θ_i), all at the contact
     point. Updates the joint's gap, rotation, elements and interface force and moment (rows FN,
-    FS, M of `table`); returns how many elements broke."""
+    FS, M of `table`); returns how many elements broke. Unsigned indices, as in `laws.py`."""
+    p = uint64(p)
     gap = table[GAP, p] + dn
     theta = table[THETA, p] + dtheta
     table[GAP, p] = gap
@@ -177,21 +178,23 @@ def update_joint(p, rbar, dn, ds, dtheta, table, state, elements):
     nr = state.shape[1]
     length = 2.0 * rbar / nr
     area = length  # unit thickness
+    inv_area = 1.0 / area
+    shear_step = ks * area * ds
     fn_sum = 0.0
     fs_sum = 0.0
     m_sum = 0.0
     breaks = 0
-    for e in range(nr):
+    for e in range(uint64(nr)):
         xc = -rbar + (e + 0.5) * length
         bonded = state[p, e] == BONDED
         fn, me = element_normal_force(kn, gap, theta, xc, length, bonded)
-        fs = elements[E_FS, p, e] + ks * area * ds
+        fs = elements[E_FS, p, e] + shear_step
         if bonded:
-            sigma = fn / area
+            sigma = fn * inv_area
             if sigma > elements[E_TEN, p, e]:
                 state[p, e] = BROKEN_TENSION
                 bonded = False
-            elif abs(fs) / area > elements[E_COH, p, e] - sigma * tan_fa:
+            elif abs(fs) * inv_area > elements[E_COH, p, e] - sigma * tan_fa:
                 state[p, e] = BROKEN_SHEAR
                 bonded = False
             if not bonded:
@@ -224,9 +227,9 @@ def add_flatjoint_forces(first, last, disks, pi, pj, joints, dt, loads):
     bond's (the joint's force on i is taken from j)."""
     table, state, elements, break_xy = joints
     nr = state.shape[1]
-    for p in range(first, last):
-        i = pi[p]
-        j = pj[p]
+    for p in range(uint64(first), uint64(last)):
+        i = uint64(pi[p])
+        j = uint64(pj[p])
         dx = disks[j, Disk.X] - disks[i, Disk.X]
         dy = disks[j, Disk.Y] - disks[i, Disk.Y]
         ri = disks[i, Disk.RADIUS]
@@ -242,7 +245,7 @@ def add_flatjoint_forces(first, last, disks, pi, pj, joints, dt, loads):
             cx = disks[i, Disk.X] + nx * arm_i
             cy = disks[i, Disk.Y] + ny * arm_i
             length = 2.0 * rbar / nr
-            for e in range(nr):
+            for e in range(uint64(nr)):
                 if state[p, e] != BONDED and state[p, e] != UNBONDED and np.isnan(break_xy[p, e, 0]):
                     xi = -rbar + (e + 0.5) * length
                     break_xy[p, e, 0] = cx - ny * xi
