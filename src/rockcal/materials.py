@@ -33,7 +33,8 @@ class Material:
     engine state its laws run in (`simulate.assemble_state`'s options); `pfc_parameters(params,
     specimen)` its FISHTank material group's parameters in SI units, set by the FISH function
     `pfc_group`, with `pfc_material_type` (`cm_matType`); `pair_properties(params, specimen)`
-    the properties of each bonded pair (columns by name, SI), for the specimen's export."""
+    the properties of each bonded pair (columns by name, SI), for the specimen's export;
+    `pairs_word` and `breaks_word` name its bonded pairs and what breaks in them."""
 
     name: str
     title: str
@@ -47,6 +48,8 @@ class Material:
     pfc_material_type: int
     pfc_group: str
     pair_properties: Callable[[object, object], dict]
+    pairs_word: str = "bonds"  # its bonded pairs, in words
+    breaks_word: str = "bonds"  # what breaks, each a crack
 
     def params(self, values: dict):
         """`make(values)`, and a name of another material's parameter named as such."""
@@ -185,7 +188,8 @@ FLATJOINT = Material(
                "fjm_G_sd": "fjm_G_sd", "lnm_emod": "lnm_emod", "lnm_krat": "lnm_krat",
                "lnm_fric": "lnm_fric", "density": "cm_densityVal", "damping": "cm_localDampFac"},
     bond_pairs=install_bonds, new_state=_flatjointed_state, pfc_parameters=flatjoint_pfc,
-    pfc_material_type=FLAT_JOINTED, pfc_group="mpSetFJParams", pair_properties=_flat_joints)
+    pfc_material_type=FLAT_JOINTED, pfc_group="mpSetFJParams", pair_properties=_flat_joints,
+    pairs_word="flat joints", breaks_word="elements")
 
 MATERIALS: dict[str, Material] = {m.name: m for m in (PARALLEL_BOND, FLATJOINT)}
 DEFAULT_MATERIAL = PARALLEL_BOND.name

@@ -204,8 +204,9 @@ def write_outputs(out: Path, test: LabTest, result, summary: dict, name: str) ->
         raise InputError("--out", f"cannot write to {out}: {exc.strerror}") from None
     _write_text(out / f"{name}_summary.json", json.dumps(summary, indent=2))
     first = test.responses[0]
+    broken = material(summary.get("model", DEFAULT_MATERIAL)).breaks_word
     plots.crack_pattern(result.positions, result.radius, result.cracks, out / f"{name}_cracks.png",
-                        f"{first.label or first.name} {getattr(result, first.name):.4g} {first.unit} — broken bonds")
+                        f"{first.label or first.name} {getattr(result, first.name):.4g} {first.unit} — broken {broken}")
     if test.plot:
         getattr(plots, test.plot)(result.curve, out / f"{name}_curve.png", f"{test.title} test")
 
@@ -225,8 +226,9 @@ def _show(test: LabTest, summary: dict, as_json: bool) -> None:
     table = Table(title=f"{test.title} test — {summary['specimen']}", show_header=False)
     for r in test.responses:
         table.add_row(r.label or r.name, _value(summary, r.name, r.unit))
-    table.add_row("particles / bonds", f"{summary['n_particles']:.0f} / {summary['n_bonds']:.0f}")
-    table.add_row("broken bonds tension / shear",
+    chosen = material(summary.get("model", DEFAULT_MATERIAL))
+    table.add_row(f"particles / {chosen.pairs_word}", f"{summary['n_particles']:.0f} / {summary['n_bonds']:.0f}")
+    table.add_row(f"broken {chosen.breaks_word} tension / shear",
                   f"{summary['n_broken_tension']:.0f} / {summary['n_broken_shear']:.0f}")
     table.add_row("steps, wall time", f"{summary['steps']:.0f}, {summary['wall_s']:.1f} s")
     Console().print(table)
