@@ -53,3 +53,21 @@ def test_bending_gives_a_toughness():
     result = simulate_bending(PARAMS, notched_beam(beam, 0.4, 1.65, seed=1), beam)
     assert result.K_IC_MPa_sqrt_m > 0 and result.n_broken_tension > 0
     assert len(result.first_break_xy) > 0
+
+
+def test_a_campaigns_forward_run():
+    """A campaign's run of the flat-jointed material: keyed by the material and all its
+    parameters, run through the material, its responses and cracks stored as the parallel
+    bond's are."""
+    from rockcal.campaign.config import SpecimenSettings
+    from rockcal.campaign.forward import execute, params_of, run_spec
+
+    settings = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16)
+    spec = run_spec("ucs", settings, {"fj_emod": 30.0, "fjm_B_frac": 0.9}, "flatjoint")
+    assert dict(spec.params)["model"] == "flatjoint" and dict(spec.params)["fj_nr"] == 2
+    assert params_of(spec) == make_flatjoint_params({"fj_emod": 30.0, "fjm_B_frac": 0.9})
+    assert spec.key != run_spec("ucs", settings, {"fj_emod": 30.0}, "flatjoint").key
+    result = execute(spec)
+    assert result.status == "ok", result.message
+    broken = result.responses["n_broken_tension"] + result.responses["n_broken_shear"]
+    assert result.responses["ucs_MPa"] > 0 and len(result.cracks) == broken > 0
