@@ -44,7 +44,7 @@ class Material:
     pfc_names: dict[str, str]
     bond_pairs: Callable
     new_state: Callable[..., State]
-    pfc_parameters: Callable[[object, object], dict[str, float]]
+    pfc_parameters: Callable[[object, object], dict[str, float | int | bool]]
     pfc_material_type: int
     pfc_group: str
     pair_properties: Callable[[object, object], dict]
@@ -61,7 +61,7 @@ class Material:
         return self.make(values)
 
 
-def common_pfc(params, specimen, material_type: int) -> dict[str, float]:
+def common_pfc(params, specimen, material_type: int) -> dict[str, float | int]:
     """FISHTank's common and packing groups (SI) of a rockcal material on its specimen: one
     uniform size distribution (cm_typeSD 0) of disks (cm_shape 0) of diameters 2 R_min to
     2 R_min x ratio, the grains' own density (cm_densityCode 0: rockcal's density is the
@@ -85,7 +85,7 @@ def common_pfc(params, specimen, material_type: int) -> dict[str, float]:
     }
 
 
-def parallel_bond_pfc(params: MicroParams, specimen) -> dict[str, float]:
+def parallel_bond_pfc(params: MicroParams, specimen) -> dict[str, float | int]:
     """FISHTank's parallel-bonded material parameters (SI) of a rockcal material.
 
     PFC's 2D disks have unit thickness, as rockcal's; pbm_igap is the installation gap as a
@@ -113,7 +113,7 @@ def parallel_bond_pfc(params: MicroParams, specimen) -> dict[str, float]:
     }
 
 
-def flatjoint_pfc(params: FlatJointParams, specimen) -> dict[str, float]:
+def flatjoint_pfc(params: FlatJointParams, specimen) -> dict[str, float | int | bool]:
     """FISHTank's flat-jointed material parameters (SI) of a rockcal material: fjm_igap is the
     installation gap as a length, fjm_Nr the elements per joint (2D), fjm_rmulVal λ."""
     ten_sd, coh_sd = params.strength_sds

@@ -54,7 +54,7 @@ def read_calibration(store, folder: Path) -> Calibrated:
     return Calibrated(model.make(result.identified_params), result.specimen, origin)
 
 
-def pfc_parameters(calibrated: Calibrated) -> dict[str, float | int | str]:
+def pfc_parameters(calibrated: Calibrated) -> dict[str, float | int | bool | str]:
     """FISHTank's parameters (SI) of a calibrated material (`rockcal.materials`), its name
     (cm_matName, from the rock's) first."""
     chosen = material_of(calibrated.params)
