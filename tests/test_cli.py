@@ -60,6 +60,32 @@ def test_bad_input_is_one_line_and_exit_2(args, field):
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("args, field", [
+    (["--model", "parallel_bond", "--set", "fj_emod=1"], "fj_emod"),  # a flat-joint name
+    (["--model", "flatjoint", "--set", "E_c=20"], "E_c"),  # a parallel-bond name
+    (["--model", "flatjoint", "--set", "fjm_B_frac=0.8", "--set", "fjm_G_frac=0.3"], "fjm_G_frac"),
+    (["--model", "flatjoint", "--set", "fjm_B_frac=-0.1"], "fjm_B_frac"),
+    (["--model", "flatjoint", "--set", "fj_nr=0"], "fj_nr"),
+    (["--model", "flatjoint", "--set", "fj_fa=90"], "fj_fa"),
+    (["--model", "flatjoint", "--set", "lnm_emod=-1"], "lnm_emod"),
+    (["--model", "flatjoint_x"], "--model"),
+])
+def test_bad_flatjoint_input_is_one_line_and_exit_2(args, field):
+    assert_one_line_error(rockcal("simulate", "ucs", *SMALL, *args), field)
+
+
+@pytest.mark.slow
+def test_simulate_ucs_with_the_flat_jointed_material():
+    run = rockcal("simulate", "ucs", "--width-mm", "8", "--height-mm", "16", "--rmin-mm", "0.4",
+                  "--model", "flatjoint", "--set", "fj_emod=30", "--set", "fjm_B_frac=0.9", "--json")
+    assert run.returncode == 0, run.stderr
+    summary = json.loads(run.stdout)
+    assert summary["model"] == "flatjoint" and summary["params"]["fj_emod"] == 30
+    assert summary["params"]["lnm_emod"] == 30  # the linear contacts default to the joints'
+    assert summary["ucs_MPa"] > 0 and summary["n_broken_tension"] > 0
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("test, args, flag", [
     ("bending", ["--length-mm", "2"], "--length-mm"),  # too short for its particles
     ("bending", ["--span-mm", "300"], "--span-mm"),

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from rockcal import hexagonal, make_params, simulate_ucs
+from rockcal.dem.flatjoint_material import make_flatjoint_params
 from rockcal.dem.simulate import BOTTOM, TOP, advance, new_state
 
 
@@ -21,6 +22,20 @@ def test_hexagonal_lattice_moduli(ratio):
     params = bonds_only(ratio)
     result = simulate_ucs(params, hexagonal(20, 20, 0.25), max_axial_strain=0.002)
     kn = params.Ebar_c * 1e9 * params.lambda_  # kbn * area = Ebar / 2R * 2R * t
+    E_exact, nu_exact = exact_moduli(kn, kn / ratio)
+    assert result.E_GPa * 1e9 == pytest.approx(E_exact, rel=0.03)
+    assert result.nu == pytest.approx(nu_exact, abs=0.015)
+    assert result.n_broken_tension == result.n_broken_shear == 0
+
+
+@pytest.mark.parametrize("ratio", [1.0, 4.0])
+def test_hexagonal_lattice_of_bonded_flat_joints_has_the_exact_moduli(ratio):
+    """As the parallel-bond lattice (above): each bonded interface is a normal spring
+    k_n A = E*/(2R) 2λR = λE* and a shear spring k_s A; the disks do not rotate, so the
+    elements' bending stiffness drops out."""
+    params = make_flatjoint_params({"fj_emod": 20, "fj_kratio": ratio, "fj_ten": 1e4, "fj_coh": 1e4})
+    result = simulate_ucs(params, hexagonal(20, 20, 0.25), max_axial_strain=0.002)
+    kn = params.fj_emod * 1e9 * params.fj_rmul
     E_exact, nu_exact = exact_moduli(kn, kn / ratio)
     assert result.E_GPa * 1e9 == pytest.approx(E_exact, rel=0.03)
     assert result.nu == pytest.approx(nu_exact, abs=0.015)

@@ -14,6 +14,7 @@ sigma_c 36.55 MPa) and its fixed ones (tau_c 90 MPa, mu 0.5, lambda 1).
 from __future__ import annotations
 
 import math
+from typing import ClassVar
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
@@ -67,6 +68,14 @@ class MicroParams(BaseModel):
     def key(self) -> dict[str, float]:
         """All values by their user names (for storage and reports)."""
         return self.model_dump(by_alias=True)
+
+    CONTACT_MODULUS: ClassVar[str] = "E_c"  # the linear contacts' modulus (GPa), by name
+
+    @property
+    def bonded_modulus_GPa(self) -> float:
+        """A bonded pair's modulus, contact and parallel bond side by side, E_c + λ Ē_c: an
+        estimate of the rock's, for its wave speed."""
+        return self.E_c + self.lambda_ * self.Ebar_c
 
 
 NAMES = tuple(MicroParams.model_fields[f].alias or f for f in MicroParams.model_fields)

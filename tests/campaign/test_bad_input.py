@@ -72,6 +72,14 @@ CAMPAIGNS = [  # (case, campaign text, the key the error must name)
     ("negative bound", edit("E_c = [10, 30]", "E_c = [-10, 30]"), "search.bounds.E_c"),
     ("unknown parameter", edit("E_c = [10, 30]", "E_cc = [10, 30]"), "search.bounds.E_cc"),
     ("fixed value out of range", edit("mu = 0.5", "mu = -1"), "search.fixed.mu"),
+    ("a flat-joint parameter with the parallel bond", edit("mu = 0.5", "mu = 0.5, fj_emod = 30"),
+     "search.fixed.fj_emod"),
+    ("flat joints bonded and gapped over 1", "[material]\nmodel = 'flatjoint'\n" + edit(
+        "bounds = { E_c = [10, 30], sigma_c = [20, 60] }\nfixed = { mu = 0.5 }",
+        "bounds = { fj_emod = [10, 30], fj_ten = [20, 60] }\n"
+        "fixed = { fjm_B_frac = 0.8, fjm_G_frac = 0.3 }"), "search.fixed.fjm_G_frac"),
+    ("a parallel-bond bound with the flat joint", "[material]\nmodel = 'flatjoint'\n" + CAMPAIGN,
+     "search.fixed.mu"),
     ("beam too short for its particles", edit("[specimen]", "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0\n"
                                                "[specimen]\nbeam_length_mm = 4"), "specimen.beam_length_mm"),
     ("span longer than the beam", edit("[specimen]", "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0\n"

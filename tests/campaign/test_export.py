@@ -45,7 +45,9 @@ EXPECTED = {"pbm_emod": 21.65e9, "pbm_krat": 1.9, "pbm_fric": 0.5, "pbm_bemod": 
             "pbm_bkrat": 1.9, "pbm_rmul": 1.0, "pbm_mcf": 0.8, "pbm_ten_m": 36.55e6,
             "pbm_ten_sd": 7.31e6, "pbm_coh_m": 90e6, "pbm_coh_sd": 15e6, "pbm_fa": 12.0,
             "pbm_igap": 0.2e-3, "cm_Dlo": 0.8e-3, "cm_Dup": 1.2e-3, "cm_densityVal": 2622.0,
-            "cm_localDampFac": 0.7, "pk_Pm": 0.2e6, "pk_nc": 0.1}
+            "cm_localDampFac": 0.7, "pk_Pm": 0.2e6, "pk_nc": 0.1, "cm_matType": 2,
+            "cm_densityCode": 0, "cm_shape": 0, "cm_Dmult": 1.0, "cm_nSD": 1, "cm_typeSD": 0, "cm_Vfrac": 1.0, "pk_procCode": 1,
+            "lnm_emod": 21.65e9, "lnm_krat": 1.9, "lnm_fric": 0.5}
 
 
 def rockcal(*args):
@@ -79,6 +81,7 @@ def finished(tmp_path_factory):
 
 
 def check(values: dict) -> None:
+    assert values.pop("cm_matName", "twin") == "twin"
     assert set(values) == set(EXPECTED)
     for name, value in EXPECTED.items():
         assert values[name] == pytest.approx(value, rel=1e-12), name
@@ -92,7 +95,7 @@ def test_fish_file_reads_back_in_si(finished, tmp_path):
     assert re.search(r"^def mpSetPBParams$", text, re.M) and "; rockcal calibration of twin" in text
     assert ";   E_c: 5-95 % interval 20.9 to 22.4" in text
     values = {m[0]: float(m[1]) for m in re.findall(r"^\s+(\w+)(?:\(1\))? = ([-+0-9.e]+)", text, re.M)}
-    values.pop("cm_densityCode"), values.pop("cm_nSD"), values.pop("cm_Vfrac")
+    assert re.search(r"^  cm_matName = 'twin'$", text, re.M) and text.endswith("@_mpCheckAllParams\n")
     check(values)
 
 

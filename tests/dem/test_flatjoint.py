@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from rockcal.dem import flatjoint as fj
+from rockcal.dem.simulate import new_particles
 
 GPA, MPA = 1e9, 1e6
 EMOD = 20.0  # GPa
@@ -48,11 +49,13 @@ class Pair:
     def __init__(self, j, r0=R0, r1=R1, angle=0.7, gap=0.0):
         self.n = np.array([np.cos(angle), np.sin(angle)])
         p0 = np.array([0.3e-3, -0.2e-3])
-        self.pos = np.array([p0, p0 + (r0 + r1 + gap) * self.n])
         self.radius = np.array([r0, r1])
+        self.grains = new_particles(np.array([p0, p0 + (r0 + r1 + gap) * self.n]), self.radius,
+                                    np.ones(2), np.ones(2))
+        self.pos = self.grains.pos
+        self.force = self.grains.force
+        self.moment = self.grains.moment
         self.j = j
-        self.force = np.zeros((2, 2))
-        self.moment = np.zeros(2)
         self.pi = np.array([0], np.int64)
         self.pj = np.array([1], np.int64)
 
@@ -61,15 +64,14 @@ class Pair:
         return np.array([-self.n[1], self.n[0]])
 
     def step(self, vel=((0.0, 0.0), (0.0, 0.0)), spin=(0.0, 0.0)):
-        vel = np.array(vel, float)
-        spin = np.array(spin, float)
-        self.force[:] = 0.0
-        self.moment[:] = 0.0
-        breaks = fj.add_flatjoint_forces(0, 1, self.pos, vel, spin, self.radius, self.pi, self.pj,
-                                         self.j.table, self.j.state, self.j.elements, DT,
-                                         self.force, self.moment)
-        self.pos += vel * DT
-        return breaks
+        g = self.grains
+        g.vel[:] = vel
+        g.spin[:] = spin
+        g.loads[:] = 0.0
+        bonded = np.count_nonzero(self.j.state == fj.BONDED)
+        fj.add_flatjoint_forces(0, 1, g.disks, self.pi, self.pj, self.j, DT, g.loads)
+        self.pos += g.vel * DT
+        return bonded - np.count_nonzero(self.j.state == fj.BONDED)  # elements broken
 
 
 # --- stiffness of a bonded interface -----------------------------------------------------

@@ -25,9 +25,8 @@ from rockcal.dem.genesis import Genesis, make_genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
-from rockcal.materials import DEFAULT_MATERIAL, MATERIALS
+from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material
 from rockcal.labtests.ucs import DEFAULT_MAX_AXIAL_STRAIN, DEFAULT_STRAIN, POST_PEAK_FRACTION
-from rockcal.params import NAMES, make_params
 
 RESPONSES = lab_test(PRIMARY_TEST).targets  # what the primary (UCS) test gives and the calibration can fit
 QUICK_RESOLUTION = 2  # `--quick`: R_min this many times the campaign's
@@ -81,12 +80,15 @@ class SpecimenSettings(Genesis):
                                     description="UCS: stop at this axial strain at the latest.")
 
 
+NAMES = tuple(dict.fromkeys(name for m in MATERIALS.values() for name in m.parameters))
 # genesis settings a campaign may search (in [search] bounds or [sensitivity] levels) beside the
 # micro-parameters: the installation gap only decides which pairs of the packed grains bond
 SEARCHED_GENESIS = ("install_gap",)
 
 
 def _check_names(values: dict, genesis: bool = True) -> None:
+    """Names of some material's parameters (`_check_values` checks them against the chosen one),
+    or of a searched genesis setting."""
     known = (*NAMES, *SEARCHED_GENESIS) if genesis else NAMES
     for name in values:
         if name in SEARCHED_GENESIS and not genesis:
@@ -362,6 +364,7 @@ def _curves_from(campaign: Campaign, base: Path) -> Campaign:
 def _check_values(campaign: Campaign) -> None:
     """Fixed values, bounds and levels must be valid micro-parameter values, named by their key."""
     fixed = campaign.fixed_params()
+    make_params = material(campaign.material.model).params
     try:
         make_params(fixed)
     except InputError as exc:

@@ -1,6 +1,8 @@
 """Carry a finished calibration into PFC: the identified micro-parameters under the names of
-Itasca's FISHTank parallel-bonded material (`mpSetPBParams` and its common and packing
-groups), in SI units, and the specimen itself as ball and bond lists."""
+Itasca's FISHTank material (`cm_matType`, the common and packing groups and the material's
+group: `mpSetPBParams` for the parallel-bonded material, `mpSetFJParams` for the flat-jointed
+one, each with the linear material group `lnm_*`), in SI units, as complete as FISHTank's own
+parameter files; and the specimen itself as ball and bond lists."""
 
 from __future__ import annotations
 
@@ -17,8 +19,8 @@ from rockcal.campaign.forward import ENGINE
 from rockcal.campaign.result import read_result
 from rockcal.campaign.safe_text import comment_text
 from rockcal.errors import InputError
-from rockcal.materials import DEFAULT_MATERIAL, material
-from rockcal.params import GPa, MicroParams, make_params
+from rockcal.materials import DEFAULT_MATERIAL, material, material_of, pfc_material_name
+from rockcal.params import GPa, MicroParams
 
 FORMATS = ("pfc-fish", "pfc-python", "json")
 
@@ -28,7 +30,7 @@ class Calibrated:
     """What a finished campaign identified: the material, its specimen settings and where it
     came from (for the export's header)."""
 
-    params: MicroParams
+    params: object  # of its material (`rockcal.materials`)
     specimen: SpecimenSettings
     origin: dict
 
@@ -48,18 +50,25 @@ def read_calibration(store, folder: Path) -> Calibrated:
               "engine": final_run.engine if final_run else ENGINE}
     if result.quick_look:
         origin["quick_look"] = result.quick_look
-    return Calibrated(make_params(result.identified_params), result.specimen, origin)
+    model = material(result.material or DEFAULT_MATERIAL)
+    return Calibrated(model.make(result.identified_params), result.specimen, origin)
 
 
-def pfc_parameters(params: MicroParams, specimen: SpecimenSettings,
-                   model: str = DEFAULT_MATERIAL) -> dict[str, float]:
-    """FISHTank's material parameters (SI) of a rockcal material (`rockcal.materials`)."""
-    return material(model).pfc_parameters(params, specimen)
+def pfc_parameters(calibrated: Calibrated) -> dict[str, float | int | bool | str]:
+    """FISHTank's parameters (SI) of a calibrated material (`rockcal.materials`), its name
+    (cm_matName, from the rock's) first."""
+    chosen = material_of(calibrated.params)
+    name = pfc_material_name(calibrated.origin.get("rock", ""))
+    return {"cm_matName": name} | chosen.pfc_parameters(calibrated.params, calibrated.specimen)
 
 
 UNITS = {"cm_densityVal": "kg/m3", "cm_Dlo": "m", "cm_Dup": "m", "pk_Pm": "Pa", "pbm_emod": "Pa",
          "pbm_igap": "m", "pbm_bemod": "Pa", "pbm_ten_m": "Pa", "pbm_ten_sd": "Pa",
-         "pbm_coh_m": "Pa", "pbm_coh_sd": "Pa", "pbm_fa": "degrees"}
+         "pbm_coh_m": "Pa", "pbm_coh_sd": "Pa", "pbm_fa": "degrees", "fjm_igap": "m",
+         "fjm_G_m": "m", "fjm_G_sd": "m", "fjm_emod": "Pa", "fjm_ten_m": "Pa", "fjm_ten_sd": "Pa",
+         "fjm_coh_m": "Pa", "fjm_coh_sd": "Pa", "fjm_fa": "degrees", "lnm_emod": "Pa"}
+# FISHTank's size-distribution arrays, one entry each (cm_nSD = 1)
+SIZE_ARRAYS = ("cm_typeSD", "cm_Dlo", "cm_Dup", "cm_Vfrac")
 
 
 def header_lines(calibrated: Calibrated) -> list[str]:
@@ -82,7 +91,7 @@ def _header(calibrated: Calibrated) -> list[str]:
     for name, i in o.get("intervals", {}).items():
         pinned = "" if i["pinned"] else " (not pinned down by the lab data)"
         lines.append(f"  {name}: 5-95 % interval {i['p5']:.4g} to {i['p95']:.4g}{pinned}")
-    if calibrated.specimen.contact_stiffness == "pfc4":
+    if calibrated.specimen.contact_stiffness == "pfc4" and isinstance(calibrated.params, MicroParams):
         kn = calibrated.params.E_c * GPa
         ks = kn / calibrated.params.kn_ks
         lines.append(f"contacts as PFC 3.x/4.0: ball kn {2 * kn:.6g} N/m, ks {2 * ks:.6g} N/m (kn = t E_c "
@@ -93,49 +102,50 @@ def _header(calibrated: Calibrated) -> list[str]:
     return lines
 
 
-def _fish_number(value: float) -> str:
-    return repr(float(value))
+def _fish_value(value) -> str:
+    """A value as FISH reads it: a string quoted, a boolean and an integer as one, a float
+    exactly."""
+    if isinstance(value, str):
+        return f"'{value}'"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return str(value) if isinstance(value, int) else repr(float(value))
 
 
 def to_fish(calibrated: Calibrated) -> str:
-    """A FISH data file in the layout of FISHTank's mpParams (three parameter functions)."""
-    values = pfc_parameters(calibrated.params, calibrated.specimen)
+    """A FISH data file in the layout of FISHTank's mpParams: the common, packing and material
+    group functions, then FISHTank's own check (`_mpCheckAllParams`)."""
+    values = pfc_parameters(calibrated)
+    group = material_of(calibrated.params).pfc_group
     out = [f"; {line}" for line in header_lines(calibrated)]
-    out += ["def mpSetCommonParams",
-            f"  cm_localDampFac = {_fish_number(values['cm_localDampFac'])}",
-            "  cm_densityCode = 1",
-            f"  cm_densityVal = {_fish_number(values['cm_densityVal'])}  ; kg/m3",
-            "  cm_nSD = 1",
-            "  cm_Dlo = array.create(cm_nSD)",
-            "  cm_Dup = array.create(cm_nSD)",
-            "  cm_Vfrac = array.create(cm_nSD)",
-            f"  cm_Dlo(1) = {_fish_number(values['cm_Dlo'])}  ; m",
-            f"  cm_Dup(1) = {_fish_number(values['cm_Dup'])}  ; m",
-            "  cm_Vfrac(1) = 1.0",
-            "end", "@mpSetCommonParams", "",
-            "def mpSetPackingParams",
-            f"  pk_Pm = {_fish_number(values['pk_Pm'])}  ; Pa",
-            f"  pk_nc = {_fish_number(values['pk_nc'])}",
-            "end", "@mpSetPackingParams", "",
-            "def mpSetPBParams"]
-    for name, value in values.items():
-        if name.startswith("pbm_"):
-            unit = f"  ; {UNITS[name]}" if name in UNITS else ""
-            out.append(f"  {name} = {_fish_number(value)}{unit}")
-    out += ["end", "@mpSetPBParams", ""]
+
+    def assign(name: str, target: str | None = None) -> str:
+        unit = f"  ; {UNITS[name]}" if name in UNITS else ""
+        return f"  {target or name} = {_fish_value(values[name])}{unit}"
+
+    common = [name for name in values if name.startswith("cm_") and name not in SIZE_ARRAYS]
+    out += ["def mpSetCommonParams", *(assign(name) for name in common), "  cm_matNameSAV = cm_matName"]
+    out += [f"  {name} = array.create(cm_nSD)" for name in SIZE_ARRAYS]
+    out += [assign(name, f"{name}(1)") for name in SIZE_ARRAYS]
+    out += ["end", "@mpSetCommonParams", "", "def mpSetPackingParams",
+            *(assign(name) for name in values if name.startswith("pk_")),
+            "end", "@mpSetPackingParams", "", f"def {group}",
+            *(assign(name) for name in values if not name.startswith(("cm_", "pk_"))),
+            "end", f"@{group}", "", "@_mpCheckAllParams", ""]
     return "\n".join(out)
 
 
 def to_python(calibrated: Calibrated) -> str:
     """A PFC Python script that sets the FISH parameters (itasca.fish.set); outside PFC it only
     defines them."""
-    values = pfc_parameters(calibrated.params, calibrated.specimen)
+    values = pfc_parameters(calibrated)
     # a fixed first line: the coding declaration no later comment can set
     out = ["# -*- coding: utf-8 -*-"] + [f"# {line}" for line in header_lines(calibrated)]
     out.append("PARAMETERS = {")
     for name, value in values.items():
         unit = f"  # {UNITS[name]}" if name in UNITS else ""
-        out.append(f"    {name!r}: {float(value)!r},{unit}")
+        shown = value if isinstance(value, (int, str)) else float(value)
+        out.append(f"    {name!r}: {shown!r},{unit}")
     out += ["}", "",
             "try:",
             "    import itasca",
@@ -143,17 +153,19 @@ def to_python(calibrated: Calibrated) -> str:
             "    itasca = None",
             "if itasca is not None:",
             "    for name, value in PARAMETERS.items():",
-            "        if name in ('cm_Dlo', 'cm_Dup'):",
+            f"        if name in {SIZE_ARRAYS!r}:",
             "            itasca.fish.set(name, [value])",
             "        else:",
             "            itasca.fish.set(name, value)",
+            "    itasca.fish.set('cm_matNameSAV', PARAMETERS['cm_matName'])",
             ""]
     return "\n".join(out)
 
 
 def to_json(calibrated: Calibrated) -> str:
-    values = pfc_parameters(calibrated.params, calibrated.specimen)
-    return json.dumps({"origin": calibrated.origin, "parameters": values,
+    values = pfc_parameters(calibrated)
+    return json.dumps({"origin": calibrated.origin, "model": material_of(calibrated.params).name,
+                       "parameters": values,
                        "units": {name: UNITS.get(name, "1") for name in values},
                        "rockcal_params": calibrated.params.key()}, indent=1) + "\n"
 
@@ -161,13 +173,13 @@ def to_json(calibrated: Calibrated) -> str:
 WRITERS = {"pfc-fish": to_fish, "pfc-python": to_python, "json": to_json}
 
 
-def write_specimen(specimen, params: MicroParams, folder: Path) -> tuple[Path, Path]:
-    """The specimen as balls.csv (id, x, y, radius; m) and bonds.csv (ball ids, tensile strength
-    and cohesion of each bond at `params`; Pa), ids from 1 as in PFC."""
-    from rockcal.dem.simulate import bond_strengths
-
+def write_specimen(specimen, params, folder: Path) -> tuple[Path, Path]:
+    """The specimen as balls.csv (id, x, y, radius; m) and bonds.csv (ball ids and the
+    properties of each bonded pair at `params` (`Material.pair_properties`): a parallel bond's
+    tensile strength and cohesion, Pa; a flat joint's type, initial gap, λ and strengths), ids
+    from 1 as in PFC."""
     bonds = np.asarray(specimen.bonds)
-    ten, coh = bond_strengths(params, specimen.bond_draws, len(bonds))
+    columns = material_of(params).pair_properties(params, specimen)
     folder.mkdir(parents=True, exist_ok=True)
     balls_path, bonds_path = folder / "balls.csv", folder / "bonds.csv"
     with atomic_path(balls_path) as tmp, open(tmp, "w", newline="") as f:
@@ -177,7 +189,7 @@ def write_specimen(specimen, params: MicroParams, folder: Path) -> tuple[Path, P
             w.writerow([i, repr(float(x)), repr(float(y)), repr(float(r))])
     with atomic_path(bonds_path) as tmp, open(tmp, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["ball1", "ball2", "tensile_strength_Pa", "cohesion_Pa"])
-        for (i, j), t, c in zip(bonds, ten, coh):
-            w.writerow([int(i) + 1, int(j) + 1, repr(float(t)), repr(float(c))])
+        w.writerow(["ball1", "ball2", *columns])
+        for (i, j), *values in zip(bonds, *columns.values()):
+            w.writerow([int(i) + 1, int(j) + 1, *(repr(v.item()) for v in values)])
     return balls_path, bonds_path

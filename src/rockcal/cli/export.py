@@ -45,13 +45,15 @@ def export_specimen(
     from rockcal.campaign.export import write_specimen
     from rockcal.campaign.forward import run_spec, specimen_of
     from rockcal.labtests.registry import PRIMARY_TEST
+    from rockcal.materials import material_of
 
     calibrated = _calibration(out)
     if to.exists() and not to.is_dir():
         raise InputError("--to", f"{to} is a file, not a folder")
     from rockcal.campaign.io_errors import one_line_errors
 
-    spec = run_spec(PRIMARY_TEST, calibrated.specimen, calibrated.params.key())
+    spec = run_spec(PRIMARY_TEST, calibrated.specimen, calibrated.params.key(),
+                    material_of(calibrated.params).name)
     specimen = specimen_of(PRIMARY_TEST, spec.specimen)
     with one_line_errors(to, "--to"):
         paths = write_specimen(specimen, calibrated.params, to)

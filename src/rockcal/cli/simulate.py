@@ -29,9 +29,12 @@ from rockcal.labtests.seeds import mean_over_seeds, seed_list
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material
 from rockcal.params import parse_assignments
 
-SET_HELP = ("Micro-parameter NAME=VALUE, repeatable: E_c, Ebar_c (GPa), kn_ks, knbar_ksbar, "
-            "sigma_c, tau_c, sigma_c_sd, tau_c_sd (MPa) or sigma_c_cv, tau_c_cv (sd / mean), "
-            "phi_b (degrees), mcf, mu, lambda, density (kg/m3), damping.")
+SET_HELP = ("Micro-parameter NAME=VALUE, repeatable. Parallel bond: E_c, Ebar_c (GPa), kn_ks, "
+            "knbar_ksbar, sigma_c, tau_c, sigma_c_sd, tau_c_sd (MPa) or sigma_c_cv, tau_c_cv "
+            "(sd / mean), phi_b (degrees), mcf, mu, lambda. Flat joint (--model flatjoint): "
+            "fj_emod, lnm_emod (GPa), fj_kratio, lnm_krat, fj_ten, fj_coh (MPa) and their _sd "
+            "(MPa) or _cv, fj_fa (degrees), fj_fric, lnm_fric, fj_nr, fj_rmul, fjm_rmulCode, "
+            "fjm_B_frac, fjm_G_frac, fjm_G_m, fjm_G_sd (mm). Both: density (kg/m3), damping.")
 Model = Enum("Model", [(name, name) for name in MATERIALS], type=str)
 Packing = Enum("Packing", [("random", "random"), ("hexagonal", "hexagonal")], type=str)
 SHARED = {  # the options of every test: name -> (annotation, typer option)
@@ -95,7 +98,7 @@ def simulate(test: LabTest, options: dict) -> None:
     """Run a test on `--seeds` packings, show (or print as JSON) its responses, write its files."""
     options = {k: v.value if isinstance(v, Enum) else v for k, v in options.items()}
     chosen = material(options.pop("model"), "--model")
-    params = chosen.make(parse_assignments(options.pop("set_")))
+    params = chosen.params(parse_assignments(options.pop("set_")))
     seeds, as_json, out = options.pop("seeds"), options.pop("as_json"), options.pop("out")
     packing = options.pop("packing", "random")
     if seeds < 1:
@@ -212,8 +215,9 @@ def write_outputs(out: Path, test: LabTest, result, summary: dict, name: str) ->
         raise InputError("--out", f"cannot write to {out}: {exc.strerror}") from None
     _write_text(out / f"{name}_summary.json", json.dumps(summary, indent=2))
     first = test.responses[0]
+    broken = material(summary.get("model", DEFAULT_MATERIAL)).breaks_word
     plots.crack_pattern(result.positions, result.radius, result.cracks, out / f"{name}_cracks.png",
-                        f"{first.label or first.name} {getattr(result, first.name):.4g} {first.unit} — broken bonds")
+                        f"{first.label or first.name} {getattr(result, first.name):.4g} {first.unit} — broken {broken}")
     if test.plot:
         getattr(plots, test.plot)(result.curve, out / f"{name}_curve.png", f"{test.title} test")
 
@@ -227,9 +231,11 @@ def _write_text(path: Path, text: str) -> None:
 
 def _show(test: LabTest, summary: dict, as_json: bool) -> None:
     """The responses as a table (with their spread over packings), or one JSON object."""
+    chosen = material(summary.get("model", DEFAULT_MATERIAL))
     rows = [(r.label or r.name, _value(summary, r.name, r.unit)) for r in test.responses]
-    rows += [("particles / bonds", f"{summary['n_particles']:.0f} / {summary['n_bonds']:.0f}"),
-             ("broken bonds tension / shear", f"{summary['n_broken_tension']:.0f} / {summary['n_broken_shear']:.0f}"),
+    rows += [(f"particles / {chosen.pairs_word}", f"{summary['n_particles']:.0f} / {summary['n_bonds']:.0f}"),
+             (f"broken {chosen.breaks_word} tension / shear",
+              f"{summary['n_broken_tension']:.0f} / {summary['n_broken_shear']:.0f}"),
              ("steps, wall time", f"{summary['steps']:.0f}, {summary['wall_s']:.1f} s")]
     _print(f"{test.title} test — {summary['specimen']}", rows, summary, as_json)
 

@@ -26,13 +26,15 @@ def keep_particles(spec: Specimen, keep: np.ndarray, label: str,
     index[keep] = np.arange(np.count_nonzero(keep))
     kept = keep[spec.bonds[:, 0]] & keep[spec.bonds[:, 1]]
     return replace(spec, pos=spec.pos[keep].copy(), radius=spec.radius[keep].copy(),
-                   bonds=index[spec.bonds[kept]], bond_draws=_kept_draws(spec, kept),
+                   bonds=index[spec.bonds[kept]], **_kept_draws(spec, kept),
                    width_m=width_m if width_m is not None else spec.width_m,
                    height_m=height_m if height_m is not None else spec.height_m, label=label)
 
 
-def _kept_draws(spec: Specimen, kept: np.ndarray):
-    return None if spec.bond_draws is None else spec.bond_draws[kept]
+def _kept_draws(spec: Specimen, kept: np.ndarray) -> dict:
+    """The kept bonds' draws (for parallel bonds and for flat joints)."""
+    return {name: None if draws is None else draws[kept] for name, draws in
+            (("bond_draws", spec.bond_draws), ("joint_draws", spec.joint_draws))}
 
 
 def outside_rectangle(pos: np.ndarray, radius: np.ndarray, x0: float, x1: float, y0: float,
@@ -57,4 +59,4 @@ def cut_bonds(spec: Specimen, x: float, y_top: float, label: str) -> Specimen:
     along = np.divide(dx_i, dx_i - dx_j, out=np.zeros(len(i)), where=crosses)
     y_cross = spec.pos[i, 1] + along * (spec.pos[j, 1] - spec.pos[i, 1])
     keep = ~(crosses & (y_cross < y_top))
-    return replace(spec, bonds=spec.bonds[keep], bond_draws=_kept_draws(spec, keep), label=label)
+    return replace(spec, bonds=spec.bonds[keep], **_kept_draws(spec, keep), label=label)

@@ -1,5 +1,6 @@
-"""PFC's 2D flat-joint contact (Potyondy 2012; the `flatjoint` contact model of PFC 5-9) as a
-standalone law over plain arrays, not yet wired into the step kernels.
+"""PFC's 2D flat-joint contact (Potyondy 2012; the `flatjoint` contact model of PFC 5-9): the
+law over plain arrays (`update_joint`) and the engine's flat-joint phase (`add_flatjoint_forces`,
+run by `simulate` on the first pairs of the neighbour list in place of the parallel bonds).
 
 The interface (PFC manual, "Flat-Joint Model"; see the docs, "FISHTank's flat-joint names"):
 - a segment of half-length R̄ = λ min(R_i, R_j) (`fj_rmul` = λ; `fj_radius` = R̄), unit
@@ -50,7 +51,9 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from numba import njit, uint64
+
+from rockcal.dem.laws import Disk, Load, contact_velocity, force_xy, pair_geometry
 
 # PFC's fj_state codes (FISHTank counts an element with fj_state 3 as bonded)
 UNBONDED, BROKEN_TENSION, BROKEN_SHEAR, BONDED = 0, 1, 2, 3
@@ -72,10 +75,22 @@ class FlatJoints(NamedTuple):
     table: np.ndarray  # (JOINT_ROWS, joints)
     state: np.ndarray  # (joints, N_r) int64: BONDED, UNBONDED, BROKEN_TENSION, BROKEN_SHEAR
     elements: np.ndarray  # (ELEMENT_ROWS, joints, N_r)
+    break_xy: np.ndarray  # (joints, N_r, 2): where each element broke (its centroid), m
 
     @property
     def nr(self) -> int:
         return self.state.shape[1]
+
+    def taken(self, order) -> "FlatJoints":
+        """These joints in the order `order` (indices into them)."""
+        return FlatJoints(*(np.ascontiguousarray(a) for a in (
+            self.table[:, order], self.state[order], self.elements[:, order], self.break_xy[order])))
+
+    def broken(self) -> np.ndarray:
+        """Each element's break: BROKEN_TENSION, BROKEN_SHEAR, or 0 (not broken), flat
+        (joint p's element e at p N_r + e)."""
+        state = self.state.ravel()
+        return np.where((state == BROKEN_TENSION) | (state == BROKEN_SHEAR), state, 0)
 
 
 def new_flatjoints(nr: int, kn, ks, rmul, fric, tan_fa, gap0, bonded, ten, coh) -> FlatJoints:
@@ -90,12 +105,17 @@ def new_flatjoints(nr: int, kn, ks, rmul, fric, tan_fa, gap0, bonded, ten, coh) 
     table[KN] = kn
     for row, value in ((KS, ks), (RMUL, rmul), (FRIC, fric), (TAN_FA, tan_fa), (GAP, gap0)):
         table[row] = value
-    state = np.where(np.broadcast_to(np.asarray(bonded, bool).reshape(n, -1), (n, nr)),
-                     BONDED, UNBONDED).astype(np.int64)
+    state = np.where(_per_element(bonded, bool, n, nr), BONDED, UNBONDED).astype(np.int64)
     elements = np.zeros((ELEMENT_ROWS, n, nr))
-    elements[E_TEN] = np.broadcast_to(np.asarray(ten, float).reshape(n, -1), (n, nr))
-    elements[E_COH] = np.broadcast_to(np.asarray(coh, float).reshape(n, -1), (n, nr))
-    return FlatJoints(table, state, elements)
+    elements[E_TEN] = _per_element(ten, float, n, nr)
+    elements[E_COH] = _per_element(coh, float, n, nr)
+    return FlatJoints(table, state, elements, np.full((n, nr, 2), np.nan))
+
+
+def _per_element(value, dtype, n: int, nr: int) -> np.ndarray:
+    """A value for all, per joint (n,) or per element (n, nr), as (n, nr)."""
+    value = np.asarray(value, dtype)
+    return np.broadcast_to(value[:, None] if value.ndim == 1 else value, (n, nr))
 
 
 def element_centroids(rbar: float, nr: int) -> np.ndarray:
@@ -139,13 +159,14 @@ def element_normal_force(kn, gap, theta, xc, length, bonded):
     return kn * s0, -kn * s1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def update_joint(p, rbar, dn, ds, dtheta, table, state, elements):
     """PFC's flat-joint force-displacement law for joint p of half-length `rbar` (m), given the
     relative motion of the step: normal displacement dn (opening positive), shear displacement
     ds (of j relative to i along t) and bend-rotation dtheta (θ_j - θ_i), all at the contact
     point. Updates the joint's gap, rotation, elements and interface force and moment (rows FN,
-    FS, M of `table`); returns how many elements broke."""
+    FS, M of `table`); returns how many elements broke. Unsigned indices, as in `laws.py`."""
+    p = uint64(p)
     gap = table[GAP, p] + dn
     theta = table[THETA, p] + dtheta
     table[GAP, p] = gap
@@ -157,21 +178,23 @@ def update_joint(p, rbar, dn, ds, dtheta, table, state, elements):
     nr = state.shape[1]
     length = 2.0 * rbar / nr
     area = length  # unit thickness
+    inv_area = 1.0 / area
+    shear_step = ks * area * ds
     fn_sum = 0.0
     fs_sum = 0.0
     m_sum = 0.0
     breaks = 0
-    for e in range(nr):
+    for e in range(uint64(nr)):
         xc = -rbar + (e + 0.5) * length
         bonded = state[p, e] == BONDED
         fn, me = element_normal_force(kn, gap, theta, xc, length, bonded)
-        fs = elements[E_FS, p, e] + ks * area * ds
+        fs = elements[E_FS, p, e] + shear_step
         if bonded:
-            sigma = fn / area
+            sigma = fn * inv_area
             if sigma > elements[E_TEN, p, e]:
                 state[p, e] = BROKEN_TENSION
                 bonded = False
-            elif abs(fs) / area > elements[E_COH, p, e] - sigma * tan_fa:
+            elif abs(fs) * inv_area > elements[E_COH, p, e] - sigma * tan_fa:
                 state[p, e] = BROKEN_SHEAR
                 bonded = False
             if not bonded:
@@ -196,43 +219,43 @@ def update_joint(p, rbar, dn, ds, dtheta, table, state, elements):
 
 
 @njit(cache=True, error_model="numpy")
-def add_flatjoint_forces(first, last, pos, vel, spin, radius, pi, pj, table, state, elements,
-                         dt, force, moment):
-    """Joints first..last-1 between grains pi[p] and pj[p]: their relative motion over a step
-    dt (velocities and spins at the contact point, mid-gap), the law (`update_joint`), and
-    their forces and moments added to `force` (n, 2) and `moment` (n) of the grains, as
-    `laws.py` adds a bond's. Returns how many elements broke."""
-    breaks = 0
-    for p in range(first, last):
-        i = pi[p]
-        j = pj[p]
-        dx = pos[j, 0] - pos[i, 0]
-        dy = pos[j, 1] - pos[i, 1]
-        dist = np.sqrt(dx * dx + dy * dy)
-        nx = dx / dist
-        ny = dy / dist
-        ri = radius[i]
-        rj = radius[j]
-        surface_gap = dist - ri - rj
-        arm_i = ri + 0.5 * surface_gap
-        arm_j = rj + 0.5 * surface_gap
-        w = spin[i] * arm_i + spin[j] * arm_j
-        rvx = vel[j, 0] - vel[i, 0] + w * ny
-        rvy = vel[j, 1] - vel[i, 1] - w * nx
-        vn = rvx * nx + rvy * ny
-        vs = rvy * nx - rvx * ny
+def add_flatjoint_forces(first, last, disks, pi, pj, joints, dt, loads):
+    """Joints first..last-1 between grains pi[p] and pj[p] (rows of `disks`, columns
+    `laws.Disk`): their relative motion over a step dt at the contact point (mid-gap, as for
+    the parallel bond), the law (`update_joint`), where each newly broken element broke (its
+    centroid) and their forces and moments added to the grains' `loads`, as `laws.py` adds a
+    bond's (the joint's force on i is taken from j)."""
+    table, state, elements, break_xy = joints
+    nr = state.shape[1]
+    for p in range(uint64(first), uint64(last)):
+        i = uint64(pi[p])
+        j = uint64(pj[p])
+        dx = disks[j, Disk.X] - disks[i, Disk.X]
+        dy = disks[j, Disk.Y] - disks[i, Disk.Y]
+        ri = disks[i, Disk.RADIUS]
+        rj = disks[j, Disk.RADIUS]
+        nx, ny, _, arm_i, arm_j = pair_geometry(dx, dy, dx * dx + dy * dy, ri, rj)
+        spin_i = disks[i, Disk.SPIN]
+        spin_j = disks[j, Disk.SPIN]
+        vn, vs = contact_velocity(disks[j, Disk.VX] - disks[i, Disk.VX],
+                                  disks[j, Disk.VY] - disks[i, Disk.VY], spin_i, spin_j, nx, ny,
+                                  arm_i, arm_j)
         rbar = table[RMUL, p] * min(ri, rj)
-        breaks += update_joint(p, rbar, vn * dt, vs * dt, (spin[j] - spin[i]) * dt, table, state,
-                               elements)
-        fn = table[FN, p]
+        if update_joint(p, rbar, vn * dt, vs * dt, (spin_j - spin_i) * dt, table, state, elements):
+            cx = disks[i, Disk.X] + nx * arm_i
+            cy = disks[i, Disk.Y] + ny * arm_i
+            length = 2.0 * rbar / nr
+            for e in range(uint64(nr)):
+                if state[p, e] != BONDED and state[p, e] != UNBONDED and np.isnan(break_xy[p, e, 0]):
+                    xi = -rbar + (e + 0.5) * length
+                    break_xy[p, e, 0] = cx - ny * xi
+                    break_xy[p, e, 1] = cy + nx * xi
         fs = table[FS, p]
         m = table[M, p]
-        fx = fn * nx - fs * ny
-        fy = fn * ny + fs * nx
-        force[i, 0] += fx
-        force[i, 1] += fy
-        force[j, 0] -= fx
-        force[j, 1] -= fy
-        moment[i] += arm_i * fs + m
-        moment[j] += arm_j * fs - m
-    return breaks
+        fx, fy = force_xy(table[FN, p], fs, nx, ny)
+        loads[i, Load.FORCE_X] += fx
+        loads[i, Load.FORCE_Y] += fy
+        loads[j, Load.FORCE_X] -= fx
+        loads[j, Load.FORCE_Y] -= fy
+        loads[i, Load.MOMENT] += arm_i * fs + m
+        loads[j, Load.MOMENT] += arm_j * fs - m

@@ -33,13 +33,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from numba import njit
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 from scipy import special
 
-from rockcal.dem import flatjoint
+from rockcal.dem import flatjoint, laws, simulate
 from rockcal.dem.genesis import install_bonds
 from rockcal.errors import InputError, from_validation_error
 from rockcal.params import GPa, MPa
@@ -100,6 +101,18 @@ class FlatJointParams(BaseModel):
             if getattr(self, name + "_sd") and getattr(self, name + "_cv"):
                 raise ValueError(f"{name}_cv: set {name}_sd or {name}_cv, not both")
         return self
+
+    def key(self) -> dict[str, float]:
+        """All values by name (for storage and reports)."""
+        return self.model_dump()
+
+    CONTACT_MODULUS: ClassVar[str] = "lnm_emod"  # the linear contacts' modulus (GPa), by name
+
+    @property
+    def bonded_modulus_GPa(self) -> float:
+        """A bonded pair's modulus in compression, λ E* (the flat joint replaces the contact):
+        an estimate of the rock's, for its wave speed."""
+        return self.fj_rmul * self.fj_emod
 
     @property
     def slit_fraction(self) -> float:
@@ -288,6 +301,16 @@ def assign_flatjointed(pos, radius, params: FlatJointParams, install_gap: float,
     pos = np.asarray(pos, float)
     radius = np.asarray(radius, float)
     pairs = install_bonds(pos, radius, install_gap) if len(radius) > 1 else np.empty((0, 2), np.int64)
+    return flatjointed(pos, radius, pairs, params, draws, seed)
+
+
+def flatjointed(pos, radius, pairs, params: FlatJointParams, draws: np.ndarray | None = None,
+                seed: int = 1) -> FlatJointedMaterial:
+    """The flat-jointed material with flat joints at `pairs` (i < j; a specimen's bonded pairs,
+    in their order), as `assign_flatjointed`."""
+    pos = np.asarray(pos, float)
+    radius = np.asarray(radius, float)
+    pairs = np.asarray(pairs, np.int64).reshape(-1, 2)
     n = len(pairs)
     u = flatjoint_draws(n, seed) if draws is None else np.asarray(draws, float).reshape(n, DRAWS_PER_JOINT)
     i, j = pairs[:, 0], pairs[:, 1]
@@ -310,3 +333,24 @@ def assign_flatjointed(pos, radius, params: FlatJointParams, install_gap: float,
         ks=kn / params.fj_kratio, ten=np.ascontiguousarray(ten), coh=np.ascontiguousarray(coh),
         fric=params.fj_fric, tan_fa=math.tan(math.radians(params.fj_fa)),
         lnm_emod=params.lnm_emod * GPa, lnm_krat=params.lnm_krat, lnm_fric=params.lnm_fric)
+
+
+def linear_contacts(params: FlatJointParams) -> laws.Laws:
+    """The engine's constants of the linear contacts (`lnm_*`; PFC 5's deformability method,
+    kn = 2 min(R) t E* / (R_i + R_j), as FISHTank's `linear` contacts)."""
+    return laws.Laws(params.lnm_emod * GPa, 1.0 / params.lnm_krat, params.lnm_fric, 0.0, 1.0,
+                     1.0, 0.0, 1.0, False)
+
+
+def new_state(pos, radius, pairs, params: FlatJointParams, *, joint_draws=None,
+              **options) -> simulate.State:
+    """An engine state at rest with flat joints at `pairs` (i < j) and linear contacts
+    elsewhere (`linear_contacts`); joint_draws: each joint's uniform draws (`flatjoint_draws`,
+    in the order of `pairs`; None: those of seed 1). Walls have the flat joints' modulus
+    (normal stiffness 2 t E*). Other options as `simulate.assemble_state`."""
+    def joints(pos, radius, nlist, order):
+        material = flatjointed(pos, radius, pairs, params, joint_draws)
+        return laws.new_bonds(*np.zeros((5, 0))), material.joints().taken(order)
+
+    return simulate.assemble_state(pos, radius, pairs, params.density, params.damping,
+                                   linear_contacts(params), params.fj_emod * GPa, joints, **options)

@@ -22,7 +22,7 @@ import numba
 from numba import njit, prange
 from scipy import special
 
-from rockcal.dem import laws, neighbours
+from rockcal.dem import flatjoint, laws, neighbours
 from rockcal.dem.laws import Disk, Load
 from rockcal.errors import InputError
 from rockcal.params import GPa, MPa, MicroParams
@@ -88,8 +88,10 @@ class Walls(NamedTuple):
 
 @dataclass
 class State:
-    """A bonded-particle model: its particles, bonds (in the order of the first pairs of the
-    neighbour list), walls and neighbour list, the law constants, damping and time step."""
+    """A bonded-particle model: its particles, its bonded pairs (the first pairs of the
+    neighbour list, in its order: parallel bonds, or flat joints with `joints` set and `bonds`
+    empty), walls and neighbour list, the law constants (of the linear contacts and parallel
+    bonds), damping and time step."""
 
     particles: Particles
     bonds: laws.Bonds
@@ -99,13 +101,24 @@ class State:
     damping: float
     dt: float
     step: int = 0
+    joints: flatjoint.FlatJoints | None = None
 
     @property
     def n_particles(self) -> int:
         return self.particles.pos.shape[0]
 
-    def n_broken(self, mode: int) -> int:
-        return int(np.count_nonzero(self.bonds.state == mode))
+    def breaks(self) -> tuple[np.ndarray, np.ndarray]:
+        """The cracks so far: how each bond broke (laws.INTACT, BROKEN_TENSION, BROKEN_SHEAR) and
+        where (m, NaN where intact). With flat joints each element is one: a broken element is a
+        crack at its centroid."""
+        if self.joints is None:
+            return self.bonds.state, self.bonds.break_xy
+        return self.joints.broken(), self.joints.break_xy.reshape(-1, 2)
+
+    def n_broken(self, mode: int | None = None) -> int:
+        """Bonds (flat-joint elements) broken so far, in `mode` or (None) either."""
+        state = self.breaks()[0]
+        return int(np.count_nonzero(state if mode is None else state == mode))
 
 
 @njit(cache=True)
@@ -165,32 +178,50 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
     (`bond_strengths`). A bond installed at an overlapping pair takes the overlap
     as reference, so installing it locks in no force.
     """
+    laws_si = laws_si or law_constants(params, contact_stiffness)
+
+    def parallel_bonds(pos, radius, nlist, order):
+        nb = nlist.n_bonds
+        ten, coh = bond_strengths(params, None if bond_draws is None else
+                                  np.asarray(bond_draws, float).reshape(-1, 2)[order], nb)
+        bi, bj = nlist.pi[:nb], nlist.pj[:nb]
+        centre_gap = np.hypot(*(pos[bj] - pos[bi]).T)
+        ref_overlap = np.maximum(0.0, radius[bi] + radius[bj] - centre_gap)
+        return laws.new_bonds(ref_overlap, ten, coh, radius[bi], radius[bj]), None
+
+    wall_modulus = laws_si.E_c if laws_si.E_c > 0 else laws_si.Ebar_c
+    return assemble_state(pos, radius, bonds, params.density, params.damping, laws_si,
+                          wall_modulus, parallel_bonds, walls=walls, wall_active=wall_active,
+                          driven=driven, skin=skin)
+
+
+def assemble_state(pos, radius, pairs, density: float, damping: float, laws_si: laws.Laws,
+                   wall_modulus: float, bonded, *, walls=(0.0, 0.0, 0.0, 0.0),
+                   wall_active=(False,) * 4, driven=None, skin=None) -> State:
+    """A state at rest: grains of `density` (kg/m³; `driven` ones have their velocities
+    prescribed), the bonded `pairs` (i < j) first in the neighbour list and
+    `bonded(pos, radius, nlist, order)` -> (parallel bonds, flat joints or None) their law state
+    in the list's order (its pair k is pairs[order[k]]), walls of normal stiffness
+    2 t x `wall_modulus` (Pa), and the stable time step."""
     n = pos.shape[0]
     radius = np.array(radius, float)
-    mass = params.density * np.pi * radius**2 * THICKNESS_M
+    mass = density * np.pi * radius**2 * THICKNESS_M
     inv_mass = 1.0 / mass
     inv_inertia = 1.0 / (0.5 * mass * radius**2)
     if driven is not None:
         inv_mass[driven] = 0.0
         inv_inertia[driven] = 0.0
     pos = np.ascontiguousarray(pos, float)
-    nlist, order = neighbours.allocate(pos, radius, bonds,
+    nlist, order = neighbours.allocate(pos, radius, pairs,
                                        skin if skin is not None else 0.5 * radius.min())
-    nb = nlist.n_bonds
-    ten, coh = bond_strengths(params, None if bond_draws is None else
-                              np.asarray(bond_draws, float).reshape(-1, 2)[order], nb)
-    bi, bj = nlist.pi[:nb], nlist.pj[:nb]
-    centre_gap = np.hypot(*(pos[bj] - pos[bi]).T)
-    ref_overlap = np.maximum(0.0, radius[bi] + radius[bj] - centre_gap)
-    laws_si = laws_si or law_constants(params, contact_stiffness)
-    E_c, Ebar_c = laws_si.E_c, laws_si.Ebar_c
+    bonds, joints = bonded(pos, radius, nlist, order)
     state = State(
         particles=new_particles(pos, radius, inv_mass, inv_inertia),
-        bonds=laws.new_bonds(ref_overlap, ten, coh, radius[bi], radius[bj]),
+        bonds=bonds,
         walls=Walls(pos=np.array(walls, float), vel=np.zeros(4),
                     active=np.array(wall_active, np.bool_), force=np.zeros((n, 4)),
-                    stiffness=2.0 * THICKNESS_M * (E_c if E_c > 0 else Ebar_c)),
-        neighbours=nlist, laws=laws_si, damping=params.damping, dt=0.0,
+                    stiffness=2.0 * THICKNESS_M * wall_modulus),
+        neighbours=nlist, laws=laws_si, damping=damping, dt=0.0, joints=joints,
     )
     state.dt = stable_time_step(state)
     return state
@@ -201,8 +232,9 @@ def rebuild_neighbours(state: State) -> None:
     particles' radii (needed after changing radii)."""
     p, nb = state.particles, state.neighbours.n_bonds
     state.neighbours = neighbours.update(state.neighbours, p.pos, p.radius)
-    laws.set_radii(state.bonds, p.radius[state.neighbours.pi[:nb]],
-                   p.radius[state.neighbours.pj[:nb]])
+    if state.joints is None:  # a flat joint reads its grains' radii from them
+        laws.set_radii(state.bonds, p.radius[state.neighbours.pi[:nb]],
+                       p.radius[state.neighbours.pj[:nb]])
 
 
 def stable_time_step(state: State) -> float:
@@ -240,7 +272,9 @@ def scale_density(state: State) -> float:
 
 def _stiffness_sums(state: State) -> tuple[np.ndarray, np.ndarray]:
     """Each particle's translational and rotational stiffness, summed over every listed pair (as
-    if touching: the larger of normal and shear, contact plus bond) and the walls."""
+    if touching: the larger of normal and shear, contact plus bond) and the walls. A flat joint
+    counts as a bonded interface (k_n A, k_s A; k_n (2/3) R̄³ t in rotation), and is its pair's
+    only spring."""
     E_c, ks_per_kn, _, Ebar_c, ksbar_per_knbar, lam = state.laws[:6]
     p, pairs = state.particles, state.neighbours
     ri, rj = p.radius[pairs.pi], p.radius[pairs.pj]
@@ -248,13 +282,21 @@ def _stiffness_sums(state: State) -> tuple[np.ndarray, np.ndarray]:
     rmin = np.minimum(ri, rj)
     kn = np.full_like(length, E_c * THICKNESS_M) if state.laws.pfc4_contacts else \
         2 * rmin * THICKNESS_M * E_c / length
-    ks = kn * ks_per_kn
     bonded = np.zeros(len(ri), bool)
     bonded[:pairs.n_bonds] = True
-    rb = lam * rmin
-    kbn = np.where(bonded, Ebar_c / length * 2 * rb * THICKNESS_M, 0.0)
-    kbs = kbn * ksbar_per_knbar
-    kbr = np.where(bonded, Ebar_c / length * 2 / 3 * (rb * rb * rb) * THICKNESS_M, 0.0)
+    if state.joints is None:
+        rb = lam * rmin
+        kbn = np.where(bonded, Ebar_c / length * 2 * rb * THICKNESS_M, 0.0)
+        kbs = kbn * ksbar_per_knbar
+        kbr = np.where(bonded, Ebar_c / length * 2 / 3 * (rb * rb * rb) * THICKNESS_M, 0.0)
+    else:
+        table, nb = state.joints.table, pairs.n_bonds
+        kn[:nb] = 0.0
+        rb = table[flatjoint.RMUL] * rmin[:nb]
+        kbn, kbs, kbr = (np.concatenate([k, np.zeros(len(ri) - nb)]) for k in (
+            table[flatjoint.KN] * 2 * rb * THICKNESS_M, table[flatjoint.KS] * 2 * rb * THICKNESS_M,
+            table[flatjoint.KN] * 2 / 3 * (rb * rb * rb) * THICKNESS_M))
+    ks = kn * ks_per_kn
     n = state.n_particles
     k_trans = np.full(n, state.walls.stiffness)
     k_rot = np.zeros(n)
@@ -291,11 +333,12 @@ def _move(first, last, disks, loads, damping, dt, pos_at_build):
 # numba caches this kernel with the law kernels compiled into it, keyed by this file alone:
 # after editing laws.py in a checkout, clear the caches (__pycache__/*.nbi, *.nbc).
 @njit(parallel=True, cache=True, error_model="numpy")
-def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets,
-             contact_offsets, walls, wall_active, wall_vel, wall_force, k_wall, pos_at_build,
-             half_skin_sq, law, damping, dt):
+def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, joints, flat_joints, starts,
+             bond_offsets, contact_offsets, walls, wall_active, wall_vel, wall_force, k_wall,
+             pos_at_build, half_skin_sq, law, damping, dt):
     """Run up to n_steps; stop early when the list must be rebuilt. Returns the steps done
-    and whether the list must be rebuilt."""
+    and whether the list must be rebuilt. The bonded pairs are parallel bonds (`bonds`), or
+    flat joints (`joints`) if `flat_joints`."""
     blocks = starts.shape[0] - 1
     moved = np.zeros(blocks)
     for s in range(n_steps):  # no array expressions: each would be a parallel region
@@ -304,13 +347,21 @@ def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts, bond_o
                 loads[k, Load.FORCE_X] = 0.0
                 loads[k, Load.FORCE_Y] = 0.0
                 loads[k, Load.MOMENT] = 0.0
-            laws.add_bond_forces(bond_offsets[b], bond_offsets[b + 1], disks, pi, pj,
-                                 contact_shear, bonds, law, dt, loads)
+            if flat_joints:
+                flatjoint.add_flatjoint_forces(bond_offsets[b], bond_offsets[b + 1], disks, pi,
+                                               pj, joints, dt, loads)
+            else:
+                laws.add_bond_forces(bond_offsets[b], bond_offsets[b + 1], disks, pi, pj,
+                                     contact_shear, bonds, law, dt, loads)
             laws.add_contact_forces(contact_offsets[b], contact_offsets[b + 1], disks, pi, pj,
                                     contact_shear, law, dt, loads)
         # then the pairs across block borders
-        laws.add_bond_forces(bond_offsets[blocks], bond_offsets[blocks + 1], disks, pi, pj,
-                             contact_shear, bonds, law, dt, loads)
+        if flat_joints:
+            flatjoint.add_flatjoint_forces(bond_offsets[blocks], bond_offsets[blocks + 1], disks,
+                                           pi, pj, joints, dt, loads)
+        else:
+            laws.add_bond_forces(bond_offsets[blocks], bond_offsets[blocks + 1], disks, pi, pj,
+                                 contact_shear, bonds, law, dt, loads)
         laws.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], disks, pi,
                                 pj, contact_shear, law, dt, loads)
         for b in prange(blocks):
@@ -323,6 +374,9 @@ def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts, bond_o
             if moved[b] > half_skin_sq:
                 return s + 1, True
     return n_steps, False
+
+
+NO_JOINTS = flatjoint.new_flatjoints(1, [], 0.0, 0.0, 0.0, 0.0, 0.0, False, 0.0, 0.0)
 
 
 def advance(state: State, n_steps: int) -> None:
@@ -346,7 +400,7 @@ def _advance_all(state: State, n_steps: int) -> None:
         pairs = state.neighbours
         done_now, rebuild = _advance(
             n_steps - done, p.disks, p.loads, pairs.pi, pairs.pj, pairs.shear, state.bonds,
-            pairs.block_starts, pairs.bond_offsets, pairs.contact_offsets, w.pos, w.active,
+            state.joints or NO_JOINTS, state.joints is not None, pairs.block_starts, pairs.bond_offsets, pairs.contact_offsets, w.pos, w.active,
             w.vel, w.force, w.stiffness, pairs.pos_at_build, pairs.rebuild_distance_sq,
             state.laws, state.damping, state.dt)
         done += done_now

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rockcal.dem.flatjoint_material import flatjoint_draws
 from rockcal.dem.genesis import Genesis, floaters, install_bonds
 from rockcal.dem.grain_limit import check_grains, expected_grains
 from rockcal.dem.neighbours import spatial_order
@@ -33,7 +34,8 @@ SHIPPED_DIR = Path(__file__).with_name("specimens")
 @dataclass(frozen=True)
 class Specimen:
     """Disk centres (m), radii (m) and bonded pairs (i < j) in a width x height box (m);
-    bond_draws holds each bond's uniform draws in [0, 1) for its tensile strength and cohesion."""
+    bond_draws holds each bond's uniform draws in [0, 1) for its tensile strength and cohesion;
+    the pairs are a flat-jointed material's flat joints too."""
 
     pos: np.ndarray
     radius: np.ndarray
@@ -44,6 +46,9 @@ class Specimen:
     bond_draws: np.ndarray | None = None  # None: every bond at the mean strengths
     pressure_mpa: float = float("nan")  # mean wall stress at the end of packing
     floaters: int = 0  # grains the genesis left with fewer than 3 contacts (its rounds ran out)
+    # a flat-jointed material's uniform draws per bonded pair (`flatjoint_material.flatjoint_draws`);
+    # None: those of seed 1
+    joint_draws: np.ndarray | None = None
 
     @property
     def n_particles(self) -> int:
@@ -141,7 +146,7 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
     draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
     left = np.count_nonzero(floaters(pos, radius, width_mm * 1e-3, height_mm * 1e-3))
     return Specimen(pos, radius, bonds, width_mm * 1e-3, height_mm * 1e-3, label, draws, pressure,
-                    int(left))
+                    int(left), flatjoint_draws(len(bonds), seed))
 
 
 def packing_name(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float,

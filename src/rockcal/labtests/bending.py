@@ -22,7 +22,6 @@ from rockcal.dem.genesis import Genesis
 from rockcal.dem.simulate import (
     DEFAULT_CONTACT_STIFFNESS,
     THICKNESS_M,
-    new_state,
     scale_density,
 )
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
@@ -46,7 +45,8 @@ from rockcal.labtests.loading import (
     load_to_failure,
 )
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.params import MicroParams, make_params
+from rockcal.materials import as_params, new_state
+from rockcal.params import MicroParams
 
 PIN_RADIUS_MM = 5.0
 # Quasi-static loading: the pin moves PIN_STEP_PER_RADIUS mean particle radii per time step.
@@ -165,7 +165,7 @@ def wave_speed_m_per_s(params: MicroParams, porosity: float, mass_scale: float =
     parallel bonds side by side, E_c + lambda Ebar_c (43.3 GPa where the source's point
     measures 40.6), and rho the grains' density (times mass_scale where density-scaled) times
     their share of the box."""
-    modulus_Pa = 1e9 * (params.E_c + params.lambda_ * params.Ebar_c)
+    modulus_Pa = 1e9 * params.bonded_modulus_GPa
     return float(np.sqrt(modulus_Pa / (params.density * mass_scale * (1.0 - porosity))))
 
 
@@ -215,11 +215,11 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
     progress(displacement_mm, load_kN_per_m) is called as the test goes.
     """
     started = time.perf_counter()
-    if not isinstance(params, MicroParams):
-        params = make_params(params or {})
+    params = as_params(params)
     beam.check()
-    if params.E_c <= 0:
-        raise InputError("E_c", "must be > 0 in the bending test: the pins push through contacts")
+    contact_GPa = getattr(params, params.CONTACT_MODULUS)  # E_c, or the flat joint's lnm_emod
+    if contact_GPa <= 0:
+        raise InputError(params.CONTACT_MODULUS, "must be > 0 in the bending test: the pins push through contacts")
     if not 0 < max_displacement_mm <= beam.height_mm:
         raise InputError("max_displacement_mm", f"must be in (0, {beam.height_mm:g}], got "
                          f"{max_displacement_mm}")
@@ -240,18 +240,18 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
     is_pin[n:n + len(pin)] = True
     is_support = np.zeros(n + len(rigid), bool)
     is_support[n + len(pin):] = True
-    state = new_state(np.vstack([pos, rigid]), np.concatenate([radius, np.full(len(rigid), disk)]),
-                      specimen.bonds, params, driven=is_pin | is_support,
-                      bond_draws=specimen.bond_draws, contact_stiffness=contact_stiffness)
+    state = new_state(params, specimen, np.vstack([pos, rigid]),
+                      np.concatenate([radius, np.full(len(rigid), disk)]),
+                      driven=is_pin | is_support, contact_stiffness=contact_stiffness)
     mass_scale = scale_density(state)
 
     rows = specimen.height_m / (2 * radius.mean())
     pin_step = DENSITY_SCALED_SPEED * rate_factor * PIN_STEP_PER_RADIUS * radius.mean()
-    particles, bonds = state.particles, state.bonds
+    particles = state.particles
     pin_y0 = particles.pos[is_pin, 1].mean()
     first_break = np.empty((0, 2))
     ringing_steps = confirm_steps(beam, params, specimen, state.dt, mass_scale)
-    touch_load = 1e9 * params.E_c * THICKNESS_M * pin_step  # one contact pressed one pin step
+    touch_load = 1e9 * contact_GPa * THICKNESS_M * pin_step  # one contact pressed one pin step
     touched = False
 
     def move(factor: float) -> None:
@@ -259,8 +259,9 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
 
     def read() -> Reading:
         nonlocal first_break, touched
-        if not len(first_break) and bonds.state.any():
-            first_break = bonds.break_xy[bonds.state > 0]
+        if not len(first_break) and state.n_broken():
+            mode, where = state.breaks()
+            first_break = where[mode > 0]
         displacement = pin_y0 - particles.pos[is_pin, 1].mean()
         load = 0.5 * (particles.force[is_pin, 1].sum() + -particles.force[is_support, 1].sum())
         if not touched and load > touch_load:  # the pin hits the beam: it rings
@@ -269,7 +270,7 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
         return Reading(load, displacement, (1e3 * displacement, load / 1e3))
 
     def crack_has_run(reading: Reading) -> bool:
-        return loading.fallen_below(stop_fraction, reading.load) and bonds.state.any()
+        return loading.fallen_below(stop_fraction, reading.load) and state.n_broken() > 0
 
     loading = Loading(RAMP_STEPS_PER_ROW * rows / DENSITY_SCALED_SPEED, NOTCH_TIP_DAMAGE,
                       ringing_steps, intact_speed=INTACT_PIN_SPEED)

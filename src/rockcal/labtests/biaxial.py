@@ -37,7 +37,8 @@ from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Lo
 from rockcal.labtests.platens import Platens
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.labtests.servo import SPEED_LIMIT, STEPS, WallServo
-from rockcal.params import MPa, MicroParams, make_params
+from rockcal.materials import as_params
+from rockcal.params import MPa, MicroParams
 
 SEATING_TOLERANCE = 0.005  # each wall's stress within this of sigma3 (FISHTank's ct_PTol)
 EQUILIBRIUM_RATIO = 1e-4  # mean unbalanced force / (sigma3 x mean diameter x t)
@@ -95,8 +96,7 @@ def simulate_biaxial(params: MicroParams | dict | None = None, specimen: Specime
     """Run the confined compression test at `confinement_mpa`; the other arguments as
     `ucs.simulate_ucs` (the stop fraction applies to q). progress(axial strain, q MPa)."""
     started = time.perf_counter()
-    if not isinstance(params, MicroParams):
-        params = make_params(params or {})
+    params = as_params(params)
     check_confinement(confinement_mpa)
     if not 0 < max_axial_strain <= 0.5:
         raise InputError("max_axial_strain", f"must be in (0, 0.5], got {max_axial_strain}")
@@ -127,7 +127,7 @@ def simulate_biaxial(params: MicroParams | dict | None = None, specimen: Specime
     confining = [0.0 if sides is None else float(sides.stresses()[[LEFT, RIGHT]].mean()) / MPa]
 
     def read() -> Reading:
-        broken.append(np.count_nonzero(state.bonds.state))
+        broken.append(state.n_broken())
         width, height = measure.gauge_lengths(state.particles.pos, sets)
         if strain == "platen":
             axial = 1.0 - (state.walls.pos[TOP] - state.walls.pos[BOTTOM]) / (top - bottom)

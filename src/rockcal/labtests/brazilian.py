@@ -40,7 +40,8 @@ from rockcal.labtests.loading import (
 )
 from rockcal.labtests.platens import Platens
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.params import MicroParams, make_params
+from rockcal.materials import as_params
+from rockcal.params import MicroParams
 
 DEFAULT_MAX_STRAIN = 0.02  # platen closure / diameter at which the test stops at the latest
 # A platen first bears on one or two particles; when their bonds break the load drops and comes
@@ -88,8 +89,7 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
     progress(closure_mm, load_kN_per_m) is called as the test goes.
     """
     started = time.perf_counter()
-    if not isinstance(params, MicroParams):
-        params = make_params(params or {})
+    params = as_params(params)
     if not 0 < max_strain <= 0.5:
         raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
     specimen = specimen or brazilian_disk()
@@ -103,7 +103,7 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
         return Reading(load, closure, (1e3 * closure, load / 1e3))
 
     def split(reading: Reading) -> bool:
-        return (loading.fallen_below(POST_PEAK_FRACTION, reading.load) and state.bonds.state.any()
+        return (loading.fallen_below(POST_PEAK_FRACTION, reading.load) and state.n_broken() > 0
                 and reading.travel > loading.peak_travel + specimen.radius.mean())
 
     loading = Loading(RAMP_STEPS_PER_ROW * platens.rows, LOCALISED_DAMAGE)

@@ -26,7 +26,7 @@ from typing import Callable
 
 import numpy as np
 
-from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, new_state, scale_density
+from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, scale_density
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests import ucs
@@ -35,7 +35,8 @@ from rockcal.labtests.loading import (LOCALISED_DAMAGE, RAMP_STEPS_PER_ROW, Load
                                       load_to_failure)
 from rockcal.labtests.platens import STRAIN_PER_STEP_PER_ROW
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.params import MicroParams, make_params
+from rockcal.materials import as_params, new_state
+from rockcal.params import MicroParams
 
 GRIP_FRACTION = 0.1  # grip length / prism height at each end (FISHTank's tt_tg default, 0.1 H)
 POST_PEAK_FRACTION = 0.5
@@ -78,15 +79,13 @@ def simulate_direct_tension(params: MicroParams | dict | None = None,
     """Pull the prism apart; defaults: granite parameters on the UCS test's 50 x 100 mm prism.
     progress(axial strain, stress MPa) is called as the test goes."""
     started = time.perf_counter()
-    if not isinstance(params, MicroParams):
-        params = make_params(params or {})
+    params = as_params(params)
     check_grip(grip_fraction)
     if not 0 < max_strain <= 0.5:
         raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
     specimen = specimen or random_packing(50.0, 100.0)
     bottom, top = grips(specimen, grip_fraction)
-    state = new_state(specimen.pos, specimen.radius, specimen.bonds, params,
-                      driven=np.concatenate([bottom, top]), bond_draws=specimen.bond_draws,
+    state = new_state(params, specimen, driven=np.concatenate([bottom, top]),
                       contact_stiffness=contact_stiffness)
     scale_density(state)
     pos, force = state.particles.pos, state.particles.force
@@ -104,7 +103,7 @@ def simulate_direct_tension(params: MicroParams | dict | None = None,
         state.particles.vel[top, 1] = speed * factor
 
     def read() -> Reading:
-        broken.append(np.count_nonzero(state.bonds.state))
+        broken.append(state.n_broken())
         strain = (pos[t0, 1] - pos[b0, 1] - opening0) / free_length
         pull = 0.5 * (force[bottom, 1].sum() - force[top, 1].sum())  # N per m, tension positive
         return Reading(pull, strain, (strain, pull / area / 1e6))

@@ -161,7 +161,7 @@ def load_to_failure(state: State, loading: Loading, chunk: int, move: Callable[[
     """
     samples = []
     while True:
-        move(loading.speed(state.step, np.count_nonzero(state.bonds.state), chunk,
+        move(loading.speed(state.step, state.n_broken(), chunk,
                            loading.peak_known))
         if control is None:
             advance(state, chunk)
@@ -174,7 +174,7 @@ def load_to_failure(state: State, loading: Loading, chunk: int, move: Callable[[
         loading.update(state.step, reading.load, reading.travel)
         if full_speed_past_peak and not loading.peak_known:
             loading.peak_known = (loading.fallen_below(PAST_PEAK_FRACTION, reading.load)
-                                  and bool(state.bonds.state.any()))
+                                  and state.n_broken() > 0)
         if progress:
             progress(reading.sample[0], reading.sample[-1])
         if may_stop(reading) or reading.travel >= max_travel:

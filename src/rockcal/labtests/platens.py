@@ -9,9 +9,9 @@ them down where bonds break.
 
 from __future__ import annotations
 
-from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, TOP, new_state
+from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, TOP
 from rockcal.dem.specimen import Specimen
-from rockcal.params import MicroParams
+from rockcal.materials import new_state
 
 STRAIN_PER_STEP_PER_ROW = 2e-5
 
@@ -21,13 +21,12 @@ class Platens:
     platens' starting heights `bottom` and `top` (m), the `rows` of particles between them and
     the `chunk` of steps between readings."""
 
-    def __init__(self, specimen: Specimen, params: MicroParams, rate_factor: float,
+    def __init__(self, specimen: Specimen, params, rate_factor: float,
                  contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS):
         pos, radius = specimen.pos, specimen.radius
         self.bottom, self.top = (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()
-        self.state = new_state(pos, radius, specimen.bonds, params,
-                               walls=(0.0, 0.0, self.bottom, self.top),
-                               wall_active=(False, False, True, True), bond_draws=specimen.bond_draws,
+        self.state = new_state(params, specimen, walls=(0.0, 0.0, self.bottom, self.top),
+                               wall_active=(False, False, True, True),
                                contact_stiffness=contact_stiffness)
         height = self.top - self.bottom
         self.rows = height / (2 * radius.mean())

@@ -49,4 +49,4 @@ def run_fields(state, specimen, started: float) -> dict:
                 n_broken_shear=state.n_broken(BROKEN_SHEAR), steps=state.step,
                 wall_s=time.perf_counter() - started, positions=state.particles.pos[:n].copy(),
                 radius=specimen.radius,
-                cracks=measure.cracks(state.bonds.state, state.bonds.break_xy))
+                cracks=measure.cracks(*state.breaks()))

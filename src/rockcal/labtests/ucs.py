@@ -44,7 +44,8 @@ from rockcal.labtests.loading import (
 )
 from rockcal.labtests.platens import Platens
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.params import MicroParams, make_params
+from rockcal.materials import as_params
+from rockcal.params import MicroParams
 
 POST_PEAK_FRACTION = 0.7
 CRACK_TARGETS = ("ci_MPa", "ci_ratio", "cd_MPa", "cd_ratio")  # a lab reads these too
@@ -90,8 +91,7 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
     progress(axial_strain, stress_MPa) is called as it goes.
     """
     started = time.perf_counter()
-    if not isinstance(params, MicroParams):
-        params = make_params(params or {})
+    params = as_params(params)
     if not 0 < max_axial_strain <= 0.5:
         raise InputError("max_axial_strain", f"must be in (0, 0.5], got {max_axial_strain}")
     if strain not in STRAIN_READINGS:
@@ -108,7 +108,7 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
     broken = [0]  # bonds broken so far at each reading, after the unloaded first row
 
     def read() -> Reading:
-        broken.append(np.count_nonzero(state.bonds.state))
+        broken.append(state.n_broken())
         width, height = measure.gauge_lengths(state.particles.pos, sets)
         if strain == "platen":
             axial = 1.0 - (state.walls.pos[TOP] - state.walls.pos[BOTTOM]) / (top - bottom)
