@@ -12,6 +12,7 @@ from rockcal.campaign.forward import run_spec
 from rockcal.campaign.plan import describe, stages
 from rockcal.campaign.procedure import calibrate
 from rockcal.campaign.store import RunResult, RunStore
+from rockcal.errors import InputError
 from rockcal.labtests.envelope import fit_mohr_coulomb
 
 CONFINEMENTS = [0.0, 5.0, 10.0]
@@ -139,3 +140,14 @@ def test_a_confinement_keys_its_own_run():
     runs = {s3: run_spec("biaxial", specimen, TRUE, own={"confinement_mpa": s3}).key for s3 in CONFINEMENTS}
     assert len(set(runs.values())) == 3
     assert runs[0.0] == run_spec("biaxial", specimen, TRUE).key  # the setting's default, 0
+
+
+def test_a_peak_is_named_by_its_confinement_in_spread_and_weights(tmp_path):
+    peaks = {"sigma1_MPa": [sigma1(TRUE, s3) for s3 in CONFINEMENTS]}
+    named = campaign_text(peaks | {"spread": {}}).replace(
+        "spread = {}", 'spread = { "sigma1_MPa@5MPa" = 3.0 }\nweights = { "sigma1_MPa@10MPa" = 2.0 }')
+    campaign = parse_campaign(named, tmp_path)
+    assert campaign.targets.biaxial.spread == {"sigma1_MPa@5MPa": 3.0}
+    with pytest.raises(InputError) as error:
+        parse_campaign(named.replace('"sigma1_MPa@5MPa"', "sigma1_MPa"), tmp_path)
+    assert error.value.field == "targets.biaxial.spread.sigma1_MPa"

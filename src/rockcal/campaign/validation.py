@@ -24,7 +24,8 @@ def uncertainty_of(state, packings: list, specs: list, done: dict, surrogate, pr
     from rockcal.campaign.procedure import grouped, optimise, point_responses
 
     campaign, goals, u = state.campaign, state.goals, state.campaign.uncertainty
-    found = [point_responses(state, runs)[0] for runs in grouped(state, len(packings), [done[s.key] for s in specs])]
+    per_point = grouped(state, len(packings), [done[spec.key] for spec in specs])
+    found = [point_responses(state, runs)[0] for runs in per_point]
     ok = [responses for responses in found if responses is not None]
     scatter = {r: float(np.std([v[r] for v in ok], ddof=1) / abs(np.mean([v[r] for v in ok])))
                if len(ok) > 1 else 0.0 for r in goals.targets}
