@@ -56,8 +56,10 @@ def lab_values(confinements: list[float]) -> dict:
         "CI / peak q, confined, crack volumetric strain": "0.50–0.54 (confined; Nicksiar & Martin 2013)",
         "CD / UCS": "about 0.7–0.8 (Lac du Bonnet granite; Martin & Chandler 1994)",
         "Brazilian σ_t (MPa)": "— (the source gives none)",
-        "direct σ_t (MPa)": "about 0.9 × Brazilian for igneous rock (Perras & Diederichs 2014)",
-        "UCS / Brazilian σ_t": "about 21 (Lac du Bonnet granite: 200 / 9.3 MPa, as Potyondy & Cundall 2004 list it)",
+        "direct σ_t (MPa)": "about 0.77 × Brazilian (Nicksiar & Martin 2013; Lac du Bonnet granite: 6.9 / 8.8 MPa, "
+                            "Rock Mech Rock Eng 2019)",
+        "UCS / Brazilian σ_t": "about 23 (Lac du Bonnet granite: UCS 200 MPa as Potyondy & Cundall 2004 quote it, "
+                               "Brazilian 8.8 MPa, Rock Mech Rock Eng 2019)",
     }
 
 
