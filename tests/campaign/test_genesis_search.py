@@ -50,10 +50,15 @@ def test_a_twin_recovers_the_installation_gap_and_e_c(tmp_path, monkeypatch):
     assert len(list((tmp_path / "cache").glob("*.npz"))) == 1  # one packing, bonded anew per gap
 
 
-@pytest.mark.parametrize("section, key", [("fixed = { install_gap = 0.5 }", "search.fixed"),
-                                          ("bounds = { install_gap = [-1, 1] }", "search.bounds.install_gap")])
-def test_a_gap_fixed_in_search_or_out_of_range_is_named(tmp_path, section, key):
-    text = f"[targets.ucs]\nE_GPa = 40\n[search]\n{section}\n" + \
+@pytest.mark.parametrize("section, key", [
+    ("fixed = { install_gap = 0.5 }", "search.fixed"),
+    ("bounds = { install_gap = [-1, 1] }", "search.bounds.install_gap"),
+    ("bounds = { rmin_mm = [0.2, 0.3] }", "search.bounds"),  # a setting no campaign searches
+    ("bounds = { fjm_B_frac = [0.5, 1.2] }", "search.bounds.fjm_B_frac"),  # a fraction above 1
+])
+def test_a_bad_search_bound_or_fixed_value_is_named(tmp_path, section, key):
+    material = '[material]\nmodel = "flatjoint"\n' if "fjm_" in section else ""
+    text = f"{material}[targets.ucs]\nE_GPa = 40\n[search]\n{section}\n" + \
         ("bounds = { E_c = [10, 30] }\n" if "fixed" in section else "")
     with pytest.raises(InputError) as error:
         parse_campaign(text, tmp_path)
