@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from rockcal.campaign.config import Campaign
+from rockcal.campaign.parameter_sets import grouped, optimise, point_responses, spec_of
 from rockcal.campaign.result import Check, CurveFit, Uncertainty, Validation
 from rockcal.inverse import Objective, curve_fit
 from rockcal.inverse.uncertainty import parameter_intervals
@@ -21,8 +22,6 @@ def uncertainty_of(state, packings: list, specs: list, done: dict, surrogate, pr
     """The model's scatter over packings at the identified point (relative sd of each
     response), then the parameters' intervals for targets drawn from the lab's spread and
     that scatter (`rockcal.inverse.uncertainty`), each solved on the surrogate."""
-    from rockcal.campaign.procedure import grouped, optimise, point_responses
-
     campaign, goals, u = state.campaign, state.goals, state.campaign.uncertainty
     per_point = grouped(state, len(packings), [done[spec.key] for spec in specs])
     found = [point_responses(state, runs)[0] for runs in per_point]
@@ -47,8 +46,6 @@ def curve_fit_of(state, identified: dict) -> CurveFit | None:
     """The RE and CC of the primary test's stress-strain curve at the identified parameters
     against the measured one (the simulated strain may dither at the start: only the points
     that advance it are kept); None without a measured curve or a curve of that run."""
-    from rockcal.campaign.procedure import spec_of
-
     key = spec_of(state, PRIMARY_TEST, state.campaign.specimen, identified).key
     curve = state.curves.get(key)
     if state.goals.curve is None or curve is None:
