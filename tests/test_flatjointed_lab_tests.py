@@ -11,6 +11,8 @@ from rockcal.labtests.biaxial import simulate_biaxial
 from rockcal.labtests.brazilian import brazilian_disk, simulate_brazilian
 from rockcal.labtests.direct_tension import simulate_direct_tension
 
+pytestmark = pytest.mark.slow  # every lab test run, on its own small specimen
+
 # a fifth of the joints slit, strengths spread, a friction angle: all of the law at work
 PARAMS = make_flatjoint_params({"fj_emod": 30, "fj_kratio": 2.0, "fj_ten": 20, "fj_ten_cv": 0.2,
                                 "fj_coh": 60, "fj_coh_cv": 0.2, "fj_fa": 30, "fj_nr": 2,
@@ -49,7 +51,7 @@ def test_tensile_tests_and_confinement(prism):
 
 
 def test_bending_gives_a_toughness():
-    beam = Beam(44.0, 10.0, 3.6, 0.8, 32.0)
+    beam = Beam(33.0, 7.5, 2.7, 0.8, 24.0)
     result = simulate_bending(PARAMS, notched_beam(beam, 0.4, 1.65, seed=1), beam)
     assert result.K_IC_MPa_sqrt_m > 0 and result.n_broken_tension > 0
     assert len(result.first_break_xy) > 0

@@ -9,7 +9,6 @@ test builds its engine state with `new_state`, whatever the material.
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from typing import Callable
 
@@ -224,8 +223,3 @@ def new_state(params, specimen, pos=None, radius=None, **options) -> State:
     return material_of(params).new_state(specimen.pos if pos is None else pos,
                                          specimen.radius if radius is None else radius,
                                          specimen, params, **options)
-
-
-def pfc_material_name(text: str) -> str:
-    """A name FISH takes as cm_matName: letters, digits and underscores, 'PFCmat' if none."""
-    return re.sub(r"\W+", "_", text.encode("ascii", "ignore").decode()).strip("_") or "PFCmat"

@@ -81,7 +81,7 @@ def finished(tmp_path_factory):
 
 
 def check(values: dict) -> None:
-    assert values.pop("cm_matName", "twin") == "twin"
+    assert values.pop("cm_matName", "rockcal_parallel_bond") == "rockcal_parallel_bond"
     assert set(values) == set(EXPECTED)
     for name, value in EXPECTED.items():
         assert values[name] == pytest.approx(value, rel=1e-12), name
@@ -95,7 +95,7 @@ def test_fish_file_reads_back_in_si(finished, tmp_path):
     assert re.search(r"^def mpSetPBParams$", text, re.M) and "; rockcal calibration of twin" in text
     assert ";   E_c: 5-95 % interval 20.9 to 22.4" in text
     values = {m[0]: float(m[1]) for m in re.findall(r"^\s+(\w+)(?:\(1\))? = ([-+0-9.e]+)", text, re.M)}
-    assert re.search(r"^  cm_matName = 'twin'$", text, re.M) and text.endswith("@_mpCheckAllParams\n")
+    assert re.search(r"^  cm_matName = 'rockcal_parallel_bond'$", text, re.M) and text.endswith("@_mpCheckAllParams\n")
     check(values)
 
 

@@ -47,7 +47,7 @@ FLATJOINTED = {"fj_emod": 35.0, "fj_kratio": 2.5, "fj_ten": 20.0, "fj_ten_cv": 0
                "lnm_fric": 0.4, "density": 2650.0, "damping": 0.6}
 # The same material in FISHTank's names and SI units, written out by hand.
 FLATJOINTED_PFC = {
-    "cm_matName": "Lac_du_Bonnet", "cm_matType": 4, "cm_localDampFac": 0.6, "cm_densityCode": 0,
+    "cm_matName": "rockcal_flatjoint", "cm_matType": 4, "cm_localDampFac": 0.6, "cm_densityCode": 0,
     "cm_densityVal": 2650.0, "cm_shape": 0, "cm_nSD": 1, "cm_typeSD": 0, "cm_Dlo": 0.8e-3,
     "cm_Dup": 1.2e-3, "cm_Vfrac": 1.0, "cm_Dmult": 1.0, "pk_Pm": 0.2e6, "pk_procCode": 1,
     "pk_nc": 0.1, "fjm_igap": 0.2e-3, "fjm_B_frac": 0.7, "fjm_G_frac": 0.1, "fjm_G_m": 2e-6,

@@ -6,27 +6,32 @@ import numpy as np
 import pytest
 
 from rockcal import hexagonal, simulate_ucs
+from rockcal.dem.flatjoint_material import make_flatjoint_params
 from rockcal.dem.neighbours import block_starts
 
 pytestmark = pytest.mark.slow  # DEM runs and specimens of minutes: deselect with -m "not slow"
 
 PARAMS = {"E_c": 20, "kn_ks": 2.0, "sigma_c": 10, "tau_c": 20, "sigma_c_cv": 0.3, "tau_c_cv": 0.3}
+FLATJOINTED = make_flatjoint_params({"fj_emod": 20, "fj_kratio": 2.0, "fj_ten": 10, "fj_coh": 20,
+                                     "fj_ten_cv": 0.3, "fj_coh_cv": 0.3, "fjm_B_frac": 0.8})
 
 
-def test_a_run_switching_between_one_and_two_threads_gives_the_same_numbers():
-    specimen = hexagonal(20, 40, 0.25)
+@pytest.mark.parametrize("params, size_mm", [(PARAMS, (20, 40)), (FLATJOINTED, (16, 32))],
+                         ids=["parallel_bond", "flatjoint"])  # two blocks of grains each
+def test_a_run_switching_between_one_and_two_threads_gives_the_same_numbers(params, size_mm):
+    specimen = hexagonal(*size_mm, 0.25)
     assert len(block_starts(len(specimen.pos))) - 1 >= 2  # blocks run in parallel
     cap = numba.get_num_threads()
     try:
         numba.set_num_threads(1)
-        one = simulate_ucs(PARAMS, specimen)
+        one = simulate_ucs(params, specimen)
         switches = []
 
         def switch(strain, stress):
             switches.append(strain)
             numba.set_num_threads(1 + len(switches) % min(2, numba.config.NUMBA_NUM_THREADS))
 
-        switched = simulate_ucs(PARAMS, specimen, progress=switch)
+        switched = simulate_ucs(params, specimen, progress=switch)
     finally:
         numba.set_num_threads(cap)
     assert one.n_broken_tension + one.n_broken_shear > 100  # it failed

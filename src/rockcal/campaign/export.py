@@ -19,7 +19,7 @@ from rockcal.campaign.forward import ENGINE
 from rockcal.campaign.result import read_result
 from rockcal.campaign.safe_text import comment_text
 from rockcal.errors import InputError
-from rockcal.materials import DEFAULT_MATERIAL, material, material_of, pfc_material_name
+from rockcal.materials import DEFAULT_MATERIAL, material, material_of
 from rockcal.params import GPa, MicroParams
 
 FORMATS = ("pfc-fish", "pfc-python", "json")
@@ -56,10 +56,11 @@ def read_calibration(store, folder: Path) -> Calibrated:
 
 def pfc_parameters(calibrated: Calibrated) -> dict[str, float | int | bool | str]:
     """FISHTank's parameters (SI) of a calibrated material (`rockcal.materials`), its name
-    (cm_matName, from the rock's) first."""
+    first: cm_matName 'rockcal_<material>' (the rock's own name stays in the header's comments:
+    no user text becomes code)."""
     chosen = material_of(calibrated.params)
-    name = pfc_material_name(calibrated.origin.get("rock", ""))
-    return {"cm_matName": name} | chosen.pfc_parameters(calibrated.params, calibrated.specimen)
+    return {"cm_matName": f"rockcal_{chosen.name}"} | chosen.pfc_parameters(calibrated.params,
+                                                                          calibrated.specimen)
 
 
 UNITS = {"cm_densityVal": "kg/m3", "cm_Dlo": "m", "cm_Dup": "m", "pk_Pm": "Pa", "pbm_emod": "Pa",

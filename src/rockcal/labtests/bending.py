@@ -161,9 +161,10 @@ def notched_beam(beam: Beam = Beam(), rmin_mm: float = 0.25, radius_ratio: float
 
 
 def wave_speed_m_per_s(params: MicroParams, porosity: float, mass_scale: float = 1.0) -> float:
-    """The bar wave speed sqrt(E / rho) of the bonded rock, with E estimated as contacts and
-    parallel bonds side by side, E_c + lambda Ebar_c (43.3 GPa where the source's point
-    measures 40.6), and rho the grains' density (times mass_scale where density-scaled) times
+    """The bar wave speed sqrt(E / rho) of the bonded rock, with E estimated as its material's
+    bonded modulus (`bonded_modulus_GPa`: contacts and parallel bonds side by side,
+    E_c + lambda Ebar_c, 43.3 GPa where the source's point measures 40.6; a flat joint's
+    lambda E*), and rho the grains' density (times mass_scale where density-scaled) times
     their share of the box."""
     modulus_Pa = 1e9 * params.bonded_modulus_GPa
     return float(np.sqrt(modulus_Pa / (params.density * mass_scale * (1.0 - porosity))))
