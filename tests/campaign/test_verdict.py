@@ -44,3 +44,18 @@ def test_the_pareto_front_holds_the_runs_no_other_beats_in_both():
     assert front.errors[3] == pytest.approx([-0.4, 0.05])
     # run 2 is beaten by run 1 in both; run 4 ties run 1 and stays
     assert front.pareto == [0, 1, 4, 3]
+
+
+def test_targets_that_conflict_only_together_are_named_by_those_that_bind():
+    # a = 1 + x0 wants 1.5, b = 1 + x1 wants 1.5, e = 1 + x0 + x1 wants 2.5: each pair can be met
+    # (x = (0.5, 0.5), (0.5, 1), (1, 0.5)), not all three; at the best compromise all three bind
+    def predict(x):
+        x = np.atleast_2d(x)
+        return {"a": 1 + x[:, 0], "b": 1 + x[:, 1], "e": 1 + x[:, 0] + x[:, 1]}
+
+    box = np.array([[0.0, 1.0], [0.0, 1.0]])
+    verdict = verdict_of({"a": 1.5, "b": 1.5, "e": 2.5}, 0.05, box, predict, seen=[],
+                         best_errors={"a": 0.1, "b": 0.1, "e": -0.12})
+    assert verdict.conflicts == [] and verdict.unreachable == {} and verdict.least_error_all > 0.05
+    assert set(verdict.binding) == {"a", "b", "e"}
+    assert "conflict as a whole" in verdict.text and "held back by" in verdict.text

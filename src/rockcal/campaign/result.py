@@ -174,6 +174,7 @@ class Verdict(_Part):
     unreachable: Values  # target: the surrogate's least relative error alone, above the tolerance
     conflicts: list[Conflict]  # the pairs that conflict, most first
     least_error_all: float  # the surrogate's least largest relative error over every target
+    binding: list[str] = []  # the targets at that largest error there: those that hold the others back
     trade_off: TradeOff
     text: str
 

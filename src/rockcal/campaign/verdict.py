@@ -22,6 +22,7 @@ from rockcal.inverse import latin_hypercube
 
 PROBES = 4096  # surrogate points over the box
 PROBE_SEED = 0
+BINDING = 0.9  # a target within this fraction of the largest error there is one that binds
 
 
 def verdict_of(targets: dict[str, float], tolerance: float, box: np.ndarray,
@@ -38,11 +39,15 @@ def verdict_of(targets: dict[str, float], tolerance: float, box: np.ndarray,
     pairs = [Conflict(targets=[r, s], least_error=float(np.maximum(error[r], error[s]).min()))
              for r, s in combinations(targets, 2) if r not in unreachable and s not in unreachable]
     conflicts = sorted((c for c in pairs if c.least_error > tolerance), key=lambda c: -c.least_error)
-    together = float(np.max(np.vstack(list(error.values())), axis=0).min())
+    largest = np.max(np.vstack(list(error.values())), axis=0)
+    best = int(np.argmin(largest))
+    together = float(largest[best])
+    # the targets that hold the others back where all come closest together
+    binding = [r for r in targets if error[r][best] >= BINDING * together]
     shown = conflicts[0].targets if conflicts else _worst_two(best_errors)
     return Verdict(unreachable=unreachable, conflicts=conflicts, least_error_all=together,
-                   trade_off=trade_off(shown, targets, seen),
-                   text=_text(unreachable, conflicts, together, tolerance))
+                   binding=binding, trade_off=trade_off(shown, targets, seen),
+                   text=_text(unreachable, conflicts, together, binding, tolerance))
 
 
 def trade_off(responses: list[str], targets: dict[str, float], seen: list[dict]) -> TradeOff:
@@ -60,7 +65,8 @@ def _worst_two(errors: dict[str, float]) -> list[str]:
     return ranked[:2] if len(ranked) >= 2 else ranked * 2
 
 
-def _text(unreachable: dict, conflicts: list[Conflict], together: float, tolerance: float) -> str:
+def _text(unreachable: dict, conflicts: list[Conflict], together: float, binding: list[str],
+          tolerance: float) -> str:
     """The verdict in a sentence or two."""
     within = f"±{100 * tolerance:g} %"
     parts = [f"{r} is out of reach in this box (the surrogate's closest: {100 * e:.1f} % off)"
@@ -71,6 +77,7 @@ def _text(unreachable: dict, conflicts: list[Conflict], together: float, toleran
         return "; ".join(parts) + "."
     if together > tolerance:
         return (f"the targets conflict as a whole: every pair can be met within {within}, "
-                f"not all together (at best all within {100 * together:.1f} %).")
+                f"not all together (at best all within {100 * together:.1f} %, held back by "
+                f"{' and '.join(binding)}).")
     return (f"the surrogate has a point within {within} of every target that no verification "
             "confirmed: the budget ran out first (raise [acceptance] max_dem_runs, or add samples).")
