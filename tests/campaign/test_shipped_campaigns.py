@@ -99,3 +99,11 @@ def test_the_multi_fidelity_granite_differs_from_the_embedded_one_only_in_its_su
     multi, _ = load_campaign(str(DOCS / "granite-multifidelity.toml"))
     assert multi.model_dump(exclude={"surrogate"}) == granite.model_dump(exclude={"surrogate"})
     assert (multi.surrogate.coarse_samples, multi.surrogate.samples, multi.surrogate.checks) == (20, 4, 2)
+
+
+def test_the_all_targets_granite_fits_k_ic_and_searches_the_installation_gap():
+    granite, _ = load_campaign(None)
+    every, _ = load_campaign(str(DOCS / "granite-all-targets.toml"))
+    assert every.validation_tests() == [] and set(every.target_sections()) == {"ucs", "bending"}
+    assert "install_gap" in every.search.bounds and every.surrogate.coarse_samples > 0
+    assert every.targets == granite.targets
