@@ -62,9 +62,8 @@ class State:
     sensitivity: Sensitivity | None = None
     samples: Samples | None = None
     surrogate_check: SurrogateCheck | None = None
-    coarse: Samples | None = None  # the coarse samples (multi-fidelity), and the runs that train
-    coarse_x: np.ndarray | None = None  # the low-fidelity surrogate with their responses
-    coarse_y: list = field(default_factory=list)
+    coarse: Samples | None = None  # the coarse samples (multi-fidelity)
+    low_fidelity: RBFSurrogate | None = None  # the surrogate of the coarse runs, fitted once
     train_x: np.ndarray | None = None  # the surrogate's training points and their responses
     train_y: list = field(default_factory=list)
     iterations: tuple[Iteration, ...] = ()
@@ -212,7 +211,7 @@ def coarse_sample_runs(state: State) -> Runs:
         coarse_x, coarse_y = _usable(np.vstack([x, _points(new.sensitivity, reused, names)]),
                                      y + [new.sensitivity.run_responses[i] for i in reused])
         return replace(new, coarse=Samples(x=x.tolist(), responses=y, reused_sensitivity_runs=reused or None),
-                       coarse_x=coarse_x, coarse_y=coarse_y)
+                       low_fidelity=RBFSurrogate(coarse_x, _responses(new, coarse_y), box))
 
     return Runs(point_specs(state, points), fold)
 
@@ -441,13 +440,14 @@ def _verdict(state: State):
 def _fit(state: State, x, y) -> RBFSurrogate | CorrectedSurrogate:
     """The surrogate of the full-resolution runs x, y; with coarse samples, the low-fidelity
     surrogate of the coarse runs corrected by them."""
-    def responses(rows):
-        return {r: np.array([v[r] for v in rows]) for r in state.goals.targets}
+    if state.low_fidelity is None:
+        return RBFSurrogate(x, _responses(state, y), state.box)
+    return CorrectedSurrogate(state.low_fidelity, x, _responses(state, y), state.box)
 
-    if state.coarse_x is None:
-        return RBFSurrogate(x, responses(y), state.box)
-    low = RBFSurrogate(state.coarse_x, responses(state.coarse_y), state.box)
-    return CorrectedSurrogate(low, x, responses(y), state.box)
+
+def _responses(state: State, rows: list[dict]) -> dict[str, np.ndarray]:
+    """The target responses of runs, response by response."""
+    return {r: np.array([v[r] for v in rows]) for r in state.goals.targets}
 
 
 def _fill_failed(table: dict[str, list]) -> dict[str, np.ndarray]:
