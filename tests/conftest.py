@@ -1,10 +1,30 @@
+import os
+
+import numba
 import pytest
 
 
 @pytest.fixture(autouse=True, scope="session")
 def _specimen_cache(tmp_path_factory):
-    """Keep test specimens out of the user's cache."""
+    """Keep test specimens out of the user's cache; pytest-xdist's workers share one cache, so
+    a specimen is made once per session."""
+    root = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        root = root.parent
     mp = pytest.MonkeyPatch()
-    mp.setenv("ROCKCAL_CACHE", str(tmp_path_factory.mktemp("specimens")))
+    mp.setenv("ROCKCAL_CACHE", str(root / "specimens"))
     yield
     mp.undo()
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _one_thread_per_worker():
+    """With one pytest-xdist worker per core, the engine runs one thread per worker: two
+    threads per worker would oversubscribe the cores."""
+    if not os.environ.get("PYTEST_XDIST_WORKER"):
+        yield
+        return
+    cap = numba.get_num_threads()
+    numba.set_num_threads(1)
+    yield
+    numba.set_num_threads(cap)

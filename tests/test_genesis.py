@@ -1,6 +1,8 @@
 """PFC's material genesis: grain count from the cloud porosity, packing to the material pressure,
 floaters enlarged, bonds at exactly the pairs within the installation gap, no locked-in force."""
 
+import multiprocessing
+
 import numpy as np
 import pytest
 
@@ -95,5 +97,28 @@ def test_sizes_given_as_integers_find_the_same_cached_specimen(monkeypatch, tmp_
     monkeypatch.setenv("ROCKCAL_CACHE", str(tmp_path))
     a = random_packing(WIDTH_MM, HEIGHT_MM, RMIN_MM, RATIO, seed=2)
     b = random_packing(int(WIDTH_MM), int(HEIGHT_MM), RMIN_MM, RATIO, seed=2)
-    assert len(list(tmp_path.iterdir())) == 1
+    assert len(list(tmp_path.glob("*.npz"))) == 1
     np.testing.assert_array_equal(a.pos, b.pos)
+
+
+def _make_and_log(log):
+    import rockcal.dem.specimen as specimen
+
+    pack = specimen._pack
+
+    def logged(*args):
+        with open(log, "a") as f:
+            f.write("made\n")
+        return pack(*args)
+
+    specimen._pack = logged
+    return random_packing(WIDTH_MM, HEIGHT_MM, RMIN_MM, RATIO, seed=3).pos
+
+
+def test_two_processes_needing_the_same_packing_make_it_once(monkeypatch, tmp_path):
+    monkeypatch.setenv("ROCKCAL_CACHE", str(tmp_path / "cache"))
+    log = tmp_path / "log"
+    with multiprocessing.get_context("spawn").Pool(2) as pool:
+        a, b = pool.map(_make_and_log, [log, log])
+    assert log.read_text() == "made\n"
+    np.testing.assert_array_equal(a, b)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -22,6 +23,11 @@ from rockcal.dem.genesis import Genesis, floaters, install_bonds
 from rockcal.dem.grain_limit import check_grains, expected_grains
 from rockcal.dem.neighbours import spatial_order
 from rockcal.errors import InputError
+
+try:
+    import fcntl
+except ImportError:  # Windows
+    fcntl = None
 
 GENERATOR_VERSION = 6
 STRENGTH_STREAM = 1  # the bond strength draws' random stream, apart from the packing's
@@ -123,30 +129,57 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
     label = (f"random {width_mm:g}x{height_mm:g} mm, Rmin {rmin_mm:g} mm x{radius_ratio:g}, "
              f"gap {genesis.install_gap:g} Rmin, seed {seed}")
     found = stored_packing(name) if cache else None
-    if found is not None:
+    if found is None and cache:
+        with _one_maker(cache_dir() / name):
+            found = stored_packing(name)  # made meanwhile by another process
+            if found is None:
+                found = _save(cache_dir() / name, *_pack(width_mm, height_mm, rmin_mm,
+                                                         radius_ratio, seed, genesis, label))
+    if found is None:
+        pos, radius, pressure = _pack(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis, label)
+    else:
         data = np.load(found)
         pos, radius, pressure = data["pos"], data["radius"], float(data["pressure_mpa"])
-    else:
-        from rockcal.dem.packing import pack_box
-
-        check_grains("specimen", f"a {label}",
-                     expected_grains(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity))
-        pos, radius, pressure = pack_box(width_mm * 1e-3, height_mm * 1e-3, rmin_mm * 1e-3,
-                                         radius_ratio, seed, genesis.cloud_porosity,
-                                         genesis.pressure_mpa)
-        order = spatial_order(pos, 4 * radius_ratio * rmin_mm * 1e-3)
-        pos, radius = pos[order], radius[order]
-        if cache:
-            path = cache_dir() / name
-            path.parent.mkdir(parents=True, exist_ok=True)
-            tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
-            np.savez(tmp, pos=pos, radius=radius, pressure_mpa=pressure)
-            os.replace(tmp, path)
     bonds = install_bonds(pos, radius, genesis.install_gap * rmin_mm * 1e-3)
     draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
     left = np.count_nonzero(floaters(pos, radius, width_mm * 1e-3, height_mm * 1e-3))
     return Specimen(pos, radius, bonds, width_mm * 1e-3, height_mm * 1e-3, label, draws, pressure,
                     int(left), flatjoint_draws(len(bonds), seed))
+
+
+def _pack(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis, label):
+    """Genesis of the grains (centres in spatial order, radii, the final pressure in MPa)."""
+    from rockcal.dem.packing import pack_box
+
+    check_grains("specimen", f"a {label}",
+                 expected_grains(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity))
+    pos, radius, pressure = pack_box(width_mm * 1e-3, height_mm * 1e-3, rmin_mm * 1e-3,
+                                     radius_ratio, seed, genesis.cloud_porosity, genesis.pressure_mpa)
+    order = spatial_order(pos, 4 * radius_ratio * rmin_mm * 1e-3)
+    return pos[order], radius[order], pressure
+
+
+def _save(path: Path, pos, radius, pressure) -> Path:
+    tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
+    np.savez(tmp, pos=pos, radius=radius, pressure_mpa=pressure)
+    os.replace(tmp, path)  # whole or not at all
+    return path
+
+
+@contextmanager
+def _one_maker(path: Path):
+    """One process at a time makes the packing at `path`: another that needs it waits, then
+    finds it made (an advisory lock on a file beside it; none where there is no flock)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if fcntl is None:
+        yield
+        return
+    fd = os.open(path.with_suffix(".lock"), os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)
 
 
 def packing_name(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float,
