@@ -20,25 +20,9 @@ from rockcal.campaign.forward import Executor, run_spec  # noqa: E402
 from rockcal.campaign.procedure import calibrate  # noqa: E402
 from rockcal.campaign.store import RunStore  # noqa: E402
 from rockcal.errors import InputError  # noqa: E402
+from tiny import tiny_campaign
 
-CAMPAIGN = """
-[targets.ucs]
-E_GPa = 20.0
-ucs_MPa = 40.0
-[specimen]
-rmin_mm = 0.4
-width_mm = 8
-height_mm = 16
-[search]
-bounds = { E_c = [10, 30], sigma_c = [20, 60] }
-[surrogate]
-samples = 6
-checks = 1
-[optimizer]
-iterations = 20
-[acceptance]
-max_dem_runs = 9
-"""
+CAMPAIGN = tiny_campaign()
 TINY = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16)
 SLOWER = SpecimenSettings(rmin_mm=0.3, width_mm=20, height_mm=40)  # ~1 s a run: time to kill one
 

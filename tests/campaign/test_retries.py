@@ -11,27 +11,10 @@ from rockcal.campaign.retries import MAX_TRIES
 from rockcal.campaign.store import RunStore
 from rockcal.dem.specimen import cache_dir, packing_name, stored_packing
 from rockcal.labtests.registry import lab_test
+from tiny import tiny_campaign
 
 TINY = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16, seed=3)
-CAMPAIGN = """
-[targets.ucs]
-E_GPa = 20.0
-ucs_MPa = 40.0
-[specimen]
-rmin_mm = 0.4
-width_mm = 8
-height_mm = 16
-seed = 4
-[search]
-bounds = { E_c = [10, 30], sigma_c = [20, 60] }
-[surrogate]
-samples = 4
-checks = 1
-[optimizer]
-iterations = 10
-[acceptance]
-max_dem_runs = 6
-"""
+CAMPAIGN = tiny_campaign(samples=4, iterations=10, max_dem_runs=6, seed=4)
 
 
 def specs(n: int, settings=TINY, **fixed):

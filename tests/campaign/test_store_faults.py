@@ -16,27 +16,9 @@ from rockcal.campaign.forward import Executor
 from rockcal.campaign.procedure import calibrate
 from rockcal.campaign.result import save_result
 from rockcal.campaign.store import STORE_NAME, RunStore
+from tiny import tiny_campaign
 
-CAMPAIGN = """
-[rock]
-name = "faults"
-[targets.ucs]
-E_GPa = 20.0
-ucs_MPa = 40.0
-[specimen]
-rmin_mm = 0.4
-width_mm = 8
-height_mm = 16
-[search]
-bounds = { E_c = [10, 30], sigma_c = [20, 60] }
-[surrogate]
-samples = 4
-checks = 1
-[optimizer]
-iterations = 10
-[acceptance]
-max_dem_runs = 5
-"""
+CAMPAIGN = tiny_campaign(samples=4, iterations=10, max_dem_runs=5)
 
 
 @pytest.fixture(scope="module")

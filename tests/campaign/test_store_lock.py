@@ -17,26 +17,9 @@ import pytest
 from rockcal.campaign.store import RunStore
 from rockcal.campaign.store_lock import LOCK_NAME, store_lock
 from rockcal.errors import InputError
+from tiny import tiny_campaign
 
-CAMPAIGN = """
-[targets.ucs]
-E_GPa = 20.0
-ucs_MPa = 40.0
-[specimen]
-rmin_mm = 0.4
-width_mm = 8
-height_mm = 16
-seed = 5
-[search]
-bounds = { E_c = [10, 30], sigma_c = [20, 60] }
-[surrogate]
-samples = 6
-checks = 1
-[optimizer]
-iterations = 20
-[acceptance]
-max_dem_runs = 9
-"""
+CAMPAIGN = tiny_campaign(seed=5)
 
 
 def test_a_held_lock_names_its_holder_and_a_stale_one_is_taken(tmp_path):

@@ -14,6 +14,7 @@ from rockcal.campaign.result import FailedRun
 from rockcal.campaign.store import RunResult, RunSpec
 from rockcal.inverse import ant_colony
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
+from rockcal.labtests.seeds import mean_over_seeds, seed_list
 
 if TYPE_CHECKING:
     from rockcal.campaign.procedure import State
@@ -50,10 +51,19 @@ def specs_of_test(state: State, test: str, settings: SpecimenSettings, row: dict
     return [spec_of(state, test, settings, row, own) for own in runs_of(state.campaign, test)]
 
 
+def packings_of(campaign: Campaign, test: str) -> int:
+    """Over how many packings a test's responses are averaged at each parameter set (its
+    [targets.<test>] packings)."""
+    section = campaign.targets.given().get(test)
+    return 1 if section is None else section.packings
+
+
 def point_specs(state: State, points: list[Point]) -> list[RunSpec]:
-    """The runs of every test calibrated against at each point, test by test."""
+    """The runs of every test calibrated against at each point, test by test, on each of the
+    test's packings."""
     return [spec for test in state.goals.tests for settings, row in points
-            for spec in specs_of_test(state, test, settings, row)]
+            for seed in seed_list(settings.seed, packings_of(state.campaign, test))
+            for spec in specs_of_test(state, test, settings.model_copy(update={"seed": seed}), row)]
 
 
 def grouped(state: State, n: int, results: list[RunResult]) -> list[dict[str, list[RunResult]]]:
@@ -61,7 +71,7 @@ def grouped(state: State, n: int, results: list[RunResult]) -> list[dict[str, li
     points: list[dict[str, list[RunResult]]] = [{} for _ in range(n)]
     rest = iter(results)
     for test in state.goals.tests:
-        k = len(runs_of(state.campaign, test))
+        k = len(runs_of(state.campaign, test)) * packings_of(state.campaign, test)
         for runs in points:
             runs[test] = list(islice(rest, k))
     return points
@@ -84,8 +94,18 @@ def point_responses(state: State, runs: dict[str, list[RunResult]]) -> tuple[dic
 
 
 def responses_of_test(campaign: Campaign, test: str, runs: list[dict]) -> dict:
-    """A test's responses at one parameter set: the primary test's whole (its other readings
-    too), another's targets (`LabTest.point_responses`: a series folded)."""
+    """A test's responses at one parameter set from its runs on each packing: on one packing,
+    the primary test's whole (its other readings too), another's targets
+    (`LabTest.point_responses`: a series folded); on several, their mean and sd over the
+    packings (`mean_over_seeds`) over the first packing's."""
+    n = len(runs_of(campaign, test))
+    per_packing = [_on_one_packing(campaign, test, runs[i:i + n]) for i in range(0, len(runs), n)]
+    if len(per_packing) == 1:
+        return per_packing[0]
+    return per_packing[0] | mean_over_seeds(per_packing)
+
+
+def _on_one_packing(campaign: Campaign, test: str, runs: list[dict]) -> dict:
     if test == PRIMARY_TEST:
         return dict(runs[0])
     return lab_test(test).point_responses(runs, series_values(campaign, test))

@@ -21,10 +21,12 @@ import numpy as np
 from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.engine_speed import probe_ms_per_step
 from rockcal.campaign.retries import holds, retry_line
+from rockcal.campaign.parameter_sets import packings_of
 from rockcal.campaign.procedure import (STEPS, coarse_sample_runs, packing_seeds, sample_runs, search_space,
                                         sensitivity_runs, series_values, start, validation_seeds)
 from rockcal.dem.specimen import packing_name, stored_packing
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
+from rockcal.labtests.seeds import seed_list
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
 # the embedded granite campaign's mean full-size UCS run, one thread, two at a time on idle
@@ -73,10 +75,14 @@ def specimens(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
     calibration's, its other packings' and the validation tests'."""
     s = campaign.specimen
     seeds = packing_seeds(campaign) if campaign.wants_uncertainty() else [s.seed]
-    out = [(test, step.specimen(campaign)) for step in STEPS for test in step.planned(campaign)
-           if step.specimen(campaign) != s]
-    out += [(test, s.model_copy(update={"seed": seed})) for test in campaign.target_sections()
-            for seed in seeds]
+
+    def packings(test: str, settings: SpecimenSettings, first_seeds: list[int]):
+        return [(test, settings.model_copy(update={"seed": k})) for first in first_seeds
+                for k in seed_list(first, packings_of(campaign, test))]
+
+    out = [p for step in STEPS for test in step.planned(campaign) if step.specimen(campaign) != s
+           for p in packings(test, step.specimen(campaign), [s.seed])]
+    out += [p for test in campaign.target_sections() for p in packings(test, s, seeds)]
     out += [(test, s.model_copy(update={"seed": seed})) for test in campaign.validation_tests()
             for seed in validation_seeds(campaign, test)]
     return list({packing_file(test, settings): (test, settings) for test, settings in out}.values())
@@ -209,7 +215,7 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
         "stages: " + ", ".join(f"{name} {n}" + _resolution(campaign, name)
                                for name, n in stage_runs(campaign).items())
         + f" (then more verifications if needed, at most {campaign.acceptance.max_dem_runs} UCS runs)"
-        + (f"; each parameter set runs {' and '.join(titles)}" if len(titles) > 1 else ""),
+        + (f"; each parameter set runs {' and '.join(titles)}" if titles != [lab_test(PRIMARY_TEST).title] else ""),
         f"runs of this campaign already in the store: {sum(stored_runs(campaign, store).values())} "
         "(a run done is never run again)",
     ]
@@ -231,11 +237,10 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
 
 def _runs_text(campaign: Campaign, test: str) -> str:
     """A test's runs at each parameter set in words: its title, and the values of its series."""
-    kind, values = lab_test(test), series_values(campaign, test)
-    if not values:
-        return kind.title
-    return (f"{kind.title} at {len(values)} values of {kind.series.name} "
-            f"({', '.join(f'{v:g}' for v in values)} {kind.series.unit})")
+    kind, values, n = lab_test(test), series_values(campaign, test), packings_of(campaign, test)
+    text = kind.title if not values else (f"{kind.title} at {len(values)} values of {kind.series.name} "
+                                          f"({', '.join(f'{v:g}' for v in values)} {kind.series.unit})")
+    return text + (f" on {n} packings" if n > 1 else "")
 
 
 def _genesis(campaign: Campaign) -> str:

@@ -30,7 +30,8 @@ from rockcal.campaign.result import (CalibrationResult, FailedRun, Iteration, Sa
                                      SurrogateCheck)
 from rockcal.campaign.store import RunResult, RunSpec
 from rockcal.campaign.parameter_sets import (CalibrationFailed, folded, grouped, optimise, point_specs,
-                                             runs_of, series_values, spec_of, specs_keys, specs_of_test)
+                                             packings_of, runs_of, series_values, spec_of, specs_keys,
+                                             specs_of_test)
 from rockcal.campaign.verdict import verdict_of
 from rockcal.campaign.validation import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
 from rockcal.inverse import RBFSurrogate, Objective, design, latin_hypercube, range_analysis
@@ -365,22 +366,25 @@ def final_runs(state: State) -> Runs:
 
 def packing_seeds(campaign: Campaign) -> list[int]:
     """The packings whose scatter the parameters' intervals take in: the campaign's specimen's
-    seed and the next ones."""
-    return seed_list(campaign.specimen.seed, campaign.uncertainty.packings)
+    seed and the next ones; where targets are means over packings, the first seeds of as
+    many disjoint sets of them."""
+    window = max(packings_of(campaign, test) for test in campaign.target_sections())
+    return [campaign.specimen.seed + k * window for k in range(campaign.uncertainty.packings)]
 
 
 def validation_seeds(campaign: Campaign, test: str) -> list[int]:
-    """The packings a validation test runs on: `specimen.<test>_seeds` where the specimen
-    settings have it (the bending test's `bending_seeds`), else the campaign's specimen."""
+    """The packings a validation test runs on: as many as its section's `packings` or, where
+    the specimen settings have it, `specimen.<test>_seeds` (the bending test's `bending_seeds`)."""
     s = campaign.specimen
-    return seed_list(s.seed, getattr(s, f"{test}_seeds", 1))
+    return seed_list(s.seed, max(packings_of(campaign, test), getattr(s, f"{test}_seeds", 1)))
 
 
 # -- the list ----------------------------------------------------------------------------------
 
 def _per_test(campaign: Campaign, n: int) -> dict[str, int]:
     """The runs of each test calibrated against at `n` parameter sets."""
-    return {test: n * len(runs_of(campaign, test)) for test in campaign.target_sections()} if n else {}
+    return {test: n * len(runs_of(campaign, test)) * packings_of(campaign, test)
+            for test in campaign.target_sections()} if n else {}
 
 
 def _final_planned(campaign: Campaign) -> dict[str, int]:

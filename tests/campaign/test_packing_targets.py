@@ -1,0 +1,87 @@
+"""Targets read as the mean over packings, on a synthetic forward model (no DEM) whose UCS
+differs from packing to packing: with `packings = 3` every parameter set runs the test on the
+specimen's seed and the next two, and the campaign recovers the parameters that made the
+packings' mean; on one packing it recovers that packing's bias."""
+
+import pytest
+
+from rockcal.campaign.config import parse_campaign
+from rockcal.campaign.plan import describe, specimens, stages
+from rockcal.campaign.procedure import calibrate
+from rockcal.campaign.store import RunResult, RunStore
+
+TRUE = {"E_c": 22.0, "kn_ks": 1.8, "sigma_c": 40.0}
+PACKING_BIAS = {1: 1.06, 2: 0.94, 3: 1.0}  # the UCS of packings 1-3 over their mean; others 1
+
+
+def ucs(p: dict, seed: int) -> dict:
+    return {"E_GPa": 2.0 * p["E_c"], "nu": 0.1 * p["kn_ks"],
+            "ucs_MPa": 3.0 * p["sigma_c"] * PACKING_BIAS.get(seed, 1.0)}
+
+
+class Executor:
+    """The stand-in for every run; it keeps the packing seed of each run asked for."""
+
+    class store:
+        @staticmethod
+        def get(spec):
+            return None
+
+    def __init__(self):
+        self.seeds = []
+
+    def run(self, specs, progress=None):
+        self.seeds += [dict(spec.specimen)["seed"] for spec in specs]
+        return [RunResult("ok", ucs(dict(spec.params), dict(spec.specimen)["seed"]) | {"n_particles": 100},
+                          None, 0.0) for spec in specs]
+
+
+def campaign_text(packings: int) -> str:
+    targets = ucs(TRUE, seed=0)
+    return f"""
+[targets.ucs]
+E_GPa = {targets["E_GPa"]!r}
+nu = {targets["nu"]!r}
+ucs_MPa = {targets["ucs_MPa"]!r}
+packings = {packings}
+[search]
+bounds = {{ E_c = [15, 30], kn_ks = [1, 3], sigma_c = [30, 50] }}
+fixed = {{ tau_c = 80 }}
+[surrogate]
+samples = 12
+checks = 2
+[optimizer]
+iterations = 80
+[acceptance]
+tolerance = 0.005
+max_dem_runs = 30
+[uncertainty]
+enabled = true
+draws = 10
+packings = 2
+"""
+
+
+def test_a_target_over_three_packings_recovers_the_parameters_of_their_mean(tmp_path):
+    executor = Executor()
+    record = calibrate(parse_campaign(campaign_text(packings=3), tmp_path), executor)
+    assert record.accepted
+    assert record.identified["sigma_c"] == pytest.approx(TRUE["sigma_c"], rel=0.01)
+    assert record.verified["ucs_MPa_std"] == pytest.approx(0.06 * 3 * record.identified["sigma_c"], rel=0.01)
+    search_seeds = executor.seeds[:-6]  # then the intervals' two disjoint sets of three packings
+    assert [search_seeds.count(s) for s in (1, 2, 3)] == [len(search_seeds) // 3] * 3
+    assert sorted(executor.seeds[-6:]) == [1, 2, 3, 4, 5, 6]
+
+
+def test_a_target_on_one_packing_recovers_that_packings_bias(tmp_path):
+    record = calibrate(parse_campaign(campaign_text(packings=1), tmp_path), Executor())
+    assert record.identified["sigma_c"] == pytest.approx(TRUE["sigma_c"] / 1.06, rel=0.01)
+
+
+def test_the_first_screen_counts_every_packing(tmp_path):
+    campaign = parse_campaign(campaign_text(packings=3), tmp_path)
+    assert stages(campaign) == [("samples and checks", "ucs", 42), ("verification", "ucs", 3),
+                                ("packings and validation", "ucs", 3)]
+    assert sorted(s.seed for _, s in specimens(campaign)) == [1, 2, 3, 4, 5, 6]
+    lines = describe(campaign, RunStore(tmp_path / "out"), workers=None)
+    assert lines[1].endswith("each parameter set runs UCS on 3 packings")
