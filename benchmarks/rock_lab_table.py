@@ -3,9 +3,11 @@ Hoek-Brown m_i), CI / UCS and CD / UCS, Brazilian and direct tensile strength of
 parallel-bonded granite, beside the lab's values for granite.
 
 Run by hand: `python benchmarks/rock_lab_table.py [--out runs/rock-lab] [--rmin-mm 0.25]
-[--confinement-mpa 0,5,10,20] [--workers 1]`. The parameters are the embedded granite
-campaign's (`rockcal.campaign.granite.toml`: its specimen, genesis and fixed parameters) at the
-point its calibration identifies (E_c 21.65 GPa, kn/ks 1.985, sigma_c 35.61 MPa). Every run goes
+[--confinement-mpa 0,5,10,20] [--workers 1] [--from CAMPAIGN_OUT]`. The parameters are the
+embedded granite campaign's (`rockcal.campaign.granite.toml`: its specimen, genesis and fixed
+parameters) at the point its calibration identifies (E_c 21.65 GPa, kn/ks 1.985, sigma_c
+35.61 MPa), or with `--from` those a finished campaign identified, of its material, on its
+specimen (e.g. `docs/campaigns/granite-flatjoint.toml`'s; the lab column stays granite's). Every run goes
 through the run store in OUT (a stopped table resumes, a run done is never run again). Writes
 OUT/rock_lab_table.md (the table), OUT/rock_lab.json, and the figures: the envelope
 (biaxial_strength_envelope.png), the confined curves (biaxial_confined_compression_curves.png)
@@ -19,12 +21,13 @@ from pathlib import Path
 
 import numpy as np
 
-from rockcal.campaign.config import load_campaign
+from rockcal.campaign.config import SpecimenSettings, load_campaign
 from rockcal.campaign.forward import Executor, run_spec
 from rockcal.campaign.store import RunStore
 from rockcal.labtests.damage import plot_crack_stresses
 from rockcal.labtests.envelope import fit_mohr_coulomb
 from rockcal.labtests.registry import lab_test
+from rockcal.materials import DEFAULT_MATERIAL, material
 
 IDENTIFIED = {"E_c": 21.65, "kn_ks": 1.985, "sigma_c": 35.61}  # docs/validation/granite-calibration.md
 GRANITE_M_I = 32.0  # Hoek (2007), Practical Rock Engineering, table of m_i: granite 32 +/- 3
@@ -63,16 +66,27 @@ def lab_values(confinements: list[float]) -> dict:
     }
 
 
-def run_all(out: Path, rmin_mm: float | None, confinements: list[float], workers: int):
-    """The granite's tests at the identified point, through the store in `out`: the specimen
-    settings, the runs by name and the wall time of the runs done now."""
-    granite, _ = load_campaign(None)
-    specimen = granite.specimen if rmin_mm is None else granite.specimen.model_copy(update={"rmin_mm": rmin_mm})
-    params = granite.fixed_params() | IDENTIFIED
-    specs = {"ucs": run_spec("ucs", specimen, params),
-             "brazilian": run_spec("brazilian", specimen, params),
-             "direct_tension": run_spec("direct_tension", specimen, params)}
-    specs |= {f"biaxial {s3:g}": run_spec("biaxial", specimen, params, own={"confinement_mpa": s3})
+def calibrated_point(folder: Path | None) -> tuple[SpecimenSettings, dict, str, str]:
+    """(specimen settings, parameters, material, the model in words) of the point the table
+    is read at: that of the finished campaign in `folder`, else the embedded granite's."""
+    if folder is None:
+        granite, _ = load_campaign(None)
+        return granite.specimen, granite.fixed_params() | IDENTIFIED, DEFAULT_MATERIAL, "parallel-bonded granite"
+    record = json.loads((folder / "record.json").read_text())
+    model = record["material"] or DEFAULT_MATERIAL
+    words = material(model).title.split(" (")[0]
+    return SpecimenSettings(**record["specimen"]), record["identified_params"], model, f"{words} {record['rock']}"
+
+
+def run_all(out: Path, point, rmin_mm: float | None, confinements: list[float], workers: int):
+    """The tests at the calibrated point, through the store in `out`: the specimen settings,
+    the runs by name and the wall time of the runs done now."""
+    specimen, params, model, _ = point
+    specimen = specimen if rmin_mm is None else specimen.model_copy(update={"rmin_mm": rmin_mm})
+    specs = {"ucs": run_spec("ucs", specimen, params, model),
+             "brazilian": run_spec("brazilian", specimen, params, model),
+             "direct_tension": run_spec("direct_tension", specimen, params, model)}
+    specs |= {f"biaxial {s3:g}": run_spec("biaxial", specimen, params, model, own={"confinement_mpa": s3})
               for s3 in confinements}
     started = time.perf_counter()
     executor = Executor(RunStore(out), workers=workers)
@@ -113,9 +127,9 @@ def _cell(value) -> str:
     return "–".join(f"{v:.2f}" for v in value) if isinstance(value, tuple) else f"{value:.3g}"
 
 
-def markdown(model: dict, envelope: dict, confinements: list[float], specimen) -> str:
+def markdown(model: dict, envelope: dict, confinements: list[float], specimen, words: str) -> str:
     lab = lab_values(confinements)
-    rows = ["| | parallel-bonded granite (rockcal) | lab |", "|---|---|---|"]
+    rows = [f"| | {words} (rockcal) | lab |", "|---|---|---|"]
     rows += [f"| {name} | {_cell(value)} | {lab[name]} |" for name, value in model.items()]
     peaks = ", ".join(f"{s3:g}: {s1:.1f}" for s3, s1 in zip(confinements, envelope["sigma1_MPa"]))
     return "\n".join(rows) + (
@@ -126,13 +140,14 @@ def markdown(model: dict, envelope: dict, confinements: list[float], specimen) -
         f"R_min {specimen.rmin_mm:g} mm, packing seed {specimen.seed}.\n")
 
 
-def figures(out: Path, runs: dict, confinements: list[float]) -> None:
+def figures(out: Path, runs: dict, confinements: list[float], words: str) -> None:
     biaxial = lab_test("biaxial")
     done = [(runs[f"biaxial {s3:g}"].responses, runs[f"biaxial {s3:g}"].curve) for s3 in confinements]
+    name = words[:1].upper() + words[1:]
     for figure in biaxial.series_figures:
-        figure.draw(done, out / figure.file("biaxial"), f"Granite at the identified point: {figure.title.lower()}")
+        figure.draw(done, out / figure.file("biaxial"), f"{name} at the identified point: {figure.title.lower()}")
     plot_crack_stresses(runs["ucs"].curve, out / "ucs_crack_stresses.png",
-                        "UCS test of the granite at the identified point")
+                        f"UCS test of the {words} at the identified point")
 
 
 def main() -> None:
@@ -141,17 +156,20 @@ def main() -> None:
     parser.add_argument("--rmin-mm", type=float, default=None, help="default: the granite campaign's, 0.25 mm")
     parser.add_argument("--confinement-mpa", default="0,5,10,20")
     parser.add_argument("--workers", type=int, default=1)
+    parser.add_argument("--from", dest="campaign", type=Path, default=None,
+                        help="a finished campaign's OUT: its identified point (default: the embedded granite's)")
     args = parser.parse_args()
     confinements = [float(v) for v in args.confinement_mpa.split(",")]
     args.out.mkdir(parents=True, exist_ok=True)
-    specimen, runs, wall_s = run_all(args.out, args.rmin_mm, confinements, args.workers)
+    point = calibrated_point(args.campaign)
+    specimen, runs, wall_s = run_all(args.out, point, args.rmin_mm, confinements, args.workers)
     model, envelope = table(runs, confinements)
-    text = markdown(model, envelope, confinements, specimen)
+    text = markdown(model, envelope, confinements, specimen, point[3])
     (args.out / "rock_lab_table.md").write_text(text)
     (args.out / "rock_lab.json").write_text(json.dumps(
         {"model": model, "envelope": envelope, "runs": {name: r.responses for name, r in runs.items()},
          "run_wall_s": {name: r.wall_s for name, r in runs.items()}, "wall_s_now": wall_s}, indent=2))
-    figures(args.out, runs, confinements)
+    figures(args.out, runs, confinements, point[3])
     print(text)
 
 
