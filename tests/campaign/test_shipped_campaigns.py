@@ -108,3 +108,14 @@ def test_the_all_targets_granite_fits_k_ic_and_searches_the_installation_gap():
     assert every.validation_tests() == [] and set(every.target_sections()) == {"ucs", "bending"}
     assert "install_gap" in every.search.bounds and every.surrogate.coarse_samples > 0
     assert every.targets == granite.targets
+
+
+def test_the_flat_jointed_granite_has_the_embedded_granites_rock_targets_and_specimen():
+    """So the rock lab can set the two materials side by side at calibrated points."""
+    granite, _ = load_campaign(None)
+    flat, _ = load_campaign(str(DOCS / "granite-flatjoint.toml"))
+    assert flat.material.model == "flatjoint"
+    assert flat.targets.ucs == granite.targets.ucs and flat.rock == granite.rock
+    same = {"rmin_mm", "radius_ratio", "seed", "width_mm", "height_mm", "install_gap", "cloud_porosity",
+            "pressure_mpa", "strain", "stop_fraction", "disk_diameter_mm"}
+    assert {k: getattr(flat.specimen, k) for k in same} == {k: getattr(granite.specimen, k) for k in same}
