@@ -14,6 +14,7 @@ from rockcal.campaign.procedure import calibrate
 from rockcal.campaign.store import RunResult, RunStore
 from rockcal.errors import InputError
 from rockcal.labtests.envelope import fit_mohr_coulomb
+from tiny import StandInExecutor
 
 CONFINEMENTS = [0.0, 5.0, 10.0]
 TRUE = {"E_c": 22.0, "kn_ks": 1.8, "sigma_c": 40.0, "tau_c": 80.0}
@@ -34,29 +35,20 @@ def envelope(p: dict) -> dict:
     return {"phi_deg": mc.phi_deg, "c_MPa": mc.c_MPa}
 
 
-class Executor:
+class Executor(StandInExecutor):
     """The stand-in for every run; it keeps the (test, confinement) of each run asked for."""
-
-    class store:
-        @staticmethod
-        def get(spec):
-            return None
 
     def __init__(self):
         self.runs = []
 
-    def run(self, specs, progress=None):
-        out = []
-        for spec in specs:
-            p = dict(spec.params)
-            if spec.kind == "ucs":
-                out.append(RunResult("ok", ucs(p) | {"n_particles": 100}, None, 0.0))
-                self.runs.append(("ucs", None))
-                continue
-            s3 = dict(spec.specimen)["confinement_mpa"]
-            self.runs.append(("biaxial", s3))
-            out.append(RunResult("ok", {"confinement_MPa": s3, "sigma1_MPa": sigma1(p, s3)}, None, 0.0))
-        return out
+    def result(self, spec):
+        p = dict(spec.params)
+        if spec.kind == "ucs":
+            self.runs.append(("ucs", None))
+            return RunResult("ok", ucs(p) | {"n_particles": 100}, None, 0.0)
+        s3 = dict(spec.specimen)["confinement_mpa"]
+        self.runs.append(("biaxial", s3))
+        return RunResult("ok", {"confinement_MPa": s3, "sigma1_MPa": sigma1(p, s3)}, None, 0.0)
 
 
 def campaign_text(targets: dict) -> str:

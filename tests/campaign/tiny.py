@@ -1,5 +1,5 @@
-"""The campaign file of the tests' tiny UCS calibration: an 8 x 16 mm prism of R_min 0.4 mm
-(seconds a run), E_c and sigma_c free."""
+"""Test helpers for campaigns: the campaign file of a tiny UCS calibration (an 8 x 16 mm prism
+of R_min 0.4 mm: seconds a run, E_c and sigma_c free), and an executor with no DEM."""
 
 
 def tiny_campaign(samples: int = 6, checks: int = 1, iterations: int = 20, max_dem_runs: int = 9,
@@ -23,3 +23,18 @@ iterations = {iterations}
 [acceptance]
 max_dem_runs = {max_dem_runs}
 """
+
+
+class StandInExecutor:
+    """An executor whose runs are `result(spec)` (a synthetic forward model); nothing stored."""
+
+    class store:
+        @staticmethod
+        def get(spec):
+            return None
+
+    def result(self, spec):
+        raise NotImplementedError
+
+    def run(self, specs, progress=None):
+        return [self.result(spec) for spec in specs]
