@@ -32,7 +32,7 @@ class Executor(StandInExecutor):
         return RunResult("ok", ucs(dict(spec.params), seed) | {"n_particles": 100}, None, 0.0)
 
 
-def campaign_text(packings: int) -> str:
+def campaign_text(packings: int, coarse_samples: int = 0) -> str:
     targets = ucs(TRUE, seed=0)
     return f"""
 [targets.ucs]
@@ -44,6 +44,7 @@ packings = {packings}
 bounds = {{ E_c = [15, 30], kn_ks = [1, 3], sigma_c = [30, 50] }}
 fixed = {{ tau_c = 80 }}
 [surrogate]
+coarse_samples = {coarse_samples}
 samples = 12
 checks = 2
 [optimizer]
@@ -81,3 +82,14 @@ def test_the_first_screen_counts_every_packing(tmp_path):
     assert sorted(s.seed for _, s in specimens(campaign)) == [1, 2, 3, 4, 5, 6]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=None)
     assert lines[1].endswith("each parameter set runs UCS on 3 packings")
+
+
+def test_coarse_runs_take_one_packing_and_the_full_resolution_means_correct_them(tmp_path):
+    executor = Executor()
+    campaign = parse_campaign(campaign_text(packings=3, coarse_samples=16), tmp_path)
+    record = calibrate(campaign, executor)
+    assert record.identified["sigma_c"] == pytest.approx(TRUE["sigma_c"], rel=0.01)
+    assert executor.seeds[:16] == [1] * 16  # the coarse samples, on packing 1 only
+    assert stages(campaign)[0] == ("coarse samples", "ucs", 16)
+    lines = describe(campaign, RunStore(tmp_path / "out"), workers=None)
+    assert lines[1].endswith("each parameter set runs UCS on 3 packings (on coarser grains, on one)")

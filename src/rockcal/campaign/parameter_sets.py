@@ -58,23 +58,31 @@ def packings_of(campaign: Campaign, test: str) -> int:
     return 1 if section is None else section.packings
 
 
+def packings_at(campaign: Campaign, test: str, settings: SpecimenSettings) -> int:
+    """Over how many packings a test runs at a parameter set on the specimen `settings`: its
+    `packings_of` at the campaign's resolution; one on coarser grains (the sensitivity runs,
+    the coarse samples), whose runs rank the parameters and shape the low-fidelity surrogate
+    that the full-resolution means correct, so the packings' scatter is read where it counts."""
+    return packings_of(campaign, test) if settings.rmin_mm == campaign.specimen.rmin_mm else 1
+
+
 def point_specs(state: State, points: list[Point]) -> list[RunSpec]:
     """The runs of every test calibrated against at each point, test by test, on each of the
     test's packings."""
     return [spec for test in state.goals.tests for settings, row in points
-            for seed in seed_list(settings.seed, packings_of(state.campaign, test))
+            for seed in seed_list(settings.seed, packings_at(state.campaign, test, settings))
             for spec in specs_of_test(state, test, settings.model_copy(update={"seed": seed}), row)]
 
 
-def grouped(state: State, n: int, results: list[RunResult]) -> list[dict[str, list[RunResult]]]:
-    """Each of `n` points' results by test, from results in `point_specs`'s order."""
-    points: list[dict[str, list[RunResult]]] = [{} for _ in range(n)]
+def grouped(state: State, points: list[Point], results: list[RunResult]) -> list[dict[str, list[RunResult]]]:
+    """Each point's results by test, from results in `point_specs`'s order."""
+    by_point: list[dict[str, list[RunResult]]] = [{} for _ in points]
     rest = iter(results)
     for test in state.goals.tests:
-        k = len(runs_of(state.campaign, test)) * packings_of(state.campaign, test)
-        for runs in points:
+        for (settings, _), runs in zip(points, by_point):
+            k = len(runs_of(state.campaign, test)) * packings_at(state.campaign, test, settings)
             runs[test] = list(islice(rest, k))
-    return points
+    return by_point
 
 
 def point_responses(state: State, runs: dict[str, list[RunResult]]) -> tuple[dict | None, list[tuple[str, str]]]:
@@ -114,7 +122,7 @@ def _on_one_packing(campaign: Campaign, test: str, runs: list[dict]) -> dict:
 def folded(state: State, stage: str, points: list[Point], results: list[RunResult]) -> tuple[State, list]:
     """The responses of each point (None when one of its runs failed), with the runs counted
     against the budget and the failures recorded; CalibrationFailed if every point failed."""
-    per_point = grouped(state, len(points), results)
+    per_point = grouped(state, points, results)
     primary = specs_keys(state, points)
     responses, failed = [], []
     for runs in per_point:

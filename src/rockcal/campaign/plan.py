@@ -21,7 +21,7 @@ import numpy as np
 from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.engine_speed import probe_ms_per_step
 from rockcal.campaign.retries import holds, retry_line
-from rockcal.campaign.parameter_sets import packings_of
+from rockcal.campaign.parameter_sets import packings_at, packings_of
 from rockcal.campaign.procedure import (STEPS, coarse_sample_runs, packing_seeds, sample_runs, search_space,
                                         sensitivity_runs, series_values, start, validation_seeds)
 from rockcal.dem.specimen import packing_name, stored_packing
@@ -78,7 +78,7 @@ def specimens(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
 
     def packings(test: str, settings: SpecimenSettings, first_seeds: list[int]):
         return [(test, settings.model_copy(update={"seed": k})) for first in first_seeds
-                for k in seed_list(first, packings_of(campaign, test))]
+                for k in seed_list(first, packings_at(campaign, test, settings))]
 
     out = [p for step in STEPS for test in step.planned(campaign) if step.specimen(campaign) != s
            for p in packings(test, step.specimen(campaign), [s.seed])]
@@ -240,7 +240,9 @@ def _runs_text(campaign: Campaign, test: str) -> str:
     kind, values, n = lab_test(test), series_values(campaign, test), packings_of(campaign, test)
     text = kind.title if not values else (f"{kind.title} at {len(values)} values of {kind.series.name} "
                                           f"({', '.join(f'{v:g}' for v in values)} {kind.series.unit})")
-    return text + (f" on {n} packings" if n > 1 else "")
+    coarse = n > 1 and any(step.specimen(campaign).rmin_mm != campaign.specimen.rmin_mm
+                           for step in STEPS if step.planned(campaign))
+    return text + (f" on {n} packings" if n > 1 else "") + (" (on coarser grains, on one)" if coarse else "")
 
 
 def _genesis(campaign: Campaign) -> str:

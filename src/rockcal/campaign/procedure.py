@@ -30,7 +30,7 @@ from rockcal.campaign.result import (CalibrationResult, FailedRun, Iteration, Sa
                                      SurrogateCheck)
 from rockcal.campaign.store import RunResult, RunSpec
 from rockcal.campaign.parameter_sets import (CalibrationFailed, folded, grouped, optimise, point_specs,
-                                             packings_of, runs_of, series_values, spec_of, specs_keys,
+                                             packings_at, packings_of, runs_of, series_values, spec_of, specs_keys,
                                              specs_of_test)
 from rockcal.campaign.verdict import verdict_of
 from rockcal.campaign.validation import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
@@ -296,7 +296,7 @@ def verification_runs(state: State) -> Runs:
         passed = [i for i, it in enumerate(iterations) if _within(it.errors, tolerance)]
         start_at = len(new.iterations)
         curves = dict(zip(specs_keys(new, points),
-                          (runs[PRIMARY_TEST][0].curve for runs in grouped(state, len(points), results))))
+                          (runs[PRIMARY_TEST][0].curve for runs in grouped(state, points, results))))
         return replace(
             new, iterations=new.iterations + tuple(iterations), objective=objective.describe(),
             train_x=np.vstack([new.train_x, *[x for x, _ in fresh]]), train_y=new.train_y + [v for _, v in fresh],
@@ -381,9 +381,11 @@ def validation_seeds(campaign: Campaign, test: str) -> list[int]:
 
 # -- the list ----------------------------------------------------------------------------------
 
-def _per_test(campaign: Campaign, n: int) -> dict[str, int]:
-    """The runs of each test calibrated against at `n` parameter sets."""
-    return {test: n * len(runs_of(campaign, test)) * packings_of(campaign, test)
+def _per_test(campaign: Campaign, n: int, specimen: SpecimenSettings | None = None) -> dict[str, int]:
+    """The runs of each test calibrated against at `n` parameter sets on `specimen` (the
+    campaign's when None)."""
+    specimen = specimen or campaign.specimen
+    return {test: n * len(runs_of(campaign, test)) * packings_at(campaign, test, specimen)
             for test in campaign.target_sections()} if n else {}
 
 
@@ -397,9 +399,9 @@ def _final_planned(campaign: Campaign) -> dict[str, int]:
 
 
 STEPS: tuple[Step, ...] = (
-    Step("sensitivity", sensitivity_runs, lambda c: _per_test(c, len(sensitivity_rows(c))),
+    Step("sensitivity", sensitivity_runs, lambda c: _per_test(c, len(sensitivity_rows(c)), c.sensitivity_specimen()),
          specimen=lambda c: c.sensitivity_specimen()),
-    Step(COARSE_SAMPLES, coarse_sample_runs, lambda c: _per_test(c, c.surrogate.coarse_samples),
+    Step(COARSE_SAMPLES, coarse_sample_runs, lambda c: _per_test(c, c.surrogate.coarse_samples, c.coarse_specimen()),
          specimen=lambda c: c.coarse_specimen()),
     Step(SAMPLES_AND_CHECKS, sample_runs, lambda c: _per_test(c, c.surrogate.samples + c.surrogate.checks)),
     Step("verification", verification_runs, lambda c: _per_test(c, 1), again=lambda state: not state.settled),
