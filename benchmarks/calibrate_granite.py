@@ -1,7 +1,8 @@
 """The embedded granite campaign at full resolution, timed, beside the source study's figures.
 
-Run by hand: `python benchmarks/calibrate_granite.py [--out runs/granite-bench] [--workers N]`.
-Runs `rockcal calibrate --json` (resuming the folder's store if it holds one) and prints the wall
+Run by hand: `python benchmarks/calibrate_granite.py [--out runs/granite-bench] [--workers N]
+[--campaign FILE]`. Runs `rockcal calibrate --json` on the embedded granite, or on a campaign
+file of the same rock (resuming the folder's store if it holds one), and prints the wall
 time, the DEM runs used, the identified parameters, the verified errors and K_IC. The wall time
 is also given in "UCS units": divided by one full-size UCS run at the source's identified point
 (granite specimen and strength spread, all threads) timed in the same benchmark, so that
@@ -44,6 +45,7 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--out", type=Path, default=Path("runs/granite-bench"))
     parser.add_argument("--workers", type=int, default=0)
+    parser.add_argument("--campaign", type=Path, help="a campaign file (default: the embedded granite)")
     parser.add_argument("--reference-runs", type=int, default=2,
                         help="times the reference UCS run is timed before the campaign (once more "
                              "after it; the unit: the mean of the fastest before and the one after; "
@@ -52,7 +54,8 @@ def main() -> None:
     walls, at_source = reference_ucs(args.reference_runs) if args.reference_runs > 0 else ([], None)
     reference_s = min(walls, default=None)
     started = time.perf_counter()
-    command = [sys.executable, "-m", "rockcal", "calibrate", "--out", str(args.out),
+    command = [sys.executable, "-m", "rockcal", "calibrate", *([str(args.campaign)] if args.campaign else []),
+               "--out", str(args.out),
                "--workers", str(args.workers), "--json"]
     if (args.out / "runs.sqlite").exists():
         command.append("--resume")
