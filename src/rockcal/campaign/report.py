@@ -172,8 +172,9 @@ def _verdict(result: CalibrationResult) -> str:
                  "strength than this rock.")
         text += (" Constant bond strengths, a wider installation gap and a cut notch raise "
                  "UCS / K_IC, a narrower gap lowers it: recalibrated with bonds within 0.9, 1.1 "
-                 "and 1.2 R_min, the granite's K_IC went from +99 % to +24 %, +5.8 % and -13 % "
-                 "(docs/campaigns/granite-tough.toml, at 1.1 R_min).")
+                 "and 1.2 R_min, the granite's K_IC went from +99 % to +24 %, +5.8 % and -13 %; "
+                 "docs/campaigns/granite-all-targets.toml searches the gap and meets all four "
+                 "of the granite's lab values.")
     return text + (" Use these parameters where the UCS responses matter; where fracture "
                    "matters, calibrate with K_IC as a target ([targets.bending] with "
                    "[validation] tests = []) and weigh the two fits.</p>")
