@@ -240,8 +240,7 @@ def _runs_text(campaign: Campaign, test: str) -> str:
     kind, values, n = lab_test(test), series_values(campaign, test), packings_of(campaign, test)
     text = kind.title if not values else (f"{kind.title} at {len(values)} values of {kind.series.name} "
                                           f"({', '.join(f'{v:g}' for v in values)} {kind.series.unit})")
-    coarse = n > 1 and any(step.specimen(campaign).rmin_mm != campaign.specimen.rmin_mm
-                           for step in STEPS if step.planned(campaign))
+    coarse = any(packings_at(campaign, test, step.specimen(campaign)) < n for step in STEPS if step.planned(campaign))
     return text + (f" on {n} packings" if n > 1 else "") + (" (on coarser grains, on one)" if coarse else "")
 
 
