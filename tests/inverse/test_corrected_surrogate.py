@@ -1,5 +1,6 @@
 """The multi-fidelity surrogate: ρ ŷ_l + δ meets the high-fidelity runs exactly, and a
-high-fidelity response that is a multiple of the low one is recovered everywhere from a few runs."""
+high-fidelity response that is a multiple of the low one is recovered everywhere from a few runs
+(from one, ρ alone)."""
 
 import numpy as np
 import pytest
@@ -18,7 +19,7 @@ def _low(x):
 def _corrected(high, n_high=4):
     x_low = latin_hypercube(BOX, 40, seed=1)
     low = RBFSurrogate(x_low, _low(x_low), BOX)
-    x_high = latin_hypercube(BOX, n_high, seed=2)
+    x_high = latin_hypercube(BOX, n_high, seed=2) if n_high > 1 else np.array([[0.3, 1.1]])
     return CorrectedSurrogate(low, x_high, high(x_high), BOX), x_high
 
 
@@ -33,3 +34,10 @@ def test_a_multiple_of_the_low_fidelity_response_is_recovered_everywhere():
     assert surrogate.rho["y"] == pytest.approx(1.25, rel=1e-3)
     probe = latin_hypercube(BOX, 200, seed=3)
     assert surrogate.predict(probe)["y"] == pytest.approx(1.25 * _low(probe)["y"], rel=2e-3)
+
+
+def test_one_high_fidelity_run_scales_the_low_fidelity_surrogate():
+    surrogate, x_high = _corrected(lambda x: {"y": 0.9 * _low(x)["y"]}, n_high=1)
+    assert surrogate.predict(x_high[0])["y"] == pytest.approx(0.9 * _low(x_high)["y"][0], rel=1e-9)
+    probe = latin_hypercube(BOX, 50, seed=3)
+    assert surrogate.predict(probe)["y"] == pytest.approx(0.9 * surrogate.low.predict(probe)["y"], rel=1e-4)

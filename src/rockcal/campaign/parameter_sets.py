@@ -58,31 +58,38 @@ def packings_of(campaign: Campaign, test: str) -> int:
     return 1 if section is None else section.packings
 
 
-def packings_at(campaign: Campaign, test: str, settings: SpecimenSettings) -> int:
-    """Over how many packings a test runs at a parameter set on the specimen `settings`: its
-    `packings_of` at the campaign's resolution; one on coarser grains (the sensitivity runs,
-    the coarse samples), whose runs rank the parameters and shape the low-fidelity surrogate
-    that the full-resolution means correct, so the packings' scatter is read where it counts."""
-    return packings_of(campaign, test) if settings.rmin_mm == campaign.specimen.rmin_mm else 1
+def packings_at(campaign: Campaign, test: str, means: bool) -> int:
+    """Over how many packings a test runs at a parameter set: its `packings_of` where the runs
+    judge the parameters against the targets (`means`: the verification, the intervals), one
+    where they train the surrogate (sensitivity, coarse and full-resolution samples, checks).
+    The surrogate thus learns the first packing's responses cheaply, and the means at the
+    verified points correct it to the packings' mean (`procedure`)."""
+    return packings_of(campaign, test) if means else 1
 
 
-def point_specs(state: State, points: list[Point]) -> list[RunSpec]:
+def point_specs(state: State, points: list[Point], means: bool = False) -> list[RunSpec]:
     """The runs of every test calibrated against at each point, test by test, on each of the
-    test's packings."""
+    test's packings (`packings_at`)."""
     return [spec for test in state.goals.tests for settings, row in points
-            for seed in seed_list(settings.seed, packings_at(state.campaign, test, settings))
+            for seed in seed_list(settings.seed, packings_at(state.campaign, test, means))
             for spec in specs_of_test(state, test, settings.model_copy(update={"seed": seed}), row)]
 
 
-def grouped(state: State, points: list[Point], results: list[RunResult]) -> list[dict[str, list[RunResult]]]:
+def grouped(state: State, points: list[Point], results: list[RunResult],
+            means: bool = False) -> list[dict[str, list[RunResult]]]:
     """Each point's results by test, from results in `point_specs`'s order."""
     by_point: list[dict[str, list[RunResult]]] = [{} for _ in points]
     rest = iter(results)
     for test in state.goals.tests:
-        for (settings, _), runs in zip(points, by_point):
-            k = len(runs_of(state.campaign, test)) * packings_at(state.campaign, test, settings)
+        k = len(runs_of(state.campaign, test)) * packings_at(state.campaign, test, means)
+        for runs in by_point:
             runs[test] = list(islice(rest, k))
     return by_point
+
+
+def first_packing(state: State, runs: dict[str, list[RunResult]]) -> dict[str, list[RunResult]]:
+    """A point's runs by test on its first packing only."""
+    return {test: results[:len(runs_of(state.campaign, test))] for test, results in runs.items()}
 
 
 def point_responses(state: State, runs: dict[str, list[RunResult]]) -> tuple[dict | None, list[tuple[str, str]]]:
@@ -119,10 +126,12 @@ def _on_one_packing(campaign: Campaign, test: str, runs: list[dict]) -> dict:
     return lab_test(test).point_responses(runs, series_values(campaign, test))
 
 
-def folded(state: State, stage: str, points: list[Point], results: list[RunResult]) -> tuple[State, list]:
-    """The responses of each point (None when one of its runs failed), with the runs counted
-    against the budget and the failures recorded; CalibrationFailed if every point failed."""
-    per_point = grouped(state, points, results)
+def folded(state: State, stage: str, points: list[Point], results: list[RunResult],
+           means: bool = False) -> tuple[State, list]:
+    """The responses of each point from its runs (`point_specs`, with `means`; None when one
+    failed), with the runs counted against the budget and the failures recorded;
+    CalibrationFailed if every point failed."""
+    per_point = grouped(state, points, results, means)
     primary = specs_keys(state, points)
     responses, failed = [], []
     for runs in per_point:

@@ -76,13 +76,13 @@ def specimens(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
     s = campaign.specimen
     seeds = packing_seeds(campaign) if campaign.wants_uncertainty() else [s.seed]
 
-    def packings(test: str, settings: SpecimenSettings, first_seeds: list[int]):
+    def packings(test: str, settings: SpecimenSettings, first_seeds: list[int], means: bool):
         return [(test, settings.model_copy(update={"seed": k})) for first in first_seeds
-                for k in seed_list(first, packings_at(campaign, test, settings))]
+                for k in seed_list(first, packings_at(campaign, test, means))]
 
     out = [p for step in STEPS for test in step.planned(campaign) if step.specimen(campaign) != s
-           for p in packings(test, step.specimen(campaign), [s.seed])]
-    out += [p for test in campaign.target_sections() for p in packings(test, s, seeds)]
+           for p in packings(test, step.specimen(campaign), [s.seed], means=False)]
+    out += [p for test in campaign.target_sections() for p in packings(test, s, seeds, means=True)]
     out += [(test, s.model_copy(update={"seed": seed})) for test in campaign.validation_tests()
             for seed in validation_seeds(campaign, test)]
     return list({packing_file(test, settings): (test, settings) for test, settings in out}.values())
@@ -240,8 +240,7 @@ def _runs_text(campaign: Campaign, test: str) -> str:
     kind, values, n = lab_test(test), series_values(campaign, test), packings_of(campaign, test)
     text = kind.title if not values else (f"{kind.title} at {len(values)} values of {kind.series.name} "
                                           f"({', '.join(f'{v:g}' for v in values)} {kind.series.unit})")
-    coarse = any(packings_at(campaign, test, step.specimen(campaign)) < n for step in STEPS if step.planned(campaign))
-    return text + (f" on {n} packings" if n > 1 else "") + (" (on coarser grains, on one)" if coarse else "")
+    return text + (f" (verified on {n} packings, their mean; the surrogate's runs on one)" if n > 1 else "")
 
 
 def _genesis(campaign: Campaign) -> str:

@@ -29,9 +29,9 @@ from rockcal.campaign.goals import Goals, goals_of
 from rockcal.campaign.result import (CalibrationResult, FailedRun, Iteration, Samples, Sensitivity,
                                      SurrogateCheck)
 from rockcal.campaign.store import RunResult, RunSpec
-from rockcal.campaign.parameter_sets import (CalibrationFailed, folded, grouped, optimise, point_specs,
-                                             packings_at, packings_of, runs_of, series_values, spec_of, specs_keys,
-                                             specs_of_test)
+from rockcal.campaign.parameter_sets import (CalibrationFailed, first_packing, folded, grouped, optimise,
+                                             packings_at, packings_of, point_responses, point_specs, runs_of,
+                                             series_values, spec_of, specs_keys, specs_of_test)
 from rockcal.campaign.verdict import verdict_of
 from rockcal.campaign.validation import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
 from rockcal.inverse import RBFSurrogate, Objective, design, latin_hypercube, range_analysis
@@ -67,6 +67,9 @@ class State:
     low_fidelity: RBFSurrogate | None = None  # the surrogate of the coarse runs, fitted once
     train_x: np.ndarray | None = None  # the surrogate's training points and their responses
     train_y: list = field(default_factory=list)
+    # where targets are means over packings: the verified points and their means
+    means_x: np.ndarray | None = None
+    means_y: list = field(default_factory=list)
     iterations: tuple[Iteration, ...] = ()
     objective: str = ""
     accepted: int | None = None  # the accepted iteration
@@ -280,7 +283,7 @@ def verification_runs(state: State) -> Runs:
     other distinct optima on it ([acceptance] candidates), their DEM runs; the round settles
     the loop when a verified point is accepted, the budget is spent or nothing new was found."""
     campaign, names = state.campaign, state.names
-    surrogate = _fit(state, state.train_x, state.train_y)
+    surrogate = _judged(state)
     objective = Objective(surrogate.predict, state.goals.targets, weights=state.goals.weights or None)
     found = _candidates(state, objective, surrogate)
     xs = [_round(opt.x) for opt in found]
@@ -288,22 +291,39 @@ def verification_runs(state: State) -> Runs:
     loop = len({it.loop for it in state.iterations})
 
     def fold(results, progress) -> State:
-        new, verified = folded(state, "verification", points, results)
+        new, verified = folded(state, "verification", points, results, means=True)
+        per_point = grouped(state, points, results, means=True)
+        first = [point_responses(new, first_packing(new, runs))[0] for runs in per_point]
         iterations = [_iteration(new, opt, x, surrogate, v, loop) for opt, x, v in zip(found, xs, verified)]
-        fresh = [(x, v) for x, v in zip(xs, verified)
+        fresh = [(x, v) for x, v in zip(xs, first)
                  if v is not None and not any(np.allclose(x, row) for row in new.train_x)]
         tolerance = campaign.acceptance.tolerance
         passed = [i for i, it in enumerate(iterations) if _within(it.errors, tolerance)]
         start_at = len(new.iterations)
-        curves = dict(zip(specs_keys(new, points),
-                          (runs[PRIMARY_TEST][0].curve for runs in grouped(state, points, results))))
+        curves = dict(zip(specs_keys(new, points), (runs[PRIMARY_TEST][0].curve for runs in per_point)))
+        if _averaged(campaign):
+            new = _with_means(new, xs, verified)
         return replace(
             new, iterations=new.iterations + tuple(iterations), objective=objective.describe(),
             train_x=np.vstack([new.train_x, *[x for x, _ in fresh]]), train_y=new.train_y + [v for _, v in fresh],
             accepted=start_at + passed[0] if passed else None, curves=new.curves | curves,
             settled=bool(passed) or len(new.dem_runs) >= campaign.acceptance.max_dem_runs or not fresh)
 
-    return Runs(point_specs(state, points), fold)
+    return Runs(point_specs(state, points, means=True), fold)
+
+
+def _averaged(campaign: Campaign) -> bool:
+    """Whether some target is a mean over packings."""
+    return any(packings_of(campaign, test) > 1 for test in campaign.target_sections())
+
+
+def _with_means(state: State, xs: list, verified: list) -> State:
+    """The state with the new verified points' means over packings."""
+    seen = [] if state.means_x is None else list(state.means_x)
+    new = [(x, v) for x, v in zip(xs, verified) if v is not None and not any(np.allclose(x, r) for r in seen)]
+    if not new:
+        return state
+    return replace(state, means_x=np.array(seen + [x for x, _ in new]), means_y=state.means_y + [v for _, v in new])
 
 
 def _candidates(state: State, objective: Objective, surrogate: RBFSurrogate) -> list:
@@ -348,15 +368,14 @@ def final_runs(state: State) -> Runs:
                   for test in campaign.validation_tests()}
     packings = [(campaign.specimen.model_copy(update={"seed": s}), identified)
                 for s in packing_seeds(campaign)] if campaign.wants_uncertainty() else []
-    specs = [spec for runs in validation.values() for spec in runs] + point_specs(state, packings)
+    specs = [spec for runs in validation.values() for spec in runs] + point_specs(state, packings, means=True)
 
     def fold(results, progress) -> State:
         done = dict(zip((spec.key for spec in specs), results))
         final = {"curve_fit": curve_fit_of(state, identified)}
         if packings:
-            surrogate = _fit(state, state.train_x, state.train_y)
-            final["uncertainty"] = uncertainty_of(state, packings, point_specs(state, packings), done, surrogate,
-                                                  progress)
+            final["uncertainty"] = uncertainty_of(state, packings, point_specs(state, packings, means=True), done,
+                                                  _judged(state), progress)
         final["validation"] = validation_of(campaign, validation.get(KIC_TEST), done)
         final["checks"] = checks_of(campaign, validation, done)
         return replace(state, final=final)
@@ -381,11 +400,9 @@ def validation_seeds(campaign: Campaign, test: str) -> list[int]:
 
 # -- the list ----------------------------------------------------------------------------------
 
-def _per_test(campaign: Campaign, n: int, specimen: SpecimenSettings | None = None) -> dict[str, int]:
-    """The runs of each test calibrated against at `n` parameter sets on `specimen` (the
-    campaign's when None)."""
-    specimen = specimen or campaign.specimen
-    return {test: n * len(runs_of(campaign, test)) * packings_at(campaign, test, specimen)
+def _per_test(campaign: Campaign, n: int, means: bool = False) -> dict[str, int]:
+    """The runs of each test calibrated against at `n` parameter sets (`packings_at`'s `means`)."""
+    return {test: n * len(runs_of(campaign, test)) * packings_at(campaign, test, means)
             for test in campaign.target_sections()} if n else {}
 
 
@@ -393,18 +410,18 @@ def _final_planned(campaign: Campaign) -> dict[str, int]:
     planned = {test: len(validation_seeds(campaign, test)) * len(runs_of(campaign, test))
                for test in campaign.validation_tests()}
     if campaign.wants_uncertainty():
-        for test, n in _per_test(campaign, campaign.uncertainty.packings - 1).items():
+        for test, n in _per_test(campaign, campaign.uncertainty.packings - 1, means=True).items():
             planned[test] = planned.get(test, 0) + n
     return planned
 
 
 STEPS: tuple[Step, ...] = (
-    Step("sensitivity", sensitivity_runs, lambda c: _per_test(c, len(sensitivity_rows(c)), c.sensitivity_specimen()),
+    Step("sensitivity", sensitivity_runs, lambda c: _per_test(c, len(sensitivity_rows(c))),
          specimen=lambda c: c.sensitivity_specimen()),
-    Step(COARSE_SAMPLES, coarse_sample_runs, lambda c: _per_test(c, c.surrogate.coarse_samples, c.coarse_specimen()),
+    Step(COARSE_SAMPLES, coarse_sample_runs, lambda c: _per_test(c, c.surrogate.coarse_samples),
          specimen=lambda c: c.coarse_specimen()),
     Step(SAMPLES_AND_CHECKS, sample_runs, lambda c: _per_test(c, c.surrogate.samples + c.surrogate.checks)),
-    Step("verification", verification_runs, lambda c: _per_test(c, 1), again=lambda state: not state.settled),
+    Step("verification", verification_runs, lambda c: _per_test(c, 1, means=True), again=lambda state: not state.settled),
     Step(PACKINGS_AND_VALIDATION, final_runs, _final_planned),
 )
 
@@ -436,7 +453,7 @@ def result_of(state: State) -> CalibrationResult:
 
 def _verdict(state: State):
     """Which targets conflict, read on the surrogate of every run and on the runs seen."""
-    surrogate = _fit(state, state.train_x, state.train_y)
+    surrogate = _judged(state)
     return verdict_of(state.goals.targets, state.campaign.acceptance.tolerance, state.box,
                       surrogate.predict, state.train_y, state.iterations[state.best()].errors)
 
@@ -449,6 +466,16 @@ def _fit(state: State, x, y) -> RBFSurrogate | CorrectedSurrogate:
     if state.low_fidelity is None:
         return RBFSurrogate(x, _responses(state, y), state.box)
     return CorrectedSurrogate(state.low_fidelity, x, _responses(state, y), state.box)
+
+
+def _judged(state: State) -> RBFSurrogate | CorrectedSurrogate:
+    """The surrogate of what the targets are judged on: `_fit` of every full-resolution run,
+    corrected by the means at the verified points where targets are means over packings (the
+    runs that train it are on the first packing)."""
+    surrogate = _fit(state, state.train_x, state.train_y)
+    if not state.means_y:
+        return surrogate
+    return CorrectedSurrogate(surrogate, state.means_x, _responses(state, state.means_y), state.box)
 
 
 def _responses(state: State, rows: list[dict]) -> dict[str, np.ndarray]:

@@ -23,7 +23,7 @@ def uncertainty_of(state, packings: list, specs: list, done: dict, surrogate, pr
     response), then the parameters' intervals for targets drawn from the lab's spread and
     that scatter (`rockcal.inverse.uncertainty`), each solved on the surrogate."""
     campaign, goals, u = state.campaign, state.goals, state.campaign.uncertainty
-    per_point = grouped(state, packings, [done[spec.key] for spec in specs])
+    per_point = grouped(state, packings, [done[spec.key] for spec in specs], means=True)
     found = [point_responses(state, runs)[0] for runs in per_point]
     ok = [responses for responses in found if responses is not None]
     scatter = {r: float(np.std([v[r] for v in ok], ddof=1) / abs(np.mean([v[r] for v in ok])))

@@ -27,13 +27,15 @@ class CorrectedSurrogate:
         self.low = low
         self.names = tuple(responses)
         self.rho = {r: _scale(at_runs[r], np.asarray(responses[r], float)) for r in self.names}
-        self.delta = RBFSurrogate(x, {r: np.asarray(responses[r], float) - self.rho[r] * at_runs[r]
-                                      for r in self.names}, bounds, degree=0)
-        self.epsilon = self.delta.epsilon
+        left = {r: np.asarray(responses[r], float) - self.rho[r] * at_runs[r] for r in self.names}
+        # one high-fidelity run fixes ρ alone: nothing is left to interpolate
+        self.delta = RBFSurrogate(x, left, bounds, degree=0) if len(x) > 1 else None
+        self.epsilon = low.epsilon if self.delta is None else self.delta.epsilon
 
     def predict(self, x) -> dict:
         """{response: prediction} at x, (d,) for one point (scalars out) or (m, d)."""
-        low, delta = self.low.predict(x), self.delta.predict(x)
+        low = self.low.predict(x)
+        delta = self.delta.predict(x) if self.delta else dict.fromkeys(self.names, 0.0)
         return {r: self.rho[r] * low[r] + delta[r] for r in self.names}
 
     validate = RBFSurrogate.validate
