@@ -101,8 +101,10 @@ def uninterrupted(tmp_path_factory):
 
 
 def stored_runs(store) -> int:
+    """The runs in the store, read only: a plain connect would create an empty file where the
+    campaign is about to make its store, and the campaign would take it for another's."""
     try:
-        db = sqlite3.connect(store, timeout=30)
+        db = sqlite3.connect(f"file:{store}?mode=ro", uri=True, timeout=30)
         try:
             return db.execute("SELECT COUNT(*) FROM runs").fetchone()[0]
         finally:
@@ -124,7 +126,7 @@ def test_a_killed_holder_leaves_its_store_to_the_waiter(sig, uninterrupted, tmp_
         waiter = calibrate(config, out, "--resume", "--wait", "--json", stderr=err)
         while time.time() < deadline and "waiting" not in log.read_text():
             time.sleep(0.05)
-    assert first.poll() is None, "the campaign ended before it could be killed"
+    assert first.poll() is None, f"the campaign ended before it could be killed: {first.communicate()[1]}"
     first.send_signal(sig)
     first.communicate(timeout=300)
     stdout, _ = waiter.communicate(timeout=600)
