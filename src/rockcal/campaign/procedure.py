@@ -295,14 +295,13 @@ def verification_runs(state: State) -> Runs:
         per_point = grouped(state, points, results, means=True)
         first = [point_responses(new, first_packing(new, runs))[0] for runs in per_point]
         iterations = [_iteration(new, opt, x, surrogate, v, loop) for opt, x, v in zip(found, xs, verified)]
-        fresh = [(x, v) for x, v in zip(xs, first)
-                 if v is not None and not any(np.allclose(x, row) for row in new.train_x)]
+        fresh = _unseen(xs, first, new.train_x)
         tolerance = campaign.acceptance.tolerance
         passed = [i for i, it in enumerate(iterations) if _within(it.errors, tolerance)]
         start_at = len(new.iterations)
         curves = dict(zip(specs_keys(new, points), (runs[PRIMARY_TEST][0].curve for runs in per_point)))
         if _averaged(campaign):
-            new = _with_means(new, xs, verified)
+            new = _with_means(new, _unseen(xs, verified, new.means_x))
         return replace(
             new, iterations=new.iterations + tuple(iterations), objective=objective.describe(),
             train_x=np.vstack([new.train_x, *[x for x, _ in fresh]]), train_y=new.train_y + [v for _, v in fresh],
@@ -317,12 +316,17 @@ def _averaged(campaign: Campaign) -> bool:
     return any(packings_of(campaign, test) > 1 for test in campaign.target_sections())
 
 
-def _with_means(state: State, xs: list, verified: list) -> State:
-    """The state with the new verified points' means over packings."""
-    seen = [] if state.means_x is None else list(state.means_x)
-    new = [(x, v) for x, v in zip(xs, verified) if v is not None and not any(np.allclose(x, r) for r in seen)]
+def _unseen(xs: list, responses: list, seen: np.ndarray | None) -> list[tuple]:
+    """(x, responses) of the points that succeeded and are none of the points `seen`."""
+    seen = [] if seen is None else seen
+    return [(x, v) for x, v in zip(xs, responses) if v is not None and not any(np.allclose(x, row) for row in seen)]
+
+
+def _with_means(state: State, new: list[tuple]) -> State:
+    """The state with the means over packings (x, means) of newly verified points."""
     if not new:
         return state
+    seen = [] if state.means_x is None else list(state.means_x)
     return replace(state, means_x=np.array(seen + [x for x, _ in new]), means_y=state.means_y + [v for _, v in new])
 
 
