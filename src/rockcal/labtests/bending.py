@@ -65,15 +65,17 @@ DEFAULT_MAX_DISPLACEMENT_MM = 1.0
 # fallen below this fraction of the peak, so that the crack path is there to be seen. Once the
 # peak is known (a fall below 0.8 of it has lasted as long as a swing could) this fall counts at
 # once. A run for K_IC alone may stop earlier (`stop_fraction` 0.9: P_max is certain once the
-# load has stayed below 0.9 of it for two flexural periods).
+# load has stayed below 0.9 of it for a flexural period).
 POST_PEAK_FRACTION = 0.3
 # The beam rings at its first flexural period after the pin touches it or slows down: the load
 # read at the pin swings about the one its travel gives (the pin touching a 220 x 50 mm beam
 # at R_min 0.5 mm: from 5.05 down to 1.24 kN/m in 1 960 steps, half a period, with no bond
-# broken). Loads read in the first CONFIRM_FLEXURAL_PERIODS periods after the pin touches do
-# not count, and a fall below a fraction of the peak (to full speed, to the end of the test)
-# counts once it has lasted as long: a swing comes back within one period.
-CONFIRM_FLEXURAL_PERIODS = 2.0
+# broken). Loads read in the first TOUCH_FLEXURAL_PERIODS periods after the pin touches do not
+# count, and a fall below a fraction of the peak (to full speed, to the end of the test) counts
+# once it has lasted CONFIRM_FLEXURAL_PERIODS: a swing comes back within one period, a crack's
+# fall does not.
+TOUCH_FLEXURAL_PERIODS = 2.0
+CONFIRM_FLEXURAL_PERIODS = 1.0
 # The beam's grains are density-scaled (`simulate.scale_density`, as in the UCS test): it rings
 # and its waves cross in fewer steps, and its pin runs this much faster with a ramp and window
 # this much shorter. The fastest that keeps the granite's three-beam K_IC within 2 % at half
@@ -177,12 +179,11 @@ def flexural_period_s(beam: Beam, wave_speed_m_per_s: float) -> float:
     return 2.0 * np.sqrt(12.0) * span_m**2 / (np.pi * depth_m * wave_speed_m_per_s)
 
 
-def confirm_steps(beam: Beam, params: MicroParams, specimen: Specimen, dt_s: float,
-                  mass_scale: float = 1.0) -> float:
-    """The steps a fall of the load must last to count: CONFIRM_FLEXURAL_PERIODS of the beam's
-    first flexural period (its grains' masses scaled by mass_scale)."""
+def period_steps(beam: Beam, params: MicroParams, specimen: Specimen, dt_s: float,
+                 mass_scale: float = 1.0) -> float:
+    """The beam's first flexural period in steps (its grains' masses scaled by mass_scale)."""
     period_s = flexural_period_s(beam, wave_speed_m_per_s(params, specimen.porosity, mass_scale))
-    return CONFIRM_FLEXURAL_PERIODS * period_s / dt_s
+    return period_s / dt_s
 
 
 def pin_disks(centre, pin_radius: float, disk_radius: float, facing_up: bool) -> np.ndarray:
@@ -251,7 +252,7 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
     particles = state.particles
     pin_y0 = particles.pos[is_pin, 1].mean()
     first_break = np.empty((0, 2))
-    ringing_steps = confirm_steps(beam, params, specimen, state.dt, mass_scale)
+    period = period_steps(beam, params, specimen, state.dt, mass_scale)
     touch_load = 1e9 * contact_GPa * THICKNESS_M * pin_step  # one contact pressed one pin step
     touched = False
 
@@ -267,14 +268,14 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
         load = 0.5 * (particles.force[is_pin, 1].sum() + -particles.force[is_support, 1].sum())
         if not touched and load > touch_load:  # the pin hits the beam: it rings
             touched = True
-            loading.wait(state.step, ringing_steps)
+            loading.wait(state.step, TOUCH_FLEXURAL_PERIODS * period)
         return Reading(load, displacement, (1e3 * displacement, load / 1e3))
 
     def crack_has_run(reading: Reading) -> bool:
         return loading.fallen_below(stop_fraction, reading.load) and state.n_broken() > 0
 
     loading = Loading(RAMP_STEPS_PER_ROW * rows / DENSITY_SCALED_SPEED, NOTCH_TIP_DAMAGE,
-                      ringing_steps, intact_speed=INTACT_PIN_SPEED)
+                      CONFIRM_FLEXURAL_PERIODS * period, intact_speed=INTACT_PIN_SPEED)
     curve = load_to_failure(state, loading, max(10, int(rows / 4)), move, read, crack_has_run,
                             1e-3 * max_displacement_mm, full_speed_past_peak=True, progress=progress)
     k = int(np.argmax(curve[:, 1]))
@@ -338,5 +339,5 @@ TEST = LabTest(
     check=_check, make=_specimen, run=_run, reading=load_reading,
     outline=lambda s: Outline(f"beam {s['beam_length_mm']:g} x {s['beam_height_mm']:g} mm",
                               s["beam_length_mm"], s["beam_height_mm"]),
-    revision=7)  # part of every stored bending run's key: raise it when the test's numbers change
+    revision=8)  # part of every stored bending run's key: raise it when the test's numbers change
 # (what changed in each revision: CHANGELOG.md)

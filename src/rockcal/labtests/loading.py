@@ -57,7 +57,7 @@ class Loading:
     about the load the pin's travel gives) needs a fall below the settled peak to last instead:
     it counts once every reading for `confirm_steps` has been below, settled or not (a
     slow-down's transient is a few per cent of the load and passes within `ramp_steps`; a fall
-    that lasts two flexural periods is the crack's), until the peak is known (`peak_known`,
+    that lasts a flexural period is the crack's), until the peak is known (`peak_known`,
     set by `load_to_failure`); from then on the test runs for its crack, and a fall counts at
     once.
     """
