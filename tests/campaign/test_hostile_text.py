@@ -130,7 +130,7 @@ def test_rich_markup_in_a_rock_name_is_printed_as_text(rock, tmp_path, capsys):
     store, result = finished(tmp_path, rock)
     try:
         _print_plan(campaign, store, SimpleNamespace(workers=None), None)
-        _print_summary(result, tmp_path / "report.html", as_json=False)
+        _print_summary(result, tmp_path / "report.html", as_json=False, timing={})
     finally:
         store.close()
     captured = capsys.readouterr()

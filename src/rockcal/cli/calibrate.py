@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import sys
+import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Optional
 
@@ -41,6 +42,7 @@ def calibrate(
     tls_key: Optional[Path] = typer.Option(None, help="tls:// scheduler: this client's key (PEM; default: in --tls-cert)."),
 ) -> None:
     """Identify BPM micro-parameters from lab results by the inverse procedure, with a report."""
+    started = time.perf_counter()
     from rockcal.campaign.config import load_campaign, quick_look, quick_look_note
     from rockcal.campaign.io_errors import one_line_errors
     from rockcal.campaign.out_folder import out_folder
@@ -64,13 +66,17 @@ def calibrate(
         if (out / STORE_NAME).exists() and not resume:
             raise InputError("--out", f"{out} already holds a campaign's runs; add --resume to go on "
                                       "with it, or choose another folder")
-        result, html = _run_campaign(campaign, text, note, out, quick, as_json,
-                                     dict(workers=workers, scheduler=scheduler, time_limit_s=time_limit_s, tls=tls))
-    _print_summary(result, html, as_json)
+        result, html, began = _run_campaign(campaign, text, note, out, quick, as_json,
+                                            dict(workers=workers, scheduler=scheduler, time_limit_s=time_limit_s,
+                                                 tls=tls))
+    timing = {"stage_began_s": {stage: round(t - started, 1) for stage, t in began.items()},
+              "elapsed_s": round(time.perf_counter() - started, 1)}
+    _print_summary(result, html, as_json, timing)
 
 
 def _run_campaign(campaign, text: str, note: str | None, out: Path, quick: bool, as_json: bool, how: dict):
-    """Run the campaign on the store in OUT (held: `store_lock`); its result and report."""
+    """Run the campaign on the store in OUT (held: `store_lock`); its result, its report and
+    when each stage began (`time.perf_counter`)."""
     from rockcal.campaign.executors import make_executor
     from rockcal.campaign.out_folder import no_empty_store
     from rockcal.campaign.plan import stage_runs, stage_times
@@ -102,7 +108,7 @@ def _run_campaign(campaign, text: str, note: str | None, out: Path, quick: bool,
             html = _write_report(result, store, out)
         finally:
             store.close()
-    return result, html
+    return result, html, progress.began
 
 
 def _cluster_options(scheduler: str | None, ca_file, cert, key):
@@ -209,6 +215,7 @@ class _stage_progress:
         self.runs: dict[str, tuple[int, int, int]] = {}  # stage: (done when begun, done, total)
         self.tasks: dict[str, int] = {}
         self.current = None  # the stage now running
+        self.began: dict[str, float] = {}  # when each stage began (time.perf_counter)
 
     def live(self, text: str) -> None:
         """Show what the running tests read now, after the current stage's bar."""
@@ -224,6 +231,7 @@ class _stage_progress:
 
     def __call__(self, stage: str, done: int, total: int) -> None:
         if stage not in self.tasks:
+            self.began[stage] = time.perf_counter()
             if self.current is not None:
                 self.bar.update(self.current, live="")
             self.tasks[stage] = self.current = self.bar.add_task(stage, total=total, live="", count="")
@@ -275,12 +283,14 @@ def summary(result: CalibrationResult) -> dict:
     }
 
 
-def _print_summary(result: CalibrationResult, html: Path, as_json: bool) -> None:
+def _print_summary(result: CalibrationResult, html: Path, as_json: bool, timing: dict) -> None:
+    """The summary table, or with `as_json` the JSON object with the report's path and
+    `timing`: when each stage began and when the summary was printed, s from the command's start."""
     from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 
     s = summary(result)
     if as_json:
-        typer.echo(json.dumps(s | {"report": str(html)}))
+        typer.echo(json.dumps(s | {"report": str(html)} | timing))
         return
     console = Console()
     verdict = "accepted" if s["accepted"] else "NOT accepted (closest shown)"
