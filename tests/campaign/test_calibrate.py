@@ -83,6 +83,14 @@ def test_twin_experiment_recovers_the_parameters(twin):
     assert result["dem_runs"] <= 24
 
 
+def test_json_says_when_each_stage_began(twin):
+    """In the order the procedure runs them, within the command's elapsed time."""
+    began = twin[1]["stage_began_s"]
+    assert list(began)[:2] == ["samples and checks", "verification"]  # no sensitivity section
+    assert list(began.values()) == sorted(began.values())
+    assert 0 < began["samples and checks"] < began["verification"] < twin[1]["elapsed_s"]
+
+
 def test_killed_campaign_resumes_to_the_same_result_running_nothing_twice(twin, tmp_path):
     config, uninterrupted = twin
     out = tmp_path / "out"
