@@ -7,7 +7,7 @@ Run by hand: `python benchmarks/ldb_install_gap.py --store runs/ldb-gap [--gaps 
 verified point of `rockcal calibrate ldb` (its verdict); the specimens and fixed parameters are
 the campaign's. Every run goes through the run store (a stopped table resumes). Prints a
 Markdown table: per gap, the means over the packings and UCS / Brazilian of those means.
-About 5 min on 2 cores once the specimens are made.
+About 4 min on 2 cores once the specimens are made.
 """
 
 import argparse
