@@ -1,0 +1,44 @@
+"""A fingerprint of every registered lab test's run on both materials, on small specimens: the
+run's key and a SHA-256 of its responses, curve and cracks. A change that must not move the
+engine's numbers (a refactor) prints the same lines before and after; a different processor of
+the same kind prints the same lines too (`docs/concepts/reproducibility.md`).
+
+    python benchmarks/run_fingerprints.py            # about 1 min on one core, specimens cached
+"""
+
+import hashlib
+import json
+
+from rockcal.campaign.config import SpecimenSettings
+from rockcal.campaign.forward import execute, run_spec
+from rockcal.labtests.registry import LAB_TESTS
+
+SMALL = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16, disk_diameter_mm=10, beam_length_mm=44,
+                         beam_height_mm=10, notch_mm=3.6, notch_width_mm=0.8, span_mm=32)
+MATERIALS = {
+    "parallel_bond": {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 40.0, "tau_c": 60.0, "sigma_c_cv": 0.2,
+                      "tau_c_cv": 0.2, "phi_b": 20.0},
+    "flatjoint": {"fj_emod": 30.0, "fj_kratio": 2.0, "fj_ten": 20.0, "fj_ten_cv": 0.2, "fj_coh": 60.0,
+                  "fj_coh_cv": 0.2, "fj_fa": 30.0, "fj_nr": 2, "fjm_B_frac": 0.8},
+}
+
+
+def fingerprint(result) -> str:
+    digest = hashlib.sha256(json.dumps(result.responses, sort_keys=True).encode())
+    for array in (result.curve, result.cracks):
+        if array is not None:
+            digest.update(array.tobytes())
+    return digest.hexdigest()[:16]
+
+
+def main() -> None:
+    for model, params in MATERIALS.items():
+        for test in LAB_TESTS:
+            spec = run_spec(test, SMALL, params, model)
+            result = execute(spec)
+            print(f"{model:13s} {test:15s} key {spec.key}  {result.status:6s} {fingerprint(result)}  "
+                  f"{result.message}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
