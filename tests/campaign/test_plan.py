@@ -35,12 +35,12 @@ checks = 2
 packings = 4
 """, tmp_path)
     assert stages(campaign) == [("sensitivity", "ucs", 9), ("samples and checks", "ucs", 14),
-                                ("verification", "ucs", 1),
+                                ("verification", "ucs", 2),
                                 ("packings and validation", "bending", 2),
                                 ("packings and validation", "ucs", 3)]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=2)
     assert "about 12940 grains" in lines[0]
-    assert lines[-1].startswith("expected: about ") and "27 UCS and 2 bending runs" in lines[-1]
+    assert lines[-1].startswith("expected: about ") and "28 UCS and 2 bending runs" in lines[-1]
 
 
 def test_each_stage_runs_every_test_calibrated_against(tmp_path):
@@ -58,11 +58,11 @@ samples = 12
 checks = 2
 """, tmp_path)
     assert stages(campaign) == [("samples and checks", "ucs", 14), ("samples and checks", "brazilian", 14),
-                                ("verification", "ucs", 1), ("verification", "brazilian", 1)]
+                                ("verification", "ucs", 2), ("verification", "brazilian", 2)]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=1)
     assert "; disk D 40 mm, about 3252 grains" in lines[0]
     assert lines[1].endswith("each parameter set runs UCS and Brazilian")
-    assert "15 UCS and 15 Brazilian runs" in lines[-1]
+    assert "16 UCS and 16 Brazilian runs" in lines[-1]
 
 
 def test_coarser_sensitivity_runs_are_shown_and_expected_sooner(tmp_path, monkeypatch):

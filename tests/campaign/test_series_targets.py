@@ -118,7 +118,7 @@ def test_the_first_screen_counts_a_run_per_confinement(tmp_path):
     campaign = parse_campaign(campaign_text(envelope(TRUE)), tmp_path)
     assert stages(campaign) == [("sensitivity", "ucs", 9), ("sensitivity", "biaxial", 27),
                                 ("samples and checks", "ucs", 18), ("samples and checks", "biaxial", 54),
-                                ("verification", "ucs", 1), ("verification", "biaxial", 3),
+                                ("verification", "ucs", 2), ("verification", "biaxial", 6),
                                 ("packings and validation", "ucs", 1),
                                 ("packings and validation", "biaxial", 3)]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=None)

@@ -14,19 +14,17 @@ from __future__ import annotations
 
 import os
 
-from dataclasses import replace
-
 import numpy as np
 
 from rockcal.campaign.config import Campaign, SpecimenSettings
 from rockcal.campaign.engine_speed import probe_ms_per_step
 from rockcal.campaign.retries import holds, retry_line
-from rockcal.campaign.parameter_sets import packings_at, packings_of
-from rockcal.campaign.procedure import (STEPS, coarse_sample_runs, packing_seeds, sample_runs, search_space,
-                                        sensitivity_runs, series_values, start, validation_seeds)
+from rockcal.campaign.parameter_sets import packings_of
+from rockcal.campaign.procedure import STEPS, planning_state, series_values
+from rockcal.campaign.store import RunSpec
 from rockcal.dem.specimen import packing_name, stored_packing
+from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
-from rockcal.labtests.seeds import seed_list
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
 # the embedded granite campaign's mean full-size UCS run, one thread, two at a time on idle
@@ -63,29 +61,40 @@ def specimen_size(test: str, s: SpecimenSettings) -> tuple[str, int, float]:
     return o.text, grains, o.share * work(o.width_mm, o.height_mm, s)
 
 
-def stages(campaign: Campaign) -> list[tuple[str, str, int]]:
-    """(stage, test, runs) in the order they run, as the procedure's steps plan them (the
-    verification loop counts its first round)."""
-    return [(step.stage, test, n) for step in STEPS for test, n in step.planned(campaign).items()]
+def planned_runs(campaign: Campaign) -> list[tuple[str, RunSpec]]:
+    """(stage, run) of every run the procedure's steps ask for at the planning state, in the
+    order they run (the verification loop: its first round); a run asked for again is run once."""
+    state, planned = planning_state(campaign), {}
+    for step in STEPS:
+        for spec in step.runs(state).specs:
+            planned.setdefault(spec.key, (step.stage, spec))
+    return list(planned.values())
+
+
+def stages(campaign: Campaign, store=None) -> list[tuple[str, str, int]]:
+    """(stage, test, runs) in the order they run, as the procedure's steps plan them; with a
+    store, less the runs it holds."""
+    counts: dict[tuple[str, str], int] = {}
+    for stage, spec in planned_runs(campaign):
+        counts[stage, spec.kind] = counts.get((stage, spec.kind), 0) + (store is None or not holds(store, spec))
+    return [(stage, test, n) for (stage, test), n in counts.items()]
 
 
 def specimens(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
-    """(test, specimen settings) of the specimens the campaign runs tests on, one per packing
-    they are cut from: those of the steps on coarser grains (sensitivity, coarse samples), the
-    calibration's, its other packings' and the validation tests'."""
-    s = campaign.specimen
-    seeds = packing_seeds(campaign) if campaign.wants_uncertainty() else [s.seed]
+    """(test, specimen settings) of the specimens the planned runs are on, one per packing they
+    are cut from."""
+    found = {}
+    for _, spec in planned_runs(campaign):
+        settings = _settings_of(campaign, spec)
+        found.setdefault(packing_file(spec.kind, settings), (spec.kind, settings))
+    return list(found.values())
 
-    def packings(test: str, settings: SpecimenSettings, first_seeds: list[int], means: bool):
-        return [(test, settings.model_copy(update={"seed": k})) for first in first_seeds
-                for k in seed_list(first, packings_at(campaign, test, means))]
 
-    out = [p for step in STEPS for test in step.planned(campaign) if step.specimen(campaign) != s
-           for p in packings(test, step.specimen(campaign), [s.seed], means=False)]
-    out += [p for test in campaign.target_sections() for p in packings(test, s, seeds, means=True)]
-    out += [(test, s.model_copy(update={"seed": seed})) for test in campaign.validation_tests()
-            for seed in validation_seeds(campaign, test)]
-    return list({packing_file(test, settings): (test, settings) for test, settings in out}.values())
+def _settings_of(campaign: Campaign, spec: RunSpec) -> SpecimenSettings:
+    """The campaign's specimen settings with those a run is keyed by."""
+    fields = SpecimenSettings.model_fields
+    return campaign.specimen.model_copy(update={k: v for k, v in all_settings(dict(spec.specimen)).items()
+                                                if k in fields})
 
 
 def packing_file(test: str, settings: SpecimenSettings) -> str:
@@ -106,22 +115,6 @@ def stage_runs(campaign: Campaign) -> dict[str, int]:
     for stage, _, n in stages(campaign):
         runs[stage] = runs.get(stage, 0) + n
     return runs
-
-
-def stored_runs(campaign: Campaign, store) -> dict[str, int]:
-    """How many of the campaign's sensitivity, sample and check runs the store holds, by test:
-    those the procedure's steps know before it runs (the samples only when [search] gives the
-    bounds)."""
-    state = start(campaign)
-    specs = sensitivity_runs(state).specs
-    if campaign.search.bounds:
-        bounds, fixed = search_space(campaign, [])
-        searched = replace(state, bounds=bounds, fixed=fixed)
-        specs += coarse_sample_runs(searched).specs + sample_runs(searched).specs
-    stored: dict[str, int] = {test: 0 for test in campaign.target_sections()}
-    for spec in specs:
-        stored[spec.kind] += holds(store, spec)
-    return stored
 
 
 def stored_runs_s(store, test: str, specimen: SpecimenSettings) -> list[float]:
@@ -154,17 +147,6 @@ def reference_run_s() -> float:
     return REFERENCE_RUN_S / machine_speed()
 
 
-def runs_to_do(campaign: Campaign, store) -> list[tuple[str, str, int]]:
-    """The stages (stage, test, runs) less the runs the store already holds, from the first."""
-    left = dict(stored_runs(campaign, store))
-    todo = []
-    for stage, test, n in stages(campaign):
-        skip = min(n, left.get(test, 0))
-        left[test] = left.get(test, 0) - skip
-        todo.append((stage, test, n - skip))
-    return todo
-
-
 def stage_rounds(runs: int, workers: int, cores: int | None = None) -> float:
     """A stage's time in runs of one thread two at a time: full rounds of one run per worker,
     then a last round whose runs take the cores left free (the pool shares them out as it goes;
@@ -177,21 +159,51 @@ def stage_rounds(runs: int, workers: int, cores: int | None = None) -> float:
     return full + (0.0 if not last else shared if cores // last >= 2 else 1.0)
 
 
+def test_times(campaign: Campaign, store) -> dict[tuple[str, str], tuple[int, float]]:
+    """(stage, test): the runs still to do and their time on one worker, s (a stage on coarser
+    grains: its runs' time scaled from the campaign specimen's by their work)."""
+    sizes = {test: specimen_size(test, campaign.specimen) for test in campaign.tests()}
+    times, _ = run_times(campaign, store, sizes)
+    specimen = {step.stage: step.specimen(campaign) for step in STEPS}
+    return {(stage, test): (n, n * times[test] * (specimen_size(test, specimen[stage])[2] / sizes[test][2])
+                            ** WORK_EXPONENT)
+            for stage, test, n in stages(campaign, store)}
+
+
 def stage_times(campaign: Campaign, store, workers: int) -> dict[str, tuple[int, float]]:
     """Each stage's runs still to do and their expected wall time (s): in rounds of one run per
     worker (`stage_rounds`) of the stage's mean run (a stage of several tests runs them as one
     batch)."""
-    sizes = {test: specimen_size(test, campaign.specimen) for test in campaign.tests()}
-    times, _ = run_times(campaign, store, sizes)
-    specimen = {step.stage: step.specimen(campaign) for step in STEPS}
     work: dict[str, tuple[int, float]] = {}  # stage: runs, their one-worker seconds
-    for stage, test, n in runs_to_do(campaign, store):
-        runs, seconds = work.get(stage, (0, 0.0))
-        # a stage on coarser grains: its runs' time over the campaign specimen's
-        scale = (specimen_size(test, specimen[stage])[2] / sizes[test][2]) ** WORK_EXPONENT
-        work[stage] = (runs + n, seconds + n * times[test] * scale)
+    for (stage, _), (n, seconds) in test_times(campaign, store).items():
+        runs, total = work.get(stage, (0, 0.0))
+        work[stage] = (runs + n, total + seconds)
     return {stage: (runs, stage_rounds(runs, workers) * seconds / runs if runs else 0.0)
             for stage, (runs, seconds) in work.items()}
+
+
+def dry_run(campaign: Campaign, store, workers: int) -> dict:
+    """The plan as data (`rockcal calibrate --dry-run --json`): per stage and per test, the runs
+    still to do, the packings they are cut from and the expected wall time (a stage's time
+    shared among its tests by their one-worker time), and the campaign's expected time."""
+    packings: dict[tuple[str, str], set[str]] = {}
+    for stage, spec in planned_runs(campaign):
+        settings = _settings_of(campaign, spec)
+        packings.setdefault((stage, spec.kind), set()).add(packing_file(spec.kind, settings))
+    walls = stage_times(campaign, store, workers)
+    plan: dict[str, dict] = {}
+    per_test = test_times(campaign, store)
+    for (stage, test), (runs, seconds) in per_test.items():
+        stage_runs_s, stage_wall_s = walls[stage]
+        one_worker_s = sum(s for (other, _), (_, s) in per_test.items() if other == stage)
+        share = seconds / one_worker_s if one_worker_s else 0.0
+        entry = plan.setdefault(stage, {"runs": stage_runs_s, "expected_s": round(stage_wall_s, 1), "tests": {}})
+        entry["tests"][test] = {"runs": runs, "packings": len(packings[stage, test]),
+                                "expected_s": round(share * stage_wall_s, 1)}
+    return {"rock": campaign.rock.name, "workers": workers, "stages": plan,
+            "runs": sum(runs for runs, _ in walls.values()),
+            "specimens_to_make": len(specimens_to_make(campaign)),
+            "expected_s": round(expected_s(campaign, store, workers), 1)}
 
 
 def expected_s(campaign: Campaign, store, workers: int) -> float:
@@ -206,7 +218,7 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
     s = campaign.specimen
     sizes = {test: specimen_size(test, s) for test in campaign.tests()}
     runs: dict[str, int] = {}
-    for _, test, n in runs_to_do(campaign, store):
+    for _, test, n in stages(campaign, store):
         runs[test] = runs.get(test, 0) + n
     titles = [_runs_text(campaign, test) for test in campaign.target_sections()]
     lines = [
@@ -216,7 +228,7 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
                                for name, n in stage_runs(campaign).items())
         + f" (then more verifications if needed, at most {campaign.acceptance.max_dem_runs} UCS runs)"
         + (f"; each parameter set runs {' and '.join(titles)}" if titles != [lab_test(PRIMARY_TEST).title] else ""),
-        f"runs of this campaign already in the store: {sum(stored_runs(campaign, store).values())} "
+        f"runs of this campaign already in the store: {sum(stage_runs(campaign).values()) - sum(runs.values())} "
         "(a run done is never run again)",
     ]
     retry = retry_line(store)

@@ -7,7 +7,8 @@ validation runs at the identified point (the parameters' intervals, the curve fi
 A step is a function of the results so far (`State`) that returns the forward runs it needs
 and how to fold their results into the next state (`Runs`). `calibrate` passes the runs to
 the executor it is given (serial, process pool or Dask) and folds; the first screen
-(`rockcal.campaign.plan`) reads the same list to count the runs. Each parameter set runs every
+(`rockcal.campaign.plan`) asks the same steps for their runs at the planning state
+(`planning_state`), so what is planned is what runs. Each parameter set runs every
 lab test calibrated against (a test with a series, such as confined compression at several
 confinements, one run per value, folded by the test's `combine`), and their responses make one
 dict: the steps see one forward model whatever the tests behind it.
@@ -30,7 +31,7 @@ from rockcal.campaign.result import (CalibrationResult, FailedRun, Iteration, Sa
                                      SurrogateCheck)
 from rockcal.campaign.store import RunResult, RunSpec
 from rockcal.campaign.parameter_sets import (CalibrationFailed, first_packing, folded, grouped, optimise,
-                                             packings_at, packings_of, point_responses, point_specs, runs_of,
+                                             packings_of, point_responses, point_specs,
                                              series_values, spec_of, specs_keys, specs_of_test)
 from rockcal.campaign.verdict import verdict_of
 from rockcal.campaign.validation import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
@@ -42,6 +43,7 @@ from rockcal.materials import DEFAULT_MATERIAL, material
 
 SIGNIFICANT_DIGITS = 4  # parameters of verification runs are rounded to this (stable store keys)
 DISTINCT = 0.05  # optima closer than this (box-normalised distance) are one optimum
+GOLDEN = (np.sqrt(5) - 1) / 2
 SEARCHES_PER_CANDIDATE = 2  # searches tried for each other candidate optimum before giving up
 
 Progress = Callable[[str, int, int], None]  # progress(stage, done, total)
@@ -79,6 +81,7 @@ class State:
     specimen_description: dict | None = None  # of the first primary-test run on the campaign's specimen
     curves: dict = field(default_factory=dict)  # verification runs' curves, by run key
     final: dict = field(default_factory=dict)  # the last step's parts of the result
+    planning: bool = False  # the first screen's state: points found by searching are stand-ins
 
     @property
     def names(self) -> list[str]:
@@ -94,6 +97,8 @@ class State:
         return self.accepted if self.accepted is not None else _closest(list(self.iterations))
 
     def identified(self) -> dict[str, float]:
+        if self.planning:
+            return dict(zip(self.names, _stand_ins(self.box, 1)[0]))
         return dict(zip(self.names, self.iterations[self.best()].x))
 
 
@@ -112,13 +117,11 @@ class Runs:
 @dataclass(frozen=True)
 class Step:
     """A step of the procedure: its stage name (the progress bar's and the first screen's),
-    the runs it needs from the state so far, the runs the first screen counts for each test
-    before the campaign starts, whether it runs again (the verification loop) and the specimen
-    settings its runs use (their resolution)."""
+    the runs it needs from the state so far, whether it runs again (the verification loop) and
+    the specimen settings its runs use (their resolution)."""
 
     stage: str
     runs: Callable[[State], Runs]
-    planned: Callable[[Campaign], dict[str, int]]
     again: Callable[[State], bool] = lambda state: False
     specimen: Callable[[Campaign], SpecimenSettings] = lambda campaign: campaign.specimen
 
@@ -142,6 +145,16 @@ def calibrate(campaign: Campaign, executor, progress: Progress | None = None) ->
 def start(campaign: Campaign) -> State:
     """The state before any run: the campaign, its targets, its fixed parameters."""
     return State(campaign=campaign, goals=goals_of(campaign), fixed=campaign.fixed_params())
+
+
+def planning_state(campaign: Campaign) -> State:
+    """The state every step plans its runs from before the campaign starts: the search box
+    known before any run ([search] bounds, else every sensitivity factor's levels), with
+    stand-ins (`_stand_ins`) for the points a search finds: the first verification round's
+    optima and the identified point."""
+    levels = campaign.sensitivity.levels if campaign.sensitivity else {}
+    bounds, fixed = search_space(campaign, list(levels))
+    return replace(start(campaign), bounds=bounds, fixed=fixed, planning=True)
 
 
 # -- step 1: sensitivity -------------------------------------------------------------------------
@@ -283,6 +296,9 @@ def verification_runs(state: State) -> Runs:
     other distinct optima on it ([acceptance] candidates), their DEM runs; the round settles
     the loop when a verified point is accepted, the budget is spent or nothing new was found."""
     campaign, names = state.campaign, state.names
+    if state.planning:
+        points = [(campaign.specimen, dict(zip(names, x))) for x in _stand_ins(state.box, _wanted(state))]
+        return Runs(point_specs(state, points, means=True), _not_folded)
     surrogate = _judged(state)
     objective = Objective(surrogate.predict, state.goals.targets, weights=state.goals.weights or None)
     found = _candidates(state, objective, surrogate)
@@ -336,9 +352,7 @@ def _candidates(state: State, objective: Objective, surrogate: RBFSurrogate) -> 
     the surrogate predicts within the tolerance of every target (none when the surrogate
     has a single optimum)."""
     campaign, box = state.campaign, state.box
-    first = optimise(campaign, objective, box)
-    left = campaign.acceptance.max_dem_runs - len(state.dem_runs)
-    found, wanted = [first], max(1, min(campaign.acceptance.candidates, left))
+    found, wanted = [optimise(campaign, objective, box)], _wanted(state)
     tolerance, seed = campaign.acceptance.tolerance, campaign.optimizer.seed
     for k in range(1, SEARCHES_PER_CANDIDATE * (wanted - 1) + 1):
         if len(found) >= wanted:
@@ -349,6 +363,25 @@ def _candidates(state: State, objective: Objective, surrogate: RBFSurrogate) -> 
         if close and all(_distinct(opt.x, other.x, box) for other in found):
             found.append(opt)
     return found
+
+
+def _wanted(state: State) -> int:
+    """The points a verification round verifies at most: [acceptance] candidates, within the
+    run budget left."""
+    left = state.campaign.acceptance.max_dem_runs - len(state.dem_runs)
+    return max(1, min(state.campaign.acceptance.candidates, left))
+
+
+def _stand_ins(box: np.ndarray, n: int) -> np.ndarray:
+    """n distinct points on the box's diagonal, at golden-ratio steps so that none falls on a
+    design's level: where the planning state puts the points only a search finds (the
+    identified point is the first one verified)."""
+    fractions = (np.arange(1, n + 1) * GOLDEN) % 1.0
+    return _round_rows(box[:, 0] + fractions[:, None] * (box[:, 1] - box[:, 0]))
+
+
+def _not_folded(results, progress):
+    raise RuntimeError("the planning state's runs are counted, never run")
 
 
 def _iteration(state: State, opt, x, surrogate: RBFSurrogate, verified: dict | None, loop: int) -> Iteration:
@@ -404,29 +437,12 @@ def validation_seeds(campaign: Campaign, test: str) -> list[int]:
 
 # -- the list ----------------------------------------------------------------------------------
 
-def _per_test(campaign: Campaign, n: int, means: bool = False) -> dict[str, int]:
-    """The runs of each test calibrated against at `n` parameter sets (`packings_at`'s `means`)."""
-    return {test: n * len(runs_of(campaign, test)) * packings_at(campaign, test, means)
-            for test in campaign.target_sections()} if n else {}
-
-
-def _final_planned(campaign: Campaign) -> dict[str, int]:
-    planned = {test: len(validation_seeds(campaign, test)) * len(runs_of(campaign, test))
-               for test in campaign.validation_tests()}
-    if campaign.wants_uncertainty():
-        for test, n in _per_test(campaign, campaign.uncertainty.packings - 1, means=True).items():
-            planned[test] = planned.get(test, 0) + n
-    return planned
-
-
 STEPS: tuple[Step, ...] = (
-    Step("sensitivity", sensitivity_runs, lambda c: _per_test(c, len(sensitivity_rows(c))),
-         specimen=lambda c: c.sensitivity_specimen()),
-    Step(COARSE_SAMPLES, coarse_sample_runs, lambda c: _per_test(c, c.surrogate.coarse_samples),
-         specimen=lambda c: c.coarse_specimen()),
-    Step(SAMPLES_AND_CHECKS, sample_runs, lambda c: _per_test(c, c.surrogate.samples + c.surrogate.checks)),
-    Step("verification", verification_runs, lambda c: _per_test(c, 1, means=True), again=lambda state: not state.settled),
-    Step(PACKINGS_AND_VALIDATION, final_runs, _final_planned),
+    Step("sensitivity", sensitivity_runs, specimen=lambda c: c.sensitivity_specimen()),
+    Step(COARSE_SAMPLES, coarse_sample_runs, specimen=lambda c: c.coarse_specimen()),
+    Step(SAMPLES_AND_CHECKS, sample_runs),
+    Step("verification", verification_runs, again=lambda state: not state.settled),
+    Step(PACKINGS_AND_VALIDATION, final_runs),
 )
 
 

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
+import tempfile
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Optional
@@ -37,6 +39,8 @@ def calibrate(
                                "resolution (R_min doubled) with one validation beam and 50 draws for the "
                                "intervals; not the calibration."),
     wait: bool = typer.Option(False, "--wait", help="If another rockcal is using --out, wait for it to end."),
+    dry_run: bool = typer.Option(False, "--dry-run", help="Print the plan (stages, runs, specimens, expected "
+                                 "time) and exit: nothing runs, nothing is written."),
     tls_ca_file: Optional[Path] = typer.Option(None, help="tls:// scheduler: the cluster's CA certificate (PEM)."),
     tls_cert: Optional[Path] = typer.Option(None, help="tls:// scheduler: this client's certificate (PEM)."),
     tls_key: Optional[Path] = typer.Option(None, help="tls:// scheduler: this client's key (PEM; default: in --tls-cert)."),
@@ -62,6 +66,9 @@ def calibrate(
     if time_limit_s is not None and not (math.isfinite(time_limit_s) and time_limit_s > 0):
         raise InputError("--time-limit-s", f"must be a finite number > 0, got {time_limit_s}")
     tls = _cluster_options(scheduler, tls_ca_file, tls_cert, tls_key)  # before OUT gets a store
+    if dry_run:
+        _print_dry_run(campaign, out, workers or os.cpu_count() or 1, note, as_json)
+        return
     with one_line_errors(out), out_folder(out), store_lock(out, wait, _waiting):
         if (out / STORE_NAME).exists() and not resume:
             raise InputError("--out", f"{out} already holds a campaign's runs; add --resume to go on "
@@ -193,6 +200,29 @@ def _print_plan(campaign, store, executor, note: str | None) -> None:
     if getattr(executor, "security_source", ""):
         console.print(f"  cluster: TLS with the certificates of {executor.security_source}",
                       highlight=False, markup=False)
+
+
+def _print_dry_run(campaign, out: Path, workers: int, note: str | None, as_json: bool) -> None:
+    """The first screen, or with `as_json` the plan as data (`plan.dry_run`), for the store in
+    OUT if it holds one (read only), else for an empty store."""
+    from rockcal.campaign.io_errors import one_line_errors
+    from rockcal.campaign.plan import describe, dry_run
+    from rockcal.campaign.store import STORE_NAME, RunStore
+
+    with one_line_errors(out), tempfile.TemporaryDirectory() as empty:
+        held = (out / STORE_NAME).exists()
+        store = RunStore(out if held else Path(empty), create=not held, readonly=held)
+        try:
+            if as_json:
+                typer.echo(json.dumps(dry_run(campaign, store, workers) | {"quick_look": note}))
+                return
+            console = Console()
+            console.print(f"[bold]Plan of {escape(campaign.rock.name)}[/] (dry run: nothing runs)"
+                          + (" [yellow](quick look)[/]" if note else ""))
+            for line in describe(campaign, store, workers):
+                console.print("  " + line, highlight=False, markup=False)
+        finally:
+            store.close()
 
 
 class _stage_progress:
