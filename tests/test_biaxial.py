@@ -7,9 +7,10 @@ import pytest
 from rockcal import make_params, random_packing, simulate_ucs
 from rockcal.errors import InputError
 from rockcal.labtests import biaxial
-from rockcal.labtests.biaxial import SEATING_TOLERANCE, simulate_biaxial
-from rockcal.labtests.platens import Platens
+from rockcal.labtests.biaxial import simulate_biaxial
 from rockcal.labtests.registry import lab_test
+from rockcal.labtests.rig import Platens
+from rockcal.labtests.rig.sides import SEATING_TOLERANCE
 from rockcal.labtests.ucs import DENSITY_SCALED_SPEED
 
 SIGMA3 = 10.0

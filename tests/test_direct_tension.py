@@ -6,8 +6,9 @@ import pytest
 
 from rockcal import make_params, random_packing
 from rockcal.errors import InputError
-from rockcal.labtests.direct_tension import grips, simulate_direct_tension
+from rockcal.labtests.direct_tension import simulate_direct_tension
 from rockcal.labtests.registry import lab_test
+from rockcal.labtests.rig.grips import grip_grains
 
 SIGMA_C = 36.55  # the granite's bond tensile strength, MPa
 
@@ -32,7 +33,7 @@ def test_sigma_t_is_the_peak_force_over_the_width(pulled, prism):
 
 def test_the_prism_breaks_in_tension_between_the_grips(pulled, prism):
     """Every bond breaks in tension, none inside a grip (its grains move as one body)."""
-    bottom, top = grips(prism, 0.1)
+    bottom, top = grip_grains(prism, 0.1)
     y = pulled.cracks["tension"][:, 1]
     assert pulled.n_broken_tension > 0 and pulled.n_broken_shear == 0
     assert np.all(y > prism.pos[bottom, 1].max() - prism.radius.max())

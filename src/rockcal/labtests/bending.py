@@ -2,8 +2,7 @@
 edge) and its fracture toughness K_IC from the peak load.
 
 Supports and loading pin are rigid cylinders (radius PIN_RADIUS_MM at full size) built from
-small driven disks on their surface, so that the engine's ordinary linear contacts (with the
-rock's friction) carry the load and the neighbour grid stays fine. The supports stay put; the
+small driven disks on their surface (`rockcal.labtests.rig.pins`). The supports stay put; the
 pin moves down at a quasi-static speed on the density-scaled beam. Loads are per metre of
 thickness (PFC2D convention).
 """
@@ -19,11 +18,7 @@ from pydantic import Field
 
 from rockcal.dem.carving import cut_bonds, keep_particles, outside_rectangle
 from rockcal.dem.genesis import Genesis
-from rockcal.dem.simulate import (
-    DEFAULT_CONTACT_STIFFNESS,
-    THICKNESS_M,
-    scale_density,
-)
+from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kic import senb_kic
@@ -45,7 +40,8 @@ from rockcal.labtests.loading import (
     load_to_failure,
 )
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.materials import as_params, new_state
+from rockcal.labtests.rig import Pins
+from rockcal.materials import as_params
 from rockcal.params import MicroParams
 
 PIN_RADIUS_MM = 5.0
@@ -186,23 +182,6 @@ def period_steps(beam: Beam, params: MicroParams, specimen: Specimen, dt_s: floa
     return period_s / dt_s
 
 
-def pin_disks(centre, pin_radius: float, disk_radius: float, facing_up: bool) -> np.ndarray:
-    """Centres of small disks whose envelope is the half of a cylinder facing the beam."""
-    arc = pin_radius - disk_radius
-    count = int(np.ceil(np.pi * arc / (0.5 * disk_radius))) + 1
-    angle = np.linspace(0.0, np.pi, count) if facing_up else np.linspace(np.pi, 2 * np.pi, count)
-    return np.column_stack([centre[0] + arc * np.cos(angle), centre[1] + arc * np.sin(angle)])
-
-
-def touching_centre_y(pos, radius, x: float, pin_radius: float, above: bool) -> float:
-    """Height of a cylinder's centre at `x` such that it just touches the specimen from above
-    (or below): every disk is then at a distance >= pin_radius + its radius."""
-    reach = pin_radius + radius
-    near = np.abs(pos[:, 0] - x) < reach
-    rise = np.sqrt(reach[near] ** 2 - (pos[near, 0] - x) ** 2)
-    return float((pos[near, 1] + rise).max() if above else (pos[near, 1] - rise).min())
-
-
 def simulate_bending(params: MicroParams | dict | None = None, specimen: Specimen | None = None,
                      beam: Beam = Beam(), *, rate_factor: float = 1.0,
                      max_displacement_mm: float = DEFAULT_MAX_DISPLACEMENT_MM,
@@ -227,45 +206,24 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
                          f"{max_displacement_mm}")
     check_stop_fraction(stop_fraction)
     specimen = specimen or notched_beam(beam)
-    pos, radius = specimen.pos, specimen.radius
-    n = specimen.n_particles
-    disk = radius.min()
-    pin_r = 1e-3 * beam.pin_radius_mm
-    middle = 0.5e-3 * beam.length_mm
-    pin = pin_disks((middle, touching_centre_y(pos, radius, middle, pin_r, above=True)), pin_r,
-                    disk, facing_up=False)
-    supports = [pin_disks((x, touching_centre_y(pos, radius, x, pin_r, above=False)), pin_r, disk,
-                          facing_up=True)
-                for x in (middle - 0.5e-3 * beam.span_mm, middle + 0.5e-3 * beam.span_mm)]
-    rigid = np.vstack([pin, *supports])
-    is_pin = np.zeros(n + len(rigid), bool)
-    is_pin[n:n + len(pin)] = True
-    is_support = np.zeros(n + len(rigid), bool)
-    is_support[n + len(pin):] = True
-    state = new_state(params, specimen, np.vstack([pos, rigid]),
-                      np.concatenate([radius, np.full(len(rigid), disk)]),
-                      driven=is_pin | is_support, contact_stiffness=contact_stiffness)
+    middle, half_span = 0.5e-3 * beam.length_mm, 0.5e-3 * beam.span_mm
+    pin_step = DENSITY_SCALED_SPEED * rate_factor * PIN_STEP_PER_RADIUS * specimen.radius.mean()
+    pins = Pins(specimen, params, middle, (middle - half_span, middle + half_span),
+                1e-3 * beam.pin_radius_mm, pin_step, contact_stiffness)
+    state = pins.state
     mass_scale = scale_density(state)
-
-    rows = specimen.height_m / (2 * radius.mean())
-    pin_step = DENSITY_SCALED_SPEED * rate_factor * PIN_STEP_PER_RADIUS * radius.mean()
-    particles = state.particles
-    pin_y0 = particles.pos[is_pin, 1].mean()
     first_break = np.empty((0, 2))
     period = period_steps(beam, params, specimen, state.dt, mass_scale)
-    touch_load = 1e9 * contact_GPa * THICKNESS_M * pin_step  # one contact pressed one pin step
+    touch_load = pins.contact_load(contact_GPa)
     touched = False
-
-    def move(factor: float) -> None:
-        particles.vel[is_pin, 1] = -pin_step * factor / state.dt
 
     def read() -> Reading:
         nonlocal first_break, touched
         if not len(first_break) and state.n_broken():
             mode, where = state.breaks()
             first_break = where[mode > 0]
-        displacement = pin_y0 - particles.pos[is_pin, 1].mean()
-        load = 0.5 * (particles.force[is_pin, 1].sum() + -particles.force[is_support, 1].sum())
+        displacement = pins.displacement_m()
+        load = pins.load()
         if not touched and load > touch_load:  # the pin hits the beam: it rings
             touched = True
             loading.wait(state.step, TOUCH_FLEXURAL_PERIODS * period)
@@ -274,9 +232,9 @@ def simulate_bending(params: MicroParams | dict | None = None, specimen: Specime
     def crack_has_run(reading: Reading) -> bool:
         return loading.fallen_below(stop_fraction, reading.load) and state.n_broken() > 0
 
-    loading = Loading(RAMP_STEPS_PER_ROW * rows / DENSITY_SCALED_SPEED, NOTCH_TIP_DAMAGE,
+    loading = Loading(RAMP_STEPS_PER_ROW * pins.rows / DENSITY_SCALED_SPEED, NOTCH_TIP_DAMAGE,
                       CONFIRM_FLEXURAL_PERIODS * period, intact_speed=INTACT_PIN_SPEED)
-    curve = load_to_failure(state, loading, max(10, int(rows / 4)), move, read, crack_has_run,
+    curve = load_to_failure(pins, loading, read, crack_has_run,
                             1e-3 * max_displacement_mm, full_speed_past_peak=True, progress=progress)
     k = int(np.argmax(curve[:, 1]))
     P_max = 1e3 * curve[k, 1]

@@ -1,10 +1,9 @@
 """Confined (biaxial) compression of the UCS specimen, as FISHTank's compression test `ct`
 with a confining pressure `ct_Pc` (`ct.fis`, ct_testType 0).
 
-The specimen sits between four rigid frictionless walls. Seating: all four walls are
-servo-controlled to the confining stress sigma3 (`rockcal.labtests.servo`) until equilibrium:
-each wall within SEATING_TOLERANCE of sigma3 and the mean unbalanced force below
-EQUILIBRIUM_RATIO x sigma3 x mean grain diameter x t. Axial loading: the strains are zeroed, the
+The specimen sits between four rigid frictionless walls: the platens and the side walls
+(`rockcal.labtests.rig`). Seating: all four walls are servo-controlled to the confining stress
+sigma3 until equilibrium (`rig.SideWalls.seat`). Axial loading: the strains are zeroed, the
 platens close as in the UCS test (`rockcal.labtests.ucs`: same speed on the density-scaled
 specimen, same loading rule) while the side walls keep sigma3. Readings as a lab makes them:
 the deviatoric stress q = sigma1 - sigma3 (sigma1: the platens' force on the specimen's
@@ -23,8 +22,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from rockcal.dem import measure
-from rockcal.dem.simulate import (BOTTOM, DEFAULT_CONTACT_STIFFNESS, LEFT, RIGHT, THICKNESS_M, TOP,
-                                  advance, scale_density)
+from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests import ucs
@@ -34,15 +32,11 @@ from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, SeriesFig
 from rockcal.labtests.lab_values import LabValues
 from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       check_stop_fraction, load_to_failure)
-from rockcal.labtests.platens import Platens
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.labtests.servo import SPEED_LIMIT, STEPS, WallServo
+from rockcal.labtests.rig import Gauge, Platens, SideWalls
 from rockcal.materials import as_params
 from rockcal.params import MPa, MicroParams
 
-SEATING_TOLERANCE = 0.005  # each wall's stress within this of sigma3 (FISHTank's ct_PTol)
-EQUILIBRIUM_RATIO = 1e-4  # mean unbalanced force / (sigma3 x mean diameter x t)
-SEATING_ROUNDS = 20_000  # servo updates at most before the seating counts as failed
 MAX_CONFINEMENT_MPA = 1000.0
 CURVE_COLUMNS = ("axial_strain", "lateral_strain", "deviatoric_stress_MPa", "broken_bonds",
                  "confinement_MPa")
@@ -108,43 +102,30 @@ def simulate_biaxial(params: MicroParams | dict | None = None, specimen: Specime
     state = platens.state
     scale_density(state)
     sigma3 = confinement_mpa * MPa
-    sides = None
-    seating_steps = 0
-    if sigma3 > 0:
-        walls = state.walls
-        walls.pos[LEFT] = (specimen.pos[:, 0] - specimen.radius).min()
-        walls.pos[RIGHT] = (specimen.pos[:, 0] + specimen.radius).max()
-        walls.active[LEFT] = walls.active[RIGHT] = True
-        limit = SPEED_LIMIT * platens.speed
-        seating_steps = seat(state, WallServo(state, (LEFT, RIGHT, BOTTOM, TOP), sigma3, limit),
-                             2 * specimen.radius.mean())
-        sides = WallServo(state, (LEFT, RIGHT), sigma3, limit)
-    sets = measure.boundary_sets(specimen.pos, specimen.radius, 0.5 * specimen.radius.min())
-    width0, height0 = measure.gauge_lengths(state.particles.pos, sets)
-    bottom, top = state.walls.pos[BOTTOM], state.walls.pos[TOP]
-    area = specimen.width_m * THICKNESS_M
+    sides = SideWalls(platens, specimen, sigma3) if sigma3 > 0 else None
+    seating_steps = 0 if sides is None else sides.seat()
+    gauge = Gauge(specimen, state)
+    platens.zero()
     broken = [0]  # bonds broken and sigma3 (MPa) at each reading, from the start of loading
-    confining = [0.0 if sides is None else float(sides.stresses()[[LEFT, RIGHT]].mean()) / MPa]
+    confining = [0.0 if sides is None else sides.stress_Pa() / MPa]
 
     def read() -> Reading:
         broken.append(state.n_broken())
-        width, height = measure.gauge_lengths(state.particles.pos, sets)
-        if strain == "platen":
-            axial = 1.0 - (state.walls.pos[TOP] - state.walls.pos[BOTTOM]) / (top - bottom)
-        else:
-            axial = (height0 - height) / height0
-        s3 = 0.0 if sides is None else float(sides.stresses()[[LEFT, RIGHT]].mean())
+        gauge_axial, lateral = gauge.strains()
+        axial = platens.strain() if strain == "platen" else gauge_axial
+        s3 = 0.0 if sides is None else sides.stress_Pa()
         confining.append(s3 / MPa)
-        q = platens.load() / area - s3
-        return Reading(q, axial, (axial, (width - width0) / width0, q / 1e6))
+        q = platens.load() / platens.area_m2 - s3
+        return Reading(q, axial, (axial, lateral, q / 1e6))
 
     loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / ucs.DENSITY_SCALED_SPEED,
                       DISTRIBUTED_DAMAGE)
     state.step, seated_at = 0, state.step  # the loading counts its own steps (its ramp)
-    curve = load_to_failure(state, loading, platens.chunk, platens.move, read,
+    curve = load_to_failure(platens, loading, read,
                             lambda reading: loading.fallen_below(stop_fraction, reading.load),
                             max_axial_strain, progress=progress,
-                            control=None if sides is None else sides.update, control_steps=STEPS)
+                            control=None if sides is None else sides.update,
+                            control_steps=1 if sides is None else sides.steps)
     state.step += seated_at
     curve = np.column_stack([curve, broken, confining])
     E_MPa, nu, k = measure.secant_at_half_peak(curve[:, 0], curve[:, 1], curve[:, 2])
@@ -154,24 +135,6 @@ def simulate_biaxial(params: MicroParams | dict | None = None, specimen: Specime
         sigma3_MPa=float(curve[1:k + 1, 4].mean()) if k else float(confinement_mpa),
         seating_steps=seating_steps, curve=curve,
         **crack_stresses(*curve[:, :4].T).responses, **run_fields(state, specimen, started))
-
-
-def seat(state, servo: WallServo, grain_diameter: float) -> int:
-    """Servo all four walls to the confining stress until equilibrium; the steps it took."""
-    scale = servo.target * grain_diameter * THICKNESS_M
-    free = state.particles.inv_mass > 0
-    start = state.step
-    for _ in range(SEATING_ROUNDS):
-        servo.update()
-        advance(state, servo.steps)
-        off = np.abs(servo.stresses() / servo.target - 1.0)
-        if off.max() < SEATING_TOLERANCE:
-            unbalanced = np.hypot(*state.particles.force[free].T).mean()
-            if unbalanced < EQUILIBRIUM_RATIO * scale:
-                servo.hold()
-                return state.step - start
-    raise RuntimeError(f"the specimen did not settle at {servo.target / MPa:g} MPa in "
-                       f"{state.step - start} steps")
 
 
 def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BiaxialResult:

@@ -1,7 +1,7 @@
 """Virtual Brazilian (splitting tensile) test: a disk between two frictionless platens.
 
 The disk is carved from a square packing; the platens are the UCS test's
-(`rockcal.labtests.platens`), closing at the same quasi-static speed (slower where bonds break,
+(`rockcal.labtests.rig`), closing at the same quasi-static speed (slower where bonds break,
 full speed again past the peak; the test stops when the load has fallen below
 POST_PEAK_FRACTION of the peak, as in the bending test: a bond breaking under a platen drops the
 load for a while without splitting the disk). Tensile strength sigma_t = 2 P / (pi D t)
@@ -19,7 +19,7 @@ from pydantic import Field
 
 from rockcal.dem.carving import inside_circle, keep_particles
 from rockcal.dem.genesis import Genesis
-from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, TOP
+from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kind import (
@@ -38,8 +38,8 @@ from rockcal.labtests.loading import (
     Reading,
     load_to_failure,
 )
-from rockcal.labtests.platens import Platens
 from rockcal.labtests.result import LabResult, run_fields
+from rockcal.labtests.rig import Platens
 from rockcal.materials import as_params
 from rockcal.params import MicroParams
 
@@ -94,11 +94,11 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
         raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
     specimen = specimen or brazilian_disk()
     platens = Platens(specimen, params, rate_factor, contact_stiffness)
-    state, bottom, top = platens.state, platens.bottom, platens.top
-    diameter = top - bottom
+    state = platens.state
+    diameter = platens.top - platens.bottom
 
     def read() -> Reading:
-        closure = (state.walls.pos[BOTTOM] - bottom) + (top - state.walls.pos[TOP])
+        closure = platens.closure_m()
         load = platens.load()
         return Reading(load, closure, (1e3 * closure, load / 1e3))
 
@@ -107,12 +107,13 @@ def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Speci
                 and reading.travel > loading.peak_travel + specimen.radius.mean())
 
     loading = Loading(RAMP_STEPS_PER_ROW * platens.rows, LOCALISED_DAMAGE)
-    curve = load_to_failure(state, loading, platens.chunk, platens.move, read, split,
+    curve = load_to_failure(platens, loading, read, split,
                             max_strain * diameter, full_speed_past_peak=True, progress=progress)
     k = int(np.argmax(curve[:, 1]))
     P_max = 1e3 * curve[k, 1]
     return BrazilianResult(
-        sigma_t_MPa=2 * P_max / (np.pi * diameter * THICKNESS_M) / 1e6, P_max_kN_per_m=P_max / 1e3,
+        sigma_t_MPa=2 * P_max / (np.pi * diameter * platens.thickness_m) / 1e6,
+        P_max_kN_per_m=P_max / 1e3,
         displacement_at_peak_mm=float(curve[k, 0]), diameter_mm=1e3 * diameter, curve=curve,
         **run_fields(state, specimen, started))
 

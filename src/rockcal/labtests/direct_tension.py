@@ -1,7 +1,6 @@
 """Virtual direct tension of a prism held by rigid grips, as FISHTank's direct-tension test
 (`tt.fis`): the grains whose centres lie within a grip length of either end are the grips
-(their velocities prescribed, their spin held at zero, as PFC's `ball fix velocity spin`),
-pulled apart at a quasi-static speed.
+(`rockcal.labtests.rig.grips`), pulled apart at a quasi-static speed.
 
 Gripped ends rather than a dog-bone: the lab's direct tension test glues end caps to a plain
 cylinder or prism (ISRM 1978 suggested method), which the rigid grips are; a dog-bone must be
@@ -26,16 +25,16 @@ from typing import Callable
 
 import numpy as np
 
-from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, scale_density
+from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests import ucs
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, Setting
 from rockcal.labtests.loading import (LOCALISED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       load_to_failure)
-from rockcal.labtests.platens import STRAIN_PER_STEP_PER_ROW
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.materials import as_params, new_state
+from rockcal.labtests.rig import Grips
+from rockcal.materials import as_params
 from rockcal.params import MicroParams
 
 GRIP_FRACTION = 0.1  # grip length / prism height at each end (FISHTank's tt_tg default, 0.1 H)
@@ -61,14 +60,6 @@ def check_grip(grip_fraction) -> None:
         raise InputError("grip_fraction", f"must be in (0, 0.4], got {grip_fraction!r}")
 
 
-def grips(specimen: Specimen, grip_fraction: float) -> tuple[np.ndarray, np.ndarray]:
-    """The grains of the bottom and top grips: centres within grip_fraction x height of the
-    prism's ends."""
-    y = specimen.pos[:, 1]
-    grip = grip_fraction * specimen.height_m
-    return np.flatnonzero(y < y.min() + grip), np.flatnonzero(y > y.max() - grip)
-
-
 def simulate_direct_tension(params: MicroParams | dict | None = None,
                             specimen: Specimen | None = None, *,
                             grip_fraction: float = GRIP_FRACTION, rate_factor: float = 1.0,
@@ -84,39 +75,27 @@ def simulate_direct_tension(params: MicroParams | dict | None = None,
     if not 0 < max_strain <= 0.5:
         raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
     specimen = specimen or random_packing(50.0, 100.0)
-    bottom, top = grips(specimen, grip_fraction)
-    state = new_state(params, specimen, driven=np.concatenate([bottom, top]),
-                      contact_stiffness=contact_stiffness)
+    grips = Grips(specimen, params, grip_fraction, ucs.DENSITY_SCALED_SPEED * rate_factor,
+                  contact_stiffness)
+    state = grips.state
     scale_density(state)
-    pos, force = state.particles.pos, state.particles.force
-    free_length = (pos[:, 1][top].min() - pos[:, 1][bottom].max())
-    rows = free_length / (2 * specimen.radius.mean())
-    speed = 0.5 * ucs.DENSITY_SCALED_SPEED * rate_factor * STRAIN_PER_STEP_PER_ROW / rows \
-        * free_length / state.dt
-    b0, t0 = bottom[0], top[0]
-    opening0 = pos[t0, 1] - pos[b0, 1]
-    area = specimen.width_m * THICKNESS_M
     broken = [0]
-
-    def move(factor: float) -> None:
-        state.particles.vel[bottom, 1] = -speed * factor
-        state.particles.vel[top, 1] = speed * factor
 
     def read() -> Reading:
         broken.append(state.n_broken())
-        strain = (pos[t0, 1] - pos[b0, 1] - opening0) / free_length
-        pull = 0.5 * (force[bottom, 1].sum() - force[top, 1].sum())  # N per m, tension positive
-        return Reading(pull, strain, (strain, pull / area / 1e6))
+        strain = grips.strain()
+        pull = grips.load()  # N per m, tension positive
+        return Reading(pull, strain, (strain, pull / grips.area_m2 / 1e6))
 
-    loading = Loading(RAMP_STEPS_PER_ROW * rows / ucs.DENSITY_SCALED_SPEED, LOCALISED_DAMAGE)
-    curve = load_to_failure(state, loading, max(5, int(rows / 8)), move, read,
+    loading = Loading(RAMP_STEPS_PER_ROW * grips.rows / ucs.DENSITY_SCALED_SPEED, LOCALISED_DAMAGE)
+    curve = load_to_failure(grips, loading, read,
                             lambda reading: loading.fallen_below(POST_PEAK_FRACTION, reading.load),
                             max_strain, full_speed_past_peak=True, progress=progress)
     curve = np.column_stack([curve, broken])
     k = int(np.argmax(curve[:, 1]))
     return DirectTensionResult(
-        sigma_t_direct_MPa=float(curve[k, 1]), P_max_kN_per_m=float(curve[k, 1] * area * 1e3),
-        peak_axial_strain=float(curve[k, 0]), free_length_mm=1e3 * free_length, curve=curve,
+        sigma_t_direct_MPa=float(curve[k, 1]), P_max_kN_per_m=float(curve[k, 1] * grips.area_m2 * 1e3),
+        peak_axial_strain=float(curve[k, 0]), free_length_mm=1e3 * grips.free_length_m, curve=curve,
         **run_fields(state, specimen, started))
 
 

@@ -20,7 +20,8 @@ the loading runs at the slowest speed from the first broken bond on (LOCALISED_D
 the test no longer needs the peak (bending and Brazilian tests once the load has fallen well
 past it) it may run at full speed.
 
-`load_to_failure` is the loop every test runs with its own boundary, readings and stop rule.
+`load_to_failure` is the loop every test runs with its own rig (a `rig.Loader`: the platens,
+the pin, the grips), readings and stop rule.
 """
 
 from __future__ import annotations
@@ -29,8 +30,9 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-from rockcal.dem.simulate import State, advance
+from rockcal.dem.simulate import advance
 from rockcal.errors import InputError
+from rockcal.labtests.rig import Loader
 
 SLOWEST = 8.0
 # breaks_at_half_speed of each kind of damage
@@ -141,16 +143,16 @@ class Reading(NamedTuple):
     sample: tuple  # the curve's row: the travel's reading first, the load's last
 
 
-def load_to_failure(state: State, loading: Loading, chunk: int, move: Callable[[float], None],
-                    read: Callable[[], Reading], may_stop: Callable[[Reading], bool],
-                    max_travel: float, *, full_speed_past_peak: bool = False,
+def load_to_failure(loader: Loader, loading: Loading, read: Callable[[], Reading],
+                    may_stop: Callable[[Reading], bool], max_travel: float, *,
+                    full_speed_past_peak: bool = False,
                     progress: Callable[[float, float], None] | None = None,
                     control: Callable[[], None] | None = None,
                     control_steps: int = 1) -> np.ndarray:
     """Load the specimen quasi-statically until the test may stop; its curve.
 
-    The test configures what differs: `move(factor)` sets its boundary's speed (the platens',
-    the pin's) at `loading`'s speed factor; `read()` reads the specimen after each `chunk` of
+    The test configures what differs: its `loader` (the platens, the pin, the grips) moves at
+    `loading`'s speed factor; `read()` reads the specimen after each of the loader's `chunk` of
     steps; `may_stop(reading)` is its stop rule (asking `loading` about the settled peak);
     `max_travel` stops it at the latest. With `full_speed_past_peak` the loading goes back to
     full speed once the peak is known (`loading.peak_known`): the load has fallen below
@@ -159,10 +161,10 @@ def load_to_failure(state: State, loading: Loading, chunk: int, move: Callable[[
     `control_steps` steps within each chunk (splitting a chunk changes no number). The curve is
     the samples after a first row of zeros, the specimen unloaded.
     """
+    state, chunk = loader.state, loader.chunk
     samples = []
     while True:
-        move(loading.speed(state.step, state.n_broken(), chunk,
-                           loading.peak_known))
+        loader.move(loading.speed(state.step, state.n_broken(), chunk, loading.peak_known))
         if control is None:
             advance(state, chunk)
         else:

@@ -5,7 +5,7 @@ nu from the lateral displacement of the sides; the crack-initiation and crack-da
 from the curve and its count of broken bonds (`rockcal.labtests.damage`). The axial strain is
 read from the platen separation (FISHTank's wall-based strain, "platen") or from the specimen's
 own top and bottom particles, like gauges on a lab sample ("gauge"). The platens
-(`rockcal.labtests.platens`) close at a quasi-static speed on the density-scaled specimen
+(`rockcal.labtests.rig`) close at a quasi-static speed on the density-scaled specimen
 (`simulate.scale_density`), slower where bonds break (`rockcal.labtests.loading`); the test
 stops once the stress has fallen below a fraction of the peak (FISHTank's ct_loadFac), or at
 the maximum axial strain.
@@ -22,13 +22,7 @@ import numpy as np
 from pydantic import Field
 
 from rockcal.dem import measure
-from rockcal.dem.simulate import (
-    BOTTOM,
-    DEFAULT_CONTACT_STIFFNESS,
-    THICKNESS_M,
-    TOP,
-    scale_density,
-)
+from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.dem.specimen import Specimen, check_geometry, hexagonal, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
@@ -42,8 +36,8 @@ from rockcal.labtests.loading import (
     check_stop_fraction,
     load_to_failure,
 )
-from rockcal.labtests.platens import Platens
 from rockcal.labtests.result import LabResult, run_fields
+from rockcal.labtests.rig import Gauge, Platens
 from rockcal.materials import as_params
 from rockcal.params import MicroParams
 
@@ -99,26 +93,20 @@ def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | 
     check_stop_fraction(stop_fraction)
     specimen = specimen or random_packing(50.0, 100.0)
     platens = Platens(specimen, params, DENSITY_SCALED_SPEED * rate_factor, contact_stiffness)
-    state, bottom, top = platens.state, platens.bottom, platens.top
+    state = platens.state
     scale_density(state)
-    sets = measure.boundary_sets(specimen.pos, specimen.radius, 0.5 * specimen.radius.min())
-    width0, height0 = measure.gauge_lengths(state.particles.pos, sets)
-    area = specimen.width_m * THICKNESS_M
-
+    gauge = Gauge(specimen, state)
     broken = [0]  # bonds broken so far at each reading, after the unloaded first row
 
     def read() -> Reading:
         broken.append(state.n_broken())
-        width, height = measure.gauge_lengths(state.particles.pos, sets)
-        if strain == "platen":
-            axial = 1.0 - (state.walls.pos[TOP] - state.walls.pos[BOTTOM]) / (top - bottom)
-        else:
-            axial = (height0 - height) / height0
-        stress = platens.load() / area
-        return Reading(stress, axial, (axial, (width - width0) / width0, stress / 1e6))
+        gauge_axial, lateral = gauge.strains()
+        axial = platens.strain() if strain == "platen" else gauge_axial
+        stress = platens.load() / platens.area_m2
+        return Reading(stress, axial, (axial, lateral, stress / 1e6))
 
     loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / DENSITY_SCALED_SPEED, DISTRIBUTED_DAMAGE)
-    curve = load_to_failure(state, loading, platens.chunk, platens.move, read,
+    curve = load_to_failure(platens, loading, read,
                             lambda reading: loading.fallen_below(stop_fraction, reading.load),
                             max_axial_strain, progress=progress)
     curve = np.column_stack([curve, broken])

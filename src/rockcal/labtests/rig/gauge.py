@@ -1,0 +1,24 @@
+"""Strain gauges on the specimen: its axial and lateral strains from the grains along its sides,
+like gauges on a lab sample (`dem.measure.gauge_lengths`: the platen contacts' compliance does
+not enter)."""
+
+from __future__ import annotations
+
+from rockcal.dem import measure
+from rockcal.dem.simulate import State
+from rockcal.dem.specimen import Specimen
+
+
+class Gauge:
+    """Gauges on the grains within half the smallest radius of each side of `specimen` (as
+    made), zeroed at the lengths they read in `state` now."""
+
+    def __init__(self, specimen: Specimen, state: State):
+        self.state = state
+        self.sets = measure.boundary_sets(specimen.pos, specimen.radius, 0.5 * specimen.radius.min())
+        self.width0, self.height0 = measure.gauge_lengths(state.particles.pos, self.sets)
+
+    def strains(self) -> tuple[float, float]:
+        """The axial strain (shortening positive) and the lateral strain (extension positive)."""
+        width, height = measure.gauge_lengths(self.state.particles.pos, self.sets)
+        return (self.height0 - height) / self.height0, (width - self.width0) / self.width0

@@ -1,0 +1,65 @@
+"""Side walls that confine the specimen between the platens at a stress sigma3, as FISHTank's
+compression test with a confining pressure (`ct.fis`, ct_Pc): PFC's wall servo
+(`rockcal.labtests.rig.servo`) seats the specimen with all four walls at sigma3 until
+equilibrium, then holds sigma3 on the side walls while the platens load it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, THICKNESS_M, TOP, advance
+from rockcal.dem.specimen import Specimen
+from rockcal.labtests.rig.platens import Platens
+from rockcal.labtests.rig.servo import SPEED_LIMIT, WallServo
+from rockcal.params import MPa
+
+SEATING_TOLERANCE = 0.005  # each wall's stress within this of sigma3 (FISHTank's ct_PTol)
+EQUILIBRIUM_RATIO = 1e-4  # mean unbalanced force / (sigma3 x mean diameter x t)
+SEATING_ROUNDS = 20_000  # servo updates at most before the seating counts as failed
+
+
+class SideWalls:
+    """Two side walls touching `specimen` between `platens`, servo-controlled to `target_Pa`
+    (compression positive) at speeds up to SPEED_LIMIT x the platens' full speed; `steps` time
+    steps between the servo's updates."""
+
+    def __init__(self, platens: Platens, specimen: Specimen, target_Pa: float):
+        self.state = state = platens.state
+        walls = state.walls
+        walls.pos[LEFT] = (specimen.pos[:, 0] - specimen.radius).min()
+        walls.pos[RIGHT] = (specimen.pos[:, 0] + specimen.radius).max()
+        walls.active[LEFT] = walls.active[RIGHT] = True
+        self.limit = SPEED_LIMIT * platens.speed
+        self.grain_diameter = 2 * specimen.radius.mean()
+        self.servo = WallServo(state, (LEFT, RIGHT), target_Pa, self.limit)
+        self.steps = self.servo.steps
+
+    def seat(self) -> int:
+        """Servo all four walls to sigma3 until equilibrium (each wall within SEATING_TOLERANCE
+        of it, the mean unbalanced force below EQUILIBRIUM_RATIO x sigma3 x mean grain diameter
+        x t) and stop them; the steps it took."""
+        state = self.state
+        servo = WallServo(state, (LEFT, RIGHT, BOTTOM, TOP), self.servo.target, self.limit)
+        scale = servo.target * self.grain_diameter * THICKNESS_M
+        free = state.particles.inv_mass > 0
+        start = state.step
+        for _ in range(SEATING_ROUNDS):
+            servo.update()
+            advance(state, servo.steps)
+            off = np.abs(servo.stresses() / servo.target - 1.0)
+            if off.max() < SEATING_TOLERANCE:
+                unbalanced = np.hypot(*state.particles.force[free].T).mean()
+                if unbalanced < EQUILIBRIUM_RATIO * scale:
+                    servo.hold()
+                    return state.step - start
+        raise RuntimeError(f"the specimen did not settle at {servo.target / MPa:g} MPa in "
+                           f"{state.step - start} steps")
+
+    def update(self) -> None:
+        """Set the side walls' speeds from the stresses they bear now."""
+        self.servo.update()
+
+    def stress_Pa(self) -> float:
+        """sigma3: the side walls' mean normal stress, Pa."""
+        return float(self.servo.stresses()[[LEFT, RIGHT]].mean())
