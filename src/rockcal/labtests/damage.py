@@ -33,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rockcal.labtests.kind import Response
+from rockcal.labtests.line_fit import fit_line
 
 PAUSE_FRACTION = 0.1  # cracking that pauses over more than this x peak q was not yet sustained
 ELASTIC_WINDOW = (0.1, 0.3)  # the part of the rising curve (x peak q) E and nu are read over
@@ -126,8 +127,8 @@ def crack_strain(axial, lateral, q, window=ELASTIC_WINDOW) -> tuple[float, float
         rows = np.arange(len(q)) < len(q) - 1
     if np.count_nonzero(rows) < 2:
         raise ValueError("a compression curve needs two readings before its peak")
-    slope_a, a0 = np.polyfit(q[rows], axial[rows], 1)
-    slope_l, l0 = np.polyfit(q[rows], lateral[rows], 1)
+    slope_a, a0 = fit_line(q[rows], axial[rows])
+    slope_l, l0 = fit_line(q[rows], lateral[rows])
     E, nu = 1.0 / slope_a, slope_l / slope_a
     crack = areal_strain(axial, lateral) - ((a0 - l0) + (1.0 - nu) * q / E)
     tolerance = max(NOISE_MULTIPLE * float(np.sqrt(np.mean(crack[rows] ** 2))), MIN_TOLERANCE)

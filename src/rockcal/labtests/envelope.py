@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from rockcal.errors import InputError
+from rockcal.labtests.line_fit import fit_line
 
 
 @dataclass(frozen=True)
@@ -73,7 +74,7 @@ def check_peaks(sigma3_MPa, sigma1_MPa) -> tuple[np.ndarray, np.ndarray]:
 def fit_mohr_coulomb(sigma3_MPa, sigma1_MPa) -> MohrCoulomb:
     """The least-squares line sigma1 = sigma_c + k sigma3 and its phi and c."""
     s3, s1 = check_peaks(sigma3_MPa, sigma1_MPa)
-    k, sigma_c = np.polyfit(s3, s1, 1)
+    k, sigma_c = fit_line(s3, s1)
     if k <= 1:
         raise InputError("sigma1_MPa", f"the peaks rise with confinement at a slope of {k:.3g}; "
                          "Mohr-Coulomb needs k > 1 (phi > 0)")

@@ -6,6 +6,8 @@ down.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M
@@ -18,7 +20,9 @@ def pin_disks(centre, pin_radius: float, disk_radius: float, facing_up: bool) ->
     arc = pin_radius - disk_radius
     count = int(np.ceil(np.pi * arc / (0.5 * disk_radius))) + 1
     angle = np.linspace(0.0, np.pi, count) if facing_up else np.linspace(np.pi, 2 * np.pi, count)
-    return np.column_stack([centre[0] + arc * np.cos(angle), centre[1] + arc * np.sin(angle)])
+    # the C library's cos and sin: numpy's AVX-512 ones round otherwise on some angles
+    cos, sin = np.array([math.cos(a) for a in angle]), np.array([math.sin(a) for a in angle])
+    return np.column_stack([centre[0] + arc * cos, centre[1] + arc * sin])
 
 
 def touching_centre_y(pos, radius, x: float, pin_radius: float, above: bool) -> float:
