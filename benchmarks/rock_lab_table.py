@@ -24,7 +24,7 @@ import numpy as np
 from rockcal.campaign.config import SpecimenSettings, load_campaign
 from rockcal.campaign.forward import Executor, run_spec
 from rockcal.campaign.store import RunStore
-from rockcal.labtests.damage import plot_crack_stresses
+from rockcal.plots import plot_crack_stresses
 from rockcal.labtests.envelope import fit_mohr_coulomb
 from rockcal.labtests.registry import lab_test
 from rockcal.materials import DEFAULT_MATERIAL, material

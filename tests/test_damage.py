@@ -113,7 +113,7 @@ def test_the_ucs_curve_counts_broken_bonds_and_gives_ci_and_cd():
 
 
 def test_the_figure_marks_ci_and_cd(tmp_path):
-    from rockcal.labtests.damage import plot_crack_stresses
+    from rockcal.plots import plot_crack_stresses
 
     axial, lateral = synthetic_curve()
     path = tmp_path / "crack_stresses.png"

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from rockcal.errors import InputError
-from rockcal.labtests.envelope import (envelope_responses, fit_hoek_brown, fit_mohr_coulomb,
-                                       plot_envelope)
+from rockcal.labtests.envelope import envelope_responses, fit_hoek_brown, fit_mohr_coulomb
+from rockcal.plots import plot_envelope
 
 SIGMA3 = np.array([0.0, 5.0, 10.0, 20.0])
 

@@ -11,6 +11,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import EllipseCollection  # noqa: E402
 
+from rockcal.labtests.damage import areal_strain, crack_strain, crack_stresses  # noqa: E402
+from rockcal.labtests.envelope import check_peaks, fit_hoek_brown, fit_mohr_coulomb  # noqa: E402
+
 
 def crack_pattern(positions, radius, cracks: dict, path: Path, title: str) -> None:
     """The specimen's disks in grey with broken bonds: tension red, shear blue."""
@@ -59,8 +62,6 @@ def deviatoric_stress_strain(curve, path: Path, title: str) -> None:
 def mark_crack_stresses(ax, curve) -> None:
     """CI (onset of cracking) and CD (reversal of the areal strain) as dotted lines, when the
     curve has its column of broken bonds (`rockcal.labtests.damage`)."""
-    from rockcal.labtests.damage import crack_stresses
-
     curve = np.asarray(curve, float)
     if curve.ndim != 2 or curve.shape[1] < 4 or len(curve) < 3:
         return
@@ -250,6 +251,65 @@ def parameter_draws(samples, names: list[str], bounds: dict, identified: dict, p
             if j == 0 and i > 0:
                 ax.set_ylabel(names[i], fontsize=8)
     fig.suptitle("Identified parameters, one point per drawn target set", fontsize=10)
+    _save(fig, path)
+
+
+def plot_envelope(sigma3_MPa, sigma1_MPa, path: Path, title: str = "Strength envelope") -> None:
+    """The peaks (sigma3, sigma1) with the Mohr-Coulomb line and the Hoek-Brown curve."""
+    s3, s1 = check_peaks(sigma3_MPa, sigma1_MPa)
+    mc, hb = fit_mohr_coulomb(s3, s1), fit_hoek_brown(s3, s1)
+    x = np.linspace(0.0, 1.1 * s3.max(), 100)
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    ax.plot(s3, s1, "o", color="k", label="peaks")
+    ax.plot(x, mc.sigma1(x), label=f"Mohr-Coulomb: φ {mc.phi_deg:.1f}°, c {mc.c_MPa:.1f} MPa "
+                                   f"(R² {mc.r2:.3f})")
+    ax.plot(x, hb.sigma1(x), "--", label=f"Hoek-Brown: m_i {hb.m_i:.1f}, σ_ci {hb.sigma_ci_MPa:.0f} "
+                                         f"MPa (r² {hb.r2:.3f})")
+    ax.set_xlabel("confinement σ3 (MPa)")
+    ax.set_ylabel("peak σ1 (MPa)")
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    _save(fig, path)
+
+
+def strength_envelope(runs: list[tuple[dict, np.ndarray]], path: Path, title: str) -> None:
+    """A series of confined compression runs' peaks and their envelope (`plot_envelope`)."""
+    plot_envelope([r["confinement_MPa"] for r, _ in runs], [r["sigma1_MPa"] for r, _ in runs], path, title)
+
+
+def plot_crack_stresses(curve, path, title: str = "Compression test") -> None:
+    """Two panels of a compression curve up to its peak (columns: axial, lateral strain, q MPa,
+    bonds broken): q against the axial, lateral (shown negative) and areal strain, and the
+    bonds broken and the crack areal strain against q; CI (both readings) and CD marked."""
+    axial, lateral, q, broken = np.asarray(curve, float)[:, :4].T
+    found = crack_stresses(axial, lateral, q, broken)
+    peak = int(np.argmax(q))
+    axial, lateral, q, broken = axial[:peak + 1], lateral[:peak + 1], q[:peak + 1], broken[:peak + 1]
+    _, _, crack = crack_strain(axial, lateral, q)
+    marks = (("CI", found.ci_MPa, "tab:orange"),
+             ("CI (crack strain)", found.ci_strain_MPa, "tab:purple"),
+             ("CD", found.cd_MPa, "tab:red"))
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
+    left.plot(100 * axial, q, label="axial")
+    left.plot(-100 * lateral, q, label="lateral")
+    left.plot(100 * areal_strain(axial, lateral), q, label="areal")
+    right.plot(q, broken, color="k", label="bonds broken")
+    twin = right.twinx()
+    twin.plot(q, 1e6 * crack.strain, color="tab:purple", lw=0.8, label="crack areal strain")
+    twin.set_ylabel("crack areal strain (10⁻⁶)")
+    for name, stress, colour in marks:
+        text = f"{name} {stress:.0f} MPa ({stress / found.peak_MPa:.2f})"
+        left.axhline(stress, color=colour, ls=":", label=text)
+        right.axvline(stress, color=colour, ls=":", label=text)
+    left.set_xlabel("strain (%)  (lateral shown negative)")
+    left.set_ylabel("deviatoric stress q (MPa)")
+    right.set_xlabel("deviatoric stress q (MPa)")
+    right.set_ylabel("bonds broken")
+    for ax in (left, right):
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="upper left")
+    fig.suptitle(title)
     _save(fig, path)
 
 

@@ -17,7 +17,6 @@ from rockcal.campaign.forward import specimen_of
 from rockcal.campaign.result import CalibrationResult
 from rockcal.campaign.store import RunStore, StoredRun
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
-from rockcal.labtests.damage import plot_crack_stresses
 from rockcal.labtests.kind import SeriesFigure
 from rockcal.labtests.registry import lab_test
 
@@ -122,7 +121,7 @@ def _crack_stresses(result: CalibrationResult, store: RunStore, path: Path) -> s
         return why
     if run.curve.shape[1] < 4:
         return "The UCS run at the identified parameters kept no count of broken bonds."
-    plot_crack_stresses(run.curve, path, "UCS test at the identified parameters")
+    plots.plot_crack_stresses(run.curve, path, "UCS test at the identified parameters")
     return None
 
 
@@ -135,7 +134,7 @@ def _series(keys: list[str], figure: SeriesFigure, title: str, result: Calibrati
             return why
     if len(runs) < figure.min_runs:
         return f"{figure.title}: needs {figure.min_runs} runs or more, the campaign has {len(runs)}."
-    figure.draw([(run.responses, run.curve) for run in runs], path, title)
+    getattr(plots, figure.draw)([(run.responses, run.curve) for run in runs], path, title)
     return None
 
 

@@ -125,9 +125,11 @@ def simulate(test: LabTest, options: dict) -> None:
 
 def _draw_series(test: LabTest, done: list[tuple[dict, np.ndarray]], out: Path) -> None:
     """The test's figures of a series' runs together (the envelope), each as OUT/<test>_<title>.png."""
+    from rockcal import plots  # matplotlib: only for a command that draws
+
     for figure in test.series_figures:
         if len(done) >= figure.min_runs:
-            figure.draw(done, out / figure.file(test.name), f"{test.title}: {figure.title.lower()}")
+            getattr(plots, figure.draw)(done, out / figure.file(test.name), f"{test.title}: {figure.title.lower()}")
 
 
 def _series(test: LabTest, options: dict) -> tuple[str | None, list]:

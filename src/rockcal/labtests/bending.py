@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Callable, ClassVar
+from typing import Callable
 
 import numpy as np
 from pydantic import Field
@@ -272,7 +272,6 @@ def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BendingR
 class BendingValues(LabValues):
     """Lab results of the notched three-point bending test."""
 
-    test: ClassVar[str] = "bending"
     K_IC_MPa_sqrt_m: float = Field(gt=0, description="Fracture toughness K_IC, MPa·m^0.5.")
     P_max_kN: float | None = Field(None, gt=0, description="Peak load of the lab's round bar, kN, to cross-check "
                                    "K_IC with Ouchterlony's formula.")

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Callable, ClassVar
+from typing import Callable
 
 import numpy as np
 from pydantic import Field, model_validator
@@ -27,7 +27,7 @@ from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests import ucs
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
-from rockcal.labtests.envelope import envelope_responses, plot_envelope
+from rockcal.labtests.envelope import envelope_responses
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, SeriesFigure, Setting, series_name
 from rockcal.labtests.lab_values import LabValues
 from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
@@ -164,7 +164,6 @@ class BiaxialValues(LabValues):
     """Lab results of confined compression at a series of confinements: the peaks, or the
     envelope fitted through them, or both."""
 
-    test: ClassVar[str] = "biaxial"
     confinement_mpa: list[float] = Field(description="The confinements σ3 tested, MPa: increasing, ≥ 0; each is "
                                          "one run at every parameter set.")
     sigma1_MPa: list[float] | None = Field(None, description="Peak σ1 at each confinement, MPa (named "
@@ -206,22 +205,12 @@ class BiaxialValues(LabValues):
         return self
 
 
-def _draw_envelope(runs: list[tuple[dict, np.ndarray]], path, title: str) -> None:
-    plot_envelope([r["confinement_MPa"] for r, _ in runs], [r["sigma1_MPa"] for r, _ in runs], path, title)
-
-
-def _draw_curves(runs: list[tuple[dict, np.ndarray]], path, title: str) -> None:
-    from rockcal.plots import confined_curves
-
-    confined_curves(runs, path, title)
-
-
 SERIES_FIGURES = (
     SeriesFigure("Strength envelope", "Peak σ1 at each confinement σ3 with the least-squares "
-                 "Mohr–Coulomb line and Hoek's regression of the intact Hoek–Brown curve.", _draw_envelope,
+                 "Mohr–Coulomb line and Hoek's regression of the intact Hoek–Brown curve.", "strength_envelope",
                  min_runs=2),
     SeriesFigure("Confined compression curves", "Deviatoric stress q = σ1 − σ3 against the axial "
-                 "(solid) and lateral (dashed) strain at each confinement.", _draw_curves),
+                 "(solid) and lateral (dashed) strain at each confinement.", "confined_curves"),
 )
 
 CONFINEMENT = Setting("confinement_mpa", 0.0, "MPa", check_confinement,

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Callable, ClassVar
+from typing import Callable
 
 import numpy as np
 from pydantic import Field
@@ -136,7 +136,6 @@ def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> Brazilia
 class BrazilianValues(LabValues):
     """Lab result of the Brazilian (splitting tensile) test."""
 
-    test: ClassVar[str] = "brazilian"
     sigma_t_MPa: float = Field(gt=0, description="Brazilian tensile strength σ_t = 2P/(πDt), MPa.")
 
 

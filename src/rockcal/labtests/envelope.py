@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -123,24 +122,3 @@ def _r2(observed, fitted) -> float:
 
 def _rms(residual) -> float:
     return float(np.sqrt(np.mean(np.square(residual))))
-
-
-def plot_envelope(sigma3_MPa, sigma1_MPa, path: Path, title: str = "Strength envelope") -> None:
-    """The peaks (sigma3, sigma1) with the Mohr-Coulomb line and the Hoek-Brown curve."""
-    from rockcal.plots import _save, plt  # matplotlib without a display (Agg)
-
-    s3, s1 = check_peaks(sigma3_MPa, sigma1_MPa)
-    mc, hb = fit_mohr_coulomb(s3, s1), fit_hoek_brown(s3, s1)
-    x = np.linspace(0.0, 1.1 * s3.max(), 100)
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    ax.plot(s3, s1, "o", color="k", label="peaks")
-    ax.plot(x, mc.sigma1(x), label=f"Mohr-Coulomb: φ {mc.phi_deg:.1f}°, c {mc.c_MPa:.1f} MPa "
-                                   f"(R² {mc.r2:.3f})")
-    ax.plot(x, hb.sigma1(x), "--", label=f"Hoek-Brown: m_i {hb.m_i:.1f}, σ_ci {hb.sigma_ci_MPa:.0f} "
-                                         f"MPa (r² {hb.r2:.3f})")
-    ax.set_xlabel("confinement σ3 (MPa)")
-    ax.set_ylabel("peak σ1 (MPa)")
-    ax.set_title(title)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    _save(fig, path)

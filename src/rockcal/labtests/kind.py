@@ -47,11 +47,12 @@ class Setting:
 @dataclass(frozen=True)
 class SeriesFigure:
     """A figure of a series' runs together (the envelope through the peaks): its title, caption
-    and `draw(runs, path, title)`, runs being (responses, curve) in the series' order."""
+    and `draw`, the `rockcal.plots` function of (runs, path, title) that draws it, runs being
+    (responses, curve) in the series' order."""
 
     title: str
     caption: str
-    draw: Callable[[list[tuple[dict, Any]], Any, str], None]
+    draw: str
     min_runs: int = 1  # it needs this many runs (an envelope: two)
 
     def file(self, test: str) -> str:
@@ -107,6 +108,10 @@ class LabTest:
     combine: Callable[[list[dict]], dict] | None = None  # one response set from a series' runs
     combined_responses: tuple[Response, ...] = ()  # what `combine` gives
     series_figures: tuple[SeriesFigure, ...] = ()  # figures of a series' runs together
+
+    def __post_init__(self):
+        if self.lab_values is not None:
+            self.lab_values.kind = self  # its section reads its targets here, not by name
 
     @property
     def series(self) -> Setting | None:

@@ -9,13 +9,16 @@ import io
 import math
 from functools import lru_cache
 from pathlib import Path
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
 from rockcal.errors import InputError
 from rockcal.user_files import read_user_text
+
+if TYPE_CHECKING:
+    from rockcal.labtests.kind import LabTest
 
 # the lab's spread of a response: its sd, or the [min, max] of the lab's samples
 Spread = dict[str, float | tuple[float, float]]
@@ -31,7 +34,7 @@ class LabValues(Section):
     """A lab test's results the calibration can fit (the test's measured responses), the lab's
     spread of each and its weight in the objective (default 1)."""
 
-    test: ClassVar[str]
+    kind: ClassVar[LabTest]  # the test whose section this is: its `LabTest` sets it
     spread: Spread = Field({}, description="The lab's spread of a response: its sd, or the [min, max] of the lab's "
                            "samples; turns the parameters' intervals on.")
     weights: dict[str, float] = Field({}, description="Weight of a response in the objective (default 1).")
@@ -40,16 +43,12 @@ class LabValues(Section):
 
     def scalars(self) -> dict[str, float]:
         """The responses given, by name."""
-        from rockcal.labtests.registry import lab_test
-
-        return {k: getattr(self, k) for k in lab_test(self.test).targets if getattr(self, k) is not None}
+        return {k: getattr(self, k) for k in self.kind.targets if getattr(self, k) is not None}
 
     def series(self) -> list:
         """The values of its test's series setting given here (a run each at every parameter
         set: the confinements of confined compression), or [] for a test run once."""
-        from rockcal.labtests.registry import lab_test
-
-        setting = lab_test(self.test).series
+        setting = self.kind.series
         return list(getattr(self, setting.name, None) or []) if setting else []
 
     def derived(self) -> tuple[str, ...]:
@@ -95,7 +94,7 @@ def values_model(test) -> type[LabValues]:
     fields = {name: (float | None, Field(None, gt=0)) for name in test.targets}
     model = create_model(f"{test.name.title()}Values", __base__=LabValues,
                          __doc__=f"Lab results of the {test.title} test.", **fields)
-    model.test = test.name
+    model.kind = test
     return model
 
 

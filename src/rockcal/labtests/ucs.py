@@ -16,7 +16,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Callable, ClassVar
+from typing import Callable
 
 import numpy as np
 from pydantic import Field
@@ -135,7 +135,6 @@ def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> UCSResul
 class UCSValues(LabValues):
     """Lab results of the uniaxial compression test (at least one response)."""
 
-    test: ClassVar[str] = "ucs"
     E_GPa: float | None = Field(None, gt=0, description="Young's modulus E, GPa (secant at half the peak).")
     nu: float | None = Field(None, gt=0, lt=0.5, description="Poisson's ratio ν (secant at half the peak).")
     ucs_MPa: float | None = Field(None, gt=0, description="Uniaxial compressive strength, MPa.")
