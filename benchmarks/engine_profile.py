@@ -22,6 +22,7 @@ from numba import njit
 
 import rockcal
 from rockcal.dem import laws, simulate
+from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
 
 SOURCE_POINT = {"E_c": 21.65, "kn_ks": 1.9, "sigma_c": 36.55, "tau_c": 90, "mu": 0.5,
@@ -31,9 +32,9 @@ SOURCE_POINT = {"E_c": 21.65, "kn_ks": 1.9, "sigma_c": 36.55, "tau_c": 90, "mu":
 def ucs_state():
     spec = rockcal.random_packing(50, 100, 0.25, 1.65, seed=1)
     pos, radius = spec.pos, spec.radius
-    state = simulate.new_state(pos, radius, spec.bonds, make_params(SOURCE_POINT),
-                               walls=(0, 0, (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()),
-                               wall_active=(False, False, True, True), bond_draws=spec.bond_draws)
+    state = new_state(pos, radius, spec.bonds, make_params(SOURCE_POINT),
+                      walls=(0, 0, (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()),
+                      wall_active=(False, False, True, True), bond_draws=spec.bond_draws)
     state.particles.vel[:] = np.random.default_rng(0).normal(0, 1e-4, (len(pos), 2))
     return state
 

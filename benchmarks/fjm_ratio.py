@@ -17,9 +17,9 @@ import numba
 import numpy as np
 
 import rockcal
-from rockcal.dem.flatjoint_material import make_flatjoint_params
 from rockcal.dem.simulate import advance
 from rockcal.materials import new_state
+from rockcal.materials.flat_joint import make_flatjoint_params
 from rockcal.params import make_params
 
 STEPS = 300

@@ -15,6 +15,7 @@ from rockcal.labtests.registry import LAB_TESTS
 
 SMALL = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16, disk_diameter_mm=10, beam_length_mm=44,
                          beam_height_mm=10, notch_mm=3.6, notch_width_mm=0.8, span_mm=32)
+OWN = {"biaxial": {"confinement_mpa": 5.0}}  # its servo-controlled side walls at work
 MATERIALS = {
     "parallel_bond": {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 40.0, "tau_c": 60.0, "sigma_c_cv": 0.2,
                       "tau_c_cv": 0.2, "phi_b": 20.0},
@@ -34,7 +35,7 @@ def fingerprint(result) -> str:
 def main() -> None:
     for model, params in MATERIALS.items():
         for test in LAB_TESTS:
-            spec = run_spec(test, SMALL, params, model)
+            spec = run_spec(test, SMALL, params, model, OWN.get(test))
             result = execute(spec)
             print(f"{model:13s} {test:15s} key {spec.key}  {result.status:6s} {fingerprint(result)}  "
                   f"{result.message}", flush=True)

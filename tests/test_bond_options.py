@@ -6,8 +6,9 @@ from scipy import stats
 
 from rockcal import make_params
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION, INTACT, BondRow
-from rockcal.dem.simulate import advance, bond_strengths, new_state
+from rockcal.dem.simulate import advance
 from rockcal.dem.specimen import STRENGTH_STREAM
+from rockcal.materials.parallel_bond import bond_strengths, new_state
 
 R = 1e-3  # two equal disks of radius R, touching along x
 N_BONDS = 20000

@@ -5,11 +5,11 @@ stays quasi-static when its loading rate is halved."""
 import pytest
 
 from rockcal import random_packing, simulate_ucs
-from rockcal.dem.flatjoint_material import make_flatjoint_params
 from rockcal.labtests.bending import Beam, notched_beam, simulate_bending
 from rockcal.labtests.biaxial import simulate_biaxial
 from rockcal.labtests.brazilian import brazilian_disk, simulate_brazilian
 from rockcal.labtests.direct_tension import simulate_direct_tension
+from rockcal.materials.flat_joint import make_flatjoint_params
 
 pytestmark = pytest.mark.slow  # every lab test run, on its own small specimen
 

@@ -10,8 +10,9 @@ from rockcal import make_params
 from rockcal.dem.genesis import Genesis, vessel_contacts
 from rockcal.dem.laws import BondRow
 from rockcal.dem.packing import PRESSURE_TOLERANCE
-from rockcal.dem.simulate import advance, new_state, rebuild_neighbours
+from rockcal.dem.simulate import advance, rebuild_neighbours
 from rockcal.dem.specimen import random_packing
+from rockcal.materials.parallel_bond import new_state
 
 WIDTH_MM, HEIGHT_MM, RMIN_MM, RATIO = 10.0, 20.0, 0.25, 1.65
 

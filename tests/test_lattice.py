@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from rockcal import hexagonal, make_params, simulate_ucs
-from rockcal.dem.flatjoint_material import make_flatjoint_params
-from rockcal.dem.simulate import BOTTOM, TOP, advance, new_state
+from rockcal.dem.simulate import BOTTOM, TOP, advance
+from rockcal.materials.flat_joint import make_flatjoint_params
+from rockcal.materials.parallel_bond import new_state
 
 
 def exact_moduli(kn: float, ks: float) -> tuple[float, float]:

@@ -15,16 +15,19 @@ ROUNDOFF = 1e-9
 # dotted paths into the record ("*": any list item) whose numbers come from BLAS or scipy
 BLAS_PATHS = (
     "surrogate_check.predicted", "surrogate_check.max_relative_error",
-    "iterations.*.objective_surrogate", "iterations.*.predicted", "iterations.*.history_fun",
-    "iterations.*.history_x",
+    "iterations.*.predicted", "iterations.*.history_x",
     "uncertainty.intervals", "uncertainty.samples",
     "verdict.unreachable", "verdict.conflicts.*.least_error", "verdict.least_error_all",
     "curve_fit",
 )
+# the search's objective, a sum of squared relative errors: near its zero a relative round-off
+# of the predictions is an absolute one of its square root (the errors' root sum of squares)
+OBJECTIVE_PATHS = ("iterations.*.objective_surrogate", "iterations.*.history_fun")
 
 
 def differences(now, before, path: str = "") -> list[str]:
-    """Where `now` differs from `before`: beyond ROUNDOFF under BLAS_PATHS, at all elsewhere."""
+    """Where `now` differs from `before`: beyond ROUNDOFF under BLAS_PATHS and OBJECTIVE_PATHS,
+    at all elsewhere."""
     if isinstance(before, dict):
         if not isinstance(now, dict) or now.keys() != before.keys():
             return [f"{path or 'record'}: keys {sorted(now) if isinstance(now, dict) else now!r} "
@@ -34,8 +37,11 @@ def differences(now, before, path: str = "") -> list[str]:
         if not isinstance(now, list) or len(now) != len(before):
             return [f"{path}: {now!r} against {before!r}"]
         return [d for i, (a, b) in enumerate(zip(now, before)) for d in differences(a, b, _join(path, str(i)))]
-    if _under_blas(path) and isinstance(now, float) and isinstance(before, float):
-        same = math.isclose(now, before, rel_tol=ROUNDOFF, abs_tol=0.0) or now == before
+    numbers = isinstance(now, float) and isinstance(before, float)
+    if numbers and _under(path, OBJECTIVE_PATHS) and now >= 0 and before >= 0:
+        same = abs(math.sqrt(now) - math.sqrt(before)) <= ROUNDOFF
+    elif numbers and _under(path, BLAS_PATHS):
+        same = math.isclose(now, before, rel_tol=ROUNDOFF, abs_tol=0.0)
     else:
         same = type(now) is type(before) and now == before
     return [] if same else [f"{path}: {now!r} against {before!r}"]
@@ -45,7 +51,7 @@ def _join(path: str, key: str) -> str:
     return f"{path}.{key}" if path else key
 
 
-def _under_blas(path: str) -> bool:
+def _under(path: str, patterns: tuple[str, ...]) -> bool:
     parts = path.split(".")
     return any(len(parts) >= len(head) and all(h == p or (h == "*" and p.isdigit()) for h, p in zip(head, parts))
-               for head in (pattern.split(".") for pattern in BLAS_PATHS))
+               for head in (pattern.split(".") for pattern in patterns))

@@ -15,8 +15,8 @@ from rockcal.campaign.config import parse_campaign
 from rockcal.campaign.result import CalibrationResult, save_result
 from rockcal.campaign.store import RunStore
 from rockcal.dem.genesis import Genesis
-from rockcal.dem.simulate import bond_strengths
 from rockcal.dem.specimen import random_packing
+from rockcal.materials.parallel_bond import bond_strengths
 from rockcal.params import make_params
 
 pytestmark = pytest.mark.slow  # a small calibration campaign, then the rockcal command in a new process

@@ -16,7 +16,7 @@ import pytest
 
 from rockcal.campaign.config import SpecimenSettings
 from rockcal.campaign.export import to_fish, to_json, to_python
-from rockcal.dem.flatjoint_material import make_flatjoint_params
+from rockcal.materials.flat_joint import make_flatjoint_params
 from rockcal.params import make_params
 
 COMMON = ("cm_matName", "cm_matType", "cm_localDampFac", "cm_densityCode", "cm_densityVal",
@@ -125,8 +125,8 @@ def test_flat_jointed_specimen_lists_read_back(tmp_path):
     import numpy as np
 
     from rockcal.campaign.export import write_specimen
-    from rockcal.dem.flatjoint_material import flatjointed
     from rockcal.dem.specimen import hexagonal
+    from rockcal.materials.flat_joint import flatjointed
 
     spec = hexagonal(4, 4, 0.25)
     params = make_flatjoint_params(FLATJOINTED)

@@ -3,7 +3,8 @@ declared list of steps resumes with the same answer: the runs whose test did not
 run again (the Brazilian check); the UCS runs, whose curve gained a column of broken bonds in
 revision 4, run again and give the same engine numbers to the last bit, the same parameter sets
 and the same acceptance; the surrogate's and the search's numbers agree to round-off (the store
-was written on another processor: `same_record`)."""
+was written on another processor: `same_record`). The record's surrogate check is the one of
+shapes chosen as now: where the leave-one-out errors tie (its 4 samples), the smallest."""
 
 import json
 import shutil

@@ -35,3 +35,9 @@ def test_the_engines_numbers_parameters_and_counts_must_be_the_same_to_the_bit()
     assert differences(_with("iterations", 0, "nfev", value=401), RECORD)
     assert differences(_with("accepted", value=1), RECORD)  # a number is not a verdict
     assert differences(_with("accepted", value=False), RECORD)
+
+
+def test_the_objective_near_its_zero_may_differ_by_the_round_off_of_its_root():
+    record = _with("iterations", 0, "objective_surrogate", value=2.1265966404937364e-13)
+    assert not differences(_with("iterations", 0, "objective_surrogate", value=2.1265966455223155e-13), record)
+    assert differences(_with("iterations", 0, "objective_surrogate", value=2.2e-13), record)

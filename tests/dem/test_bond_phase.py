@@ -8,7 +8,8 @@ import numpy as np
 from rockcal import hexagonal
 from rockcal.dem import laws
 from rockcal.dem.laws import BondRow
-from rockcal.dem.simulate import new_state, rebuild_neighbours
+from rockcal.dem.simulate import rebuild_neighbours
+from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
 
 PARAMS = {"E_c": 20, "kn_ks": 2.0, "sigma_c": 10, "tau_c": 20, "sigma_c_cv": 0.3,

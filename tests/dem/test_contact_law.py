@@ -9,7 +9,8 @@ disks by velocity * dt.
 import numpy as np
 import pytest
 
-from rockcal.dem.simulate import advance, new_state
+from rockcal.dem.simulate import advance
+from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
 
 T = 1.0  # disk thickness, m (PFC2D)

@@ -69,7 +69,7 @@ class Pair:
         g.spin[:] = spin
         g.loads[:] = 0.0
         bonded = np.count_nonzero(self.j.state == fj.BONDED)
-        fj.add_flatjoint_forces(0, 1, g.disks, self.pi, self.pj, self.j, DT, g.loads)
+        fj.add_flatjoint_forces(0, 1, g.disks, self.pi, self.pj, None, self.j, None, DT, g.loads)
         self.pos += g.vel * DT
         return bonded - np.count_nonzero(self.j.state == fj.BONDED)  # elements broken
 
@@ -361,8 +361,8 @@ def test_element_strengths_are_drawn_reproducibly_by_seed():
     material's seeded draws: the same seed gives the same arrays, bit for bit, another seed
     others; as in PFC, the elements of one joint share its draw (fj_ten, fj_coh are contact
     properties)."""
-    from rockcal.dem import flatjoint_material as fjm
     from rockcal.dem.specimen import hexagonal
+    from rockcal.materials import flat_joint as fjm
 
     spec = hexagonal(4.0, 4.0, 0.25)
     params = fjm.make_flatjoint_params({"fj_nr": 3, "fj_ten_sd": 10.0, "fj_coh_cv": 0.3})

@@ -7,9 +7,9 @@ import pytest
 
 from rockcal import hexagonal, make_params
 from rockcal.dem import flatjoint as fj
-from rockcal.dem.flatjoint_material import make_flatjoint_params
 from rockcal.dem.simulate import advance
 from rockcal.materials import new_state
+from rockcal.materials.flat_joint import make_flatjoint_params
 
 STRONG = {"fj_ten": 1e4, "fj_coh": 1e4}
 
@@ -49,7 +49,7 @@ def test_bonded_flat_joints_move_grains_as_parallel_bonds_do(nr):
         advance(bonds, 50)
         for a, b in ((joints.particles.force, bonds.particles.force),
                      (joints.particles.moment, bonds.particles.moment),
-                     (joints.joints.table[fj.FN:fj.M + 1], bonds.bonds.table[:3])):
+                     (joints.bonds.table[fj.FN:fj.M + 1], bonds.bonds.table[:3])):
             np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * np.abs(b).max())
             assert np.abs(b).max() > 0
         np.testing.assert_allclose(joints.particles.pos, bonds.particles.pos, rtol=1e-14)

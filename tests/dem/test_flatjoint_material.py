@@ -1,4 +1,4 @@
-"""The flat-jointed material as FISHTank assigns it (`rockcal.dem.flatjoint_material`): its
+"""The flat-jointed material as FISHTank assigns it (`rockcal.materials.flat_joint`): its
 parameters' validation, the microstructure realised on packings, reproducibly by seed, and the
 reduction of λ where two faces of a grain would overlap."""
 
@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from rockcal.dem import flatjoint as fj
-from rockcal.dem import flatjoint_material as fjm
 from rockcal.dem.genesis import pair_gaps
 from rockcal.dem.specimen import SHIPPED_DIR, hexagonal
 from rockcal.errors import InputError
+from rockcal.materials import flat_joint as fjm
 
 MPA = 1e6
 

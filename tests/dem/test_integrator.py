@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from rockcal.dem.laws import INTACT, BondRow
-from rockcal.dem.simulate import TIME_STEP_SAFETY, advance, new_state, scale_density, stable_time_step
+from rockcal.dem.simulate import TIME_STEP_SAFETY, advance, scale_density, stable_time_step
+from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
 
 T = 1.0

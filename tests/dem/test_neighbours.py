@@ -7,7 +7,8 @@ import pytest
 
 from rockcal.dem import neighbours
 from rockcal.dem.neighbours import near_pairs
-from rockcal.dem.simulate import advance, new_state
+from rockcal.dem.simulate import advance
+from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
 
 T = 1.0

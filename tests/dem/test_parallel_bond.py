@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION, INTACT, BondRow
-from rockcal.dem.simulate import advance, new_state
+from rockcal.dem.simulate import advance
+from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
 
 T = 1.0

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from rockcal import hexagonal, simulate_ucs
-from rockcal.dem.flatjoint_material import make_flatjoint_params
 from rockcal.dem.neighbours import block_starts
+from rockcal.materials.flat_joint import make_flatjoint_params
 
 pytestmark = pytest.mark.slow  # DEM runs and specimens of minutes: deselect with -m "not slow"
 

@@ -26,7 +26,8 @@ def probe_ms_per_step() -> float:
     disks moving slightly, on one thread: the fastest of ROUNDS runs of STEPS steps (ms)."""
     import numba
 
-    from rockcal.dem.simulate import advance, new_state
+    from rockcal.dem.simulate import advance
+    from rockcal.materials.parallel_bond import new_state
     from rockcal.dem.specimen import hexagonal
     from rockcal.params import make_params
 

@@ -1,6 +1,6 @@
 """PFC's 2D flat-joint contact (Potyondy 2012; the `flatjoint` contact model of PFC 5-9): the
 law over plain arrays (`update_joint`) and the engine's flat-joint phase (`add_flatjoint_forces`,
-run by `simulate` on the first pairs of the neighbour list in place of the parallel bonds).
+the bond phase of `FlatJoints`, `bonded`), run on the first pairs of the neighbour list.
 
 The interface (PFC manual, "Flat-Joint Model"; see the docs, "FISHTank's flat-joint names"):
 - a segment of half-length R̄ = λ min(R_i, R_j) (`fj_rmul` = λ; `fj_radius` = R̄), unit
@@ -53,6 +53,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, uint64
 
+from rockcal.dem.bonded import bond_phase
 from rockcal.dem.laws import Disk, Load, contact_velocity, force_xy, pair_geometry
 
 # PFC's fj_state codes (FISHTank counts an element with fj_state 3 as bonded)
@@ -77,9 +78,26 @@ class FlatJoints(NamedTuple):
     elements: np.ndarray  # (ELEMENT_ROWS, joints, N_r)
     break_xy: np.ndarray  # (joints, N_r, 2): where each element broke (its centroid), m
 
+    REPLACES_CONTACT = True  # a flat joint is its pair's only spring
+
     @property
     def nr(self) -> int:
         return self.state.shape[1]
+
+    def breaks(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each element's break (`broken`) and where (its centroid, m; NaN where unbroken),
+        flat: an element is one crack."""
+        return self.broken(), self.break_xy.reshape(-1, 2)
+
+    def take_radii(self, radius, pi, pj) -> None:
+        """Nothing: a flat joint reads its grains' radii from them."""
+
+    def springs(self, rmin, length, law, thickness: float):
+        """Each joint's stiffnesses as a bonded interface, k_n A, k_s A (N/m) and k_n I
+        (N m/rad), of its grains' smaller radius `rmin` (m)."""
+        rb = self.table[RMUL] * rmin
+        return (self.table[KN] * 2 * rb * thickness, self.table[KS] * 2 * rb * thickness,
+                self.table[KN] * 2 / 3 * (rb * rb * rb) * thickness)
 
     def taken(self, order) -> "FlatJoints":
         """These joints in the order `order` (indices into them)."""
@@ -218,13 +236,15 @@ def update_joint(p, rbar, dn, ds, dtheta, table, state, elements):
     return breaks
 
 
+@bond_phase(FlatJoints)
 @njit(cache=True, error_model="numpy")
-def add_flatjoint_forces(first, last, disks, pi, pj, joints, dt, loads):
+def add_flatjoint_forces(first, last, disks, pi, pj, contact_shear, joints, law, dt, loads):
     """Joints first..last-1 between grains pi[p] and pj[p] (rows of `disks`, columns
     `laws.Disk`): their relative motion over a step dt at the contact point (mid-gap, as for
     the parallel bond), the law (`update_joint`), where each newly broken element broke (its
     centroid) and their forces and moments added to the grains' `loads`, as `laws.py` adds a
-    bond's (the joint's force on i is taken from j)."""
+    bond's (the joint's force on i is taken from j). A bond phase (`bonded`): the contacts'
+    shear forces and the law constants are not a flat joint's."""
     table, state, elements, break_xy = joints
     nr = state.shape[1]
     for p in range(uint64(first), uint64(last)):

@@ -28,6 +28,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, uint64
 
+from rockcal.dem.bonded import bond_phase
+
 INTACT, BROKEN_TENSION, BROKEN_SHEAR = 0, 1, 2
 # squared centre distance / squared contact distance above which a pair surely does not touch
 APART = 1.0 + 1e-9
@@ -114,11 +116,30 @@ class Laws(NamedTuple):
 
 
 class Bonds(NamedTuple):
-    """Per-bond arrays, in the order of the first pairs of the pair list."""
+    """Per-bond arrays, in the order of the first pairs of the pair list: the bonded-pair
+    state of the parallel-bonded material (`bonded`)."""
 
     state: np.ndarray  # INTACT, BROKEN_TENSION or BROKEN_SHEAR
     break_xy: np.ndarray  # where it broke, m
     table: np.ndarray  # (len(BondRow), n): what the force loop reads and writes of a bond
+
+    REPLACES_CONTACT = False  # a bonded pair's contact acts beside its bond
+
+    def breaks(self) -> tuple[np.ndarray, np.ndarray]:
+        """How each bond broke (INTACT, BROKEN_TENSION, BROKEN_SHEAR) and where (m, NaN where
+        intact)."""
+        return self.state, self.break_xy
+
+    def take_radii(self, radius, pi, pj) -> None:
+        """Keep the radii of the bonds' grains pi, pj (`set_radii`): after they change."""
+        set_radii(self, radius[pi], radius[pj])
+
+    def springs(self, rmin, length, law: "Laws", thickness: float):
+        """Each bond's stiffnesses k̄n Ā, k̄s Ā (N/m) and k̄n Ī (N m/rad), of its grains' smaller
+        radius `rmin` and R_i + R_j = `length` (m)."""
+        rb = law.lam * rmin
+        kbn = law.Ebar_c / length * 2 * rb * thickness
+        return kbn, kbn * law.ksbar_per_knbar, law.Ebar_c / length * 2 / 3 * (rb * rb * rb) * thickness
 
 
 def new_bonds(ref_overlap, ten, coh, ri, rj) -> Bonds:
@@ -218,6 +239,7 @@ def force_xy(fn, fs, nx, ny):
     return fn * nx - fs * ny, fn * ny + fs * nx
 
 
+@bond_phase(Bonds)
 @njit(cache=True, error_model="numpy")
 def add_bond_forces(first, last, disks, pi, pj, contact_shear, bonds, laws, dt, loads):
     """Add the forces and moments of bonded pairs first..last-1 (pair p is bond p) to their

@@ -13,8 +13,9 @@ import logging
 import numpy as np
 
 from rockcal.dem.neighbours import spatial_order
-from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, TOP, THICKNESS_M, advance, new_state, rebuild_neighbours
-from rockcal.params import GPa, MPa, MicroParams
+from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, TOP, THICKNESS_M, advance, rebuild_neighbours
+from rockcal.materials.parallel_bond import MicroParams, new_state
+from rockcal.materials.units import GPa, MPa
 
 log = logging.getLogger(__name__)
 

@@ -1,7 +1,9 @@
 """Stepping in time: the state of a bonded-particle model and the explicit integrator.
 
-The state is named parts of plain arrays: particles, bonds (`laws.Bonds`), walls and the
+The state is named parts of plain arrays: particles, the bonded pairs' law state (a
+material's: parallel bonds `laws.Bonds`, flat joints `flatjoint.FlatJoints`), walls and the
 neighbour list (`neighbours.NeighbourList`), with the law constants, damping and time step.
+A material builds it (`rockcal.materials`) with `assemble_state`.
 `advance` runs many steps inside one compiled loop (force laws, walls, PFC local damping,
 central-difference motion) and hands back to Python only to update the neighbour list, so the
 per-step cost is the arithmetic alone.
@@ -20,12 +22,10 @@ from typing import NamedTuple
 import numpy as np
 import numba
 from numba import njit, prange
-from scipy import special
 
-from rockcal.dem import flatjoint, laws, neighbours
+from rockcal.dem import laws, neighbours
+from rockcal.dem.bonded import add_bonded_forces
 from rockcal.dem.laws import Disk, Load
-from rockcal.errors import InputError
-from rockcal.params import GPa, MPa, MicroParams
 
 THICKNESS_M = 1.0
 TIME_STEP_SAFETY = 0.8
@@ -88,20 +88,20 @@ class Walls(NamedTuple):
 
 @dataclass
 class State:
-    """A bonded-particle model: its particles, its bonded pairs (the first pairs of the
-    neighbour list, in its order: parallel bonds, or flat joints with `joints` set and `bonds`
-    empty), walls and neighbour list, the law constants (of the linear contacts and parallel
-    bonds), damping and time step."""
+    """A bonded-particle model: its particles, its bonded pairs' law state `bonds` (the first
+    pairs of the neighbour list, in its order; its material's type: parallel bonds
+    `laws.Bonds`, flat joints `flatjoint.FlatJoints`, with `breaks`, `take_radii`, `springs`
+    and a bond phase, `bonded`), walls and neighbour list, the law constants (of the linear
+    contacts and parallel bonds), damping and time step."""
 
     particles: Particles
-    bonds: laws.Bonds
+    bonds: tuple  # laws.Bonds, flatjoint.FlatJoints, ...: its material's
     walls: Walls
     neighbours: neighbours.NeighbourList
     laws: laws.Laws
     damping: float
     dt: float
     step: int = 0
-    joints: flatjoint.FlatJoints | None = None
 
     @property
     def n_particles(self) -> int:
@@ -111,9 +111,7 @@ class State:
         """The cracks so far: how each bond broke (laws.INTACT, BROKEN_TENSION, BROKEN_SHEAR) and
         where (m, NaN where intact). With flat joints each element is one: a broken element is a
         crack at its centroid."""
-        if self.joints is None:
-            return self.bonds.state, self.bonds.break_xy
-        return self.joints.broken(), self.joints.break_xy.reshape(-1, 2)
+        return self.bonds.breaks()
 
     def n_broken(self, mode: int | None = None) -> int:
         """Bonds (flat-joint elements) broken so far, in `mode` or (None) either."""
@@ -140,68 +138,13 @@ CONTACT_STIFFNESS = ("pfc5", "pfc4")
 DEFAULT_CONTACT_STIFFNESS = "pfc4"
 
 
-def law_constants(params: MicroParams, contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS) -> laws.Laws:
-    if contact_stiffness not in CONTACT_STIFFNESS:
-        raise InputError("contact_stiffness", f"must be one of {', '.join(CONTACT_STIFFNESS)}, "
-                                              f"got {contact_stiffness!r}")
-    return laws.Laws(params.E_c * GPa, 1.0 / params.kn_ks, params.mu, params.Ebar_c * GPa,
-                     1.0 / params.knbar_ksbar, params.lambda_,
-                     math.tan(math.radians(params.phi_b)), params.mcf,
-                     contact_stiffness == "pfc4")
-
-
-def bond_strengths(params: MicroParams, draws: np.ndarray | None, n_bonds: int):
-    """Tensile strength and cohesion (Pa) of each bond, normally distributed (mean, sd) and
-    truncated at zero as PFC's FISHTank does (it redraws negative values): the bond's uniform
-    draws u (columns of `draws`; None: the means) map through the truncated normal's inverse
-    distribution function, so a bond keeps its rank in strength whatever the parameters."""
-    u = None if draws is None else np.asarray(draws, float).reshape(n_bonds, 2)
-    strengths = []
-    means = (params.sigma_c, params.tau_c)
-    for column, (mean, sd) in enumerate(zip(means, params.strength_sds)):
-        if sd == 0 or u is None:
-            strengths.append(np.full(n_bonds, mean * MPa))
-            continue
-        below = special.ndtr(-mean / sd)  # probability mass cut off below zero
-        z = special.ndtri(below + u[:, column] * (1.0 - below))
-        strengths.append(np.maximum(0.0, mean + sd * z) * MPa)
-    return tuple(strengths)
-
-
-def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 0.0),
-              wall_active=(False,) * 4, driven=None, skin=None, laws_si=None,
-              bond_draws=None, contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS) -> State:
-    """A state at rest with the given bonds (pairs i < j) installed at zero force; contacts
-    as `contact_stiffness` says (CONTACT_STIFFNESS; platens as PFC 5's either way).
-
-    bond_draws: two uniform draws per bond (in the order of `bonds`) that set its strengths
-    (`bond_strengths`). A bond installed at an overlapping pair takes the overlap
-    as reference, so installing it locks in no force.
-    """
-    laws_si = laws_si or law_constants(params, contact_stiffness)
-
-    def parallel_bonds(pos, radius, nlist, order):
-        nb = nlist.n_bonds
-        ten, coh = bond_strengths(params, None if bond_draws is None else
-                                  np.asarray(bond_draws, float).reshape(-1, 2)[order], nb)
-        bi, bj = nlist.pi[:nb], nlist.pj[:nb]
-        centre_gap = np.hypot(*(pos[bj] - pos[bi]).T)
-        ref_overlap = np.maximum(0.0, radius[bi] + radius[bj] - centre_gap)
-        return laws.new_bonds(ref_overlap, ten, coh, radius[bi], radius[bj]), None
-
-    wall_modulus = laws_si.E_c if laws_si.E_c > 0 else laws_si.Ebar_c
-    return assemble_state(pos, radius, bonds, params.density, params.damping, laws_si,
-                          wall_modulus, parallel_bonds, walls=walls, wall_active=wall_active,
-                          driven=driven, skin=skin)
-
-
 def assemble_state(pos, radius, pairs, density: float, damping: float, laws_si: laws.Laws,
                    wall_modulus: float, bonded, *, walls=(0.0, 0.0, 0.0, 0.0),
                    wall_active=(False,) * 4, driven=None, skin=None) -> State:
     """A state at rest: grains of `density` (kg/m³; `driven` ones have their velocities
     prescribed), the bonded `pairs` (i < j) first in the neighbour list and
-    `bonded(pos, radius, nlist, order)` -> (parallel bonds, flat joints or None) their law state
-    in the list's order (its pair k is pairs[order[k]]), walls of normal stiffness
+    `bonded(pos, radius, nlist, order)` -> their law state (its material's: `State.bonds`) in
+    the list's order (its pair k is pairs[order[k]]), walls of normal stiffness
     2 t x `wall_modulus` (Pa), and the stable time step."""
     n = pos.shape[0]
     radius = np.array(radius, float)
@@ -214,14 +157,14 @@ def assemble_state(pos, radius, pairs, density: float, damping: float, laws_si: 
     pos = np.ascontiguousarray(pos, float)
     nlist, order = neighbours.allocate(pos, radius, pairs,
                                        skin if skin is not None else 0.5 * radius.min())
-    bonds, joints = bonded(pos, radius, nlist, order)
+    bonds = bonded(pos, radius, nlist, order)
     state = State(
         particles=new_particles(pos, radius, inv_mass, inv_inertia),
         bonds=bonds,
         walls=Walls(pos=np.array(walls, float), vel=np.zeros(4),
                     active=np.array(wall_active, np.bool_), force=np.zeros((n, 4)),
                     stiffness=2.0 * THICKNESS_M * wall_modulus),
-        neighbours=nlist, laws=laws_si, damping=damping, dt=0.0, joints=joints,
+        neighbours=nlist, laws=laws_si, damping=damping, dt=0.0,
     )
     state.dt = stable_time_step(state)
     return state
@@ -232,9 +175,7 @@ def rebuild_neighbours(state: State) -> None:
     particles' radii (needed after changing radii)."""
     p, nb = state.particles, state.neighbours.n_bonds
     state.neighbours = neighbours.update(state.neighbours, p.pos, p.radius)
-    if state.joints is None:  # a flat joint reads its grains' radii from them
-        laws.set_radii(state.bonds, p.radius[state.neighbours.pi[:nb]],
-                       p.radius[state.neighbours.pj[:nb]])
+    state.bonds.take_radii(p.radius, state.neighbours.pi[:nb], state.neighbours.pj[:nb])
 
 
 def stable_time_step(state: State) -> float:
@@ -272,30 +213,20 @@ def scale_density(state: State) -> float:
 
 def _stiffness_sums(state: State) -> tuple[np.ndarray, np.ndarray]:
     """Each particle's translational and rotational stiffness, summed over every listed pair (as
-    if touching: the larger of normal and shear, contact plus bond) and the walls. A flat joint
-    counts as a bonded interface (k_n A, k_s A; k_n (2/3) R̄³ t in rotation), and is its pair's
-    only spring."""
-    E_c, ks_per_kn, _, Ebar_c, ksbar_per_knbar, lam = state.laws[:6]
-    p, pairs = state.particles, state.neighbours
+    if touching: the larger of normal and shear, contact plus bond) and the walls. A bonded
+    pair adds its bond's springs (`State.bonds.springs`: a flat joint's as a bonded interface,
+    k_n A, k_s A; k_n (2/3) R̄³ t in rotation), and a flat joint is its pair's only spring."""
+    E_c, ks_per_kn = state.laws[:2]
+    p, pairs, nb = state.particles, state.neighbours, state.neighbours.n_bonds
     ri, rj = p.radius[pairs.pi], p.radius[pairs.pj]
     length = ri + rj
     rmin = np.minimum(ri, rj)
     kn = np.full_like(length, E_c * THICKNESS_M) if state.laws.pfc4_contacts else \
         2 * rmin * THICKNESS_M * E_c / length
-    bonded = np.zeros(len(ri), bool)
-    bonded[:pairs.n_bonds] = True
-    if state.joints is None:
-        rb = lam * rmin
-        kbn = np.where(bonded, Ebar_c / length * 2 * rb * THICKNESS_M, 0.0)
-        kbs = kbn * ksbar_per_knbar
-        kbr = np.where(bonded, Ebar_c / length * 2 / 3 * (rb * rb * rb) * THICKNESS_M, 0.0)
-    else:
-        table, nb = state.joints.table, pairs.n_bonds
+    if state.bonds.REPLACES_CONTACT:
         kn[:nb] = 0.0
-        rb = table[flatjoint.RMUL] * rmin[:nb]
-        kbn, kbs, kbr = (np.concatenate([k, np.zeros(len(ri) - nb)]) for k in (
-            table[flatjoint.KN] * 2 * rb * THICKNESS_M, table[flatjoint.KS] * 2 * rb * THICKNESS_M,
-            table[flatjoint.KN] * 2 / 3 * (rb * rb * rb) * THICKNESS_M))
+    kbn, kbs, kbr = (np.concatenate([k, np.zeros(len(ri) - nb)]) for k in state.bonds.springs(
+        rmin[:nb], length[:nb], state.laws, THICKNESS_M))
     ks = kn * ks_per_kn
     n = state.n_particles
     k_trans = np.full(n, state.walls.stiffness)
@@ -331,14 +262,14 @@ def _move(first, last, disks, loads, damping, dt, pos_at_build):
 
 
 # numba caches this kernel with the law kernels compiled into it, keyed by this file alone:
-# after editing laws.py in a checkout, clear the caches (__pycache__/*.nbi, *.nbc).
+# after editing laws.py or flatjoint.py in a checkout, clear the caches (__pycache__/*.nbi, *.nbc).
 @njit(parallel=True, cache=True, error_model="numpy")
-def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, joints, flat_joints, starts,
-             bond_offsets, contact_offsets, walls, wall_active, wall_vel, wall_force, k_wall,
-             pos_at_build, half_skin_sq, law, damping, dt):
+def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets,
+             contact_offsets, walls, wall_active, wall_vel, wall_force, k_wall, pos_at_build,
+             half_skin_sq, law, damping, dt):
     """Run up to n_steps; stop early when the list must be rebuilt. Returns the steps done
-    and whether the list must be rebuilt. The bonded pairs are parallel bonds (`bonds`), or
-    flat joints (`joints`) if `flat_joints`."""
+    and whether the list must be rebuilt. The bonded pairs' phase is the one of `bonds`'
+    type (`bonded`): compiled, and cached, once per material."""
     blocks = starts.shape[0] - 1
     moved = np.zeros(blocks)
     for s in range(n_steps):  # no array expressions: each would be a parallel region
@@ -347,21 +278,13 @@ def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, joints, flat_j
                 loads[k, Load.FORCE_X] = 0.0
                 loads[k, Load.FORCE_Y] = 0.0
                 loads[k, Load.MOMENT] = 0.0
-            if flat_joints:
-                flatjoint.add_flatjoint_forces(bond_offsets[b], bond_offsets[b + 1], disks, pi,
-                                               pj, joints, dt, loads)
-            else:
-                laws.add_bond_forces(bond_offsets[b], bond_offsets[b + 1], disks, pi, pj,
-                                     contact_shear, bonds, law, dt, loads)
+            add_bonded_forces(bond_offsets[b], bond_offsets[b + 1], disks, pi, pj,
+                              contact_shear, bonds, law, dt, loads)
             laws.add_contact_forces(contact_offsets[b], contact_offsets[b + 1], disks, pi, pj,
                                     contact_shear, law, dt, loads)
         # then the pairs across block borders
-        if flat_joints:
-            flatjoint.add_flatjoint_forces(bond_offsets[blocks], bond_offsets[blocks + 1], disks,
-                                           pi, pj, joints, dt, loads)
-        else:
-            laws.add_bond_forces(bond_offsets[blocks], bond_offsets[blocks + 1], disks, pi, pj,
-                                 contact_shear, bonds, law, dt, loads)
+        add_bonded_forces(bond_offsets[blocks], bond_offsets[blocks + 1], disks, pi, pj,
+                          contact_shear, bonds, law, dt, loads)
         laws.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], disks, pi,
                                 pj, contact_shear, law, dt, loads)
         for b in prange(blocks):
@@ -374,9 +297,6 @@ def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, joints, flat_j
             if moved[b] > half_skin_sq:
                 return s + 1, True
     return n_steps, False
-
-
-NO_JOINTS = flatjoint.new_flatjoints(1, [], 0.0, 0.0, 0.0, 0.0, 0.0, False, 0.0, 0.0)
 
 
 def advance(state: State, n_steps: int) -> None:
@@ -400,7 +320,7 @@ def _advance_all(state: State, n_steps: int) -> None:
         pairs = state.neighbours
         done_now, rebuild = _advance(
             n_steps - done, p.disks, p.loads, pairs.pi, pairs.pj, pairs.shear, state.bonds,
-            state.joints or NO_JOINTS, state.joints is not None, pairs.block_starts, pairs.bond_offsets, pairs.contact_offsets, w.pos, w.active,
+            pairs.block_starts, pairs.bond_offsets, pairs.contact_offsets, w.pos, w.active,
             w.vel, w.force, w.stiffness, pairs.pos_at_build, pairs.rebuild_distance_sq,
             state.laws, state.damping, state.dt)
         done += done_now

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rockcal.dem.flatjoint_material import flatjoint_draws
+from rockcal.materials.flat_joint import flatjoint_draws
 from rockcal.dem.genesis import Genesis, floaters, install_bonds
 from rockcal.dem.grain_limit import check_grains, expected_grains
 from rockcal.dem.neighbours import spatial_order
@@ -52,7 +52,7 @@ class Specimen:
     bond_draws: np.ndarray | None = None  # None: every bond at the mean strengths
     pressure_mpa: float = float("nan")  # mean wall stress at the end of packing
     floaters: int = 0  # grains the genesis left with fewer than 3 contacts (its rounds ran out)
-    # a flat-jointed material's uniform draws per bonded pair (`flatjoint_material.flatjoint_draws`);
+    # a flat-jointed material's uniform draws per bonded pair (`materials.flat_joint.flatjoint_draws`);
     # None: those of seed 1
     joint_draws: np.ndarray | None = None
 

@@ -6,7 +6,8 @@ source's notation), plus a polynomial tail of degree `degree` (default 1, linear
 the source's pure ŷ = Σ w_i φ(‖x - x_i‖)). ε is chosen per response by leave-one-out
 cross-validation over a log grid, using Rippa's formula e_i = c_i / (A⁻¹)_ii on the full
 (kernel + polynomial) system, so one factorisation per ε gives all n LOO errors; shapes
-that make the system too ill-conditioned to solve reliably are skipped.
+that make the system too ill-conditioned to solve reliably are skipped, and of shapes whose
+errors tie to round-off the smallest is taken (the choice must not follow the processor).
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from rockcal.inverse.bounds import check_bounds
 
 EPSILON_GRID = np.logspace(-1, 1.5, 36)
 MAX_CONDITION = 1e12
+SCORE_TIE = 1e-9  # relative: shapes whose leave-one-out errors differ less are equally good
 
 
 def _monomials(u: np.ndarray, degree: int) -> np.ndarray:
@@ -129,7 +131,9 @@ class RBFSurrogate:
         if np.all(np.isnan(scores)):
             raise InputError("x", "every shape parameter gives an ill-conditioned RBF system "
                                   "(duplicate runs?)")
-        best = int(np.nanargmin(scores))
+        # the first shape within round-off of the least error: where the errors tie (a fit the
+        # polynomial tail decides alone), round-off must not pick the shape
+        best = int(np.flatnonzero(scores <= np.nanmin(scores) * (1 + SCORE_TIE))[0])
         return float(grid[best]), float(scores[best])
 
     def scale(self, x) -> np.ndarray:

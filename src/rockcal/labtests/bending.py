@@ -41,8 +41,7 @@ from rockcal.labtests.loading import (
 )
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.labtests.rig import Pins
-from rockcal.materials import as_params
-from rockcal.params import MicroParams
+from rockcal.materials import BondedParams, as_params
 
 PIN_RADIUS_MM = 5.0
 # Quasi-static loading: the pin moves PIN_STEP_PER_RADIUS mean particle radii per time step.
@@ -158,7 +157,7 @@ def notched_beam(beam: Beam = Beam(), rmin_mm: float = 0.25, radius_ratio: float
     return keep_particles(spec, keep, label)
 
 
-def wave_speed_m_per_s(params: MicroParams, porosity: float, mass_scale: float = 1.0) -> float:
+def wave_speed_m_per_s(params: BondedParams, porosity: float, mass_scale: float = 1.0) -> float:
     """The bar wave speed sqrt(E / rho) of the bonded rock, with E estimated as its material's
     bonded modulus (`bonded_modulus_GPa`: contacts and parallel bonds side by side,
     E_c + lambda Ebar_c, 43.3 GPa where the source's point measures 40.6; a flat joint's
@@ -175,14 +174,14 @@ def flexural_period_s(beam: Beam, wave_speed_m_per_s: float) -> float:
     return 2.0 * np.sqrt(12.0) * span_m**2 / (np.pi * depth_m * wave_speed_m_per_s)
 
 
-def period_steps(beam: Beam, params: MicroParams, specimen: Specimen, dt_s: float,
+def period_steps(beam: Beam, params: BondedParams, specimen: Specimen, dt_s: float,
                  mass_scale: float = 1.0) -> float:
     """The beam's first flexural period in steps (its grains' masses scaled by mass_scale)."""
     period_s = flexural_period_s(beam, wave_speed_m_per_s(params, specimen.porosity, mass_scale))
     return period_s / dt_s
 
 
-def simulate_bending(params: MicroParams | dict | None = None, specimen: Specimen | None = None,
+def simulate_bending(params: BondedParams | dict | None = None, specimen: Specimen | None = None,
                      beam: Beam = Beam(), *, rate_factor: float = 1.0,
                      max_displacement_mm: float = DEFAULT_MAX_DISPLACEMENT_MM,
                      stop_fraction: float = POST_PEAK_FRACTION,
@@ -263,7 +262,7 @@ def _specimen(s: dict) -> Specimen:
     return notched_beam(beam_of(s), s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
 
 
-def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BendingResult:
+def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> BendingResult:
     return simulate_bending(params, specimen, beam_of(s), stop_fraction=s["stop_fraction"],
                             contact_stiffness=s["contact_stiffness"], progress=progress)
 

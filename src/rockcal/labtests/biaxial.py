@@ -34,8 +34,8 @@ from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Lo
                                       check_stop_fraction, load_to_failure)
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.labtests.rig import Gauge, Platens, SideWalls
-from rockcal.materials import as_params
-from rockcal.params import MPa, MicroParams
+from rockcal.materials import BondedParams, as_params
+from rockcal.params import MPa
 
 MAX_CONFINEMENT_MPA = 1000.0
 CURVE_COLUMNS = ("axial_strain", "lateral_strain", "deviatoric_stress_MPa", "broken_bonds",
@@ -81,7 +81,7 @@ def check_confinements(values: list) -> None:
         raise InputError("confinement_mpa", f"must increase without repeats, got {list(values)}")
 
 
-def simulate_biaxial(params: MicroParams | dict | None = None, specimen: Specimen | None = None,
+def simulate_biaxial(params: BondedParams | dict | None = None, specimen: Specimen | None = None,
                      confinement_mpa: float = 10.0, *, rate_factor: float = 1.0,
                      max_axial_strain: float = ucs.DEFAULT_MAX_AXIAL_STRAIN,
                      strain: str = ucs.DEFAULT_STRAIN, stop_fraction: float = ucs.POST_PEAK_FRACTION,
@@ -137,7 +137,7 @@ def simulate_biaxial(params: MicroParams | dict | None = None, specimen: Specime
         **crack_stresses(*curve[:, :4].T).responses, **run_fields(state, specimen, started))
 
 
-def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BiaxialResult:
+def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> BiaxialResult:
     return simulate_biaxial(params, specimen, s["confinement_mpa"], strain=s["strain"],
                             stop_fraction=s["stop_fraction"],
                             contact_stiffness=s["contact_stiffness"], progress=progress)

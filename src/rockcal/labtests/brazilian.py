@@ -40,8 +40,7 @@ from rockcal.labtests.loading import (
 )
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.labtests.rig import Platens
-from rockcal.materials import as_params
-from rockcal.params import MicroParams
+from rockcal.materials import BondedParams, as_params
 
 DEFAULT_MAX_STRAIN = 0.02  # platen closure / diameter at which the test stops at the latest
 # A platen first bears on one or two particles; when their bonds break the load drops and comes
@@ -79,7 +78,7 @@ def brazilian_disk(diameter_mm: float = 50.0, rmin_mm: float = 0.25, radius_rati
     return keep_particles(spec, keep, f"{spec.label}, disk D {diameter_mm:g} mm")
 
 
-def simulate_brazilian(params: MicroParams | dict | None = None, specimen: Specimen | None = None,
+def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Specimen | None = None,
                        *, rate_factor: float = 1.0, max_strain: float = DEFAULT_MAX_STRAIN,
                        contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
                        progress: Callable[[float, float], None] | None = None) -> BrazilianResult:
@@ -127,7 +126,7 @@ def _specimen(s: dict) -> Specimen:
     return brazilian_disk(s["disk_diameter_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
 
 
-def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> BrazilianResult:
+def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> BrazilianResult:
     return simulate_brazilian(params, specimen, contact_stiffness=s["contact_stiffness"],
                               progress=progress)
 

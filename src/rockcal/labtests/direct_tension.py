@@ -34,8 +34,7 @@ from rockcal.labtests.loading import (LOCALISED_DAMAGE, RAMP_STEPS_PER_ROW, Load
                                       load_to_failure)
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.labtests.rig import Grips
-from rockcal.materials import as_params
-from rockcal.params import MicroParams
+from rockcal.materials import BondedParams, as_params
 
 GRIP_FRACTION = 0.1  # grip length / prism height at each end (FISHTank's tt_tg default, 0.1 H)
 POST_PEAK_FRACTION = 0.5
@@ -60,7 +59,7 @@ def check_grip(grip_fraction) -> None:
         raise InputError("grip_fraction", f"must be in (0, 0.4], got {grip_fraction!r}")
 
 
-def simulate_direct_tension(params: MicroParams | dict | None = None,
+def simulate_direct_tension(params: BondedParams | dict | None = None,
                             specimen: Specimen | None = None, *,
                             grip_fraction: float = GRIP_FRACTION, rate_factor: float = 1.0,
                             max_strain: float = DEFAULT_MAX_STRAIN,
@@ -104,7 +103,7 @@ def _check(s: dict) -> None:
     check_grip(s["grip_fraction"])
 
 
-def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> DirectTensionResult:
+def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> DirectTensionResult:
     return simulate_direct_tension(params, specimen, grip_fraction=s["grip_fraction"],
                                    contact_stiffness=s["contact_stiffness"], progress=progress)
 

@@ -38,8 +38,7 @@ from rockcal.labtests.loading import (
 )
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.labtests.rig import Gauge, Platens
-from rockcal.materials import as_params
-from rockcal.params import MicroParams
+from rockcal.materials import BondedParams, as_params
 
 POST_PEAK_FRACTION = 0.7
 CRACK_TARGETS = ("ci_MPa", "ci_ratio", "cd_MPa", "cd_ratio")  # a lab reads these too
@@ -72,7 +71,7 @@ class UCSResult(LabResult):
     cd_ratio: float
 
 
-def simulate_ucs(params: MicroParams | dict | None = None, specimen: Specimen | None = None, *,
+def simulate_ucs(params: BondedParams | dict | None = None, specimen: Specimen | None = None, *,
                  rate_factor: float = 1.0, max_axial_strain: float = DEFAULT_MAX_AXIAL_STRAIN,
                  strain: str = DEFAULT_STRAIN, stop_fraction: float = POST_PEAK_FRACTION,
                  contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
@@ -125,7 +124,7 @@ def _specimen(s: dict) -> Specimen:
                           genesis_of(s))
 
 
-def _run(params: MicroParams, specimen: Specimen, s: dict, progress) -> UCSResult:
+def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> UCSResult:
     return simulate_ucs(params, specimen, strain=s["strain"], stop_fraction=s["stop_fraction"],
                         contact_stiffness=s["contact_stiffness"], max_axial_strain=s["max_axial_strain"],
                         progress=progress)

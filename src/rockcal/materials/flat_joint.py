@@ -1,5 +1,7 @@
-"""PFC's flat-jointed material on a packed specimen, as FISHTank assigns it (`ft.fis`:
-`_mpAssignFJ`, `_mpAssignFJProps`, `_mpFJrmulReduce`, `_mpFJsetMicroStruc`).
+"""The flat-jointed material: PFC's flat joints (the law: `rockcal.dem.flatjoint`) and linear
+contacts elsewhere. Its parameters with their PFC names, its genesis step, its assignment on a
+packed specimen as FISHTank makes it (`ft.fis`: `_mpAssignFJ`, `_mpAssignFJProps`,
+`_mpFJrmulReduce`, `_mpFJsetMicroStruc`), its engine state and its FISHTank parameters.
 
 1. Every grain pair whose gap is <= the installation gap (`fjm_igap`; rockcal's genesis
    `install_gap` x R_min) gets a flat joint; every other grain pair a linear contact of the
@@ -25,8 +27,8 @@
    is reproducible, and a joint keeps its rank whatever the fractions.
 
 Every random quantity comes from uniform draws per joint (`flatjoint_draws`): strengths and
-gaps map through the truncated normal's inverse distribution function, as the parallel bond's
-do (`simulate.bond_strengths`), so one specimen and seed serve every parameter set.
+gaps are truncated-normal at them (`strengths.truncated_normal`, as the parallel bond's), so one
+specimen and seed serve every parameter set.
 """
 
 from __future__ import annotations
@@ -37,15 +39,15 @@ from typing import ClassVar
 
 import numpy as np
 from numba import njit
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
-from scipy import special
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from rockcal.dem import flatjoint, laws, simulate
 from rockcal.dem.genesis import install_bonds
-from rockcal.errors import InputError, from_validation_error
-from rockcal.params import GPa, MPa
+from rockcal.materials.fishtank import FLAT_JOINTED, common_pfc, pfc_names, pfc_values
+from rockcal.materials.material import Material, validated
+from rockcal.materials.strengths import truncated_normal
+from rockcal.materials.units import GPa, MM, MPa
 
-MM = 1e-3
 FLATJOINT_STREAM = 2  # the flat joints' random stream (the parallel bonds' strengths use 1)
 TYPE, TEN, COH, GAP = range(4)  # columns of the draws: rank for the microstructure, strengths, gap
 DRAWS_PER_JOINT = 4
@@ -129,29 +131,23 @@ class FlatJointParams(BaseModel):
 
 NAMES = tuple(FlatJointParams.model_fields)
 
+# FISHTank's flat-jointed material group, in its order: PFC property -> (rockcal name, unit):
+# fjm_igap is the installation gap as a length, fjm_Nr the elements per joint (2D), fjm_rmulVal λ
+PFC_PROPERTIES = {
+    "fjm_igap": ("install_gap_mm", "mm"), "fjm_B_frac": ("fjm_B_frac", None),
+    "fjm_G_frac": ("fjm_G_frac", None), "fjm_G_m": ("fjm_G_m", "mm"), "fjm_G_sd": ("fjm_G_sd", "mm"),
+    "fjm_Nr": ("fj_nr", None), "fjm_rmulCode": ("fjm_rmulCode", None), "fjm_rmulVal": ("fj_rmul", None),
+    "fjm_emod": ("fj_emod", "GPa"), "fjm_krat": ("fj_kratio", None), "fjm_fric": ("fj_fric", None),
+    "fjm_ten_m": ("fj_ten", "MPa"), "fjm_ten_sd": ("fj_ten_sd", "MPa"), "fjm_coh_m": ("fj_coh", "MPa"),
+    "fjm_coh_sd": ("fj_coh_sd", "MPa"), "fjm_fa": ("fj_fa", None),
+    "fjm_trackMS": ("track_microstructure", None),
+    "lnm_emod": ("lnm_emod", "GPa"), "lnm_krat": ("lnm_krat", None), "lnm_fric": ("lnm_fric", None),
+}
+
 
 def make_flatjoint_params(values: dict[str, float]) -> FlatJointParams:
     """Validate a mapping of names to values; any mistake raises InputError naming the field."""
-    unknown = sorted(set(values) - set(NAMES))
-    if unknown:
-        raise InputError(unknown[0], f"unknown flat-jointed material parameter; known: {', '.join(NAMES)}")
-    for name, value in values.items():
-        if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
-            raise InputError(name, f"must be a finite number, got {value!r}")
-    try:
-        return FlatJointParams(**values)
-    except ValidationError as exc:
-        raise from_validation_error(exc) from None
-
-
-def truncated_normal(mean: float, sd: float, u: np.ndarray) -> np.ndarray:
-    """Values of a normal distribution (mean, sd) truncated at zero, as FISHTank's
-    ft_valNormDist draws them (it redraws negative values), at uniform draws u in [0, 1)."""
-    u = np.asarray(u, float)
-    if sd == 0:
-        return np.full(u.shape, max(mean, 0.0))
-    below = special.ndtr(-mean / sd)  # probability mass cut off below zero
-    return np.maximum(0.0, mean + sd * special.ndtri(below + u * (1.0 - below)))
+    return validated(FlatJointParams, NAMES, values, "flat-jointed material parameter")
 
 
 def flatjoint_draws(n_joints: int, seed: int) -> np.ndarray:
@@ -350,7 +346,40 @@ def new_state(pos, radius, pairs, params: FlatJointParams, *, joint_draws=None,
     (normal stiffness 2 t E*). Other options as `simulate.assemble_state`."""
     def joints(pos, radius, nlist, order):
         material = flatjointed(pos, radius, pairs, params, joint_draws)
-        return laws.new_bonds(*np.zeros((5, 0))), material.joints().taken(order)
+        return material.joints().taken(order)
 
     return simulate.assemble_state(pos, radius, pairs, params.density, params.damping,
                                    linear_contacts(params), params.fj_emod * GPa, joints, **options)
+
+
+def pfc_parameters(params: FlatJointParams, specimen) -> dict[str, float | int | bool]:
+    """FISHTank's flat-jointed material parameters (SI) of a rockcal material: the common
+    groups and `PFC_PROPERTIES`, the strengths' sd as PFC takes them (`strength_sds`), the
+    microstructure not tracked."""
+    ten_sd, coh_sd = params.strength_sds
+    values = params.key() | {"fj_ten_sd": ten_sd, "fj_coh_sd": coh_sd, "track_microstructure": False,
+                             "install_gap_mm": specimen.install_gap * specimen.rmin_mm}
+    return common_pfc(params, specimen, FLAT_JOINTED) | pfc_values(PFC_PROPERTIES, values)
+
+
+def pair_properties(params: FlatJointParams, specimen) -> dict:
+    """Each flat joint's type (PFC's fj_mtype: 1 bonded, 2 gapped, 3 slit), initial gap, radius
+    multiplier (after FISHTank's reduction) and strengths."""
+    m = flatjointed(specimen.pos, specimen.radius, specimen.bonds, params, specimen.joint_draws)
+    return {"type": m.kind, "initial_gap_m": m.gap0, "radius_multiplier": m.rmul,
+            "tensile_strength_Pa": m.ten[:, 0], "cohesion_Pa": m.coh[:, 0]}
+
+
+def _specimen_state(pos, radius, specimen, params, *, contact_stiffness=None, **options):
+    """The material's state on `specimen`; its linear contacts are PFC 5's whatever
+    `contact_stiffness` says (a parallel-bonded setting)."""
+    return new_state(pos, radius, specimen.bonds, params, joint_draws=specimen.joint_draws, **options)
+
+
+MATERIAL = Material(
+    name="flatjoint", title="flat-jointed (flat joints + linear contacts)",
+    parameters=NAMES, make=make_flatjoint_params, params_type=FlatJointParams,
+    pfc_names=pfc_names(PFC_PROPERTIES, NAMES), bond_pairs=install_bonds,
+    new_state=_specimen_state, pfc_parameters=pfc_parameters, pfc_material_type=FLAT_JOINTED,
+    pfc_group="mpSetFJParams", pair_properties=pair_properties, pairs_word="flat joints",
+    breaks_word="elements")

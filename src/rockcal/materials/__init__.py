@@ -1,0 +1,57 @@
+"""The bonded materials rockcal models, by name: the one table a material is added to.
+
+A material is one module (`parallel_bond`, `flat_joint`): its micro-parameters with their PFC
+property names, the genesis step that decides which grain pairs it bonds, the engine state its
+laws run in, and its FISHTank parameters for the export, gathered in its `MATERIAL` record
+(`material.Material`). `rockcal simulate --model NAME` and a campaign's `[material] model =
+"NAME"` choose one; the parallel-bonded material is the default. A lab test builds its engine
+state with `new_state`, whatever the material, and reads its parameters as `BondedParams`.
+"""
+
+from __future__ import annotations
+
+from rockcal.dem.simulate import State
+from rockcal.errors import InputError
+from rockcal.materials import flat_joint, parallel_bond
+from rockcal.materials.fishtank import FLAT_JOINTED, PARALLEL_BONDED, common_pfc
+from rockcal.materials.material import BondedParams, Material
+
+PARALLEL_BOND = parallel_bond.MATERIAL
+FLATJOINT = flat_joint.MATERIAL
+MATERIALS: dict[str, Material] = {m.name: m for m in (PARALLEL_BOND, FLATJOINT)}
+DEFAULT_MATERIAL = PARALLEL_BOND.name
+_BY_PARAMS = {m.params_type: m for m in MATERIALS.values()}
+
+__all__ = ["BondedParams", "DEFAULT_MATERIAL", "FLATJOINT", "FLAT_JOINTED", "MATERIALS", "Material",
+           "PARALLEL_BOND", "PARALLEL_BONDED", "as_params", "common_pfc", "material", "material_of",
+           "new_state"]
+
+
+def material(name: str, field: str = "model") -> Material:
+    """The material of that name; InputError naming `field` for a name no material has."""
+    try:
+        return MATERIALS[name]
+    except KeyError:
+        raise InputError(field, f"no material named {name!r}; known: {', '.join(MATERIALS)}") from None
+
+
+def material_of(params: BondedParams) -> Material:
+    """The material whose micro-parameters `params` are."""
+    return _BY_PARAMS[type(params)]
+
+
+def as_params(params) -> BondedParams:
+    """A material's micro-parameters as given, or the default material's from a dict of
+    values (None: its defaults)."""
+    if type(params) in _BY_PARAMS:
+        return params
+    return MATERIALS[DEFAULT_MATERIAL].make(params or {})
+
+
+def new_state(params: BondedParams, specimen, pos=None, radius=None, **options) -> State:
+    """The engine state of `specimen` in the material of `params`: its grains, or `pos` and
+    `radius` (m) with the test's rig after them; `options` as `simulate.assemble_state`'s
+    (walls, wall_active, driven, skin) and a parallel bond's `contact_stiffness`."""
+    return material_of(params).new_state(specimen.pos if pos is None else pos,
+                                         specimen.radius if radius is None else radius,
+                                         specimen, params, **options)

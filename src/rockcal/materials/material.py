@@ -1,0 +1,83 @@
+"""What a bonded material is: its registry record (`Material`), what every material's
+micro-parameters offer the lab tests (`BondedParams`), and their validation."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable, ClassVar, Protocol, runtime_checkable
+
+from pydantic import BaseModel, ValidationError
+
+from rockcal.errors import InputError, from_validation_error
+
+
+@runtime_checkable
+class BondedParams(Protocol):
+    """A material's micro-parameters as the lab tests and the store use them, whatever the
+    material: grain density (kg/m³), local damping, the name of the linear contacts' modulus
+    (GPa; the pins and platens push through contacts), a bonded pair's modulus for the wave
+    speed, and every value by name."""
+
+    CONTACT_MODULUS: ClassVar[str]
+    density: float
+    damping: float
+
+    @property
+    def bonded_modulus_GPa(self) -> float: ...
+
+    def key(self) -> dict[str, float]: ...
+
+
+@dataclass(frozen=True)
+class Material:
+    """A bonded material. `parameters` are its micro-parameters' names (rockcal's units) and
+    `make(values)` validates them into a `params_type`; `pfc_names` gives each one's PFC
+    property; `bond_pairs(pos, radius, gap_m)` is its genesis step (the grain pairs bonded
+    within the installation gap); `new_state(pos, radius, specimen, params, **options)` the
+    engine state its laws run in (`simulate.assemble_state`'s options); `pfc_parameters(params,
+    specimen)` its FISHTank material group's parameters in SI units, set by the FISH function
+    `pfc_group`, with `pfc_material_type` (`cm_matType`); `pair_properties(params, specimen)`
+    the properties of each bonded pair (columns by name, SI), for the specimen's export;
+    `pairs_word` and `breaks_word` name its bonded pairs and what breaks in them."""
+
+    name: str
+    title: str
+    parameters: tuple[str, ...]
+    make: Callable[[dict], BondedParams]
+    params_type: type
+    pfc_names: dict[str, str]
+    bond_pairs: Callable
+    new_state: Callable
+    pfc_parameters: Callable[[BondedParams, object], dict[str, float | int | bool]]
+    pfc_material_type: int
+    pfc_group: str
+    pair_properties: Callable[[BondedParams, object], dict]
+    pairs_word: str = "bonds"  # its bonded pairs, in words
+    breaks_word: str = "bonds"  # what breaks, each a crack
+
+    def params(self, values: dict) -> BondedParams:
+        """`make(values)`, and a name of another material's parameter named as such."""
+        from rockcal.materials import MATERIALS
+
+        for name in values:
+            others = [m.name for m in MATERIALS.values() if name in m.parameters]
+            if name not in self.parameters and others:
+                raise InputError(name, f"a parameter of the {others[0]} material, not of "
+                                       f"{self.name}: choose model {others[0]}")
+        return self.make(values)
+
+
+def validated(model: type[BaseModel], names: tuple[str, ...], values: dict, what: str):
+    """`model(**values)`, each name one of `names` and each value a finite number; any mistake
+    raises InputError naming the field (`what`: the parameters' kind, in words)."""
+    unknown = sorted(set(values) - set(names))
+    if unknown:
+        raise InputError(unknown[0], f"unknown {what}; known: {', '.join(names)}")
+    for name, value in values.items():
+        if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
+            raise InputError(name, f"must be a finite number, got {value!r}")
+    try:
+        return model(**values)
+    except ValidationError as exc:
+        raise from_validation_error(exc) from None
