@@ -14,8 +14,9 @@ import json
 
 import numpy as np
 
-from rockcal.campaign.config import load_campaign
-from rockcal.campaign.forward import run_spec, specimen_of
+from rockcal.campaign.input.config import load_campaign
+from rockcal.campaign.runs.pool import specimen_of
+from rockcal.campaign.runs.spec import run_spec
 from rockcal.labtests import bending
 from rockcal.labtests.seeds import seed_list
 from rockcal.params import make_params

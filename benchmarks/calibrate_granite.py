@@ -21,7 +21,7 @@ import sys
 import time
 from pathlib import Path
 
-from rockcal.campaign.procedure import PACKINGS_AND_VALIDATION
+from rockcal.campaign.procedure.steps import PACKINGS_AND_VALIDATION
 
 SOURCE = {"E_c": 21.65, "kn_ks": 1.9, "sigma_c": 36.55, "dem_runs": 49, "K_IC_error": 0.10}
 
@@ -30,8 +30,9 @@ def reference_ucs(times: int) -> tuple[list[float], dict]:
     """Wall times of `times` full-size UCS runs at the source's point, as the campaign runs it
     (the same run: its time moves 10-20 % with where its arrays lie in memory), and its
     responses."""
-    from rockcal.campaign.config import load_campaign
-    from rockcal.campaign.forward import execute, run_spec
+    from rockcal.campaign.input.config import load_campaign
+    from rockcal.campaign.runs.pool import execute
+    from rockcal.campaign.runs.spec import run_spec
 
     granite, _ = load_campaign(None)
     params = granite.fixed_params() | {k: SOURCE[k] for k in ("E_c", "kn_ks", "sigma_c")}

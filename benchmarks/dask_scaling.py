@@ -13,10 +13,11 @@ import tempfile
 import time
 from pathlib import Path
 
-from rockcal.campaign.config import SpecimenSettings
-from rockcal.campaign.dask_executor import DaskExecutor
-from rockcal.campaign.forward import Executor, prepare, run_spec
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import SpecimenSettings
+from rockcal.campaign.runs.dask import DaskExecutor
+from rockcal.campaign.runs.pool import Executor, prepare
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.store import RunStore
 
 EXECUTORS = [
     ("serial Executor", "1 process", lambda store: Executor(store, workers=1)),

@@ -3,7 +3,7 @@ bar of `rockcal calibrate` at the times they finished.
 
 Run by hand on the store of a campaign run from a fresh store, e.g. the one
 `calibrate_granite.py` leaves: `python benchmarks/eta_replay.py runs/granite-bench`. The first
-screen's plan (`rockcal.campaign.plan.stage_times`, for an empty store and the workers given)
+screen's plan (`rockcal.campaign.plan.screen.stage_times`, for an empty store and the workers given)
 sets the bar's weights; at the end of each stage it prints the ETA the bar showed and the time
 the campaign really took from there.
 """
@@ -13,9 +13,9 @@ import json
 import tempfile
 from pathlib import Path
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.plan import stage_runs, stage_times
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.screen import stage_runs, stage_times
+from rockcal.campaign.runs.store import RunStore
 from rockcal.cli.calibrate import _stage_progress
 
 

@@ -21,9 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rockcal.campaign.config import SpecimenSettings
-from rockcal.campaign.forward import Executor, run_spec
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import SpecimenSettings
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.store import RunStore
 
 GRANITE = {"fj_emod": 21.65, "fj_kratio": 1.9, "fj_ten": 36.55, "fj_coh": 90.0, "fj_fric": 0.5}
 TESTS = {"ucs": ("E_GPa", "ucs_MPa"), "brazilian": ("sigma_t_MPa",), "direct_tension": ("sigma_t_direct_MPa",)}

@@ -19,9 +19,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rockcal.campaign.config import load_campaign
-from rockcal.campaign.forward import Executor, run_spec
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import load_campaign
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.simulate import CONTACT_STIFFNESS
 
 LAB = {"K_IC_MPa_sqrt_m": 1.057, "ucs_MPa": 138.8}

@@ -15,9 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rockcal.campaign.config import load_campaign
-from rockcal.campaign.forward import Executor, run_spec
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import load_campaign
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.store import RunStore
 
 VERDICT_POINT = {"fj_emod": 61.17, "fj_kratio": 1.313, "fj_ten": 52.69, "fj_coh": 133.7, "fjm_B_frac": 0.5024}
 TESTS = {"ucs": ("E_GPa", "ucs_MPa"), "brazilian": ("sigma_t_MPa",)}

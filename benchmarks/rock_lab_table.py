@@ -21,9 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rockcal.campaign.config import SpecimenSettings, load_campaign
-from rockcal.campaign.forward import Executor, run_spec
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import SpecimenSettings, load_campaign
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.store import RunStore
 from rockcal.plots import plot_crack_stresses
 from rockcal.labtests.envelope import fit_mohr_coulomb
 from rockcal.labtests.registry import lab_test

@@ -9,8 +9,9 @@ the same kind prints the same lines too (`docs/concepts/reproducibility.md`).
 import hashlib
 import json
 
-from rockcal.campaign.config import SpecimenSettings
-from rockcal.campaign.forward import execute, run_spec
+from rockcal.campaign.input.config import SpecimenSettings
+from rockcal.campaign.runs.pool import execute
+from rockcal.campaign.runs.spec import run_spec
 from rockcal.labtests.registry import LAB_TESTS
 
 SMALL = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16, disk_diameter_mm=10, beam_length_mm=44,

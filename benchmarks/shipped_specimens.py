@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rockcal.campaign.config import load_campaign, quick_look
-from rockcal.campaign.plan import specimens
+from rockcal.campaign.input.config import load_campaign, quick_look
+from rockcal.campaign.plan.screen import specimens
 from rockcal.dem.specimen import cache_dir, packing_name, random_packing
 from rockcal.labtests.registry import lab_test
 

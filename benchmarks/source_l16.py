@@ -19,9 +19,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rockcal.campaign.config import load_campaign
-from rockcal.campaign.forward import Executor, run_spec, specimen_of
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import load_campaign
+from rockcal.campaign.runs.pool import Executor, specimen_of
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.store import RunStore
 from rockcal.params import make_params, parse_assignments
 
 TABLE = Path(__file__).resolve().parent / "data" / "source_table3_l16.csv"

@@ -1,20 +1,31 @@
 """The command line: JSON output, files, and one-line errors with exit code 2."""
 
 import json
-import subprocess
 import sys
+from types import SimpleNamespace
 
 import pytest
+
+from rockcal.cli.app import main
 
 SMALL = ["--width-mm", "10", "--height-mm", "20"]
 
 
-def rockcal(*args):
-    return subprocess.run([sys.executable, "-m", "rockcal", *args], capture_output=True, text=True)
+@pytest.fixture
+def rockcal(monkeypatch, capsys):
+    """`rockcal ARGS` in this process: its exit code, stdout and stderr."""
+    def run(*args):
+        monkeypatch.setattr(sys, "argv", ["rockcal", *args])
+        capsys.readouterr()
+        with pytest.raises(SystemExit) as done:
+            main()
+        out = capsys.readouterr()
+        return SimpleNamespace(returncode=done.value.code, stdout=out.out, stderr=out.err)
+    return run
 
 
 @pytest.mark.slow
-def test_simulate_ucs_json_and_outputs(tmp_path):
+def test_simulate_ucs_json_and_outputs(tmp_path, rockcal):
     run = rockcal("simulate", "ucs", *SMALL, "--set", "sigma_c=30", "--json", "--out", str(tmp_path))
     assert run.returncode == 0, run.stderr
     summary = json.loads(run.stdout)
@@ -27,7 +38,6 @@ def test_simulate_ucs_json_and_outputs(tmp_path):
     assert {p.name for p in tmp_path.iterdir()} >= {"ucs_curve.csv", "ucs_summary.json", "ucs_cracks.png"}
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("args, field", [
     (["--set", "E_c=-5"], "E_c"),
     (["--set", "kn_ks=0"], "kn_ks"),
@@ -54,12 +64,12 @@ def test_simulate_ucs_json_and_outputs(tmp_path):
     (["--strain", "laser"], "--strain"),
     (["--contact-stiffness", "pfc3"], "--contact-stiffness"),
     (["--stop-fraction", "1"], "--stop-fraction"),
+    (["--threads", "0"], "--threads"),
 ])
-def test_bad_input_is_one_line_and_exit_2(args, field):
+def test_bad_input_is_one_line_and_exit_2(args, field, rockcal):
     assert_one_line_error(rockcal("simulate", "ucs", *SMALL, *args), field)
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("args, field", [
     (["--model", "parallel_bond", "--set", "fj_emod=1"], "fj_emod"),  # a flat-joint name
     (["--model", "flatjoint", "--set", "E_c=20"], "E_c"),  # a parallel-bond name
@@ -70,12 +80,12 @@ def test_bad_input_is_one_line_and_exit_2(args, field):
     (["--model", "flatjoint", "--set", "lnm_emod=-1"], "lnm_emod"),
     (["--model", "flatjoint_x"], "--model"),
 ])
-def test_bad_flatjoint_input_is_one_line_and_exit_2(args, field):
+def test_bad_flatjoint_input_is_one_line_and_exit_2(args, field, rockcal):
     assert_one_line_error(rockcal("simulate", "ucs", *SMALL, *args), field)
 
 
 @pytest.mark.slow
-def test_simulate_ucs_with_the_flat_jointed_material():
+def test_simulate_ucs_with_the_flat_jointed_material(rockcal):
     run = rockcal("simulate", "ucs", "--width-mm", "8", "--height-mm", "16", "--rmin-mm", "0.4",
                   "--model", "flatjoint", "--set", "fj_emod=30", "--set", "fjm_B_frac=0.9", "--json")
     assert run.returncode == 0, run.stderr
@@ -85,13 +95,12 @@ def test_simulate_ucs_with_the_flat_jointed_material():
     assert summary["ucs_MPa"] > 0 and summary["n_broken_tension"] > 0
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("test, args, flag", [
     ("bending", ["--length-mm", "2"], "--length-mm"),  # too short for its particles
     ("bending", ["--span-mm", "300"], "--span-mm"),
     ("brazilian", ["--diameter-mm", "1"], "--diameter-mm"),  # too small for its particles
 ])
-def test_a_specimen_that_cannot_be_made_names_its_flag(test, args, flag):
+def test_a_specimen_that_cannot_be_made_names_its_flag(test, args, flag, rockcal):
     assert_one_line_error(rockcal("simulate", test, *args), flag)
 
 

@@ -61,8 +61,9 @@ def test_a_campaigns_forward_run():
     """A campaign's run of the flat-jointed material: keyed by the material and all its
     parameters, run through the material, its responses and cracks stored as the parallel
     bond's are."""
-    from rockcal.campaign.config import SpecimenSettings
-    from rockcal.campaign.forward import execute, params_of, run_spec
+    from rockcal.campaign.input.config import SpecimenSettings
+    from rockcal.campaign.runs.pool import execute
+    from rockcal.campaign.runs.spec import params_of, run_spec
 
     settings = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16)
     spec = run_spec("ucs", settings, {"fj_emod": 30.0, "fjm_B_frac": 0.9}, "flatjoint")

@@ -1,38 +1,54 @@
 """The registry of lab tests: each kind declares its responses and specimen settings, a run of
 any kind goes through the same forward path, and an unknown kind is a clear error."""
 
+import math
 from types import SimpleNamespace
 
 import pytest
 
-from rockcal.campaign.config import RESPONSES, SpecimenSettings, UCSTargets
-from rockcal.campaign.forward import ENGINE, SPECIMEN_KEYS, execute, run_spec
-from rockcal.campaign.store import RunSpec
+from rockcal.campaign.input.config import RESPONSES, SpecimenSettings, UCSTargets
+from rockcal.campaign.runs.pool import execute
+from rockcal.campaign.runs.spec import ENGINE, SPECIMEN_KEYS, RunSpec, run_spec
 from rockcal.errors import InputError
 from rockcal.labtests.registry import LAB_TESTS, lab_test
 
 
+# small specimens of every test, and a value of each test's series where it has one
+SMALL = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16, disk_diameter_mm=10, beam_length_mm=44,
+                         beam_height_mm=10, notch_mm=3.6, notch_width_mm=0.8, span_mm=32)
+PARAMS = {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 40.0, "tau_c": 60.0}
+
+
 def test_every_test_is_registered_under_its_name():
-    assert list(LAB_TESTS) == ["ucs", "bending", "brazilian", "biaxial", "direct_tension"]
     assert all(lab_test(name).name == name for name in LAB_TESTS)
 
 
+@pytest.mark.parametrize("kind", list(LAB_TESTS))
+def test_every_registered_test_runs_through_the_forward_path(kind):
+    """A run of each kind on a small specimen gives every response it declares as a finite
+    number, and its targets positive (a series' run at 5 of its unit)."""
+    series = lab_test(kind).series
+    result = execute(run_spec(kind, SMALL, PARAMS, own={series.name: 5.0} if series else None))
+    assert result.status == "ok", result.message
+    assert all(math.isfinite(result.responses[r.name]) for r in lab_test(kind).responses)
+    assert all(result.responses[name] > 0 for name in lab_test(kind).targets)
+
+
 def test_an_unknown_test_is_an_error_naming_the_known_ones():
-    with pytest.raises(InputError, match="no lab test named 'triaxial'; known: ucs, bending, brazilian, biaxial, direct_tension"):
+    with pytest.raises(InputError, match=f"no lab test named 'triaxial'; known: {', '.join(LAB_TESTS)}"):
         run_spec("triaxial", SpecimenSettings(), {})
 
 
-def test_a_tests_revision_keys_only_its_own_runs():
-    """A changed procedure (UCS revision 4, bending revision 8) makes new keys for its runs, not
-    for the others'."""
-    settings = SpecimenSettings()
-    assert run_spec("brazilian", settings, {}).engine == ENGINE
-    for kind, revision in (("ucs", 4), ("bending", 8)):
-        spec = run_spec(kind, settings, {})
-        assert lab_test(kind).revision == revision
-        assert spec.engine == f"{ENGINE}, {kind} test revision {revision}"
-        for earlier in (ENGINE, *(f"{ENGINE}, {kind} test revision {r}" for r in range(2, revision))):
-            assert spec.key != RunSpec(spec.kind, spec.specimen, spec.params, earlier).key
+@pytest.mark.parametrize("kind", list(LAB_TESTS))
+def test_a_tests_revision_keys_only_its_own_runs(kind):
+    """A changed procedure (a test's revision) makes new keys for its runs, not for the
+    others': a run's engine names its test's revision past the first, and its key differs from
+    the key of every earlier revision's run."""
+    revision = lab_test(kind).revision
+    spec = run_spec(kind, SpecimenSettings(), {})
+    assert spec.engine == (ENGINE if revision == 1 else f"{ENGINE}, {kind} test revision {revision}")
+    for earlier in (ENGINE, *(f"{ENGINE}, {kind} test revision {r}" for r in range(2, revision))):
+        assert spec.key != RunSpec(spec.kind, spec.specimen, spec.params, earlier).key or revision == 1
 
 
 @pytest.mark.parametrize("kind", ["ucs", "bending", "brazilian"])

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.forward import Executor
-from rockcal.campaign.procedure import calibrate
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.specimen import hexagonal
 from rockcal.labtests import registry
 from rockcal.labtests.kind import LabTest, Outline, Response

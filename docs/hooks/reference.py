@@ -3,7 +3,7 @@
 A page holding `<!-- rockcal:cli -->` gets every `rockcal` command with its arguments and
 options, read from the typer app (`rockcal.cli.app`); a page holding
 `<!-- rockcal:campaign-keys -->` gets every section and key of the campaign file, read from the
-pydantic models of `rockcal.campaign.config` and `rockcal.campaign.targets`. So neither can
+pydantic models of `rockcal.campaign.input.config` and `rockcal.campaign.input.targets`. So neither can
 drift from the code.
 """
 
@@ -134,7 +134,7 @@ def _model_of(annotation):
 
 
 def campaign_keys() -> str:
-    from rockcal.campaign.config import Campaign
+    from rockcal.campaign.input.config import Campaign
     from rockcal.labtests.lab_values import values_model
     from rockcal.labtests.registry import LAB_TESTS, PRIMARY_TEST
 

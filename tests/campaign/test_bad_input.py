@@ -7,14 +7,15 @@ Every case must fail while the input is validated, before any forward run: the s
 import hashlib
 import shutil
 import sqlite3
-import subprocess
 import sys
 
 import pytest
 
-from rockcal.campaign.config import SpecimenSettings
-from rockcal.campaign.forward import Executor, run_spec
-from rockcal.campaign.store import SCHEMA_VERSION, STORE_NAME, RunStore
+from rockcal.campaign.input.config import SpecimenSettings
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.store import SCHEMA_VERSION, STORE_NAME, RunStore
+from rockcal.cli.app import main
 
 pytestmark = pytest.mark.slow  # each case runs the rockcal command in a new process
 
@@ -203,10 +204,17 @@ def out(tmp_path, valid_store):
     return folder
 
 
-def rockcal(*args, cwd):
-    run = subprocess.run([sys.executable, "-m", "rockcal", *map(str, args)], cwd=cwd,
-                         capture_output=True, text=True, timeout=120)
-    return run.returncode, run.stderr
+@pytest.fixture
+def rockcal(monkeypatch, capsys):
+    """`rockcal ARGS` from the folder `cwd`, in this process: its exit code and stderr."""
+    def run(*args, cwd):
+        monkeypatch.chdir(cwd)
+        monkeypatch.setattr(sys, "argv", ["rockcal", *map(str, args)])
+        capsys.readouterr()
+        with pytest.raises(SystemExit) as done:
+            main()
+        return done.value.code, capsys.readouterr().err
+    return run
 
 
 def sha256(path) -> str:
@@ -222,7 +230,7 @@ def assert_one_line_error(code: int, stderr: str, names: str) -> None:
 
 
 @pytest.mark.parametrize("text, key", [c[1:] for c in CAMPAIGNS], ids=[c[0] for c in CAMPAIGNS])
-def test_a_bad_campaign_file(text, key, out):
+def test_a_bad_campaign_file(text, key, out, rockcal):
     config = out.parent / "campaign.toml"
     config.write_text(text)
     before = sha256(out / STORE_NAME)
@@ -232,7 +240,7 @@ def test_a_bad_campaign_file(text, key, out):
 
 
 @pytest.mark.parametrize("args, option", [c[1:] for c in OPTIONS], ids=[c[0] for c in OPTIONS])
-def test_a_bad_option(args, option, out):
+def test_a_bad_option(args, option, out, rockcal):
     config = out.parent / "campaign.toml"
     config.write_text(CAMPAIGN)
     before = sha256(out / STORE_NAME)
@@ -243,7 +251,7 @@ def test_a_bad_option(args, option, out):
 
 @pytest.mark.parametrize("spoil", [c[1] for c in STORES], ids=[c[0] for c in STORES])
 @pytest.mark.parametrize("command", ["calibrate", "report"])
-def test_a_bad_store_file(command, spoil, out):
+def test_a_bad_store_file(command, spoil, out, rockcal):
     store = out / STORE_NAME
     if spoil is not newer_store:
         store.unlink()
@@ -262,14 +270,14 @@ def test_a_bad_store_file(command, spoil, out):
     ('{"rock": "granite"}', "targets: Field required (in record.json)"),  # an older record
     ('{"rock": 3}', "rock: Input should be a valid string (in record.json)"),
 ])
-def test_a_record_that_does_not_fit(record, names, out):
+def test_a_record_that_does_not_fit(record, names, out, rockcal):
     store = RunStore(out)
     store.save_document("record.json", record)
     store.close()
     assert_one_line_error(*rockcal("report", out, cwd=out.parent), names)
 
 
-def test_report_on_a_folder_without_a_store(tmp_path):
+def test_report_on_a_folder_without_a_store(tmp_path, rockcal):
     code, stderr = rockcal("report", tmp_path, cwd=tmp_path)
     assert_one_line_error(code, stderr, f"OUT: {tmp_path} holds no run store")
     assert list(tmp_path.iterdir()) == []
@@ -280,7 +288,7 @@ def test_report_on_a_folder_without_a_store(tmp_path):
     pytest.param(CAMPAIGN, ["--scheduler", "bogus"], id="bogus scheduler"),
     pytest.param(CAMPAIGN, ["--scheduler", "tcp://127.0.0.1:9"], id="unreachable scheduler"),
 ])
-def test_a_bad_input_leaves_no_store_in_a_new_out(config, args, tmp_path):
+def test_a_bad_input_leaves_no_store_in_a_new_out(config, args, tmp_path, rockcal):
     for name, text in CURVES.items():
         (tmp_path / name).write_text(text)
     (tmp_path / "campaign.toml").write_text(config)

@@ -11,7 +11,7 @@ import time
 import pytest
 
 import rockcal
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.runs.store import RunStore
 
 pytestmark = pytest.mark.slow  # DEM runs and specimens of minutes: deselect with -m "not slow"
 
@@ -130,9 +130,9 @@ def test_twin_intervals_hold_the_truth_and_shrink_with_the_lab_spread(twin):
     scatter between packings (nu: 85 % between two) would swamp any lab spread; that path, and
     intervals that shrink with the spread, are tested on a known model in
     tests/inverse/test_uncertainty.py."""
-    from rockcal.campaign.config import parse_campaign
-    from rockcal.campaign.forward import Executor
-    from rockcal.campaign.procedure import calibrate
+    from rockcal.campaign.input.config import parse_campaign
+    from rockcal.campaign.runs.pool import Executor
+    from rockcal.campaign.procedure.steps import calibrate
 
     config, result = twin
     targets = result["targets"]

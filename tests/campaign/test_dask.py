@@ -13,12 +13,13 @@ pytest.importorskip("distributed")
 
 from distributed import LocalCluster  # noqa: E402
 
-from rockcal.campaign import dask_executor  # noqa: E402
-from rockcal.campaign.config import SpecimenSettings, parse_campaign  # noqa: E402
-from rockcal.campaign.dask_executor import DaskExecutor, parse_scheduler  # noqa: E402
-from rockcal.campaign.forward import Executor, run_spec  # noqa: E402
-from rockcal.campaign.procedure import calibrate  # noqa: E402
-from rockcal.campaign.store import RunStore  # noqa: E402
+from rockcal.campaign.runs import dask as dask_executor  # noqa: E402
+from rockcal.campaign.input.config import SpecimenSettings, parse_campaign  # noqa: E402
+from rockcal.campaign.runs.dask import DaskExecutor, parse_scheduler  # noqa: E402
+from rockcal.campaign.runs.pool import Executor  # noqa: E402
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.procedure.steps import calibrate  # noqa: E402
+from rockcal.campaign.runs.store import RunStore  # noqa: E402
 from rockcal.errors import InputError  # noqa: E402
 from tiny import tiny_campaign
 

@@ -17,12 +17,12 @@ from cryptography.hazmat.primitives.asymmetric import ec  # noqa: E402
 from cryptography.x509.oid import NameOID  # noqa: E402
 from distributed import LocalCluster, Security  # noqa: E402
 
-from rockcal.campaign.config import SpecimenSettings, parse_campaign  # noqa: E402
-from rockcal.campaign.dask_executor import DaskExecutor, parse_scheduler  # noqa: E402
-from rockcal.campaign.dask_security import TLSFiles  # noqa: E402
-from rockcal.campaign.forward import run_spec  # noqa: E402
-from rockcal.campaign.procedure import calibrate  # noqa: E402
-from rockcal.campaign.store import RunStore  # noqa: E402
+from rockcal.campaign.input.config import SpecimenSettings, parse_campaign  # noqa: E402
+from rockcal.campaign.runs.dask import DaskExecutor, parse_scheduler  # noqa: E402
+from rockcal.campaign.runs.tls import TLSFiles  # noqa: E402
+from rockcal.campaign.runs.spec import run_spec  # noqa: E402
+from rockcal.campaign.procedure.steps import calibrate  # noqa: E402
+from rockcal.campaign.runs.store import RunStore  # noqa: E402
 from rockcal.cli.app import main  # noqa: E402
 from rockcal.errors import InputError  # noqa: E402
 from tiny import tiny_campaign
@@ -106,7 +106,7 @@ def test_the_dask_config_gives_the_certificates_too(pki, tls_cluster, tmp_path):
 
 
 def test_without_the_clusters_certificates_nothing_connects(pki, tls_cluster, tmp_path, monkeypatch):
-    from rockcal.campaign import dask_executor
+    from rockcal.campaign.runs import dask as dask_executor
 
     monkeypatch.setattr(dask_executor, "CONNECT_TIMEOUT_S", 3.0)
     _, stranger = pki

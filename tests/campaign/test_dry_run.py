@@ -7,10 +7,10 @@ import json
 
 import pytest
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.plan import stages
-from rockcal.campaign.procedure import calibrate
-from rockcal.campaign.store import RunResult
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.screen import stages
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.runs.spec import RunResult
 from rockcal.cli import app
 
 # E only: sigma_c is free along a valley of optima, so a second search finds a distinct one

@@ -9,11 +9,11 @@ follows E_c; phi barely moves with either (within 0.3 degrees), so c and E pin t
 
 import pytest
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.forward import Executor
-from rockcal.campaign.procedure import calibrate
-from rockcal.campaign.report import write_report
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.outputs.report import write_report
+from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.specimen import random_packing
 from rockcal.labtests.biaxial import envelope, simulate_biaxial
 from rockcal.labtests.ucs import simulate_ucs

@@ -11,9 +11,9 @@ import sys
 import numpy as np
 import pytest
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.result import CalibrationResult, save_result
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.procedure.result import CalibrationResult, save_result
+from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import random_packing
 from rockcal.materials.parallel_bond import bond_strengths
@@ -155,8 +155,8 @@ def test_a_pfc4_contact_calibration_says_how_to_set_it_in_pfc():
     in series t E_c) and warns that pbm_emod is PFC 5's other convention."""
     from types import SimpleNamespace
 
-    from rockcal.campaign.config import SpecimenSettings
-    from rockcal.campaign.export import header_lines
+    from rockcal.campaign.input.config import SpecimenSettings
+    from rockcal.campaign.outputs.export import header_lines
     from rockcal.params import make_params
 
     origin = {"rock": "granite", "accepted": True, "dem_runs": 1, "campaign": "c", "engine": "e",

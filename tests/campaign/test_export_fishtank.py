@@ -14,8 +14,8 @@ from types import SimpleNamespace
 
 import pytest
 
-from rockcal.campaign.config import SpecimenSettings
-from rockcal.campaign.export import to_fish, to_json, to_python
+from rockcal.campaign.input.config import SpecimenSettings
+from rockcal.campaign.outputs.export import to_fish, to_json, to_python
 from rockcal.materials.flat_joint import make_flatjoint_params
 from rockcal.params import make_params
 
@@ -124,7 +124,7 @@ def test_flat_jointed_specimen_lists_read_back(tmp_path):
 
     import numpy as np
 
-    from rockcal.campaign.export import write_specimen
+    from rockcal.campaign.outputs.export import write_specimen
     from rockcal.dem.specimen import hexagonal
     from rockcal.materials.flat_joint import flatjointed
 

@@ -3,10 +3,10 @@ and E_c that made its targets, each run keyed by its own gap, every run on the o
 
 import pytest
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.forward import Executor
-from rockcal.campaign.procedure import calibrate
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import random_packing
 from rockcal.errors import InputError

@@ -8,11 +8,11 @@ import runpy
 
 import pytest
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.export import WRITERS, read_calibration
-from rockcal.campaign.report import write_report
-from rockcal.campaign.result import CalibrationResult, save_result
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.outputs.export import WRITERS, read_calibration
+from rockcal.campaign.outputs.report import write_report
+from rockcal.campaign.procedure.result import CalibrationResult, save_result
+from rockcal.campaign.runs.store import RunStore
 from rockcal.errors import InputError
 from rockcal.params import make_params
 

@@ -5,11 +5,11 @@ each kind of run."""
 
 import pytest
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.forward import Executor
-from rockcal.campaign.plan import describe
-from rockcal.campaign.procedure import calibrate
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.plan.screen import describe
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.specimen import random_packing
 from rockcal.labtests.ucs import simulate_ucs
 

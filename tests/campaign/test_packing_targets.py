@@ -5,10 +5,11 @@ that made the packings' mean; on one packing it recovers that packing's bias."""
 
 import pytest
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.plan import describe, specimens, stages
-from rockcal.campaign.procedure import calibrate
-from rockcal.campaign.store import RunResult, RunStore
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.screen import describe, specimens, stages
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.runs.store import RunStore
+from rockcal.campaign.runs.spec import RunResult
 from tiny import StandInExecutor
 
 TRUE = {"E_c": 22.0, "kn_ks": 1.8, "sigma_c": 40.0}

@@ -2,10 +2,10 @@
 
 import pytest
 
-from rockcal.campaign.config import parse_campaign, SpecimenSettings
-from rockcal.campaign import plan
-from rockcal.campaign.plan import describe, grain_count, stages
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import parse_campaign, SpecimenSettings
+from rockcal.campaign.plan import screen as plan
+from rockcal.campaign.plan.screen import describe, grain_count, stages
+from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.specimen import random_packing
 
 
@@ -86,7 +86,7 @@ levels = { E_c = [10, 20, 30], sigma_c = [20, 40, 60] }
 
 def test_a_last_short_round_shares_the_cores():
     """Three runs on two workers of two cores: a round of two, then the third on both cores."""
-    from rockcal.campaign.plan import LONE_RUN_SPEED_UP, stage_rounds
+    from rockcal.campaign.plan.screen import LONE_RUN_SPEED_UP, stage_rounds
 
     assert stage_rounds(4, 2, cores=2) == 2
     assert stage_rounds(3, 2, cores=2) == pytest.approx(1 + 1 / LONE_RUN_SPEED_UP)
@@ -120,7 +120,7 @@ def test_the_campaign_bar_counts_expected_seconds_not_runs():
 
 def test_a_machine_twice_as_slow_expects_twice_the_time(tmp_path, monkeypatch):
     """Before the store holds any run, the expected time follows this machine's engine probe."""
-    from rockcal.campaign import plan
+    from rockcal.campaign.plan import screen as plan
 
     campaign = parse_campaign("[targets.ucs]\nE_GPa = 20.0\n[search]\nbounds = { E_c = [10, 30] }\n",
                               tmp_path)

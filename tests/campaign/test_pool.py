@@ -8,9 +8,10 @@ import time
 
 import pytest
 
-from rockcal.campaign.config import SpecimenSettings
-from rockcal.campaign.forward import Executor, run_spec
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import SpecimenSettings
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.store import RunStore
 
 pytestmark = pytest.mark.slow  # DEM runs and specimens of minutes: deselect with -m "not slow"
 
@@ -55,7 +56,7 @@ def test_a_killed_pool_worker_loses_nothing_and_the_numbers_match_a_serial_run(t
 def test_running_tests_report_their_readings_as_they_go(tmp_path, monkeypatch):
     """Each running test shows its strain and stress about once a second (here every step
     chunk), on the pool and serially; nothing is shown once the runs are done."""
-    import rockcal.campaign.forward as forward
+    import rockcal.campaign.runs.pool as forward
 
     monkeypatch.setattr(forward, "LIVE_INTERVAL_S", 0.0)
     for workers in (2, 1):

@@ -3,10 +3,10 @@ filled in and the campaign goes on, and the loop recovers the model's known para
 
 import pytest
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.procedure import calibrate
-from rockcal.campaign.result import FailedRun
-from rockcal.campaign.store import RunResult
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.procedure.result import FailedRun
+from rockcal.campaign.runs.spec import RunResult
 
 CAMPAIGN = """
 [targets.ucs]

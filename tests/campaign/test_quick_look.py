@@ -7,11 +7,11 @@ import sys
 
 import pytest
 
-from rockcal.campaign.config import load_campaign, parse_campaign, quick_look, quick_look_note
-from rockcal.campaign.procedure import calibrate
-from rockcal.campaign.report import write_report
-from rockcal.campaign.result import CalibrationResult
-from rockcal.campaign.store import STORE_NAME, RunStore
+from rockcal.campaign.input.config import load_campaign, parse_campaign, quick_look, quick_look_note
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.outputs.report import write_report
+from rockcal.campaign.procedure.result import CalibrationResult
+from rockcal.campaign.runs.store import STORE_NAME, RunStore
 from rockcal.cli.calibrate import QUICK_LOOK, summary
 from test_procedure import Workers  # a deterministic stand-in for the DEM
 

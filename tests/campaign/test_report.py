@@ -8,13 +8,13 @@ import matplotlib.image
 import numpy as np
 import pytest
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.forward import Executor
-from rockcal.campaign.procedure import calibrate
-from rockcal.campaign.figures import FIGURES
-from rockcal.campaign.report import write_report
-from rockcal.campaign.result import CalibrationResult, Check, FailedRun, Validation
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.outputs.figures import FIGURES
+from rockcal.campaign.outputs.report import write_report
+from rockcal.campaign.procedure.result import BendingValidation, CalibrationResult, Check, FailedRun
+from rockcal.campaign.runs.store import RunStore
 
 pytestmark = pytest.mark.slow  # a small calibration campaign, then the report from it
 
@@ -152,7 +152,7 @@ def test_missing_pieces_are_noted_not_raised(campaign):
 def test_failed_validation_and_unknown_runs_leave_figures_out(campaign):
     record, store, folder = campaign
     broken = record.model_copy(update={
-        "validation": Validation(lab_K_IC_MPa_sqrt_m=0.5, seeds=[1], run_keys=["gone"], run_key="gone",
+        "validation": BendingValidation(lab_K_IC_MPa_sqrt_m=0.5, seeds=[1], run_keys=["gone"], run_key="gone",
                                  status="timed out",
                                  message="stopped after the run's wall-time limit of 60 s"),
         "final_ucs_run_key": "gone too", "iterations": []})

@@ -3,12 +3,13 @@ per call, at most MAX_TRIES times; the first screen says how many will be retrie
 
 import numpy as np
 
-from rockcal.campaign.config import SpecimenSettings, parse_campaign
-from rockcal.campaign.forward import Executor, run_spec
-from rockcal.campaign.plan import describe
-from rockcal.campaign.procedure import CalibrationFailed, calibrate
-from rockcal.campaign.retries import MAX_TRIES
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.input.config import SpecimenSettings, parse_campaign
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.plan.screen import describe
+from rockcal.campaign.procedure.steps import CalibrationFailed, calibrate
+from rockcal.campaign.runs.retries import MAX_TRIES
+from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.specimen import cache_dir, packing_name, stored_packing
 from rockcal.labtests.registry import lab_test
 from tiny import tiny_campaign
@@ -55,7 +56,7 @@ def test_a_repaired_specimen_cache_heals_the_runs_that_failed_on_it(tmp_path):
     assert path is not None and path.parent == cache_dir()
     good = path.read_bytes()
     path.write_bytes(good[:len(good) // 3])  # truncated
-    from rockcal.campaign.forward import specimen_of
+    from rockcal.campaign.runs.pool import specimen_of
 
     specimen_of.cache_clear()
     store = RunStore(tmp_path / "campaign")

@@ -7,11 +7,12 @@ import math
 
 import pytest
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.forward import run_spec
-from rockcal.campaign.plan import describe, stages
-from rockcal.campaign.procedure import calibrate
-from rockcal.campaign.store import RunResult, RunStore
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.plan.screen import describe, stages
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.runs.store import RunStore
+from rockcal.campaign.runs.spec import RunResult
 from rockcal.errors import InputError
 from rockcal.labtests.envelope import fit_mohr_coulomb
 from tiny import StandInExecutor

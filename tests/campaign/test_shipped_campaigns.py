@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from rockcal.campaign.config import load_campaign, parse_campaign
-from rockcal.campaign.plan import specimens_to_make
+from rockcal.campaign.input.config import load_campaign, parse_campaign
+from rockcal.campaign.plan.screen import specimens_to_make
 
 DOCS = Path(__file__).parents[2] / "docs" / "campaigns"
 
@@ -81,7 +81,7 @@ def test_the_tutorial_campaign_runs_end_to_end(tmp_path):
 
 
 def test_an_embedded_rock_is_taken_by_name_and_an_unknown_name_is_refused(tmp_path, monkeypatch):
-    from rockcal.campaign.config import embedded_rocks
+    from rockcal.campaign.input.config import embedded_rocks
     from rockcal.errors import InputError
 
     monkeypatch.chdir(tmp_path)

@@ -11,11 +11,11 @@ import sys
 
 import pytest
 
-from rockcal.campaign.config import parse_campaign
-from rockcal.campaign.forward import Executor
-from rockcal.campaign.procedure import calibrate
-from rockcal.campaign.result import save_result
-from rockcal.campaign.store import STORE_NAME, RunStore
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.procedure.result import save_result
+from rockcal.campaign.runs.store import STORE_NAME, RunStore
 from tiny import tiny_campaign
 
 CAMPAIGN = tiny_campaign(samples=4, iterations=10, max_dem_runs=5)
@@ -128,7 +128,7 @@ def test_copying_runs_sqlite_alone_after_a_kill_keeps_the_runs(tmp_path):
     """A writer killed after storing runs (no close, no checkpoint at exit): the main file alone
     holds them."""
     killed = tmp_path / "killed"
-    code = ("import os, sys\nfrom rockcal.campaign.store import RunStore, RunSpec, RunResult\n"
+    code = ("import os, sys\nfrom rockcal.campaign.runs.store import RunStore\nfrom rockcal.campaign.runs.spec import RunSpec, RunResult\n"
             f"store = RunStore({str(killed)!r})\n"
             "for i in range(3):\n"
             "    store.put(RunSpec('ucs', (('i', i),), (), 'e'), RunResult('ok', {'E_GPa': i}, None, 0.1))\n"
@@ -239,7 +239,7 @@ def test_a_kill_while_writing_the_record_leaves_the_old_one_whole(finished, out,
     old ones, whole, and no temporary file is left."""
     import pathlib
 
-    from rockcal.campaign.result import CalibrationResult
+    from rockcal.campaign.procedure.result import CalibrationResult
     from rockcal.cli.calibrate import _write_report
 
     store = RunStore(out, create=False)

@@ -14,8 +14,8 @@ import time
 
 import pytest
 
-from rockcal.campaign.store import RunStore
-from rockcal.campaign.store_lock import LOCK_NAME, store_lock
+from rockcal.campaign.runs.store import RunStore
+from rockcal.campaign.runs.lock import LOCK_NAME, store_lock
 from rockcal.errors import InputError
 from tiny import tiny_campaign
 

@@ -5,7 +5,7 @@ the Pareto front of the runs seen."""
 import numpy as np
 import pytest
 
-from rockcal.campaign.verdict import trade_off, verdict_of
+from rockcal.campaign.procedure.verdict import trade_off, verdict_of
 
 BOX = np.array([[0.0, 1.0], [0.0, 1.0]])
 

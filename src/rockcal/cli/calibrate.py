@@ -20,7 +20,7 @@ from rich.table import Table
 from rockcal.errors import InputError
 
 if TYPE_CHECKING:
-    from rockcal.campaign.result import CalibrationResult
+    from rockcal.campaign.procedure.result import CalibrationResult
 
 DEFAULT_OUT = Path("runs")
 QUICK_LOOK = "quick look"  # the store's document naming what the quick look was ("": not one)
@@ -47,12 +47,12 @@ def calibrate(
 ) -> None:
     """Identify BPM micro-parameters from lab results by the inverse procedure, with a report."""
     started = time.perf_counter()
-    from rockcal.campaign.config import load_campaign, quick_look, quick_look_note
-    from rockcal.campaign.io_errors import one_line_errors
-    from rockcal.campaign.out_folder import out_folder
-    from rockcal.campaign.sizes import check_campaign_sizes
-    from rockcal.campaign.store import STORE_NAME
-    from rockcal.campaign.store_lock import store_lock
+    from rockcal.campaign.input.config import load_campaign, quick_look, quick_look_note
+    from rockcal.campaign.files import one_line_errors
+    from rockcal.campaign.files import out_folder
+    from rockcal.campaign.plan.sizes import check_campaign_sizes
+    from rockcal.campaign.runs.store import STORE_NAME
+    from rockcal.campaign.runs.lock import store_lock
 
     campaign, text = load_campaign(config)
     note = None
@@ -84,12 +84,12 @@ def calibrate(
 def _run_campaign(campaign, text: str, note: str | None, out: Path, quick: bool, as_json: bool, how: dict):
     """Run the campaign on the store in OUT (held: `store_lock`); its result, its report and
     when each stage began (`time.perf_counter`)."""
-    from rockcal.campaign.executors import make_executor
-    from rockcal.campaign.out_folder import no_empty_store
-    from rockcal.campaign.plan import stage_runs, stage_times
-    from rockcal.campaign.procedure import CalibrationFailed, calibrate as run_campaign
-    from rockcal.campaign.result import save_result
-    from rockcal.campaign.store import STORE_NAME, RunStore
+    from rockcal.campaign.runs.executors import make_executor
+    from rockcal.campaign.files import no_empty_store
+    from rockcal.campaign.plan.screen import stage_runs, stage_times
+    from rockcal.campaign.procedure.steps import CalibrationFailed, calibrate as run_campaign
+    from rockcal.campaign.procedure.result import save_result
+    from rockcal.campaign.runs.store import STORE_NAME, RunStore
 
     with no_empty_store(out, not (out / STORE_NAME).exists()):
         store = RunStore(out)
@@ -122,8 +122,8 @@ def _cluster_options(scheduler: str | None, ca_file, cert, key):
     """The --scheduler and --tls-* options checked without connecting: the TLSFiles, or None."""
     if scheduler is None and ca_file is None and cert is None and key is None:
         return None
-    from rockcal.campaign.dask_executor import parse_scheduler
-    from rockcal.campaign.dask_security import security_of, tls_files
+    from rockcal.campaign.runs.dask import parse_scheduler
+    from rockcal.campaign.runs.tls import security_of, tls_files
 
     tls = tls_files(ca_file, cert, key)
     if scheduler is None:
@@ -140,7 +140,7 @@ def _waiting(holder: str) -> None:
 def default_out(rock: str, quick: bool) -> Path:
     """runs/<rock>, or runs/<rock>-quick for a quick look: never the calibration's folder; only
     when the rock name is a plain folder name."""
-    from rockcal.campaign.out_folder import is_plain_name
+    from rockcal.campaign.files import is_plain_name
 
     name = f"{rock}-quick" if quick else rock
     if not is_plain_name(name):
@@ -160,10 +160,10 @@ def check_same_kind(store, quick: bool, out: Path) -> None:
 
 def report(out: Path = typer.Argument(..., help="Output folder of a campaign.")) -> None:
     """Rebuild OUT/report.html and its figures from the campaign's run store."""
-    from rockcal.campaign.io_errors import one_line_errors
-    from rockcal.campaign.result import read_result
-    from rockcal.campaign.store import RunStore
-    from rockcal.campaign.store_lock import store_lock
+    from rockcal.campaign.files import one_line_errors
+    from rockcal.campaign.procedure.result import read_result
+    from rockcal.campaign.runs.store import RunStore
+    from rockcal.campaign.runs.lock import store_lock
 
     with one_line_errors(out, "OUT"):
         store = RunStore(out, create=False, readonly=True)
@@ -180,16 +180,16 @@ def report(out: Path = typer.Argument(..., help="Output folder of a campaign."))
 
 
 def _write_report(result: CalibrationResult, store, out: Path) -> Path:
-    from rockcal.campaign.atomic import write_atomic
-    from rockcal.campaign.report import write_report
-    from rockcal.campaign.result import RECORD_NAME
+    from rockcal.campaign.files import write_atomic
+    from rockcal.campaign.outputs.report import write_report
+    from rockcal.campaign.procedure.result import RECORD_NAME
 
     write_atomic(out / RECORD_NAME, result.to_json(indent=1))
     return write_report(result, store, out)
 
 
 def _print_plan(campaign, store, executor, note: str | None) -> None:
-    from rockcal.campaign.plan import describe
+    from rockcal.campaign.plan.screen import describe
 
     console = Console(stderr=True)
     console.print(f"[bold]Calibrating {escape(campaign.rock.name)}[/]" + (" [yellow](quick look)[/]" if note else ""))
@@ -205,9 +205,9 @@ def _print_plan(campaign, store, executor, note: str | None) -> None:
 def _print_dry_run(campaign, out: Path, workers: int, note: str | None, as_json: bool) -> None:
     """The first screen, or with `as_json` the plan as data (`plan.dry_run`), for the store in
     OUT if it holds one (read only), else for an empty store."""
-    from rockcal.campaign.io_errors import one_line_errors
-    from rockcal.campaign.plan import describe, dry_run
-    from rockcal.campaign.store import STORE_NAME, RunStore
+    from rockcal.campaign.files import one_line_errors
+    from rockcal.campaign.plan.screen import describe, dry_run
+    from rockcal.campaign.runs.store import STORE_NAME, RunStore
 
     with one_line_errors(out), tempfile.TemporaryDirectory() as empty:
         held = (out / STORE_NAME).exists()

@@ -25,7 +25,7 @@ def export(
     to: Optional[Path] = typer.Option(None, "--to", help="File to write (default: stdout)."),
 ) -> None:
     """The identified micro-parameters under PFC FISHTank's names (pbm_emod, ...), in SI units."""
-    from rockcal.campaign.export import WRITERS
+    from rockcal.campaign.outputs.export import WRITERS
 
     calibrated = _calibration(out)
     text = WRITERS[format.value](calibrated)
@@ -42,15 +42,16 @@ def export_specimen(
 ) -> None:
     """The campaign's UCS specimen as ball and bond lists (SI), with each bond's strengths at
     the identified parameters."""
-    from rockcal.campaign.export import write_specimen
-    from rockcal.campaign.forward import run_spec, specimen_of
+    from rockcal.campaign.outputs.export import write_specimen
+    from rockcal.campaign.runs.pool import specimen_of
+    from rockcal.campaign.runs.spec import run_spec
     from rockcal.labtests.registry import PRIMARY_TEST
     from rockcal.materials import material_of
 
     calibrated = _calibration(out)
     if to.exists() and not to.is_dir():
         raise InputError("--to", f"{to} is a file, not a folder")
-    from rockcal.campaign.io_errors import one_line_errors
+    from rockcal.campaign.files import one_line_errors
 
     spec = run_spec(PRIMARY_TEST, calibrated.specimen, calibrated.params.key(),
                     material_of(calibrated.params).name)
@@ -62,9 +63,9 @@ def export_specimen(
 
 
 def _calibration(out: Path):
-    from rockcal.campaign.export import read_calibration
-    from rockcal.campaign.io_errors import one_line_errors
-    from rockcal.campaign.store import RunStore
+    from rockcal.campaign.outputs.export import read_calibration
+    from rockcal.campaign.files import one_line_errors
+    from rockcal.campaign.runs.store import RunStore
 
     with one_line_errors(out, "OUT"):
         store = RunStore(out, create=False, readonly=True)
@@ -76,7 +77,7 @@ def _calibration(out: Path):
 
 def _write(path: Path, text: str) -> None:
     """Write the export whole or not at all (a link at `path` is replaced, not followed)."""
-    from rockcal.campaign.atomic import write_atomic
+    from rockcal.campaign.files import write_atomic
 
     try:
         write_atomic(path, text)

@@ -20,13 +20,13 @@ from rich.console import Console
 from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from rockcal.campaign.config import SpecimenSettings
+from rockcal.campaign.input.config import SpecimenSettings
 from pydantic import ValidationError
 
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.labtests.kind import LabTest
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
-from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material
+from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
 from rockcal.params import parse_assignments
 
 SET_HELP = ("Micro-parameter NAME=VALUE, repeatable. Parallel bond: E_c, Ebar_c (GPa), kn_ks, "
@@ -98,7 +98,7 @@ def simulate(test: LabTest, options: dict) -> None:
     """Run a test on `--seeds` packings, show (or print as JSON) its responses, write its files."""
     options = {k: v.value if isinstance(v, Enum) else v for k, v in options.items()}
     chosen = material(options.pop("model"), "--model")
-    params = chosen.params(parse_assignments(options.pop("set_")))
+    params = parameters(chosen, parse_assignments(options.pop("set_")))
     seeds, as_json, out = options.pop("seeds"), options.pop("as_json"), options.pop("out")
     packing = options.pop("packing", "random")
     if seeds < 1:

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
+from rockcal.dem.neighbours import near_pairs
 from rockcal.errors import from_validation_error
 
 MIN_CONTACTS = 3  # a grain with fewer contacts in the vessel (walls counted) is a floater
@@ -55,8 +56,6 @@ def cloud_radii(rng: np.random.Generator, area: float, rmin: float, radius_ratio
 
 def pair_gaps(pos: np.ndarray, radius: np.ndarray, reach: float):
     """Pairs (i, j), i < j, with gap R_i + R_j - d below `reach` (m), and their gaps."""
-    from rockcal.dem.neighbours import near_pairs
-
     pi, pj = near_pairs(pos, radius, reach)
     gap = np.hypot(*(pos[pj] - pos[pi]).T) - radius[pi] - radius[pj]
     return pi, pj, gap

@@ -12,6 +12,7 @@ import logging
 
 import numpy as np
 
+from rockcal.dem.genesis import MIN_CONTACTS, cloud_radii, enlarge_floaters, floaters
 from rockcal.dem.neighbours import spatial_order
 from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, TOP, THICKNESS_M, advance, rebuild_neighbours
 from rockcal.materials.parallel_bond import MicroParams, new_state
@@ -39,8 +40,6 @@ def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed
              cloud_porosity: float, pressure_mpa: float):
     """Centres and radii (m) of the cloud packed in [0, width] x [0, height] to the pressure,
     and the mean wall stress reached (MPa)."""
-    from rockcal.dem.genesis import MIN_CONTACTS, cloud_radii, enlarge_floaters, floaters
-
     rng = np.random.default_rng(seed)
     radius = cloud_radii(rng, width * height, rmin, radius_ratio, cloud_porosity)
     n = len(radius)

@@ -19,9 +19,10 @@ from pathlib import Path
 import numpy as np
 
 from rockcal.materials.flat_joint import flatjoint_draws
-from rockcal.dem.genesis import Genesis, floaters, install_bonds
+from rockcal.dem.genesis import Genesis, floaters, grain_contacts, install_bonds
 from rockcal.dem.grain_limit import check_grains, expected_grains
 from rockcal.dem.neighbours import spatial_order
+from rockcal.dem.packing import pack_box
 from rockcal.errors import InputError
 
 try:
@@ -66,8 +67,6 @@ class Specimen:
 
     def coordination(self) -> float:
         """Grain-grain contacts per grain."""
-        from rockcal.dem.genesis import grain_contacts
-
         return float(grain_contacts(self.pos, self.radius).mean())
 
     def bonds_per_particle(self) -> float:
@@ -149,8 +148,6 @@ def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
 
 def _pack(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis, label):
     """Genesis of the grains (centres in spatial order, radii, the final pressure in MPa)."""
-    from rockcal.dem.packing import pack_box
-
     check_grains("specimen", f"a {label}",
                  expected_grains(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity))
     pos, radius, pressure = pack_box(width_mm * 1e-3, height_mm * 1e-3, rmin_mm * 1e-3,

@@ -49,7 +49,7 @@ def common_abscissae(x_c, y_c, x_m, y_m, points: int | None = None):
 
 
 @dataclass(frozen=True)
-class CurveFit:
+class GoodnessOfFit:
     """RE and CC of a computed curve against a measured one, and the range compared."""
 
     RE: float
@@ -58,7 +58,7 @@ class CurveFit:
     x_range: tuple[float, float]
 
 
-def curve_fit(x_c, y_c, x_m, y_m, points: int | None = None) -> CurveFit:
+def curve_fit(x_c, y_c, x_m, y_m, points: int | None = None) -> GoodnessOfFit:
     """RE = ‖y^C − y^M‖ / ‖y^M‖ and Pearson CC on common abscissae (see module doc).
 
     CC is NaN when either curve is constant over the compared range.
@@ -71,7 +71,7 @@ def curve_fit(x_c, y_c, x_m, y_m, points: int | None = None) -> CurveFit:
     dc, dm = c - c.mean(), m - m.mean()
     denom = np.sqrt(np.sum(dc ** 2) * np.sum(dm ** 2))
     cc = float(np.sum(dc * dm) / denom) if denom > 0 else float("nan")
-    return CurveFit(RE=re, CC=cc, points=len(x), x_range=(float(x[0]), float(x[-1])))
+    return GoodnessOfFit(RE=re, CC=cc, points=len(x), x_range=(float(x[0]), float(x[-1])))
 
 
 def relative_error(x_c, y_c, x_m, y_m, points: int | None = None) -> float:

@@ -57,7 +57,7 @@ def loo_errors(u: np.ndarray, y: np.ndarray, epsilon: float, *, smoothing: float
 
 
 @dataclass(frozen=True)
-class Validation:
+class HeldOutErrors:
     """Relative errors |ŷ - y| / |y| of the surrogate on held-out runs, per response."""
 
     relative_error: dict[str, np.ndarray]
@@ -150,7 +150,7 @@ class RBFSurrogate:
         out = {name: model(u) for name, model in self._models.items()}
         return {name: float(v[0]) for name, v in out.items()} if single else out
 
-    def validate(self, x, responses: dict[str, np.ndarray], tolerance: float = 0.05) -> Validation:
+    def validate(self, x, responses: dict[str, np.ndarray], tolerance: float = 0.05) -> HeldOutErrors:
         """Relative errors on held-out runs; trusted if all are within `tolerance` (5 %)."""
         pred = self.predict(np.atleast_2d(x))
         errors = {}
@@ -160,4 +160,4 @@ class RBFSurrogate:
             y = np.asarray(responses[name], dtype=float)
             with np.errstate(divide="ignore", invalid="ignore"):
                 errors[name] = np.abs(pred[name] - y) / np.abs(y)
-        return Validation(errors, tolerance)
+        return HeldOutErrors(errors, tolerance)

@@ -24,7 +24,7 @@ _BY_PARAMS = {m.params_type: m for m in MATERIALS.values()}
 
 __all__ = ["BondedParams", "DEFAULT_MATERIAL", "FLATJOINT", "FLAT_JOINTED", "MATERIALS", "Material",
            "PARALLEL_BOND", "PARALLEL_BONDED", "as_params", "common_pfc", "material", "material_of",
-           "new_state"]
+           "new_state", "parameters"]
 
 
 def material(name: str, field: str = "model") -> Material:
@@ -33,6 +33,16 @@ def material(name: str, field: str = "model") -> Material:
         return MATERIALS[name]
     except KeyError:
         raise InputError(field, f"no material named {name!r}; known: {', '.join(MATERIALS)}") from None
+
+
+def parameters(chosen: Material, values: dict) -> BondedParams:
+    """`chosen.make(values)`, with a parameter of another material named as such."""
+    for name in values:
+        others = [m.name for m in MATERIALS.values() if name in m.parameters]
+        if name not in chosen.parameters and others:
+            raise InputError(name, f"a parameter of the {others[0]} material, not of "
+                                   f"{chosen.name}: choose model {others[0]}")
+    return chosen.make(values)
 
 
 def material_of(params: BondedParams) -> Material:

@@ -56,16 +56,6 @@ class Material:
     pairs_word: str = "bonds"  # its bonded pairs, in words
     breaks_word: str = "bonds"  # what breaks, each a crack
 
-    def params(self, values: dict) -> BondedParams:
-        """`make(values)`, and a name of another material's parameter named as such."""
-        from rockcal.materials import MATERIALS
-
-        for name in values:
-            others = [m.name for m in MATERIALS.values() if name in m.parameters]
-            if name not in self.parameters and others:
-                raise InputError(name, f"a parameter of the {others[0]} material, not of "
-                                       f"{self.name}: choose model {others[0]}")
-        return self.make(values)
 
 
 def validated(model: type[BaseModel], names: tuple[str, ...], values: dict, what: str):

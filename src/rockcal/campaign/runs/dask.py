@@ -22,9 +22,11 @@ import time
 from concurrent.futures import CancelledError
 from typing import Callable, Iterable
 
-from rockcal.campaign.dask_security import CLEAR_TEXT, TLSFiles, security_of
-from rockcal.campaign.forward import ENGINE, Batch, execute
-from rockcal.campaign.store import RunResult, RunSpec, RunStore
+from rockcal.campaign.runs.tls import CLEAR_TEXT, TLSFiles, security_of
+from rockcal.campaign.runs.pool import Batch, execute
+from rockcal.campaign.runs.spec import ENGINE
+from rockcal.campaign.runs.store import RunStore
+from rockcal.campaign.runs.spec import RunResult, RunSpec
 from rockcal.errors import InputError
 
 log = logging.getLogger(__name__)

@@ -6,16 +6,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcal.campaign.config import Campaign
-from rockcal.campaign.parameter_sets import grouped, optimise, point_responses, spec_of
-from rockcal.campaign.result import Check, CurveFit, Uncertainty, Validation
+from rockcal.campaign.input.config import Campaign
+from rockcal.campaign.procedure.points import grouped, optimise, point_responses, spec_of
+from rockcal.campaign.procedure.result import Check, CurveFit, Uncertainty, BendingValidation
 from rockcal.inverse import Objective, curve_fit
 from rockcal.inverse.uncertainty import parameter_intervals
 from rockcal.labtests.kic import pmax_kic_disagreement
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.labtests.seeds import mean_over_seeds
 
-KIC_TEST = "bending"  # the validation whose record is `Validation`: K_IC over packings
+KIC_TEST = "bending"  # the validation whose record is `BendingValidation`: K_IC over packings
 
 
 def uncertainty_of(state, packings: list, specs: list, done: dict, surrogate, progress) -> Uncertainty:
@@ -56,7 +56,7 @@ def curve_fit_of(state, identified: dict) -> CurveFit | None:
     return CurveFit(RE=fit.RE, CC=fit.CC)
 
 
-def validation_of(campaign: Campaign, specs: list | None, done: dict) -> Validation | None:
+def validation_of(campaign: Campaign, specs: list | None, done: dict) -> BendingValidation | None:
     """The K_IC validation over packings against the lab's K_IC (None unless the bending test
     is a validation check), with the lab's own P_max / K_IC cross-check."""
     if specs is None:
@@ -77,7 +77,7 @@ def validation_of(campaign: Campaign, specs: list | None, done: dict) -> Validat
         found["warning"] = pmax_kic_disagreement(
             1e3 * lab.P_max_kN, 1e6 * lab.K_IC_MPa_sqrt_m, 1e-3 * lab.diameter_mm,
             1e-3 * lab.notch_mm, 1e-3 * lab.span_mm)
-    return Validation(**found)
+    return BendingValidation(**found)
 
 
 def checks_of(campaign: Campaign, validation: dict[str, list], done: dict) -> list[Check] | None:

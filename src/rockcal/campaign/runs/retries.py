@@ -6,7 +6,9 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from rockcal.campaign.store import RunResult, RunSpec, RunStore
+from rockcal.campaign.runs.store import RunStore
+
+from rockcal.campaign.runs.spec import RunResult, RunSpec
 
 MAX_TRIES = 3
 

@@ -3,6 +3,7 @@ past the limit (`rockcal.dem.grain_limit`), naming the campaign file's section."
 
 from __future__ import annotations
 
+from rockcal.campaign.plan.screen import specimens
 from rockcal.dem.grain_limit import check_grains, expected_grains
 from rockcal.labtests.registry import lab_test
 
@@ -10,8 +11,6 @@ from rockcal.labtests.registry import lab_test
 def check_campaign_sizes(campaign) -> None:
     """InputError when a specimen of the campaign (its sensitivity runs' too) would hold more
     grains than the limit."""
-    from rockcal.campaign.plan import specimens
-
     for test, settings in specimens(campaign):
         p = lab_test(test).packing(settings)
         grains = expected_grains(p["width_mm"], p["height_mm"], p["rmin_mm"], p["radius_ratio"],

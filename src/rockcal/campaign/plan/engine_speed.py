@@ -11,7 +11,12 @@ from __future__ import annotations
 import functools
 import time
 
+import numba
 import numpy as np
+
+from rockcal.dem.simulate import advance
+from rockcal.dem.specimen import hexagonal
+from rockcal.materials.parallel_bond import make_params, new_state
 
 # width, height and disk radius: 7 300 disks, whose arrays (2 MB) outgrow a core's L2 cache as
 # a full-size specimen's do
@@ -24,13 +29,6 @@ ROUNDS = 3
 def probe_ms_per_step() -> float:
     """The engine's time per step on the probe lattice at the granite's default parameters, its
     disks moving slightly, on one thread: the fastest of ROUNDS runs of STEPS steps (ms)."""
-    import numba
-
-    from rockcal.dem.simulate import advance
-    from rockcal.materials.parallel_bond import new_state
-    from rockcal.dem.specimen import hexagonal
-    from rockcal.params import make_params
-
     spec = hexagonal(*LATTICE_MM)
     state = new_state(spec.pos, spec.radius, spec.bonds, make_params({}))
     state.particles.vel[:] = np.random.default_rng(0).normal(0, 1e-4, spec.pos.shape)

@@ -1,5 +1,6 @@
-"""Forward runs of a campaign: a virtual lab test (`rockcal.labtests.registry`) for one
-parameter set, on many cores, through the run store (a run in the store is never run again).
+"""Running forward runs (`rockcal.campaign.runs.spec`): a virtual lab test
+(`rockcal.labtests.registry`) for one parameter set, on many cores, through the run store (a run
+in the store is never run again).
 
 Workers are separate processes (spawned, so numba's threads are never forked); each loads the
 specimen from the on-disk specimen cache once, not per run. A running test takes its share of
@@ -19,42 +20,21 @@ from functools import lru_cache
 from multiprocessing import get_context
 from typing import Callable, Iterable
 
+import numba
 import numpy as np
 
-from rockcal import __version__
-from rockcal.campaign.store import RunResult, RunSpec, RunStore
+from rockcal.campaign.runs.retries import stored_result
+from rockcal.campaign.runs.spec import RunResult, RunSpec, params_of
+from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
-from rockcal.dem.specimen import GENERATOR_VERSION
 from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import lab_test
-from rockcal.materials import DEFAULT_MATERIAL, material
 
 POOL_RESTARTS = 3
 LIVE_INTERVAL_S = 1.0  # a running test reports its reading at most this often
 _live = None  # where a running test reports to: a worker's queue, or the serial executor
 _busy = None  # a pool's count of running tests (shared by its workers), or None
 _cores = 1
-SPECIMEN_KEYS = ("n_particles", "porosity", "coordination", "bonds_per_particle", "floaters")  # of each run
-ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
-
-
-def run_spec(kind: str, specimen_settings, params: dict, model: str = DEFAULT_MATERIAL,
-             own: dict | None = None) -> RunSpec:
-    """The spec of a run of the lab test `kind`: its specimen settings (with `own`, settings
-    of the test's own such as a confinement, over them), and `params` of the material `model`
-    completed with the defaults so the key is total (the material is named among them unless
-    it is the default, so the runs stored before materials keep their keys)."""
-    test = lab_test(kind)
-    specimen = tuple((test.key_settings(specimen_settings) | (own or {})).items())
-    full = material(model).make(params).key() | ({} if model == DEFAULT_MATERIAL else {"model": model})
-    engine = ENGINE if test.revision == 1 else f"{ENGINE}, {kind} test revision {test.revision}"
-    return RunSpec(kind, specimen, tuple(sorted(full.items())), engine)
-
-
-def params_of(spec: RunSpec):
-    """The micro-parameters of a run, of its material."""
-    values = dict(spec.params)
-    return material(values.pop("model", DEFAULT_MATERIAL)).make(values)
 
 
 @lru_cache(maxsize=4)
@@ -124,8 +104,6 @@ def _count_running(change: int) -> None:
 def _take_share_of_cores() -> None:
     """On a pool worker, run on this test's share of the cores as of now."""
     if _busy is not None:
-        import numba
-
         threads = max(1, _cores // max(1, _busy.value))
         if threads != numba.get_num_threads():
             numba.set_num_threads(threads)
@@ -138,8 +116,6 @@ def crack_rows(cracks: dict[str, np.ndarray]) -> np.ndarray:
 
 
 def _init_worker(cores: int, busy, live, live_interval_s: float) -> None:
-    import numba
-
     global _live, _busy, _cores, LIVE_INTERVAL_S
     _live, _busy = live, busy
     LIVE_INTERVAL_S = live_interval_s  # the parent's: a spawned worker imports the module anew
@@ -170,8 +146,6 @@ def split_stored(store: RunStore, specs: list[RunSpec],
     """The results already in the store (by key) and the distinct specs still to run (a stored
     failure runs again: `retries`), whose specimens are made here, once, into the disk cache
     that workers read."""
-    from rockcal.campaign.retries import stored_result
-
     results: dict[str, RunResult] = {}
     todo: dict[str, RunSpec] = {}
     for spec in specs:

@@ -1,5 +1,5 @@
 """The calibration report: one self-contained HTML page (figures embedded as base64 PNG, also
-written next to it, `rockcal.campaign.figures`) made from the campaign's result and the runs in
+written next to it, `rockcal.campaign.outputs.figures`) made from the campaign's result and the runs in
 the store.
 
 A piece the result lacks (no sensitivity study, a failed validation run) leaves its figure out
@@ -12,11 +12,11 @@ import base64
 import html
 from pathlib import Path
 
-from rockcal.campaign.atomic import atomic_path, write_atomic
-from rockcal.campaign.config import SpecimenSettings
-from rockcal.campaign.figures import draw, figures_of
-from rockcal.campaign.result import CalibrationResult, SurrogateCheck
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.files import atomic_path, write_atomic
+from rockcal.campaign.input.config import SpecimenSettings
+from rockcal.campaign.outputs.figures import draw, figures_of
+from rockcal.campaign.procedure.result import CalibrationResult, SurrogateCheck
+from rockcal.campaign.runs.store import RunStore
 from rockcal.labtests.registry import lab_test
 
 REPORT_NAME = "report.html"

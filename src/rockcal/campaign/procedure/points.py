@@ -8,16 +8,15 @@ from dataclasses import replace
 from itertools import islice
 from typing import TYPE_CHECKING
 
-from rockcal.campaign.config import Campaign, SpecimenSettings, split_genesis
-from rockcal.campaign.forward import SPECIMEN_KEYS, run_spec
-from rockcal.campaign.result import FailedRun
-from rockcal.campaign.store import RunResult, RunSpec
+from rockcal.campaign.input.config import Campaign, SpecimenSettings, split_genesis
+from rockcal.campaign.procedure.result import FailedRun
+from rockcal.campaign.runs.spec import SPECIMEN_KEYS, RunResult, RunSpec, run_spec
 from rockcal.inverse import ant_colony
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
 
 if TYPE_CHECKING:
-    from rockcal.campaign.procedure import State
+    from rockcal.campaign.procedure.steps import CampaignState
 
 Point = tuple[SpecimenSettings, dict]  # a parameter set on a specimen
 
@@ -26,7 +25,7 @@ class CalibrationFailed(Exception):
     """The campaign cannot go on (e.g. every forward run of a stage failed)."""
 
 
-def spec_of(state: State, test: str, settings: SpecimenSettings, row: dict, own: dict | None = None) -> RunSpec:
+def spec_of(state: CampaignState, test: str, settings: SpecimenSettings, row: dict, own: dict | None = None) -> RunSpec:
     """The run of `test` with the parameters `row` (and the fixed ones) of the campaign's
     material, on the specimen `settings` with the genesis settings `row` searches, with `own`
     of the test's own settings (a value of its series)."""
@@ -46,7 +45,7 @@ def runs_of(campaign: Campaign, test: str) -> list[dict]:
     return [{setting.name: v} for v in series_values(campaign, test)] or [{}]
 
 
-def specs_of_test(state: State, test: str, settings: SpecimenSettings, row: dict) -> list[RunSpec]:
+def specs_of_test(state: CampaignState, test: str, settings: SpecimenSettings, row: dict) -> list[RunSpec]:
     """The runs of `test` at one parameter set (`runs_of`)."""
     return [spec_of(state, test, settings, row, own) for own in runs_of(state.campaign, test)]
 
@@ -67,7 +66,7 @@ def packings_at(campaign: Campaign, test: str, means: bool) -> int:
     return packings_of(campaign, test) if means else 1
 
 
-def point_specs(state: State, points: list[Point], means: bool = False) -> list[RunSpec]:
+def point_specs(state: CampaignState, points: list[Point], means: bool = False) -> list[RunSpec]:
     """The runs of every test calibrated against at each point, test by test, on each of the
     test's packings (`packings_at`)."""
     return [spec for test in state.goals.tests for settings, row in points
@@ -75,7 +74,7 @@ def point_specs(state: State, points: list[Point], means: bool = False) -> list[
             for spec in specs_of_test(state, test, settings.model_copy(update={"seed": seed}), row)]
 
 
-def grouped(state: State, points: list[Point], results: list[RunResult],
+def grouped(state: CampaignState, points: list[Point], results: list[RunResult],
             means: bool = False) -> list[dict[str, list[RunResult]]]:
     """Each point's results by test, from results in `point_specs`'s order."""
     by_point: list[dict[str, list[RunResult]]] = [{} for _ in points]
@@ -87,12 +86,12 @@ def grouped(state: State, points: list[Point], results: list[RunResult],
     return by_point
 
 
-def first_packing(state: State, runs: dict[str, list[RunResult]]) -> dict[str, list[RunResult]]:
+def first_packing(state: CampaignState, runs: dict[str, list[RunResult]]) -> dict[str, list[RunResult]]:
     """A point's runs by test on its first packing only."""
     return {test: results[:len(runs_of(state.campaign, test))] for test, results in runs.items()}
 
 
-def point_responses(state: State, runs: dict[str, list[RunResult]]) -> tuple[dict | None, list[tuple[str, str]]]:
+def point_responses(state: CampaignState, runs: dict[str, list[RunResult]]) -> tuple[dict | None, list[tuple[str, str]]]:
     """One point's responses from its runs by test (`merge_responses`), or None with why:
     (test, message) of each failed run, or of a series its test cannot combine (peaks that
     give no envelope)."""
@@ -126,8 +125,8 @@ def _on_one_packing(campaign: Campaign, test: str, runs: list[dict]) -> dict:
     return lab_test(test).point_responses(runs, series_values(campaign, test))
 
 
-def folded(state: State, stage: str, points: list[Point], results: list[RunResult],
-           means: bool = False) -> tuple[State, list]:
+def folded(state: CampaignState, stage: str, points: list[Point], results: list[RunResult],
+           means: bool = False) -> tuple[CampaignState, list]:
     """The responses of each point from its runs (`point_specs`, with `means`; None when one
     failed), with the runs counted against the budget and the failures recorded;
     CalibrationFailed if every point failed."""
@@ -148,12 +147,12 @@ def folded(state: State, stage: str, points: list[Point], results: list[RunResul
     return state, responses
 
 
-def specs_keys(state: State, points: list[Point]) -> list[str]:
+def specs_keys(state: CampaignState, points: list[Point]) -> list[str]:
     """The keys of the primary test's runs at the points."""
     return [spec_of(state, PRIMARY_TEST, settings, row).key for settings, row in points]
 
 
-def _description(state: State, points: list[Point], per_point: list[dict]) -> dict | None:
+def _description(state: CampaignState, points: list[Point], per_point: list[dict]) -> dict | None:
     """The specimen of the first primary-test run that succeeded on the campaign's specimen."""
     done = next((runs[PRIMARY_TEST][0].responses for runs, (settings, _) in zip(per_point, points)
                  if runs[PRIMARY_TEST][0].status == "ok" and settings == state.campaign.specimen), None)

@@ -13,11 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
-from rockcal.campaign.atomic import atomic_path
-from rockcal.campaign.config import SpecimenSettings
-from rockcal.campaign.forward import ENGINE
-from rockcal.campaign.result import read_result
-from rockcal.campaign.safe_text import comment_text
+from rockcal.campaign.files import atomic_path
+from rockcal.campaign.input.config import SpecimenSettings
+from rockcal.campaign.runs.spec import ENGINE
+from rockcal.campaign.procedure.result import read_result
+from rockcal.campaign.outputs.safe_text import comment_text
 from rockcal.errors import InputError
 from rockcal.materials import DEFAULT_MATERIAL, material, material_of
 from rockcal.params import GPa, MicroParams

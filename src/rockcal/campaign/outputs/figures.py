@@ -13,9 +13,9 @@ from typing import Callable
 import numpy as np
 
 from rockcal import plots
-from rockcal.campaign.forward import specimen_of
-from rockcal.campaign.result import CalibrationResult
-from rockcal.campaign.store import RunStore, StoredRun
+from rockcal.campaign.runs.pool import specimen_of
+from rockcal.campaign.procedure.result import CalibrationResult
+from rockcal.campaign.runs.store import RunStore, StoredRun
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.labtests.kind import SeriesFigure
 from rockcal.labtests.registry import lab_test

@@ -9,7 +9,6 @@ timed out is kept, and replaced when it is run again (`retries`).
 
 from __future__ import annotations
 
-import hashlib
 import io
 import json
 import os
@@ -21,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rockcal.campaign.runs.spec import RunResult, RunSpec
 from rockcal.errors import InputError
 
 SCHEMA_VERSION = 1
@@ -38,33 +38,6 @@ CREATE TABLE IF NOT EXISTS runs (
 CREATE TABLE IF NOT EXISTS executions (run_key TEXT NOT NULL, pid INTEGER, finished_at REAL);
 CREATE TABLE IF NOT EXISTS documents (name TEXT PRIMARY KEY, text TEXT NOT NULL);
 """
-
-
-@dataclass(frozen=True)
-class RunSpec:
-    """What a forward run is: the test, its specimen settings and the full micro-parameters."""
-
-    kind: str  # a lab test's name (`rockcal.labtests.registry`)
-    specimen: tuple  # sorted (name, value) pairs
-    params: tuple  # sorted (name, value) pairs, every micro-parameter
-    engine: str
-
-    @property
-    def key(self) -> str:
-        text = json.dumps([self.kind, self.specimen, self.params, self.engine])
-        return hashlib.sha256(text.encode()).hexdigest()[:32]
-
-
-@dataclass
-class RunResult:
-    """What a forward run gave: responses (or the error message), its curve and its cracks."""
-
-    status: str  # "ok", "failed" or "timed out"
-    responses: dict
-    curve: np.ndarray | None
-    wall_s: float
-    message: str = ""
-    cracks: np.ndarray | None = None  # rows (x m, y m, mode 1 tension / 2 shear) of broken bonds
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ import json
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from rockcal.campaign.config import SpecimenSettings
+from rockcal.campaign.input.config import SpecimenSettings
 from rockcal.errors import InputError, from_validation_error
 from rockcal.inverse.uncertainty import Interval
 from rockcal.labtests.registry import PRIMARY_TEST
@@ -47,7 +47,7 @@ class Effect(_Part):
 
 
 class Sensitivity(_Part):
-    """Step 2: the orthogonal array's runs and responses (None: failed, then imputed) and
+    """The sensitivity step: the orthogonal array's runs and responses (None: failed, then imputed) and
     their range analysis."""
 
     array: str
@@ -61,7 +61,7 @@ class Sensitivity(_Part):
 
 
 class Samples(_Part):
-    """Step 3: the Latin hypercube points and their DEM responses (None: failed), and the
+    """The samples step: the Latin hypercube points and their DEM responses (None: failed), and the
     sensitivity runs that train the surrogate too (by index)."""
 
     x: list[list[float]]
@@ -70,7 +70,7 @@ class Samples(_Part):
 
 
 class SurrogateCheck(_Part):
-    """Step 3: the surrogate against the DEM at fresh random points."""
+    """The samples step: the surrogate against the DEM at fresh random points."""
 
     x: list[list[float]]
     dem: list[Responses | None]
@@ -82,7 +82,7 @@ class SurrogateCheck(_Part):
 
 
 class Iteration(_Part):
-    """Steps 4-6, one verification: an optimum of the search on the surrogate and its DEM run."""
+    """The verification step, one point: an optimum of the search on the surrogate and its DEM run."""
 
     x: list[float]
     objective_surrogate: float
@@ -111,14 +111,14 @@ class Uncertainty(_Part):
 
 
 class CurveFit(_Part):
-    """Step 7: RE and CC of the stress-strain curve against the measured one."""
+    """The final runs: RE and CC of the stress-strain curve against the measured one."""
 
     RE: float
     CC: float
 
 
-class Validation(BaseModel):
-    """Step 8: the bending test at the identified parameters over packings, against the lab's
+class BendingValidation(BaseModel):
+    """The final runs: the bending test at the identified parameters over packings, against the lab's
     K_IC. Each other response's mean and sd over the packings (`name`, `name_std`) comes too."""
 
     model_config = ConfigDict(extra="allow")
@@ -140,7 +140,7 @@ class Validation(BaseModel):
 
 
 class Check(_Part):
-    """Step 8 for a validation test other than bending (whose check is `Validation`): the
+    """The final runs, for a validation test other than bending (whose check is `BendingValidation`): the
     test at the identified parameters, on the packing `specimen.seed`, against the lab."""
 
     test: str
@@ -169,7 +169,7 @@ class TradeOff(_Part):
 
 
 class Verdict(_Part):
-    """Why no verified point met every target (`rockcal.campaign.verdict`)."""
+    """Why no verified point met every target (`rockcal.campaign.procedure.verdict`)."""
 
     unreachable: Values  # target: the surrogate's least relative error alone, above the tolerance
     conflicts: list[Conflict]  # the pairs that conflict, most first
@@ -219,7 +219,7 @@ class CalibrationResult(_Part):
     # each confinement), on the campaign's packing; None: no such test
     series_runs: dict[str, list[str]] | None = _absent()
     curve_fit: CurveFit | None = _absent()
-    validation: Validation | None = _absent()
+    validation: BendingValidation | None = _absent()
     checks: list[Check] | None = _absent()
     verdict: Verdict | None = _absent()  # when not accepted: which targets conflict
     executed_runs: int | None = _absent()  # by this call of `rockcal calibrate`

@@ -4,10 +4,10 @@ samples and the surrogate's checks, the search on the surrogate and
 its DEM verification (a loop, until a verified point is accepted), then the packings and
 validation runs at the identified point (the parameters' intervals, the curve fit, the checks).
 
-A step is a function of the results so far (`State`) that returns the forward runs it needs
+A step is a function of the results so far (`CampaignState`) that returns the forward runs it needs
 and how to fold their results into the next state (`Runs`). `calibrate` passes the runs to
 the executor it is given (serial, process pool or Dask) and folds; the first screen
-(`rockcal.campaign.plan`) asks the same steps for their runs at the planning state
+(`rockcal.campaign.plan.screen`) asks the same steps for their runs at the planning state
 (`planning_state`), so what is planned is what runs. Each parameter set runs every
 lab test calibrated against (a test with a series, such as confined compression at several
 confinements, one run per value, folded by the test's `combine`), and their responses make one
@@ -25,16 +25,16 @@ from typing import Callable
 
 import numpy as np
 
-from rockcal.campaign.config import Campaign, SpecimenSettings, split_genesis
-from rockcal.campaign.goals import Goals, goals_of
-from rockcal.campaign.result import (CalibrationResult, FailedRun, Iteration, Samples, Sensitivity,
+from rockcal.campaign.input.config import Campaign, SpecimenSettings, split_genesis
+from rockcal.campaign.procedure.goals import Goals, goals_of
+from rockcal.campaign.procedure.result import (CalibrationResult, FailedRun, Iteration, Samples, Sensitivity,
                                      SurrogateCheck)
-from rockcal.campaign.store import RunResult, RunSpec
-from rockcal.campaign.parameter_sets import (CalibrationFailed, first_packing, folded, grouped, optimise,
+from rockcal.campaign.runs.spec import RunResult, RunSpec
+from rockcal.campaign.procedure.points import (CalibrationFailed, first_packing, folded, grouped, optimise,
                                              packings_of, point_responses, point_specs,
                                              series_values, spec_of, specs_keys, specs_of_test)
-from rockcal.campaign.verdict import verdict_of
-from rockcal.campaign.validation import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
+from rockcal.campaign.procedure.verdict import verdict_of
+from rockcal.campaign.procedure.final import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
 from rockcal.inverse import RBFSurrogate, Objective, design, latin_hypercube, range_analysis
 from rockcal.inverse.multifidelity import CorrectedSurrogate
 from rockcal.labtests.registry import PRIMARY_TEST
@@ -55,7 +55,7 @@ PACKINGS_AND_VALIDATION = "packings and validation"
 
 
 @dataclass(frozen=True)
-class State:
+class CampaignState:
     """The results so far: each step adds its own and reads only what earlier steps found."""
 
     campaign: Campaign
@@ -102,7 +102,7 @@ class State:
         return dict(zip(self.names, self.iterations[self.best()].x))
 
 
-Fold = Callable[[list[RunResult], Progress], State]
+Fold = Callable[[list[RunResult], Progress], CampaignState]
 
 
 @dataclass(frozen=True)
@@ -121,8 +121,8 @@ class Step:
     the specimen settings its runs use (their resolution)."""
 
     stage: str
-    runs: Callable[[State], Runs]
-    again: Callable[[State], bool] = lambda state: False
+    runs: Callable[[CampaignState], Runs]
+    again: Callable[[CampaignState], bool] = lambda state: False
     specimen: Callable[[Campaign], SpecimenSettings] = lambda campaign: campaign.specimen
 
 
@@ -142,12 +142,12 @@ def calibrate(campaign: Campaign, executor, progress: Progress | None = None) ->
     return result_of(state)
 
 
-def start(campaign: Campaign) -> State:
+def start(campaign: Campaign) -> CampaignState:
     """The state before any run: the campaign, its targets, its fixed parameters."""
-    return State(campaign=campaign, goals=goals_of(campaign), fixed=campaign.fixed_params())
+    return CampaignState(campaign=campaign, goals=goals_of(campaign), fixed=campaign.fixed_params())
 
 
-def planning_state(campaign: Campaign) -> State:
+def planning_state(campaign: Campaign) -> CampaignState:
     """The state every step plans its runs from before the campaign starts: the search box
     known before any run ([search] bounds, else every sensitivity factor's levels), with
     stand-ins (`_stand_ins`) for the points a search finds: the first verification round's
@@ -182,14 +182,14 @@ def search_space(campaign: Campaign, chosen: list[str]) -> tuple[dict, dict]:
     return bounds, fixed
 
 
-def sensitivity_runs(state: State) -> Runs:
+def sensitivity_runs(state: CampaignState) -> Runs:
     """The orthogonal-array runs (their values override [search] fixed), then range analysis."""
     campaign = state.campaign
     rows = sensitivity_rows(campaign)
     specimen = campaign.sensitivity_specimen()
     points = [(specimen, row) for row in rows]
 
-    def fold(results, progress) -> State:
+    def fold(results, progress) -> CampaignState:
         if not rows:
             bounds, fixed = search_space(campaign, [])
             return replace(state, bounds=bounds, fixed=fixed)
@@ -210,7 +210,7 @@ def sensitivity_runs(state: State) -> Runs:
 
 # -- step 2: coarse samples (multi-fidelity), samples, surrogate and its check -------------------
 
-def coarse_sample_runs(state: State) -> Runs:
+def coarse_sample_runs(state: CampaignState) -> Runs:
     """The Latin hypercube runs at coarse resolution ([surrogate] coarse_samples): with the
     sensitivity runs that are runs of the search at that resolution, they train the
     low-fidelity surrogate that the full-resolution samples correct (none: no runs)."""
@@ -222,7 +222,7 @@ def coarse_sample_runs(state: State) -> Runs:
     specimen = campaign.coarse_specimen()
     points = [(specimen, dict(zip(names, row))) for row in x]
 
-    def fold(results, progress) -> State:
+    def fold(results, progress) -> CampaignState:
         new, y = folded(state, COARSE_SAMPLES, points, results)
         reused = _reusable(new, names, box, specimen)
         coarse_x, coarse_y = _usable(np.vstack([x, _points(new.sensitivity, reused, names)]),
@@ -233,7 +233,7 @@ def coarse_sample_runs(state: State) -> Runs:
     return Runs(point_specs(state, points), fold)
 
 
-def sample_runs(state: State) -> Runs:
+def sample_runs(state: CampaignState) -> Runs:
     """The Latin hypercube runs and the check runs as one batch; the surrogate on the samples
     (with the sensitivity runs that are runs of the search), checked on the check points."""
     campaign, names, box = state.campaign, state.names, state.box
@@ -241,7 +241,7 @@ def sample_runs(state: State) -> Runs:
     x, checks = sample_points(box, s)
     points = [(campaign.specimen, dict(zip(names, row))) for row in [*x, *checks]]
 
-    def fold(results, progress) -> State:
+    def fold(results, progress) -> CampaignState:
         new, y_all = folded(state, SAMPLES_AND_CHECKS, points, results)
         y, y_checks = y_all[:len(x)], y_all[len(x):]
         reused = _reusable(new, names, box, campaign.specimen)
@@ -256,7 +256,7 @@ def sample_runs(state: State) -> Runs:
     return Runs(point_specs(state, points), fold)
 
 
-def _check(state: State, surrogate: RBFSurrogate, checks, y_checks, check_x, check_y) -> SurrogateCheck:
+def _check(state: CampaignState, surrogate: RBFSurrogate, checks, y_checks, check_x, check_y) -> SurrogateCheck:
     """The surrogate against the DEM at the check points."""
     tolerance = state.campaign.surrogate.tolerance
     validation = surrogate.validate(check_x, {r: np.array([v[r] for v in check_y]) for r in state.goals.targets},
@@ -268,7 +268,7 @@ def _check(state: State, surrogate: RBFSurrogate, checks, y_checks, check_x, che
         tolerance=tolerance, epsilon=surrogate.epsilon)
 
 
-def _reusable(state: State, names: list[str], box: np.ndarray, specimen: SpecimenSettings) -> list[int]:
+def _reusable(state: CampaignState, names: list[str], box: np.ndarray, specimen: SpecimenSettings) -> list[int]:
     """The sensitivity runs that are runs of the search on `specimen`: inside the box, with
     every other parameter at its fixed value (the very run a sample at that point would be)."""
     study, campaign = state.sensitivity, state.campaign
@@ -284,14 +284,14 @@ def _reusable(state: State, names: list[str], box: np.ndarray, specimen: Specime
     return keep
 
 
-def _params(state: State, row: dict) -> dict:
+def _params(state: CampaignState, row: dict) -> dict:
     params, genesis = split_genesis(state.fixed | row)
     return material(state.campaign.material.model).make(params).key() | genesis
 
 
 # -- step 3: search on the surrogate and DEM verification (a loop) -------------------------------
 
-def verification_runs(state: State) -> Runs:
+def verification_runs(state: CampaignState) -> Runs:
     """One round of the loop: the surrogate on every run so far, the search's optimum and
     other distinct optima on it ([acceptance] candidates), their DEM runs; the round settles
     the loop when a verified point is accepted, the budget is spent or nothing new was found."""
@@ -306,7 +306,7 @@ def verification_runs(state: State) -> Runs:
     points = [(campaign.specimen, dict(zip(names, x))) for x in xs]
     loop = len({it.loop for it in state.iterations})
 
-    def fold(results, progress) -> State:
+    def fold(results, progress) -> CampaignState:
         new, verified = folded(state, "verification", points, results, means=True)
         per_point = grouped(state, points, results, means=True)
         first = [point_responses(new, first_packing(new, runs))[0] for runs in per_point]
@@ -338,7 +338,7 @@ def _unseen(xs: list, responses: list, seen: np.ndarray | None) -> list[tuple]:
     return [(x, v) for x, v in zip(xs, responses) if v is not None and not any(np.allclose(x, row) for row in seen)]
 
 
-def _with_means(state: State, new: list[tuple]) -> State:
+def _with_means(state: CampaignState, new: list[tuple]) -> CampaignState:
     """The state with the means over packings (x, means) of newly verified points."""
     if not new:
         return state
@@ -346,7 +346,7 @@ def _with_means(state: State, new: list[tuple]) -> State:
     return replace(state, means_x=np.array(seen + [x for x, _ in new]), means_y=state.means_y + [v for _, v in new])
 
 
-def _candidates(state: State, objective: Objective, surrogate: RBFSurrogate) -> list:
+def _candidates(state: CampaignState, objective: Objective, surrogate: RBFSurrogate) -> list:
     """The search's optimum on the surrogate, then up to [acceptance] candidates - 1 other
     distinct optima within the run budget: the searches with the next seeds whose optimum
     the surrogate predicts within the tolerance of every target (none when the surrogate
@@ -365,7 +365,7 @@ def _candidates(state: State, objective: Objective, surrogate: RBFSurrogate) -> 
     return found
 
 
-def _wanted(state: State) -> int:
+def _wanted(state: CampaignState) -> int:
     """The points a verification round verifies at most: [acceptance] candidates, within the
     run budget left."""
     left = state.campaign.acceptance.max_dem_runs - len(state.dem_runs)
@@ -384,7 +384,7 @@ def _not_folded(results, progress):
     raise RuntimeError("the planning state's runs are counted, never run")
 
 
-def _iteration(state: State, opt, x, surrogate: RBFSurrogate, verified: dict | None, loop: int) -> Iteration:
+def _iteration(state: CampaignState, opt, x, surrogate: RBFSurrogate, verified: dict | None, loop: int) -> Iteration:
     targets = state.goals.targets
     errors = None if verified is None else {r: verified[r] / t - 1 for r, t in targets.items()}
     return Iteration(
@@ -395,7 +395,7 @@ def _iteration(state: State, opt, x, surrogate: RBFSurrogate, verified: dict | N
 
 # -- step 4: packings and validation at the identified point -------------------------------------
 
-def final_runs(state: State) -> Runs:
+def final_runs(state: CampaignState) -> Runs:
     """The runs at the identified point, as one batch that keeps the workers busy to its end:
     the validation tests' (the longest, first), then the other packings of the calibrated tests
     (the parameters' intervals); folded into the intervals, the curve fit and the checks."""
@@ -407,7 +407,7 @@ def final_runs(state: State) -> Runs:
                 for s in packing_seeds(campaign)] if campaign.wants_uncertainty() else []
     specs = [spec for runs in validation.values() for spec in runs] + point_specs(state, packings, means=True)
 
-    def fold(results, progress) -> State:
+    def fold(results, progress) -> CampaignState:
         done = dict(zip((spec.key for spec in specs), results))
         final = {"curve_fit": curve_fit_of(state, identified)}
         if packings:
@@ -446,7 +446,7 @@ STEPS: tuple[Step, ...] = (
 )
 
 
-def result_of(state: State) -> CalibrationResult:
+def result_of(state: CampaignState) -> CalibrationResult:
     """What the campaign found, from the last state."""
     campaign, goals, best = state.campaign, state.goals, state.best()
     identified = state.identified()
@@ -471,7 +471,7 @@ def result_of(state: State) -> CalibrationResult:
         verdict=None if state.accepted is not None else _verdict(state), **state.final)
 
 
-def _verdict(state: State):
+def _verdict(state: CampaignState):
     """Which targets conflict, read on the surrogate of every run and on the runs seen."""
     surrogate = _judged(state)
     return verdict_of(state.goals.targets, state.campaign.acceptance.tolerance, state.box,
@@ -480,7 +480,7 @@ def _verdict(state: State):
 
 # -- shared pieces -------------------------------------------------------------------------------
 
-def _fit(state: State, x, y) -> RBFSurrogate | CorrectedSurrogate:
+def _fit(state: CampaignState, x, y) -> RBFSurrogate | CorrectedSurrogate:
     """The surrogate of the full-resolution runs x, y; with coarse samples, the low-fidelity
     surrogate of the coarse runs corrected by them."""
     if state.low_fidelity is None:
@@ -488,7 +488,7 @@ def _fit(state: State, x, y) -> RBFSurrogate | CorrectedSurrogate:
     return CorrectedSurrogate(state.low_fidelity, x, _responses(state, y), state.box)
 
 
-def _judged(state: State) -> RBFSurrogate | CorrectedSurrogate:
+def _judged(state: CampaignState) -> RBFSurrogate | CorrectedSurrogate:
     """The surrogate of what the targets are judged on: `_fit` of every full-resolution run,
     corrected by the means at the verified points where targets are means over packings (the
     runs that train it are on the first packing)."""
@@ -498,7 +498,7 @@ def _judged(state: State) -> RBFSurrogate | CorrectedSurrogate:
     return CorrectedSurrogate(surrogate, state.means_x, _responses(state, state.means_y), state.box)
 
 
-def _responses(state: State, rows: list[dict]) -> dict[str, np.ndarray]:
+def _responses(state: CampaignState, rows: list[dict]) -> dict[str, np.ndarray]:
     """The target responses of runs, response by response."""
     return {r: np.array([v[r] for v in rows]) for r in state.goals.targets}
 

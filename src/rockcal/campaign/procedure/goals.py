@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rockcal.campaign.config import Campaign
+from rockcal.campaign.input.config import Campaign
 
 
 @dataclass(frozen=True)

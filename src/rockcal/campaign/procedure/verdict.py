@@ -17,7 +17,7 @@ from typing import Callable
 
 import numpy as np
 
-from rockcal.campaign.result import Conflict, TradeOff, Verdict
+from rockcal.campaign.procedure.result import Conflict, TradeOff, Verdict
 from rockcal.inverse import latin_hypercube
 
 PROBES = 4096  # surrogate points over the box

@@ -16,12 +16,12 @@ import os
 
 import numpy as np
 
-from rockcal.campaign.config import Campaign, SpecimenSettings
-from rockcal.campaign.engine_speed import probe_ms_per_step
-from rockcal.campaign.retries import holds, retry_line
-from rockcal.campaign.parameter_sets import packings_of
-from rockcal.campaign.procedure import STEPS, planning_state, series_values
-from rockcal.campaign.store import RunSpec
+from rockcal.campaign.input.config import Campaign, SpecimenSettings
+from rockcal.campaign.plan.engine_speed import probe_ms_per_step
+from rockcal.campaign.runs.retries import holds, retry_line
+from rockcal.campaign.procedure.points import packings_of
+from rockcal.campaign.procedure.steps import STEPS, planning_state, series_values
+from rockcal.campaign.runs.spec import RunSpec
 from rockcal.dem.specimen import packing_name, stored_packing
 from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test

@@ -7,6 +7,7 @@ source study) is used.
 
 from __future__ import annotations
 
+import functools
 import math
 import tomllib
 from importlib import resources
@@ -15,9 +16,9 @@ from typing import Literal
 
 from pydantic import Field, ValidationError, field_validator, model_validator
 
-from rockcal.campaign.raw_values import check_numbers
-from rockcal.campaign.safe_text import unsafe_character
-from rockcal.campaign.targets import LabTargets, Section, Targets, ValidationTests
+from rockcal.campaign.input.raw_values import check_numbers
+from rockcal.campaign.outputs.safe_text import unsafe_character
+from rockcal.campaign.input.targets import LabTargets, Section, Targets, ValidationTests
 from rockcal.labtests.lab_values import read_curve  # noqa: F401  (here too)
 from rockcal.labtests.ucs import UCSValues as UCSTargets  # noqa: F401  (the UCS section, here too)
 from rockcal.user_files import read_user_text
@@ -25,7 +26,7 @@ from rockcal.dem.genesis import Genesis, make_genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
-from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material
+from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
 from rockcal.labtests.ucs import DEFAULT_MAX_AXIAL_STRAIN, DEFAULT_STRAIN, POST_PEAK_FRACTION
 
 RESPONSES = lab_test(PRIMARY_TEST).targets  # what the primary (UCS) test gives and the calibration can fit
@@ -103,7 +104,7 @@ def split_genesis(values: dict) -> tuple[dict, dict]:
             {k: v for k, v in values.items() if k in SEARCHED_GENESIS})
 
 
-class Sensitivity(Section):
+class SensitivitySettings(Section):
     """Sensitivity runs on an orthogonal array and their range analysis: which parameter
     drives which response (optional when [search] bounds name the parameters to invert)."""
 
@@ -190,7 +191,7 @@ class Acceptance(Section):
                             "round.")
 
 
-class Uncertainty(Section):
+class UncertaintySettings(Section):
     """Intervals of the identified parameters (Monte Carlo on the surrogate)."""
 
     enabled: bool | None = Field(None, description="Default: on when a calibration target gives a spread.")
@@ -221,12 +222,12 @@ class Campaign(Section):
     material: MaterialChoice = MaterialChoice()
     targets: Targets
     specimen: SpecimenSettings = SpecimenSettings()
-    sensitivity: Sensitivity | None = None
+    sensitivity: SensitivitySettings | None = None
     search: Search = Search()
     surrogate: Surrogate = Surrogate()
     optimizer: Optimizer = Optimizer()
     acceptance: Acceptance = Acceptance()
-    uncertainty: Uncertainty = Uncertainty()
+    uncertainty: UncertaintySettings = UncertaintySettings()
     validation: ValidationTests = ValidationTests()
 
     @model_validator(mode="after")
@@ -309,13 +310,13 @@ DEFAULT_ROCK = "granite"
 
 def embedded_rocks() -> list[str]:
     """The names of the campaigns shipped with rockcal (`rockcal calibrate NAME`)."""
-    return sorted(f.name.removesuffix(".toml") for f in resources.files("rockcal.campaign").iterdir()
+    return sorted(f.name.removesuffix(".toml") for f in resources.files("rockcal.campaign.input").iterdir()
                   if f.name.endswith(".toml"))
 
 
 def default_text(rock: str = DEFAULT_ROCK) -> str:
     """An embedded campaign (TOML), by its rock's name."""
-    return resources.files("rockcal.campaign").joinpath(f"{rock}.toml").read_text()
+    return resources.files("rockcal.campaign.input").joinpath(f"{rock}.toml").read_text()
 
 
 def load_campaign(path: Path | str | None) -> tuple[Campaign, str]:
@@ -364,7 +365,7 @@ def _curves_from(campaign: Campaign, base: Path) -> Campaign:
 def _check_values(campaign: Campaign) -> None:
     """Fixed values, bounds and levels must be valid micro-parameter values, named by their key."""
     fixed = campaign.fixed_params()
-    make_params = material(campaign.material.model).params
+    make_params = functools.partial(parameters, material(campaign.material.model))
     try:
         make_params(fixed)
     except InputError as exc:

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from rockcal.campaign.forward import Executor
-from rockcal.campaign.store import RunStore
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.runs.store import RunStore
 
 
 def make_executor(store: RunStore, *, workers: int = 0, scheduler: str | None = None,
@@ -12,6 +12,6 @@ def make_executor(store: RunStore, *, workers: int = 0, scheduler: str | None = 
     (reached with the `TLSFiles` `tls`, for tls://)."""
     if scheduler is None:
         return Executor(store, workers, time_limit_s)
-    from rockcal.campaign.dask_executor import DaskExecutor
+    from rockcal.campaign.runs.dask import DaskExecutor
 
     return DaskExecutor(store, scheduler, time_limit_s, tls)

@@ -1,0 +1,149 @@
+"""File safety at the edges of a campaign: files written whole or not at all (to a fresh
+temporary name beside the target, then renamed over it: a kill or a full disk leaves the old
+file or none, and a symbolic link at the target's name is replaced, never followed); the output
+folder, made when needed and removed again if the command fails before writing into it, with no
+empty store left behind; and filesystem and SQLite errors (a read-only or full disk, a path
+through a file, a damaged store) as one InputError naming the path and what to do."""
+
+from __future__ import annotations
+
+import errno
+import os
+import re
+import sqlite3
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+
+from rockcal.campaign.runs.store import DAMAGED, STORE_NAME
+from rockcal.errors import InputError
+
+
+@contextmanager
+def atomic_path(path: Path):
+    """A fresh temporary path beside `path` (same suffix) to write to; renamed to `path` when
+    the block ends without an error, removed otherwise (a block that removes it leaves `path`
+    as it was)."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=f".tmp{path.suffix}", dir=path.parent)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        if not os.path.exists(tmp):
+            return
+        with open(tmp, "rb+") as f:
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def write_atomic(path: Path, data: str | bytes) -> Path:
+    """Write `data` (text as UTF-8) to `path` atomically; returns `path`."""
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(data.encode("utf-8") if isinstance(data, str) else data)
+    return Path(path)
+
+
+PLAIN_NAME = re.compile(r"[^/\\\x00]+")
+
+
+def is_plain_name(name: str) -> bool:
+    """One folder name: no separator, not hidden, not . or .., at most 255 bytes."""
+    return bool(PLAIN_NAME.fullmatch(name)) and not name.startswith(".") and len(name.encode()) <= 255
+
+
+class out_folder:
+    """OUT made if need be (InputError if it or a folder above it is a file); a folder made
+    here is removed again if the command fails before writing anything into it."""
+
+    def __init__(self, out: Path):
+        self.out = Path(out)
+        self.made = False
+
+    def __enter__(self):
+        if self.out.exists() and not self.out.is_dir():
+            raise InputError("--out", f"{self.out} is a file, not a folder")
+        if not self.out.exists():
+            self.out.mkdir(parents=True)
+            self.made = True
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if exc is not None and self.made:
+            try:
+                self.out.rmdir()  # only if empty
+            except OSError:
+                pass
+        return False
+
+
+@contextmanager
+def no_empty_store(out: Path, new: bool):
+    """A store made within the block and holding no run is removed if the block fails (an
+    unreachable scheduler, a disk full from the start)."""
+    try:
+        yield
+    except BaseException:
+        if new and _holds_no_run(out / STORE_NAME):
+            for suffix in ("", "-wal", "-shm", "-journal"):
+                Path(f"{out / STORE_NAME}{suffix}").unlink(missing_ok=True)
+        raise
+
+
+def _holds_no_run(path: Path) -> bool:
+    """The store at `path` surely holds no run (none, or no runs table yet)."""
+    try:
+        db = sqlite3.connect(f"{path.absolute().as_uri()}?mode=ro", uri=True)
+        try:
+            return db.execute("SELECT COUNT(*) FROM runs").fetchone()[0] == 0
+        finally:
+            db.close()
+    except sqlite3.Error as exc:
+        return "no such table" in str(exc) or not path.exists()
+
+
+FULL = "free some space and run again (with --resume: the runs done are kept)"
+ADVICE = {
+    errno.ENOSPC: FULL, errno.EDQUOT: FULL, errno.EFBIG: FULL,
+    errno.EROFS: "it is on a read-only file system",
+    errno.EACCES: "it is not writable",
+    errno.EPERM: "it is not writable",
+    errno.ENOTDIR: "a part of the path is a file, not a folder",
+    errno.EISDIR: "it is a folder, not a file",
+    errno.ELOOP: "it is a symbolic link, which rockcal does not write through",
+}
+ELSEWHERE = "; choose another --out"  # after the advice on a path in OUT that cannot be written
+
+
+def sqlite_advice(message: str) -> str:
+    """What to do about an SQLite error on the store."""
+    text = message.lower()
+    if "full" in text:
+        return FULL
+    if "readonly" in text or "read-only" in text:
+        return ADVICE[errno.EROFS] + ELSEWHERE
+    if "locked" in text or "busy" in text:
+        return "another process is using it; run again when it is done"
+    if "unable to open" in text:
+        return "check that the folder exists and is writable" + ELSEWHERE
+    return f"the store may be damaged: {DAMAGED}"
+
+
+@contextmanager
+def one_line_errors(out: Path, field: str = "--out"):
+    """Within it, an SQLite error or an OSError becomes an InputError naming its path: `field`
+    for a path in `out`, "file" for one elsewhere (the specimen cache)."""
+    store = Path(out) / STORE_NAME
+    try:
+        yield
+    except sqlite3.Error as exc:
+        raise InputError(field, f"{store}: {exc}; {sqlite_advice(str(exc))}") from None
+    except OSError as exc:
+        where = Path(str(exc.filename)) if exc.filename is not None else Path(out)
+        inside = where.absolute().is_relative_to(Path(out).absolute())
+        advice = ADVICE.get(exc.errno, "check the path and run again")
+        if inside and advice != FULL:
+            advice += ELSEWHERE
+        raise InputError(field if inside else "file", f"{where}: {exc.strerror or exc}; {advice}") from None

@@ -1,0 +1,66 @@
+"""What a forward run is and what it gave: a lab test, its specimen settings and a material's
+complete micro-parameters (`RunSpec`), keyed by all of them and the engine's version, which is
+how the store finds a run done before; and its result (`RunResult`)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import dataclass
+
+import numpy as np
+
+from rockcal import __version__
+from rockcal.dem.specimen import GENERATOR_VERSION
+from rockcal.labtests.registry import lab_test
+from rockcal.materials import DEFAULT_MATERIAL, material
+
+SPECIMEN_KEYS = ("n_particles", "porosity", "coordination", "bonds_per_particle", "floaters")  # of each run
+ENGINE = f"rockcal {__version__}, specimen generator {GENERATOR_VERSION}"
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """What a forward run is: the test, its specimen settings and the full micro-parameters."""
+
+    kind: str  # a lab test's name (`rockcal.labtests.registry`)
+    specimen: tuple  # sorted (name, value) pairs
+    params: tuple  # sorted (name, value) pairs, every micro-parameter
+    engine: str
+
+    @property
+    def key(self) -> str:
+        text = json.dumps([self.kind, self.specimen, self.params, self.engine])
+        return hashlib.sha256(text.encode()).hexdigest()[:32]
+
+
+@dataclass
+class RunResult:
+    """What a forward run gave: responses (or the error message), its curve and its cracks."""
+
+    status: str  # "ok", "failed" or "timed out"
+    responses: dict
+    curve: np.ndarray | None
+    wall_s: float
+    message: str = ""
+    cracks: np.ndarray | None = None  # rows (x m, y m, mode 1 tension / 2 shear) of broken bonds
+
+
+
+def run_spec(kind: str, specimen_settings, params: dict, model: str = DEFAULT_MATERIAL,
+             own: dict | None = None) -> RunSpec:
+    """The spec of a run of the lab test `kind`: its specimen settings (with `own`, settings
+    of the test's own such as a confinement, over them), and `params` of the material `model`
+    completed with the defaults so the key is total (the material is named among them unless
+    it is the default, so the runs stored before materials keep their keys)."""
+    test = lab_test(kind)
+    specimen = tuple((test.key_settings(specimen_settings) | (own or {})).items())
+    full = material(model).make(params).key() | ({} if model == DEFAULT_MATERIAL else {"model": model})
+    engine = ENGINE if test.revision == 1 else f"{ENGINE}, {kind} test revision {test.revision}"
+    return RunSpec(kind, specimen, tuple(sorted(full.items())), engine)
+
+
+def params_of(spec: RunSpec):
+    """The micro-parameters of a run, of its material."""
+    values = dict(spec.params)
+    return material(values.pop("model", DEFAULT_MATERIAL)).make(values)
