@@ -215,7 +215,7 @@ def main() -> None:
     best = {key: np.inf for key in [*threads, "bare", "same", "state"]}
     for _ in range(args.rounds):
         for t in threads:
-            numba.set_num_threads(t)
+            simulate.use_threads(t)
             state = ucs_state()
             best[t] = min(best[t], per_step(lambda: simulate.advance(state, 50), args.steps // 50) / 50)
         numba.set_num_threads(1)

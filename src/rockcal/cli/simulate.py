@@ -1,7 +1,7 @@
 """`rockcal simulate <test>`: one virtual lab test with given micro-parameters, a command per
 test of the lab-test registry, each with the same shared options (`--set`, `--model`,
-`--seed`, `--seeds`, `--json`, `--out`) and an option per specimen setting the test reads
-(its default and help from the campaign file's [specimen] keys)."""
+`--seed`, `--seeds`, `--json`, `--out`, `--threads`) and an option per specimen setting the
+test reads (its default and help from the campaign file's [specimen] keys)."""
 
 from __future__ import annotations
 
@@ -43,6 +43,9 @@ SHARED = {  # the options of every test: name -> (annotation, typer option)
     "seeds": (int, typer.Option(1, help="Average over this many packings (seed, seed + 1, ...): mean and spread.")),
     "as_json": (bool, typer.Option(False, "--json", help="Print one JSON object.")),
     "out": (Optional[Path], typer.Option(None, help="Write curve CSV, summary JSON and PNGs here.")),
+    "threads": (Optional[int], typer.Option(None, min=1, help="Run the engine on this many threads "
+                                            "(default: one per free core, looked at as it runs). "
+                                            "The numbers do not depend on it.")),
 }
 
 
@@ -100,6 +103,7 @@ def simulate(test: LabTest, options: dict) -> None:
     chosen = material(options.pop("model"), "--model")
     params = parameters(chosen, parse_assignments(options.pop("set_")))
     seeds, as_json, out = options.pop("seeds"), options.pop("as_json"), options.pop("out")
+    _use_threads(options.pop("threads"))
     packing = options.pop("packing", "random")
     if seeds < 1:
         raise InputError("--seeds", f"must be >= 1, got {seeds}")
@@ -121,6 +125,18 @@ def simulate(test: LabTest, options: dict) -> None:
         _write_text(out / f"{test.name}_summary.json", json.dumps(combined, indent=2))
         _draw_series(test, done, out)
     _show_combined(test, combined, as_json)
+
+
+def _use_threads(threads: int | None) -> None:
+    """The engine's threads from `--threads`: a fixed number, or (None) one per free core."""
+    import numba
+
+    from rockcal.dem.simulate import use_threads
+
+    if threads is not None and threads > numba.config.NUMBA_NUM_THREADS:
+        raise InputError("--threads", f"at most {numba.config.NUMBA_NUM_THREADS} here "
+                                      f"(NUMBA_NUM_THREADS), got {threads}")
+    use_threads(threads)
 
 
 def _draw_series(test: LabTest, done: list[tuple[dict, np.ndarray]], out: Path) -> None:

@@ -23,7 +23,7 @@ import numpy as np
 import numba
 from numba import njit, prange
 
-from rockcal.dem import laws, neighbours
+from rockcal.dem import cores, laws, neighbours
 from rockcal.dem.bonded import add_bonded_forces
 from rockcal.dem.laws import Disk, Load
 
@@ -299,14 +299,31 @@ def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts, bond_o
     return n_steps, False
 
 
+def use_threads(count: int | None) -> None:
+    """Run the engine on `count` of numba's threads, or (None, the default) on as many as
+    there are free cores (`cores.FreeCores`)."""
+    global _follow_load
+    if count is not None:
+        numba.set_num_threads(count)
+    _follow_load = count is None
+
+
+_follow_load = True
+_free_cores = cores.FreeCores()
+
+
 def advance(state: State, n_steps: int) -> None:
     """Run n_steps time steps, rebuilding the neighbour list whenever particles moved enough.
 
-    Runs on at most one thread per block: a small specimen is one block, and a parallel loop
-    over it would cost more in synchronisation than it saves.
+    Runs on numba's threads (`numba.set_num_threads`), at most one per block: a small specimen
+    is one block, and a parallel loop over it would cost more in synchronisation than it
+    saves; and, unless `use_threads` fixed their number, at most one per free core.
     """
     cap = numba.get_num_threads()
-    numba.set_num_threads(max(1, min(cap, len(state.neighbours.block_starts) - 1)))
+    threads = min(cap, len(state.neighbours.block_starts) - 1)
+    if threads > 1 and _follow_load:
+        threads = min(threads, _free_cores.now() or threads)
+    numba.set_num_threads(max(1, threads))
     try:
         _advance_all(state, n_steps)
     finally:

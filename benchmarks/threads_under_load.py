@@ -1,0 +1,83 @@
+"""The engine's threads on idle and on busy cores: `rockcal simulate ucs --rmin-mm 0.5` timed
+on one thread (`--threads 1`), on two (`--threads 2`) and by default (one thread per free
+core), first on idle cores, then beside as many CPU-bound processes as there are cores (this
+script starts them and stops them). Each is a whole command in a new process, one run after
+the other, timed whole and by its own clock (the run, without Python's start and the
+specimen's loading); the ratios are to the one-thread run of the same condition.
+
+Run by hand, on a machine with nothing else running (about a minute on 2 cores):
+
+    python benchmarks/threads_under_load.py [--rmin-mm 0.5] [--env OMP_WAIT_POLICY=passive] [--all]
+
+`--all` also times two fixed threads on the busy cores: minutes, as each step waits for both
+threads to be scheduled.
+
+`--env NAME=VALUE` (repeatable) sets a variable in every timed run, e.g. numba's threading
+layer (NUMBA_THREADING_LAYER=workqueue) or OpenMP's wait policy. The specimen is made (or
+loaded from the cache) and the engine compiled by an untimed run first.
+"""
+
+import argparse
+import contextlib
+import json
+import os
+import subprocess
+import sys
+import time
+
+RUNS = {"1 thread": ["--threads", "1"], "2 threads": ["--threads", "2"], "default": []}
+FIXED_UNDER_LOAD = "2 threads"
+
+
+@contextlib.contextmanager
+def cpu_load(processes: int):
+    """`processes` CPU-bound processes running until the block ends."""
+    hogs = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(processes)]
+    try:
+        time.sleep(0.5)  # running before the timed command starts
+        yield
+    finally:
+        for hog in hogs:
+            hog.kill()
+            hog.wait()
+
+
+def timed(command: list[str], env: dict) -> tuple[float, dict]:
+    """The wall time of a command printing one JSON object, and that object."""
+    started = time.perf_counter()
+    run = subprocess.run(command, capture_output=True, text=True, env=os.environ | env)
+    seconds = time.perf_counter() - started
+    if run.returncode != 0:
+        sys.exit(run.stderr)
+    return seconds, json.loads(run.stdout)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--rmin-mm", default="0.5")
+    parser.add_argument("--env", action="append", default=[], metavar="NAME=VALUE")
+    parser.add_argument("--all", action="store_true", help="two fixed threads on busy cores too")
+    args = parser.parse_args()
+    env = dict(item.split("=", 1) for item in args.env)
+    ucs = [sys.executable, "-m", "rockcal", "simulate", "ucs", "--rmin-mm", args.rmin_mm, "--json"]
+    cores = len(os.sched_getaffinity(0))
+    first = timed(ucs, env)[1]
+    print(f"UCS, R_min {args.rmin_mm} mm: {first['n_particles']:.0f} grains, {first['steps']:.0f} steps; "
+          f"{cores} cores{'; ' + ' '.join(args.env) if args.env else ''}")
+    print(f"{'condition':34s} {'threads':10s} {'command s':>9s} {'ratio':>6s} {'run s':>7s} {'ratio':>6s}")
+    seen = set()
+    for condition, load in (("idle", 0), (f"beside {cores} CPU-bound processes", cores)):
+        runs = {name: extra for name, extra in RUNS.items()
+                if not load or args.all or name != FIXED_UNDER_LOAD}
+        with cpu_load(load):
+            times = {name: timed(ucs + extra, env) for name, extra in runs.items()}
+        one_s, one = times["1 thread"]
+        for name, (seconds, summary) in times.items():
+            seen.add((summary["ucs_MPa"], summary["steps"]))
+            print(f"{condition:34s} {name:10s} {seconds:9.2f} {seconds / one_s:6.2f} "
+                  f"{summary['wall_s']:7.2f} {summary['wall_s'] / one['wall_s']:6.2f}")
+    print("same numbers in every run:", len(seen) == 1)
+
+
+if __name__ == "__main__":
+    main()

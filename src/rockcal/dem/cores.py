@@ -1,0 +1,95 @@
+"""How many of this process's cores are free for the engine's threads.
+
+Each time step of the engine is two parallel regions, each ending in a barrier: a thread that
+reaches it waits for the other, and on cores that other processes keep busy the other is often
+descheduled, so the whole step waits for its turn. Beside two CPU-bound processes on 2 cores a
+run on two threads took 13 to 39 times as long as on one (`docs/validation/speed.md`). The engine
+therefore runs on no more threads than there are free cores: the cores it may run on
+(`os.sched_getaffinity`) less the processor time that the other processes took on them since
+the last look (`/proc/stat`, less this process's own time). Without `/proc/stat` (not Linux) it
+does not limit the threads.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from typing import NamedTuple
+
+CHECK_INTERVAL_S = 0.5  # how often the free cores are looked at again
+FIRST_LOOK_S = 0.1  # the shortest first window: a window of fewer clock ticks is too coarse
+
+
+class Sample(NamedTuple):
+    """What the cores and this process had done by a moment."""
+
+    wall_s: float
+    own_s: float  # this process's processor time, all its threads
+    busy_ticks: int  # of the cores this process may run on, in clock ticks
+    all_ticks: int
+    cores: int
+
+
+def sample() -> Sample | None:
+    """Now, or None where the cores' times cannot be read."""
+    try:
+        cpus = {f"cpu{k}" for k in os.sched_getaffinity(0)}
+        with open("/proc/stat", "rb") as stat:
+            lines = stat.read().decode().splitlines()
+    except (AttributeError, OSError):
+        return None
+    busy = total = cores = 0
+    for line in lines:
+        name, _, rest = line.partition(" ")
+        if name in cpus:
+            ticks = [int(t) for t in rest.split()[:8]]  # user nice system idle iowait irq softirq steal
+            total += sum(ticks)
+            busy += sum(ticks) - ticks[3] - ticks[4]
+            cores += 1
+    if cores == 0:
+        return None
+    return Sample(time.monotonic(), time.process_time(), busy, total, cores)
+
+
+def free_cores(before: Sample, after: Sample) -> int | None:
+    """The cores the other processes left free between two samples (at least 1), or None when
+    the window holds no clock tick."""
+    ticks = after.all_ticks - before.all_ticks
+    wall = after.wall_s - before.wall_s
+    if ticks <= 0 or wall <= 0:
+        return None
+    busy = after.cores * (after.busy_ticks - before.busy_ticks) / ticks
+    others = busy - (after.own_s - before.own_s) / wall
+    return max(1, math.floor(after.cores - others + 0.5))
+
+
+class FreeCores:
+    """The free cores of late, looked at again at most every CHECK_INTERVAL_S; one until the
+    first look (a run's first steps) and in a process newly forked."""
+
+    def __init__(self):
+        self._start()
+
+    def _start(self) -> None:
+        self._pid = os.getpid()
+        self._last = sample()
+        self._next_s = time.monotonic() + FIRST_LOOK_S
+        self.count = 1 if self._last is not None else None
+
+    def now(self) -> int | None:
+        """The free cores (None: unknown, no limit)."""
+        if self._last is None:
+            return None
+        now_s = time.monotonic()
+        if now_s < self._next_s:
+            return self.count
+        if os.getpid() != self._pid:
+            self._start()
+            return self.count
+        latest = sample()
+        if latest is not None:
+            self.count = free_cores(self._last, latest) or self.count
+            self._last = latest
+        self._next_s = now_s + CHECK_INTERVAL_S
+        return self.count
