@@ -153,6 +153,8 @@ OPTIONS = [  # (case, extra arguments, the option the error must name)
     ("time limit 0", ["--time-limit-s", "0"], "--time-limit-s"),
     ("bogus scheduler", ["--scheduler", "bogus"], "--scheduler"),
     ("no local workers", ["--scheduler", "local:0"], "--scheduler"),
+    ("no threads", ["--threads", "0"], "'--threads'"),
+    ("more threads than numba has", ["--threads", "100000"], "--threads"),
 ]
 
 

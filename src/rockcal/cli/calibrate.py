@@ -17,6 +17,7 @@ from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 from rich.table import Table
 
+from rockcal.cli.threads import use_threads_option
 from rockcal.errors import InputError
 
 if TYPE_CHECKING:
@@ -39,6 +40,9 @@ def calibrate(
                                "resolution (R_min doubled) with one validation beam and 50 draws for the "
                                "intervals; not the calibration."),
     wait: bool = typer.Option(False, "--wait", help="If another rockcal is using --out, wait for it to end."),
+    threads: Optional[int] = typer.Option(None, min=1, help="Engine threads of a forward run, at most, free "
+                                          "cores or not (default: its share of the free cores; a Dask "
+                                          "worker runs one). The numbers do not depend on it."),
     dry_run: bool = typer.Option(False, "--dry-run", help="Print the plan (stages, runs, specimens, expected "
                                  "time) and exit: nothing runs, nothing is written."),
     tls_ca_file: Optional[Path] = typer.Option(None, help="tls:// scheduler: the cluster's CA certificate (PEM)."),
@@ -66,6 +70,7 @@ def calibrate(
     if time_limit_s is not None and not (math.isfinite(time_limit_s) and time_limit_s > 0):
         raise InputError("--time-limit-s", f"must be a finite number > 0, got {time_limit_s}")
     tls = _cluster_options(scheduler, tls_ca_file, tls_cert, tls_key)  # before OUT gets a store
+    use_threads_option(threads)
     if dry_run:
         _print_dry_run(campaign, out, workers or os.cpu_count() or 1, note, as_json)
         return
@@ -75,7 +80,7 @@ def calibrate(
                                       "with it, or choose another folder")
         result, html, began = _run_campaign(campaign, text, note, out, quick, as_json,
                                             dict(workers=workers, scheduler=scheduler, time_limit_s=time_limit_s,
-                                                 tls=tls))
+                                                 tls=tls, threads=threads))
     timing = {"stage_began_s": {stage: round(t - started, 1) for stage, t in began.items()},
               "elapsed_s": round(time.perf_counter() - started, 1)}
     _print_summary(result, html, as_json, timing)

@@ -27,6 +27,7 @@ from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.labtests.kind import LabTest
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
+from rockcal.cli.threads import use_threads_option
 from rockcal.params import parse_assignments
 
 SET_HELP = ("Micro-parameter NAME=VALUE, repeatable. Parallel bond: E_c, Ebar_c (GPa), kn_ks, "
@@ -103,7 +104,7 @@ def simulate(test: LabTest, options: dict) -> None:
     chosen = material(options.pop("model"), "--model")
     params = parameters(chosen, parse_assignments(options.pop("set_")))
     seeds, as_json, out = options.pop("seeds"), options.pop("as_json"), options.pop("out")
-    _use_threads(options.pop("threads"))
+    use_threads_option(options.pop("threads"))
     packing = options.pop("packing", "random")
     if seeds < 1:
         raise InputError("--seeds", f"must be >= 1, got {seeds}")
@@ -125,18 +126,6 @@ def simulate(test: LabTest, options: dict) -> None:
         _write_text(out / f"{test.name}_summary.json", json.dumps(combined, indent=2))
         _draw_series(test, done, out)
     _show_combined(test, combined, as_json)
-
-
-def _use_threads(threads: int | None) -> None:
-    """The engine's threads from `--threads`: a fixed number, or (None) one per free core."""
-    import numba
-
-    from rockcal.dem.simulate import use_threads
-
-    if threads is not None and threads > numba.config.NUMBA_NUM_THREADS:
-        raise InputError("--threads", f"at most {numba.config.NUMBA_NUM_THREADS} here "
-                                      f"(NUMBA_NUM_THREADS), got {threads}")
-    use_threads(threads)
 
 
 def _draw_series(test: LabTest, done: list[tuple[dict, np.ndarray]], out: Path) -> None:

@@ -27,6 +27,7 @@ from rockcal.campaign.runs.retries import stored_result
 from rockcal.campaign.runs.spec import RunResult, RunSpec, params_of
 from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
+from rockcal.dem.simulate import use_threads
 from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import lab_test
 
@@ -115,12 +116,14 @@ def crack_rows(cracks: dict[str, np.ndarray]) -> np.ndarray:
                       for code, mode in ((BROKEN_TENSION, "tension"), (BROKEN_SHEAR, "shear"))])
 
 
-def _init_worker(cores: int, busy, live, live_interval_s: float) -> None:
+def _init_worker(cores: int, busy, live, live_interval_s: float, threads: int | None) -> None:
+    """A pool worker's settings: its runs share `cores` (or, `threads` given, that many each at
+    most, free or not) and report to `live`."""
     global _live, _busy, _cores, LIVE_INTERVAL_S
     _live, _busy = live, busy
     LIVE_INTERVAL_S = live_interval_s  # the parent's: a spawned worker imports the module anew
-    _cores = min(cores, numba.config.NUMBA_NUM_THREADS)
-    numba.set_num_threads(1)
+    _cores = min(threads or cores, numba.config.NUMBA_NUM_THREADS)
+    use_threads(None if threads is None else 1)
 
 
 def live_text(readings: dict[str, tuple]) -> str:
@@ -164,10 +167,12 @@ def split_stored(store: RunStore, specs: list[RunSpec],
 class Executor:
     """Runs specs through the store: serially (workers=1) or on a process pool."""
 
-    def __init__(self, store: RunStore, workers: int = 0, time_limit_s: float | None = None):
+    def __init__(self, store: RunStore, workers: int = 0, time_limit_s: float | None = None,
+                 threads: int | None = None):
         self.store = store
         self.workers = workers if workers > 0 else (os.cpu_count() or 1)
         self.time_limit_s = time_limit_s
+        self.threads = threads  # a run's threads at most, free cores or not (None: its share of the free ones)
         self._pool = None
         self._queue = None
         self.executed = 0  # runs done by this executor (not found in the store)
@@ -206,7 +211,7 @@ class Executor:
             self._pool = ProcessPoolExecutor(
                 self.workers, mp_context=context, initializer=_init_worker,
                 initargs=(os.cpu_count() or 1, context.Value("i", 0), self._queue,
-                          LIVE_INTERVAL_S))
+                          LIVE_INTERVAL_S, self.threads))
         return self._pool
 
     def run(self, specs: Iterable[RunSpec],
@@ -216,6 +221,8 @@ class Executor:
         batch = Batch(self.store, specs, progress, self.tried)
         try:
             if self.workers == 1 or len(batch.todo) <= 1:
+                if self.threads is not None:
+                    use_threads(self.threads)
                 _live = _Shown(self)
                 for spec in batch.todo:
                     batch.finish(spec, execute(spec, self.time_limit_s))
