@@ -109,3 +109,10 @@ def assert_one_line_error(run, field: str) -> None:
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and field in lines[0], run.stderr
     assert "Traceback" not in run.stderr
+
+
+def test_version(rockcal):
+    import rockcal as package
+
+    run = rockcal("--version")
+    assert run.returncode == 0 and run.stdout.strip() == f"rockcal {package.__version__}"

@@ -26,6 +26,7 @@ from tiny import tiny_campaign
 CAMPAIGN = tiny_campaign()
 TINY = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16)
 SLOWER = SpecimenSettings(rmin_mm=0.3, width_mm=20, height_mm=40)  # ~1 s a run: time to kill one
+WORKERS_BACK_S = 240  # a nanny's new worker imports the engine anew: slow on cores the suite keeps busy
 
 
 @pytest.fixture(scope="module")
@@ -111,11 +112,11 @@ def run_killing_a_worker(executor, batch):
     """Run `batch` while a busy worker is killed; returns (results, what was killed), once both
     workers are up again."""
     client = executor.client
-    client.wait_for_workers(2, timeout=60)
+    client.wait_for_workers(2, timeout=WORKERS_BACK_S)
     killed = kill_a_busy_worker(client)
     results = executor.run(batch)
     killed["thread"].join()
-    client.wait_for_workers(2, timeout=60)
+    client.wait_for_workers(2, timeout=WORKERS_BACK_S)
     return results, killed
 
 

@@ -22,8 +22,9 @@ from rockcal.errors import InputError
 @contextmanager
 def atomic_path(path: Path):
     """A fresh temporary path beside `path` (same suffix) to write to; renamed to `path` when
-    the block ends without an error, removed otherwise (a block that removes it leaves `path`
-    as it was)."""
+    the block ends without an error, with the permissions a new file gets (not the temporary
+    file's owner-only ones), removed otherwise (a block that removes it leaves `path` as it
+    was)."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=f".tmp{path.suffix}", dir=path.parent)
     os.close(fd)
@@ -31,12 +32,20 @@ def atomic_path(path: Path):
         yield Path(tmp)
         if not os.path.exists(tmp):
             return
+        os.chmod(tmp, 0o666 & ~_umask())
         with open(tmp, "rb+") as f:
             os.fsync(f.fileno())
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+def _umask() -> int:
+    """This process's umask (read by setting it and setting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def write_atomic(path: Path, data: str | bytes) -> Path:

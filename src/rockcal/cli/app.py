@@ -6,6 +6,7 @@ from typing import Optional
 
 import typer
 
+from rockcal import __version__
 from rockcal.dem.grain_limit import DEFAULT_MAX_GRAINS, ENV, FLAG
 from rockcal.errors import InputError
 
@@ -14,10 +15,18 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
                   help="Calibrate bonded-particle DEM micro-parameters of rock from lab tests.")
 
 
+def _show_version(shown: bool) -> None:
+    if shown:
+        typer.echo(f"rockcal {__version__}")
+        raise typer.Exit()
+
+
 @app.callback()
 def _options(max_grains: Optional[int] = typer.Option(
         None, FLAG, min=1, help=f"Make specimens of up to this many grains (default {DEFAULT_MAX_GRAINS:,}, "
-                                f"or ${ENV}); a larger one is refused before its genesis.")) -> None:
+                                f"or ${ENV}); a larger one is refused before its genesis."),
+        version: bool = typer.Option(False, "--version", is_eager=True, callback=_show_version,
+                                     help="Show rockcal's version (it keys every stored run) and exit.")) -> None:
     """Calibrate bonded-particle DEM micro-parameters of rock from lab tests."""
     if max_grains is not None:
         os.environ[ENV] = str(max_grains)  # seen by the pool's and a local cluster's workers too
