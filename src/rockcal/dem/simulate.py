@@ -15,7 +15,6 @@ Everything is SI; disks have unit thickness (PFC2D convention).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import NamedTuple
 
