@@ -174,8 +174,13 @@ def stage_times(campaign: Campaign, store, workers: int) -> dict[str, tuple[int,
     """Each stage's runs still to do and their expected wall time (s): in rounds of one run per
     worker (`stage_rounds`) of the stage's mean run (a stage of several tests runs them as one
     batch)."""
+    return _stage_walls(test_times(campaign, store), workers)
+
+
+def _stage_walls(per_test: dict[tuple[str, str], tuple[int, float]], workers: int) -> dict[str, tuple[int, float]]:
+    """`stage_times` from `test_times`."""
     work: dict[str, tuple[int, float]] = {}  # stage: runs, their one-worker seconds
-    for (stage, _), (n, seconds) in test_times(campaign, store).items():
+    for (stage, _), (n, seconds) in per_test.items():
         runs, total = work.get(stage, (0, 0.0))
         work[stage] = (runs + n, total + seconds)
     return {stage: (runs, stage_rounds(runs, workers) * seconds / runs if runs else 0.0)
@@ -190,9 +195,9 @@ def dry_run(campaign: Campaign, store, workers: int) -> dict:
     for stage, spec in planned_runs(campaign):
         settings = _settings_of(campaign, spec)
         packings.setdefault((stage, spec.kind), set()).add(packing_file(spec.kind, settings))
-    walls = stage_times(campaign, store, workers)
-    plan: dict[str, dict] = {}
     per_test = test_times(campaign, store)
+    walls = _stage_walls(per_test, workers)
+    plan: dict[str, dict] = {}
     for (stage, test), (runs, seconds) in per_test.items():
         stage_runs_s, stage_wall_s = walls[stage]
         one_worker_s = sum(s for (other, _), (_, s) in per_test.items() if other == stage)
@@ -203,14 +208,19 @@ def dry_run(campaign: Campaign, store, workers: int) -> dict:
     return {"rock": campaign.rock.name, "workers": workers, "stages": plan,
             "runs": sum(runs for runs, _ in walls.values()),
             "specimens_to_make": len(specimens_to_make(campaign)),
-            "expected_s": round(expected_s(campaign, store, workers), 1)}
+            "expected_s": round(sum(wall for _, wall in walls.values()) + _draws_s(campaign), 1)}
 
 
 def expected_s(campaign: Campaign, store, workers: int) -> float:
     """The campaign's expected wall time: its stages' runs and the searches for the parameters'
     intervals (without the specimens' genesis)."""
     total = sum(seconds for _, seconds in stage_times(campaign, store, workers).values())
-    return total + (campaign.uncertainty.draws * DRAW_S if campaign.wants_uncertainty() else 0.0)
+    return total + _draws_s(campaign)
+
+
+def _draws_s(campaign: Campaign) -> float:
+    """The searches for the parameters' intervals (main process), s."""
+    return campaign.uncertainty.draws * DRAW_S if campaign.wants_uncertainty() else 0.0
 
 
 def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
