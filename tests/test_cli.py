@@ -116,3 +116,97 @@ def test_version(rockcal):
 
     run = rockcal("--version")
     assert run.returncode == 0 and run.stdout.strip() == f"rockcal {package.__version__}"
+
+
+
+# `rockcal simulate` checks every input before the run: bad input is one line naming the option
+# and exit 2 (a confinement the servo cannot hold, an empty or repeated entry in a list, a grip
+# that holds no grain rows, a grain finer than any rock's or a cloud of a few grains, a
+# specimen with no bonded element, too many packings); a run whose physics fails is one line
+# and exit 1; a reading no elastic solid gives is a warning line on stderr.
+
+PRISM = ["--width-mm", "8", "--height-mm", "16", "--rmin-mm", "0.4"]
+HUGE = "99999999999999999999999999"
+
+
+def one_line(run, code: int, start: str, *words: str) -> None:
+    assert run.returncode == code, run.stderr
+    assert "Traceback" not in run.stderr
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(start), run.stderr
+    for word in words:
+        assert word in lines[0], lines[0]
+
+
+@pytest.mark.parametrize("test, args, flag, words", [
+    ("biaxial", ["--confinement-mpa", "1e-12"], "--confinement-mpa", ("at least 0.1 MPa", "1e-12")),
+    ("biaxial", ["--confinement-mpa", "0,0.05"], "--confinement-mpa", ("at least 0.1 MPa", "0.05")),
+    ("biaxial", ["--confinement-mpa", "0,,5"], "--confinement-mpa", ("entry 2", "'0,,5'")),
+    ("biaxial", ["--confinement-mpa", "0,5,"], "--confinement-mpa", ("entry 3",)),
+    ("biaxial", ["--confinement-mpa", ""], "--confinement-mpa", ("entry 1",)),
+    ("biaxial", ["--confinement-mpa", "0,5,5.0"], "--confinement-mpa", ("5 MPa is given 2 times",)),
+    ("biaxial", ["--confinement-mpa", "nan"], "--confinement-mpa", ()),
+    ("biaxial", ["--confinement-mpa", "1e300"], "--confinement-mpa", ()),
+    ("direct-tension", ["--grip-fraction", "1e-9"], "--grip-fraction", ("one mean grain diameter", "0.0663")),
+    ("direct-tension", ["--grip-fraction", "0.05"], "--grip-fraction", ("two rows of grains",)),
+    ("ucs", ["--rmin-mm", "1e-300"], "--rmin-mm", ("at least 0.001 mm",)),
+    ("ucs", ["--packing", "hexagonal", "--rmin-mm", "1e-300"], "--rmin-mm", ()),
+    ("ucs", ["--seeds", HUGE], "--seeds", ("[1, 100]",)),
+    ("ucs", ["--seeds", "101"], "--seeds", ()),
+    ("ucs", ["--threads", HUGE], "--threads", ()),
+    ("ucs", ["--width-mm", "1e300"], "specimen", ("grains",)),
+    ("ucs", ["--set", "Ebar_c=0"], "Ebar_c", ("no bonded element",)),
+    ("ucs", ["--model", "flatjoint", "--set", "fjm_B_frac=0"], "fjm_B_frac", ("every flat joint slit",)),
+    ("ucs", ["--model", "flatjoint", "--set", "fjm_B_frac=0", "--set", "fjm_G_frac=0.5"], "fjm_B_frac",
+     ("slit or gapped",)),
+    ("ucs", ["--model", "flatjoint", "--set", "fj_ten=0", "--set", "fj_coh=0"], "fj_coh", ()),
+])
+def test_bad_input_is_refused_before_the_run(test, args, flag, words, rockcal):
+    base = [a for pair in zip(PRISM[::2], PRISM[1::2]) if pair[0] not in args for a in pair]
+    one_line(rockcal("simulate", test, *base, *args), 2, f"rockcal: error: {flag}", *words)
+
+
+@pytest.mark.parametrize("test, args", [
+    ("brazilian", ["--diameter-mm", "10", "--rmin-mm", "1e-300"]),
+    ("bending", ["--length-mm", "44", "--height-mm", "10", "--notch-mm", "3.6", "--notch-width-mm", "0.8",
+                 "--span-mm", "32", "--rmin-mm", "1e-300"]),
+])
+def test_a_grain_finer_than_a_rocks_is_refused_by_every_test(test, args, rockcal):
+    one_line(rockcal("simulate", test, *args), 2, "rockcal: error: --rmin-mm", "1 µm")
+
+
+def test_a_specimen_that_is_no_solid_is_warned_of(rockcal):
+    """A flat-jointed prism with one bonded joint in a thousand: nu 9.48 at half its peak."""
+    run = rockcal("simulate", "ucs", *PRISM, "--model", "flatjoint", "--set", "fjm_B_frac=0.001", "--json")
+    assert run.returncode == 0, run.stderr
+    warnings = [line for line in run.stderr.splitlines() if line.startswith("rockcal: warning: ")]
+    assert len(warnings) == 1 and "nu = 9.479 is outside (-1, 1)" in warnings[0], run.stderr
+
+
+def test_a_seating_that_does_not_settle_is_a_failed_run(rockcal, monkeypatch):
+    monkeypatch.setattr("rockcal.labtests.rig.sides.SEATING_ROUNDS", 1)
+    one_line(rockcal("simulate", "biaxial", *PRISM, "--confinement-mpa", "5"), 1,
+             "rockcal: run failed: confined compression test: the specimen did not settle at the "
+             "confinement of 5 MPa", "try another confinement")
+
+
+def test_a_curve_too_short_to_read_is_a_failed_run(rockcal):
+    one_line(rockcal("simulate", "ucs", *PRISM, "--max-axial-strain", "1e-300"), 1,
+             "rockcal: run failed: UCS test: the compression curve has fewer than two readings",
+             "try a larger maximum axial strain")
+
+
+@pytest.mark.parametrize("test, args", [
+    ("ucs", ["--width-mm", "5", "--height-mm", "10"]),
+    ("direct-tension", ["--width-mm", "5", "--height-mm", "10"]),
+    ("brazilian", ["--diameter-mm", "10"]),
+    ("bending", ["--length-mm", "22", "--height-mm", "5", "--notch-mm", "1.8", "--notch-width-mm", "0.2",
+                 "--span-mm", "16"]),
+])
+def test_a_grain_cloud_of_a_few_grains_is_refused_before_the_genesis(test, args, rockcal):
+    """A cloud porosity of 0.99 leaves one or two grains (no gauge, platen or pin has a grain
+    to read or load); 0.9999999 none."""
+    for porosity in ("0.99", "0.9999999"):
+        one_line(rockcal("simulate", test, *args, "--cloud-porosity", porosity), 2,
+                 f"rockcal: error: --cloud-porosity: a cloud porosity of {porosity} leaves about",
+                 "fewer than 16 (4 grains across)")

@@ -1,7 +1,8 @@
 """The one exception type for a user's mistake; the CLI prints it in one line and exits 2."""
 
+import difflib
 import re
-from typing import Callable, Mapping
+from typing import Callable, Mapping, get_args
 
 
 class InputError(ValueError):
@@ -37,12 +38,15 @@ def as_flags() -> fields_named:
 _UNION_TAGS = {"float", "int", "str", "bool"}  # pydantic's names of a union's members in a location
 
 
-def from_validation_error(exc) -> InputError:
+def from_validation_error(exc, model=None) -> InputError:
     """Turn a pydantic ValidationError into an InputError naming the first bad field; a
-    validator's message "key: problem" names a key below the field it validated."""
+    validator's message "key: problem" names a key below the field it validated. With the
+    `model` validated, an unknown key is told the known key it is closest to."""
     err = exc.errors()[0]
     path = [str(p) for p in err.get("loc", ()) if str(p) not in _UNION_TAGS and "[" not in str(p)]
     problem = err.get("msg", str(exc))
+    if err.get("type") == "extra_forbidden" and model is not None and path:
+        problem += _did_you_mean(path[-1], _fields_at(model, path[:-1]))
     cause = (err.get("ctx") or {}).get("error")
     if isinstance(cause, Exception):  # a validator's own message, without pydantic's prefix
         key, sep, rest = str(cause).partition(": ")
@@ -50,4 +54,20 @@ def from_validation_error(exc) -> InputError:
             path, problem = path + [key], rest
         else:
             problem = str(cause)
-    return InputError(".".join(path) or "input", problem)
+    return InputError(".".join(p if re.fullmatch(r"[^\s'\"]+", p) else repr(p) for p in path) or "input", problem)
+
+
+def _fields_at(model, path: list[str]) -> list[str]:
+    """The field names of the model found at `path` below `model` (none where it is not one)."""
+    for name in path:
+        field = getattr(model, "model_fields", {}).get(name)
+        if field is None:
+            return []
+        model = next((t for t in (field.annotation, *get_args(field.annotation)) if hasattr(t, "model_fields")), None)
+    return list(getattr(model, "model_fields", {}))
+
+
+def _did_you_mean(name: str, known: list[str]) -> str:
+    """"; did you mean KEY?" for the known key closest to `name`, if one is close."""
+    close = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
+    return f"; did you mean {close[0]}?" if close else ""

@@ -13,6 +13,7 @@ from matplotlib.collections import EllipseCollection  # noqa: E402
 
 from rockcal.labtests.damage import areal_strain, crack_strain, crack_stresses  # noqa: E402
 from rockcal.labtests.envelope import check_peaks, fit_hoek_brown, fit_mohr_coulomb  # noqa: E402
+from rockcal.output_files import save_figure  # noqa: E402
 
 
 def crack_pattern(positions, radius, cracks: dict, path: Path, title: str) -> None:
@@ -52,6 +53,13 @@ def stress_strain(curve, path: Path, title: str, stress: str = "axial stress (MP
     ax.plot(-100 * curve[:, 1], curve[:, 2], label="lateral")
     mark_crack_stresses(ax, curve)
     _finish(fig, ax, "strain (%)  (lateral shown negative)", stress, title, path)
+
+
+def tension_curve(curve, path: Path, title: str) -> None:
+    """Tensile stress against axial strain (%) of a direct tension test."""
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    ax.plot(100 * curve[:, 0], curve[:, 1])
+    _finish(fig, ax, "axial strain (%)", "tensile stress (MPa)", title, path)
 
 
 def deviatoric_stress_strain(curve, path: Path, title: str) -> None:
@@ -314,7 +322,7 @@ def plot_crack_stresses(curve, path, title: str = "Compression test") -> None:
 
 
 def _save(fig, path: Path) -> None:
-    """Lay out, save and free a figure."""
+    """Lay out, save (whole, never through a link: `save_figure`) and free a figure."""
     fig.tight_layout()
-    fig.savefig(path, dpi=150)
+    save_figure(fig, path, dpi=150)
     plt.close(fig)

@@ -147,13 +147,13 @@ CAMPAIGNS = [  # (case, campaign text, the key the error must name)
     ("too few draws", CAMPAIGN + "[uncertainty]\ndraws = 2\n", "uncertainty.draws"),
     ("no packings", CAMPAIGN + "[uncertainty]\npackings = 0\n", "uncertainty.packings"),
 ]
-OPTIONS = [  # (case, extra arguments, the option the error must name)
+OPTIONS = [  # (case, extra arguments, the option the error must name first)
     ("negative workers", ["--workers", "-1"], "--workers"),
-    ("workers not a number", ["--workers", "many"], "'--workers'"),
+    ("workers not a number", ["--workers", "many"], "--workers"),
     ("time limit 0", ["--time-limit-s", "0"], "--time-limit-s"),
     ("bogus scheduler", ["--scheduler", "bogus"], "--scheduler"),
     ("no local workers", ["--scheduler", "local:0"], "--scheduler"),
-    ("no threads", ["--threads", "0"], "'--threads'"),
+    ("no threads", ["--threads", "0"], "--threads"),
     ("more threads than numba has", ["--threads", "100000"], "--threads"),
 ]
 
@@ -247,7 +247,7 @@ def test_a_bad_option(args, option, out, rockcal):
     config.write_text(CAMPAIGN)
     before = sha256(out / STORE_NAME)
     code, stderr = rockcal("calibrate", config, "--out", out, "--resume", *args, cwd=out.parent)
-    assert_one_line_error(code, stderr, "Invalid value for " + option if option.startswith("'") else option)
+    assert_one_line_error(code, stderr, option + ": ")
     assert sha256(out / STORE_NAME) == before
 
 

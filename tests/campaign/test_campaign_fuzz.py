@@ -2,6 +2,7 @@
 while checking its input): each is one line on stderr naming what is wrong, exit code 2, and
 no store, folder or run made."""
 
+import os
 import sys
 
 import pytest
@@ -30,6 +31,9 @@ iterations = 20
 max_dem_runs = 9
 """
 SENSITIVITY = "[sensitivity]\narray = 'L16(4^5)'\nlevels = { E_c = [15, 20, 25, 30], sigma_c = [20, 30, 40, 50] }\n"
+FLAT_JOINT = BASE.replace("bounds = { E_c = [10, 30], sigma_c = [20, 60] }\nfixed = { mu = 0.5 }",
+                          "bounds = { fj_emod = [10, 30], fj_ten = [20, 60], fjm_B_frac = [0.5, 0.7], "
+                          "fjm_G_frac = [0.1, 0.3] }").replace("[search]", '[material]\nmodel = "flatjoint"\n[search]')
 BENDING = "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0\n"
 BRAZILIAN = "[targets.brazilian]\nsigma_t_MPa = 9.0\n"
 
@@ -106,20 +110,51 @@ CASES = [  # (case, campaign file as text or bytes, the start of the message aft
     ("number as a date", edit("E_GPa = 20.0", "E_GPa = 2024-01-01"), "targets.ucs.E_GPa: Input should be a valid number"),
     ("table as array", edit("fixed = { mu = 0.5 }", "fixed = [0.5]"), "search.fixed: Input should be a valid"),
     ("unknown section", BASE + "[triaxial]\nsigma3 = 10\n", "triaxial: Extra inputs are not permitted"),
-    ("curve is a device", add('curve = "/dev/zero"', "ucs_MPa = 40.0"), "targets.ucs.curve: /dev/zero is larger"),
-    ("curve is a folder", add('curve = "/"', "ucs_MPa = 40.0"), "targets.ucs.curve: cannot read /"),
+    ("misspelt key", edit("rmin_mm = 0.4", "rmin_m = 0.4"),
+     "specimen.rmin_m: Extra inputs are not permitted; did you mean rmin_mm?"),
+    ("misspelt target", edit("ucs_MPa = 40.0", "ucs_Mpa = 40.0"),
+     "targets.ucs.ucs_Mpa: Extra inputs are not permitted; did you mean ucs_MPa?"),
+    ("curve is a device", add('curve = "/dev/zero"', "ucs_MPa = 40.0"), "targets.ucs.curve: /dev/zero is not a regular"),
+    ("curve is a folder", add('curve = "/"', "ucs_MPa = 40.0"), "targets.ucs.curve: / is a folder"),
     # the rock's name
     ("rock name with a newline", edit('name = "granite"', 'name = "a\\nb"'), "rock.name: a rock name is one line"),
     ("rock name with an escape", edit('name = "granite"', 'name = "a\\u001b[2J"'), "rock.name: a rock name is"),
     ("rock name empty", edit('name = "granite"', 'name = ""'), "rock.name: String should have at least 1"),
     ("rock name 300 long", edit('name = "granite"', f'name = "{"x" * 300}"'), "rock.name: String should have"),
     # sizes past the grain limit, refused before any genesis
-    ("rmin 0.0001", edit("rmin_mm = 0.4", "rmin_mm = 0.0001"), "specimen: the UCS specimen's packing"),
+    ("rmin 0.002", edit("rmin_mm = 0.4", "rmin_mm = 0.002"), "specimen: the UCS specimen's packing"),
     ("width 1e300", edit("width_mm = 8", "width_mm = 1e300"), "specimen: the UCS specimen's packing"),
     ("beam of fine grains", BASE.replace("rmin_mm = 0.4", "rmin_mm = 0.004") + BENDING,
      "specimen: the UCS specimen's packing"),
     ("sensitivity on fine grains", BASE + SENSITIVITY + "rmin_mm = 0.001\n",
      "sensitivity.rmin_mm: the UCS specimen's packing"),
+    # every specimen the plan makes, checked before the first run
+    ("coarse specimen too small", add("coarse_samples = 4\ncoarse_factor = 4", "checks = 1"),
+     "surrogate.coarse_factor: at R_min 1.6 mm the UCS specimen cannot be made: specimen.width_mm"),
+    ("sensitivity specimen too small", BASE + SENSITIVITY + "rmin_mm = 1.5\n",
+     "sensitivity.rmin_mm: at R_min 1.5 mm the UCS specimen cannot be made"),
+    # work and memory bounded, in the run budget's terms
+    ("a million samples", edit("samples = 6", "samples = 1000000"), "surrogate.samples: Input should be less"),
+    ("samples past the budget", edit("samples = 6", "samples = 9"),
+     "surrogate.samples: 9 samples and 1 checks are more DEM runs than the budget of 9"),
+    ("a billion ants", add("ants = 1000000000", "iterations = 20"), "optimizer.ants: Input should be less"),
+    ("ants x iterations", add("ants = 10000", "iterations = 20").replace("iterations = 20", "iterations = 101"),
+     "optimizer.iterations: ants x iterations = 1,010,000 surrogate evaluations per search"),
+    ("huge budget", edit("max_dem_runs = 9", "max_dem_runs = 9223372036854775807"), "acceptance.max_dem_runs"),
+    ("huge draws", BASE + "[uncertainty]\ndraws = 10000000\n", "uncertainty.draws: Input should be less"),
+    ("huge packings", BASE + "[uncertainty]\npackings = 1000\n", "uncertainty.packings: Input should be less"),
+    ("huge target packings", add("packings = 1000", "ucs_MPa = 40.0"), "targets.ucs.packings: Input should be"),
+    # targets and the search box
+    ("empty target section", BASE + "[targets.direct_tension]\n",
+     "targets.direct_tension: no lab value given; give at least one of sigma_t_direct_MPa"),
+    ("a whole number searched", FLAT_JOINT.replace("fj_ten = [20, 60]", "fj_nr = [1, 4]"),
+     "search.bounds.fj_nr: a whole number"),
+    ("a code searched", FLAT_JOINT.replace("fj_ten = [20, 60]", "fjm_rmulCode = [0, 2]"),
+     "search.bounds.fjm_rmulCode: a whole number"),
+    ("fractions past 1 at a corner", FLAT_JOINT.replace("0.3] }", "0.35] }"),
+     "search.bounds.fjm_G_frac: fjm_B_frac + fjm_G_frac = 1.05 exceeds 1"),
+    ("levels unlike the array", BASE + "[sensitivity]\narray = 'L4(2^3)'\nlevels = { E_c = [15, 20, 25] }\n",
+     "sensitivity.levels.E_c: L4(2^3) has no free column with 3 levels"),
 ]
 DEFAULT_FOLDER = [  # (case, rock name): no --out, so the name would pick the folder
     ("parent", "../../x"), ("absolute", "/tmp/x"), ("dot", "."), ("two dots", ".."), ("slash", "a/b"),
@@ -162,3 +197,39 @@ def test_a_rock_name_that_is_not_a_folder_name_needs_out(rock, tmp_path, monkeyp
     check_refused(code, stderr, "rock.name: ")
     assert "give --out" in stderr
     assert list(tmp_path.iterdir()) == [tmp_path / "campaign.toml"]
+
+
+def test_fractions_searched_together_are_checked_on_the_box_not_against_defaults(tmp_path, monkeypatch, capsys):
+    """B in [0.5, 0.7] and G in [0.1, 0.3] never sum past 1, though G's 0.3 does with the default B 1."""
+    config = tmp_path / "campaign.toml"
+    config.write_text(FLAT_JOINT)
+    code, stderr = run_cli(["calibrate", config, "--out", tmp_path / "out", "--dry-run", "--json"], monkeypatch, capsys)
+    assert code == 0, stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_quick_look_too_coarse_for_the_specimen_is_refused_before_any_run(tmp_path, monkeypatch, capsys):
+    config = tmp_path / "campaign.toml"
+    config.write_text(BASE)
+    code, stderr = run_cli(["calibrate", config, "--quick", "--out", tmp_path / "out"], monkeypatch, capsys)
+    check_refused(code, stderr, "--quick: at R_min 0.8 mm the UCS specimen cannot be made: specimen.width_mm")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--workers", "9223372036854775807"], "--workers: Input should be less than or equal to 256"),
+    (["--scheduler", "local:99999999999999999999"], "--scheduler: local:N needs 1 to 256 workers"),
+], ids=["workers", "local workers"])
+def test_worker_counts_are_bounded(args, message, tmp_path, monkeypatch, capsys):
+    config = tmp_path / "campaign.toml"
+    config.write_text(BASE)
+    code, stderr = run_cli(["calibrate", config, "--out", tmp_path / "out", *args], monkeypatch, capsys)
+    check_refused(code, stderr, message)
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_pipe_as_the_campaign_file_is_refused_not_waited_on(tmp_path, monkeypatch, capsys):
+    fifo = tmp_path / "campaign.toml"
+    os.mkfifo(fifo)
+    code, stderr = run_cli(["calibrate", fifo, "--dry-run"], monkeypatch, capsys)
+    check_refused(code, stderr, f"CONFIG: {fifo} is not a regular file")

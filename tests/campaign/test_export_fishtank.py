@@ -141,3 +141,13 @@ def test_flat_jointed_specimen_lists_read_back(tmp_path):
     for column, values in zip(table[:, 2:].T, (m.kind, m.gap0, m.rmul, m.ten[:, 0], m.coh[:, 0])):
         np.testing.assert_array_equal(column, values)
     assert set(m.kind) == {1, 2, 3}
+
+
+@pytest.mark.parametrize("value", [0.23 * 35.61e6, 0.1 + 0.2, 21.65e9, 1e-9, 2.0, 0.5e-3 * 1.65])
+def test_a_float_is_written_to_a_doubles_precision_as_a_float(value):
+    from rockcal.campaign.outputs.export import _fish_value
+
+    text = _fish_value(value)
+    assert float(text) == pytest.approx(value, rel=1e-15)
+    assert len(text.replace(".", "").split("e")[0].lstrip("0")) <= 15
+    assert "." in text or "e" in text

@@ -7,7 +7,7 @@ import stat
 
 import pytest
 
-from rockcal.campaign.files import atomic_path, write_atomic
+from rockcal.output_files import atomic_path, write_atomic
 
 
 @pytest.mark.parametrize("umask, mode", [(0o022, 0o644), (0o077, 0o600)])

@@ -78,8 +78,9 @@ def test_a_target_on_one_packing_recovers_that_packings_bias(tmp_path):
 
 
 def test_the_first_screen_counts_every_packing(tmp_path):
+    """Three packings make a verified point dear: one is verified a round (`plan.route`)."""
     campaign = parse_campaign(campaign_text(packings=3), tmp_path)
-    assert stages(campaign) == [("samples and checks", "ucs", 14), ("verification", "ucs", 6),
+    assert stages(campaign) == [("samples and checks", "ucs", 14), ("verification", "ucs", 3),
                                 ("packings and validation", "ucs", 3)]
     assert sorted(s.seed for _, s in specimens(campaign)) == [1, 2, 3, 4, 5, 6]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=None)

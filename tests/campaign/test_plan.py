@@ -131,3 +131,17 @@ def test_a_machine_twice_as_slow_expects_twice_the_time(tmp_path, monkeypatch):
     assert plan.expected_s(campaign, store, workers=2) == pytest.approx(2 * here)
     assert "0.5x the reference machine's" in describe(campaign, store, workers=2)[-1]
 
+
+
+def test_other_work_on_the_cores_lengthens_the_estimate(tmp_path, monkeypatch):
+    """Two runs at a time beside two busy cores get half the machine each: twice the time, and
+    a last lone run no second core."""
+    from rockcal.campaign.plan import screen as plan
+
+    campaign = parse_campaign("[targets.ucs]\nE_GPa = 20.0\n[search]\nbounds = { E_c = [10, 30] }\n", tmp_path)
+    store = RunStore(tmp_path / "out")
+    monkeypatch.setattr(plan, "busy_cores", lambda: (2, 0.0))
+    idle = plan.expected_s(campaign, store, workers=2)
+    monkeypatch.setattr(plan, "busy_cores", lambda: (2, 2.0))
+    assert plan.expected_s(campaign, store, workers=2) > 2 * idle
+    assert "other work keeps 2.0 of the 2 cores busy" in describe(campaign, store, workers=2)[-1]

@@ -67,7 +67,8 @@ def test_running_tests_report_their_readings_as_they_go(tmp_path, monkeypatch):
             executor.run(batch(2))
         finally:
             executor.close()
-        readings = [text for text in shown if text]
-        assert readings and all(text.startswith("running: ") for text in readings)
-        assert any(" MPa" in text and "strain" in text for text in readings)
-        assert shown[-1] == ""
+        readings = [line for lines in shown for line in lines]
+        assert readings and all(line.startswith("UCS ") for line in readings)
+        assert any(" MPa" in line and "strain" in line for line in readings)
+        assert max(map(len, shown)) <= workers  # a line per run in flight
+        assert shown[-1] == []

@@ -12,7 +12,8 @@ from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.outputs.report import write_report
 from rockcal.campaign.procedure.result import CalibrationResult
 from rockcal.campaign.runs.store import STORE_NAME, RunStore
-from rockcal.cli.calibrate import QUICK_LOOK, summary
+from rockcal.campaign.job import QUICK_LOOK
+from rockcal.cli.calibrate import summary
 from test_procedure import Workers  # a deterministic stand-in for the DEM
 
 TINY = """

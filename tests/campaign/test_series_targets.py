@@ -116,10 +116,11 @@ def test_a_confined_validation_check_folds_its_series(tmp_path):
 
 
 def test_the_first_screen_counts_a_run_per_confinement(tmp_path):
+    """A confined series is dear: one point is verified a round (`plan.route`)."""
     campaign = parse_campaign(campaign_text(envelope(TRUE)), tmp_path)
     assert stages(campaign) == [("sensitivity", "ucs", 9), ("sensitivity", "biaxial", 27),
                                 ("samples and checks", "ucs", 18), ("samples and checks", "biaxial", 54),
-                                ("verification", "ucs", 2), ("verification", "biaxial", 6),
+                                ("verification", "ucs", 1), ("verification", "biaxial", 3),
                                 ("packings and validation", "ucs", 1),
                                 ("packings and validation", "biaxial", 3)]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=None)

@@ -12,6 +12,7 @@ import sys
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.job import QUICK_LOOK
 from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.procedure.result import save_result
@@ -31,6 +32,7 @@ def finished(tmp_path_factory):
     store = RunStore(out)
     result = calibrate(parse_campaign(CAMPAIGN, folder), Executor(store, workers=1))
     store.save_document("campaign.toml", CAMPAIGN)
+    store.save_document(QUICK_LOOK, "")  # as `rockcal calibrate` saves them
     save_result(store, result)
     store.close()
     (out / "report.html").write_text("<p>the report</p>")
@@ -114,6 +116,12 @@ def test_a_damaged_store_is_one_line_and_left_as_it_was(spoil, says, command, ou
     assert_one_line(code, stderr, f"OUT: {store}")
     assert says in stderr
     assert sha(store) == before
+
+
+def test_a_stored_run_without_a_targeted_response_is_one_line_on_resume(out, finished):
+    spoil_run("responses", '{"E_GPa": 20.0}')(out / STORE_NAME, finished[2])
+    code, stderr = rockcal(*commands(out)["resume"])
+    assert_one_line(code, stderr, "--out: a stored UCS run lacks its response ucs_MPa, a target of this campaign")
 
 
 def test_out_below_a_file_is_one_line(tmp_path):
@@ -240,7 +248,7 @@ def test_a_kill_while_writing_the_record_leaves_the_old_one_whole(finished, out,
     import pathlib
 
     from rockcal.campaign.procedure.result import CalibrationResult
-    from rockcal.cli.calibrate import _write_report
+    from rockcal.campaign.job import write_record_and_report as _write_report
 
     store = RunStore(out, create=False)
     result = CalibrationResult.from_json(store.document("record.json"))

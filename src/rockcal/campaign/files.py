@@ -1,58 +1,19 @@
-"""File safety at the edges of a campaign: files written whole or not at all (to a fresh
-temporary name beside the target, then renamed over it: a kill or a full disk leaves the old
-file or none, and a symbolic link at the target's name is replaced, never followed); the output
-folder, made when needed and removed again if the command fails before writing into it, with no
-empty store left behind; and filesystem and SQLite errors (a read-only or full disk, a path
-through a file, a damaged store) as one InputError naming the path and what to do."""
+"""File safety at the edges of a campaign (its files are written whole by
+`rockcal.output_files`): the output folder, made when needed and removed again if the command
+fails before writing into it, with no empty store left behind; and filesystem and SQLite errors
+(a read-only or full disk, a path through a file, a damaged store) as one InputError naming the
+path and what to do, advising only the options of the command at hand."""
 
 from __future__ import annotations
 
 import errno
-import os
 import re
 import sqlite3
-import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
 from rockcal.campaign.runs.store import DAMAGED, STORE_NAME
 from rockcal.errors import InputError
-
-
-@contextmanager
-def atomic_path(path: Path):
-    """A fresh temporary path beside `path` (same suffix) to write to; renamed to `path` when
-    the block ends without an error, with the permissions a new file gets (not the temporary
-    file's owner-only ones), removed otherwise (a block that removes it leaves `path` as it
-    was)."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=f".tmp{path.suffix}", dir=path.parent)
-    os.close(fd)
-    try:
-        yield Path(tmp)
-        if not os.path.exists(tmp):
-            return
-        os.chmod(tmp, 0o666 & ~_umask())
-        with open(tmp, "rb+") as f:
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
-def _umask() -> int:
-    """This process's umask (read by setting it and setting it back)."""
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return mask
-
-
-def write_atomic(path: Path, data: str | bytes) -> Path:
-    """Write `data` (text as UTF-8) to `path` atomically; returns `path`."""
-    with atomic_path(path) as tmp:
-        tmp.write_bytes(data.encode("utf-8") if isinstance(data, str) else data)
-    return Path(path)
 
 
 PLAIN_NAME = re.compile(r"[^/\\\x00]+")
@@ -113,7 +74,8 @@ def _holds_no_run(path: Path) -> bool:
         return "no such table" in str(exc) or not path.exists()
 
 
-FULL = "free some space and run again (with --resume: the runs done are kept)"
+FULL = "free some space and run again"
+RESUMES = "--out"  # the field of calibrate, the one command that goes on with the runs done
 ADVICE = {
     errno.ENOSPC: FULL, errno.EDQUOT: FULL, errno.EFBIG: FULL,
     errno.EROFS: "it is on a read-only file system",
@@ -123,20 +85,30 @@ ADVICE = {
     errno.EISDIR: "it is a folder, not a file",
     errno.ELOOP: "it is a symbolic link, which rockcal does not write through",
 }
-ELSEWHERE = "; choose another --out"  # after the advice on a path in OUT that cannot be written
 
 
-def sqlite_advice(message: str) -> str:
-    """What to do about an SQLite error on the store."""
+def full_advice(field: str) -> str:
+    """What to do about a full disk; with --resume for calibrate's --out."""
+    return FULL + (" (with --resume: the runs done are kept)" if field == RESUMES else "")
+
+
+def elsewhere(field: str) -> str:
+    """After the advice on a path in `field` that cannot be written: choose another, when
+    `field` is an option (a positional OUT is a campaign's own folder: no other will do)."""
+    return f"; choose another {field}" if field.startswith("-") else ""
+
+
+def sqlite_advice(message: str, field: str = "--out") -> str:
+    """What to do about an SQLite error on the store in `field`."""
     text = message.lower()
     if "full" in text:
-        return FULL
+        return full_advice(field)
     if "readonly" in text or "read-only" in text:
-        return ADVICE[errno.EROFS] + ELSEWHERE
+        return ADVICE[errno.EROFS] + elsewhere(field)
     if "locked" in text or "busy" in text:
         return "another process is using it; run again when it is done"
     if "unable to open" in text:
-        return "check that the folder exists and is writable" + ELSEWHERE
+        return "check that the folder exists and is writable" + elsewhere(field)
     return f"the store may be damaged: {DAMAGED}"
 
 
@@ -148,11 +120,13 @@ def one_line_errors(out: Path, field: str = "--out"):
     try:
         yield
     except sqlite3.Error as exc:
-        raise InputError(field, f"{store}: {exc}; {sqlite_advice(str(exc))}") from None
+        raise InputError(field, f"{store}: {exc}; {sqlite_advice(str(exc), field)}") from None
     except OSError as exc:
         where = Path(str(exc.filename)) if exc.filename is not None else Path(out)
         inside = where.absolute().is_relative_to(Path(out).absolute())
         advice = ADVICE.get(exc.errno, "check the path and run again")
-        if inside and advice != FULL:
-            advice += ELSEWHERE
+        if advice == FULL:
+            advice = full_advice(field)
+        elif inside:
+            advice += elsewhere(field)
         raise InputError(field if inside else "file", f"{where}: {exc.strerror or exc}; {advice}") from None

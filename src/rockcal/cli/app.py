@@ -11,8 +11,9 @@ from rockcal.dem.grain_limit import DEFAULT_MAX_GRAINS, ENV, FLAG
 from rockcal.errors import InputError
 
 
+# plain help (click's): no `<bool>` beside a flag, and it fits 80 columns
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
-                  help="Calibrate bonded-particle DEM micro-parameters of rock from lab tests.")
+                  rich_markup_mode=None, help="Calibrate bonded-particle DEM micro-parameters of rock from lab tests.")
 
 
 def _show_version(shown: bool) -> None:
@@ -49,6 +50,14 @@ def _fail(message: str) -> None:
     sys.exit(2)
 
 
+def _field_of(exc) -> str:
+    """The option or argument a command-line mistake is about ("arguments": none in particular)."""
+    param = getattr(exc, "param", None)
+    if param is not None:
+        return max(param.opts, key=len) if param.opts else param.human_readable_name
+    return getattr(exc, "option_name", None) or "arguments"
+
+
 def main() -> None:
     _register()
     try:
@@ -59,7 +68,7 @@ def main() -> None:
         if type(exc).__name__ == "NoArgsIsHelpError":  # a bare group: show its help
             print(exc.ctx.get_help())
             sys.exit(0)
-        _fail(exc.format_message())
+        _fail(f"{_field_of(exc)}: {getattr(exc, 'message', None) or exc.format_message()}")
     except typer.Abort:
         print("rockcal: aborted", file=sys.stderr)
         sys.exit(130)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import sys
@@ -16,22 +15,24 @@ from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 from rich.table import Table
+from rich.text import Text
 
+from rockcal.output_files import json_text
+from rockcal.campaign.runs import MAX_WORKERS
 from rockcal.cli.threads import use_threads_option
 from rockcal.errors import InputError
 
 if TYPE_CHECKING:
     from rockcal.campaign.procedure.result import CalibrationResult
 
-DEFAULT_OUT = Path("runs")
-QUICK_LOOK = "quick look"  # the store's document naming what the quick look was ("": not one)
 
 
 def calibrate(
     config: Optional[Path] = typer.Argument(None, help="Campaign file (TOML), or an embedded rock by name "
                                             "(granite, ldb); none: the embedded granite."),
     out: Optional[Path] = typer.Option(None, help="Output folder (run store, report); default runs/<rock name>, runs/<rock name>-quick with --quick."),
-    workers: int = typer.Option(0, help="Parallel forward runs on this machine (0: one per core)."),
+    workers: int = typer.Option(0, min=0, max=MAX_WORKERS, help="Parallel forward runs on this machine (0: one "
+                                "per core)."),
     scheduler: Optional[str] = typer.Option(None, help="Dask scheduler: tls://HOST:PORT (with certificates), tcp://HOST:PORT, or local:N for N local workers."),
     time_limit_s: Optional[float] = typer.Option(None, help="Wall-time limit of one forward run, s; a run past it is recorded as timed out."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
@@ -51,22 +52,9 @@ def calibrate(
 ) -> None:
     """Identify BPM micro-parameters from lab results by the inverse procedure, with a report."""
     started = time.perf_counter()
-    from rockcal.campaign.input.config import load_campaign, quick_look, quick_look_note
-    from rockcal.campaign.files import one_line_errors
-    from rockcal.campaign.files import out_folder
-    from rockcal.campaign.plan.sizes import check_campaign_sizes
-    from rockcal.campaign.runs.store import STORE_NAME
-    from rockcal.campaign.runs.lock import store_lock
+    from rockcal.campaign.job import campaign_of
 
-    campaign, text = load_campaign(config)
-    note = None
-    if quick:
-        campaign = quick_look(campaign)
-        note = quick_look_note(campaign)
-    check_campaign_sizes(campaign)
-    out = out if out is not None else default_out(campaign.rock.name, quick)
-    if workers < 0:
-        raise InputError("--workers", f"must be >= 0, got {workers}")
+    campaign, text, note, out = campaign_of(config, quick, out)
     if time_limit_s is not None and not (math.isfinite(time_limit_s) and time_limit_s > 0):
         raise InputError("--time-limit-s", f"must be a finite number > 0, got {time_limit_s}")
     tls = _cluster_options(scheduler, tls_ca_file, tls_cert, tls_key)  # before OUT gets a store
@@ -74,53 +62,38 @@ def calibrate(
     if dry_run:
         _print_dry_run(campaign, out, workers or os.cpu_count() or 1, note, as_json)
         return
-    with one_line_errors(out), out_folder(out), store_lock(out, wait, _waiting):
-        if (out / STORE_NAME).exists() and not resume:
-            raise InputError("--out", f"{out} already holds a campaign's runs; add --resume to go on "
-                                      "with it, or choose another folder")
-        result, html, began = _run_campaign(campaign, text, note, out, quick, as_json,
-                                            dict(workers=workers, scheduler=scheduler, time_limit_s=time_limit_s,
-                                                 tls=tls, threads=threads))
+    result, html, began = _run_campaign(campaign, text, note, out, as_json,
+                                        dict(resume=resume, wait=wait, on_waiting=_waiting,
+                                             how=dict(workers=workers, scheduler=scheduler, time_limit_s=time_limit_s,
+                                                      tls=tls, threads=threads)))
     timing = {"stage_began_s": {stage: round(t - started, 1) for stage, t in began.items()},
               "elapsed_s": round(time.perf_counter() - started, 1)}
     _print_summary(result, html, as_json, timing)
 
 
-def _run_campaign(campaign, text: str, note: str | None, out: Path, quick: bool, as_json: bool, how: dict):
-    """Run the campaign on the store in OUT (held: `store_lock`); its result, its report and
-    when each stage began (`time.perf_counter`)."""
-    from rockcal.campaign.runs.executors import make_executor
-    from rockcal.campaign.files import no_empty_store
+def _run_campaign(campaign, text: str, note: str | None, out: Path, as_json: bool, options: dict):
+    """Run the campaign in OUT (`campaign.job.run_in_folder` with `options`), with its first
+    screen and bars; its result, its report and when each stage began (`time.perf_counter`)."""
+    from rockcal.campaign.job import run_in_folder
     from rockcal.campaign.plan.screen import stage_runs, stage_times
-    from rockcal.campaign.procedure.steps import CalibrationFailed, calibrate as run_campaign
-    from rockcal.campaign.procedure.result import save_result
-    from rockcal.campaign.runs.store import STORE_NAME, RunStore
+    from rockcal.campaign.procedure.points import CalibrationFailed
 
-    with no_empty_store(out, not (out / STORE_NAME).exists()):
-        store = RunStore(out)
-        try:
-            check_same_kind(store, quick, out)
-            executor = make_executor(store, **how)
-            try:
-                store.save_document("campaign.toml", text)
-                store.save_document(QUICK_LOOK, note or "")
-                if not as_json:
-                    _print_plan(campaign, store, executor, note)
-                times = stage_times(campaign, store, getattr(executor, "workers", 1))
-                with _stage_progress(as_json, stage_runs(campaign), times) as progress:
-                    executor.on_live = progress.live
-                    result = run_campaign(campaign, executor, progress)
-            except CalibrationFailed as exc:
-                print(f"rockcal: calibration failed: {exc}", file=sys.stderr)
-                raise typer.Exit(1)
-            finally:
-                executor.close()
-            result = result.model_copy(update={"executed_runs": executor.executed, "quick_look": note})
-            save_result(store, result)
-            html = _write_report(result, store, out)
-        finally:
-            store.close()
-    return result, html, progress.began
+    bars = []
+
+    def start(store, executor):
+        if not as_json:
+            _print_plan(campaign, store, executor, note)
+        times = stage_times(campaign, store, getattr(executor, "workers", 1))
+        bars.append(_stage_progress(as_json, stage_runs(campaign), times))
+        executor.on_live = bars[0].live
+        return bars[0]
+
+    try:
+        result, html = run_in_folder(campaign, text, out, note=note, start=start, **options)
+    except CalibrationFailed as exc:
+        print(f"rockcal: calibration failed: {exc}", file=sys.stderr)
+        raise typer.Exit(1)
+    return result, html, bars[0].began
 
 
 def _cluster_options(scheduler: str | None, ca_file, cert, key):
@@ -142,30 +115,10 @@ def _waiting(holder: str) -> None:
     print(f"rockcal: waiting: the output folder is in use by another rockcal ({holder})", file=sys.stderr)
 
 
-def default_out(rock: str, quick: bool) -> Path:
-    """runs/<rock>, or runs/<rock>-quick for a quick look: never the calibration's folder; only
-    when the rock name is a plain folder name."""
-    from rockcal.campaign.files import is_plain_name
-
-    name = f"{rock}-quick" if quick else rock
-    if not is_plain_name(name):
-        raise InputError("rock.name", f"{rock!r} is not a plain folder name, so it cannot name the "
-                                      "output folder runs/<rock name>; give --out")
-    return DEFAULT_OUT / name
-
-
-def check_same_kind(store, quick: bool, out: Path) -> None:
-    """A quick look and a calibration never share a run store."""
-    stored = store.document(QUICK_LOOK)
-    if stored is not None and bool(stored) != quick:
-        was = "a quick look (--quick)" if stored else "a full-resolution calibration"
-        raise InputError("--quick", f"the campaign in {out} is {was}; "
-                                    f"{'add' if stored else 'leave out'} --quick, or choose another --out")
-
-
 def report(out: Path = typer.Argument(..., help="Output folder of a campaign.")) -> None:
     """Rebuild OUT/report.html and its figures from the campaign's run store."""
     from rockcal.campaign.files import one_line_errors
+    from rockcal.campaign.job import write_record_and_report
     from rockcal.campaign.procedure.result import read_result
     from rockcal.campaign.runs.store import RunStore
     from rockcal.campaign.runs.lock import store_lock
@@ -173,24 +126,15 @@ def report(out: Path = typer.Argument(..., help="Output folder of a campaign."))
     with one_line_errors(out, "OUT"):
         store = RunStore(out, create=False, readonly=True)
         try:
-            with store_lock(out, field="OUT"):
+            with store_lock(out, field="OUT", can_wait=False):
                 result = read_result(store)
                 if result is None:
                     raise InputError("OUT", f"the campaign in {out} has not finished; run "
                                             f"`rockcal calibrate --resume --out {out}`")
-                html = _write_report(result, store, out)
+                html = write_record_and_report(result, store, out)
         finally:
             store.close()
     Console(stderr=True).print(f"report: {escape(str(html))}")
-
-
-def _write_report(result: CalibrationResult, store, out: Path) -> Path:
-    from rockcal.campaign.files import write_atomic
-    from rockcal.campaign.outputs.report import write_report
-    from rockcal.campaign.procedure.result import RECORD_NAME
-
-    write_atomic(out / RECORD_NAME, result.to_json(indent=1))
-    return write_report(result, store, out)
 
 
 def _print_plan(campaign, store, executor, note: str | None) -> None:
@@ -219,7 +163,7 @@ def _print_dry_run(campaign, out: Path, workers: int, note: str | None, as_json:
         store = RunStore(out if held else Path(empty), create=not held, readonly=held)
         try:
             if as_json:
-                typer.echo(json.dumps(dry_run(campaign, store, workers) | {"quick_look": note}))
+                typer.echo(json_text(dry_run(campaign, store, workers) | {"quick_look": note}))
                 return
             console = Console()
             console.print(f"[bold]Plan of {escape(campaign.rock.name)}[/] (dry run: nothing runs)"
@@ -230,6 +174,18 @@ def _print_dry_run(campaign, out: Path, workers: int, note: str | None, as_json:
             store.close()
 
 
+class _Bars(Progress):
+    """The bars, then a line per run in flight, each cut to the terminal's width (80 columns
+    hold a bar's every column)."""
+
+    lines: list[str] = []
+
+    def get_renderables(self):
+        yield self.make_tasks_table(self.tasks)
+        for line in self.lines:
+            yield Text("  " + line, no_wrap=True, overflow="ellipsis")
+
+
 class _stage_progress:
     """A rich progress bar for the whole campaign and one per stage (runs done / to do, ETA), on
     stderr. The campaign's bar advances by the expected wall time of each run done
@@ -238,24 +194,22 @@ class _stage_progress:
     done of those planned."""
 
     def __init__(self, quiet: bool, planned_runs: dict[str, int], times: dict[str, tuple[int, float]]):
-        self.bar = Progress(TextColumn("{task.description:<24}"), BarColumn(), TextColumn("{task.fields[count]}"),
-                            TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
-                            TextColumn("{task.fields[live]}"),
-                            console=Console(stderr=True), disable=quiet, speed_estimate_period=600)
+        self.bar = _Bars(TextColumn("{task.description:<23}"), BarColumn(bar_width=16),
+                         TextColumn("{task.fields[count]:>7}"), TimeElapsedColumn(), TextColumn("ETA"),
+                         TimeRemainingColumn(), console=Console(stderr=True), disable=quiet,
+                         speed_estimate_period=600)
         self.planned = planned_runs  # forward runs per stage (the others count no runs)
         self.to_do = {stage: runs for stage, (runs, _) in times.items()}  # of stages not begun
         self.run_s = {stage: seconds / runs for stage, (runs, seconds) in times.items() if runs}
         self.campaign = self.bar.add_task("campaign (planned runs)", total=round(sum(s for _, s in times.values())),
-                                          live="", count=f"0/{sum(planned_runs.values())}")
+                                          count=f"0/{sum(planned_runs.values())}")
         self.runs: dict[str, tuple[int, int, int]] = {}  # stage: (done when begun, done, total)
         self.tasks: dict[str, int] = {}
-        self.current = None  # the stage now running
         self.began: dict[str, float] = {}  # when each stage began (time.perf_counter)
 
-    def live(self, text: str) -> None:
-        """Show what the running tests read now, after the current stage's bar."""
-        if self.current is not None:
-            self.bar.update(self.current, live=text)
+    def live(self, lines: list[str]) -> None:
+        """Show what the running tests read now, a line each below the bars."""
+        self.bar.lines = lines
 
     def __enter__(self):
         self.bar.start()
@@ -267,9 +221,7 @@ class _stage_progress:
     def __call__(self, stage: str, done: int, total: int) -> None:
         if stage not in self.tasks:
             self.began[stage] = time.perf_counter()
-            if self.current is not None:
-                self.bar.update(self.current, live="")
-            self.tasks[stage] = self.current = self.bar.add_task(stage, total=total, live="", count="")
+            self.tasks[stage] = self.bar.add_task(stage, total=total, count="")
             self.to_do.pop(stage, None)
             self.runs[stage] = (done, done, total)  # the runs done at once came from the store
         self.bar.update(self.tasks[stage], completed=done, total=total, count=f"{done}/{total}")
@@ -325,7 +277,7 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool, timing:
 
     s = summary(result)
     if as_json:
-        typer.echo(json.dumps(s | {"report": str(html)} | timing))
+        typer.echo(json_text(s | {"report": str(html)} | timing))
         return
     console = Console()
     verdict = "accepted" if s["accepted"] else "NOT accepted (closest shown)"

@@ -63,13 +63,20 @@ def export_specimen(
 
 
 def _calibration(out: Path):
+    """The finished campaign in OUT; one not finished that a rockcal is running (its lock is
+    held) is waited for, not resumed."""
     from rockcal.campaign.outputs.export import read_calibration
     from rockcal.campaign.files import one_line_errors
+    from rockcal.campaign.procedure.result import read_result
+    from rockcal.campaign.runs.lock import holder_of
     from rockcal.campaign.runs.store import RunStore
 
     with one_line_errors(out, "OUT"):
         store = RunStore(out, create=False, readonly=True)
         try:
+            if read_result(store) is None and (holder := holder_of(out)) is not None:
+                raise InputError("OUT", f"the campaign in {out} is running ({holder}); wait for it to "
+                                        "end, then export again")
             return read_calibration(store, out)
         finally:
             store.close()
@@ -77,7 +84,7 @@ def _calibration(out: Path):
 
 def _write(path: Path, text: str) -> None:
     """Write the export whole or not at all (a link at `path` is replaced, not followed)."""
-    from rockcal.campaign.files import write_atomic
+    from rockcal.output_files import write_atomic
 
     try:
         write_atomic(path, text)

@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import json
-
 import typer
+
+from rockcal.output_files import json_text
 
 
 def kic(
@@ -26,7 +26,7 @@ def kic(
                "Y": ouchterlony_Y(notch_mm / diameter_mm), "a_over_D": notch_mm / diameter_mm,
                "formula": "Ouchterlony straight-notched round bar, 0.25 (S/D) Y P / D^1.5"}
     if as_json:
-        typer.echo(json.dumps(summary))
+        typer.echo(json_text(summary))
         return
     typer.echo(f"K_IC = {summary['K_IC_MPa_sqrt_m']:.3f} MPa·m^0.5  (Y = {summary['Y']:.3f}, "
                f"a/D = {summary['a_over_D']:.3f}; Ouchterlony's straight-notched round bar)")

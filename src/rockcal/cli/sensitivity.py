@@ -2,17 +2,18 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Optional
 
 import typer
+
+from rockcal.output_files import json_text
 from rich.console import Console
 from rich.table import Table
 
 from rockcal.errors import InputError
 
-app = typer.Typer(no_args_is_help=True, help="Sensitivity analysis: which micro-parameter drives which response.")
+app = typer.Typer(no_args_is_help=True, rich_markup_mode=None, help="Sensitivity analysis: which micro-parameter drives which response.")
 
 
 @app.callback()
@@ -54,6 +55,8 @@ def _bar_chart(analysis, path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from rockcal.output_files import save_figure
+
     m = len(analysis.responses)
     fig, axes = plt.subplots(1, m, figsize=(3.2 * m + 1, 3.6), squeeze=False)
     for ax, response in zip(axes[0], analysis.responses):
@@ -64,8 +67,20 @@ def _bar_chart(analysis, path: Path) -> None:
         ax.set_title(f"R of {response}")
         ax.tick_params(axis="x", rotation=45)
     fig.tight_layout()
-    fig.savefig(path, dpi=150)
+    save_figure(fig, path, dpi=150)
     plt.close(fig)
+
+
+def _write(out: Path, analysis, summary: dict) -> None:
+    """OUT/range_analysis.png and .json, each written whole (a link there is replaced, not followed)."""
+    from rockcal.output_files import write_atomic
+
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        _bar_chart(analysis, out / "range_analysis.png")
+        write_atomic(out / "range_analysis.json", json_text(summary, indent=2))
+    except OSError as exc:
+        raise InputError("--out", f"cannot write to {out}: {exc.strerror or exc}") from None
 
 
 @app.command()
@@ -97,11 +112,9 @@ def analyze(
     summary = analysis.to_dict(threshold)
     summary = summary.pop("responses") | summary
     if out is not None:
-        out.mkdir(parents=True, exist_ok=True)
-        _bar_chart(analysis, out / "range_analysis.png")
-        (out / "range_analysis.json").write_text(json.dumps(summary, indent=2))
+        _write(out, analysis, summary)
     if as_json:
-        typer.echo(json.dumps(summary))
+        typer.echo(json_text(summary))
         return
     console = Console()
     for response in analysis.responses:

@@ -6,8 +6,8 @@ test reads (its default and help from the campaign file's [specimen] keys)."""
 from __future__ import annotations
 
 import inspect
-import json
 import math
+import sys
 import typing
 from contextlib import nullcontext
 from enum import Enum
@@ -16,15 +16,18 @@ from typing import Optional
 
 import numpy as np
 import typer
+
+from rockcal.output_files import json_text
 from rich.console import Console
 from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from rockcal.campaign.input.config import SpecimenSettings
+from rockcal.campaign.input.config import MAX_PACKINGS, SpecimenSettings
 from pydantic import ValidationError
 
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.labtests.kind import LabTest
+from rockcal.labtests.result import RunFailed, out_of_range
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
 from rockcal.cli.threads import use_threads_option
@@ -54,7 +57,7 @@ def build_app() -> typer.Typer:
     """The `simulate` command group: a command per lab test in the registry."""
     from rockcal.labtests.registry import LAB_TESTS
 
-    app = typer.Typer(no_args_is_help=True, help="Run one virtual lab test.")
+    app = typer.Typer(no_args_is_help=True, rich_markup_mode=None, help="Run one virtual lab test.")
     for test in LAB_TESTS.values():
         app.command(test.name.replace("_", "-"), help=test.help or f"The {test.title} test.")(_command(test))
     return app
@@ -106,8 +109,8 @@ def simulate(test: LabTest, options: dict) -> None:
     seeds, as_json, out = options.pop("seeds"), options.pop("as_json"), options.pop("out")
     use_threads_option(options.pop("threads"))
     packing = options.pop("packing", "random")
-    if seeds < 1:
-        raise InputError("--seeds", f"must be >= 1, got {seeds}")
+    if not 1 <= seeds <= MAX_PACKINGS:
+        raise InputError("--seeds", f"must be a number of packings in [1, {MAX_PACKINGS}], got {seeds}")
     series, values = _series(test, options)
     settings = _checked_settings(test, options)
     run = {"params": params.key(), "contact_stiffness": settings.get("contact_stiffness")}
@@ -123,7 +126,7 @@ def simulate(test: LabTest, options: dict) -> None:
         _show(test, summary, as_json=False)
     combined = test.combine(runs) | run | {"runs": runs}
     if out is not None:
-        _write_text(out / f"{test.name}_summary.json", json.dumps(combined, indent=2))
+        _write_text(out / f"{test.name}_summary.json", json_text(combined, indent=2))
         _draw_series(test, done, out)
     _show_combined(test, combined, as_json)
 
@@ -134,19 +137,24 @@ def _draw_series(test: LabTest, done: list[tuple[dict, np.ndarray]], out: Path) 
 
     for figure in test.series_figures:
         if len(done) >= figure.min_runs:
-            getattr(plots, figure.draw)(done, out / figure.file(test.name), f"{test.title}: {figure.title.lower()}")
+            getattr(plots, figure.draw)(done, out / figure.file(test.name), figure.heading(test.title))
 
 
 def _series(test: LabTest, options: dict) -> tuple[str | None, list]:
     """The test's list-valued setting and its values (each one run), parsed from its option."""
     for s in test.own_settings:
         if s.series:
-            text = options.pop(s.name)
+            text, flag = options.pop(s.name), flag_of(test, s.name)
+            entries = str(text).split(",")
+            for k, entry in enumerate(entries, start=1):
+                if not entry.strip():
+                    raise InputError(flag, f"entry {k} of {text!r} is empty: give numbers separated by "
+                                           "single commas")
             try:
-                values = [float(v) for v in str(text).split(",") if v.strip()]
+                values = [float(v) for v in entries]
             except ValueError:
-                raise InputError(flag_of(test, s.name), f"a comma-separated list of numbers, got {text!r}") from None
-            with fields_named({s.name: flag_of(test, s.name)}):
+                raise InputError(flag, f"a comma-separated list of numbers, got {text!r}") from None
+            with fields_named({s.name: flag}):
                 s.check_series(values)
             options[s.name] = values[0]
             return s.name, values
@@ -160,13 +168,15 @@ def _on_packings(test, params, settings, packing, seeds, run, as_json, out, name
     for k, seed in enumerate(seed_list(settings["seed"], seeds)):
         label = f"{test.title} test" + (f", packing {k + 1}/{seeds}" if seeds > 1 else "")
         result, specimen = _run_one(test, params, settings | {"seed": seed}, packing, label, as_json)
+        for problem in out_of_range(result.summary()):
+            print(f"rockcal: warning: {label}: {problem}", file=sys.stderr)
         curves.append(result.curve)
         per_seed.append(result.summary() | specimen.description() | run | {"specimen": specimen.label, "seed": seed})
         if out is not None:
             write_outputs(out, test, result, per_seed[-1], name if seeds == 1 else f"{name}_seed{seed}")
     summary = per_seed[0] if seeds == 1 else _over_seeds(per_seed, settings["seed"], run)
     if out is not None and seeds > 1:
-        _write_text(out / f"{name}_summary.json", json.dumps(summary, indent=2))
+        _write_text(out / f"{name}_summary.json", json_text(summary, indent=2))
     return summary, curves[0]
 
 
@@ -190,14 +200,23 @@ def _checked_settings(test: LabTest, options: dict) -> dict:
 
 
 def _run_one(test: LabTest, params, settings: dict, packing: str, label: str, as_json: bool):
-    """One packing's specimen and its result, with a spinner and the test's reading on stderr."""
-    with nullcontext() if as_json else Console(stderr=True).status("making the specimen"):
+    """One packing's specimen and its result, with a spinner and the test's reading on stderr;
+    a setting found wrong on the specimen made (before the run) is named by its flag."""
+    flags = fields_named({setting: flag_of(test, setting) for setting in test.settings})
+    with flags, nullcontext() if as_json else Console(stderr=True).status("making the specimen"):
         specimen = test.hexagonal(settings) if packing == "hexagonal" else test.make(settings)
-    with Progress(SpinnerColumn(), TextColumn(label), TextColumn("{task.description}"), TimeElapsedColumn(),
+    failed = None
+    with flags, Progress(SpinnerColumn(), TextColumn(label), TextColumn("{task.description}"), TimeElapsedColumn(),
                   console=Console(stderr=True), disable=as_json, transient=True) as bar:
         task = bar.add_task("", total=None)
-        result = test.run(params, specimen, settings,
-                          lambda x, y: bar.update(task, description=test.reading(x, y)))
+        try:
+            result = test.run(params, specimen, settings,
+                              lambda x, y: bar.update(task, description=test.reading(x, y)))
+        except RunFailed as exc:  # the physics, not the input: one line, exit 1
+            failed = exc
+    if failed is not None:
+        print(f"rockcal: run failed: {label}: {failed}", file=sys.stderr)
+        raise typer.Exit(1)
     return result, specimen
 
 
@@ -211,16 +230,19 @@ def _over_seeds(per_seed: list[dict], seed: int, run: dict) -> dict:
 
 
 def write_outputs(out: Path, test: LabTest, result, summary: dict, name: str) -> None:
-    """A run's curve (CSV), summary (JSON), crack pattern and curve (PNG), named `name`."""
+    """A run's curve (CSV), summary (JSON), crack pattern and curve (PNG), named `name`, each
+    written whole (`rockcal.output_files`: a link at its name is replaced, not followed)."""
     from rockcal import plots
+    from rockcal.output_files import atomic_path
 
     try:
         out.mkdir(parents=True, exist_ok=True)
-        np.savetxt(out / f"{name}_curve.csv", result.curve, delimiter=",", fmt="%.8g",
-                   header=",".join(test.curve_columns), comments="")
+        with atomic_path(out / f"{name}_curve.csv") as tmp:
+            np.savetxt(tmp, result.curve, delimiter=",", fmt="%.8g",
+                       header=",".join(test.curve_columns), comments="")
     except OSError as exc:
         raise InputError("--out", f"cannot write to {out}: {exc.strerror}") from None
-    _write_text(out / f"{name}_summary.json", json.dumps(summary, indent=2))
+    _write_text(out / f"{name}_summary.json", json_text(summary, indent=2))
     first = test.responses[0]
     broken = material(summary.get("model", DEFAULT_MATERIAL)).breaks_word
     plots.crack_pattern(result.positions, result.radius, result.cracks, out / f"{name}_cracks.png",
@@ -230,8 +252,11 @@ def write_outputs(out: Path, test: LabTest, result, summary: dict, name: str) ->
 
 
 def _write_text(path: Path, text: str) -> None:
+    """Write `text` to `path` whole (`write_atomic`)."""
+    from rockcal.output_files import write_atomic
+
     try:
-        path.write_text(text)
+        write_atomic(path, text)
     except OSError as exc:
         raise InputError("--out", f"cannot write {path}: {exc.strerror}") from None
 
@@ -257,7 +282,7 @@ def _show_combined(test: LabTest, combined: dict, as_json: bool) -> None:
 def _print(title: str, rows: list[tuple[str, str]], data: dict, as_json: bool) -> None:
     """A table of (name, value) rows, or `data` as one JSON object."""
     if as_json:
-        typer.echo(json.dumps(data))
+        typer.echo(json_text(data))
         return
     table = Table(title=title, show_header=False)
     for row in rows:

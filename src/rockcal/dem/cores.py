@@ -52,15 +52,17 @@ def sample() -> Sample | None:
     return Sample(time.monotonic(), time.process_time(), busy, total, cores)
 
 
-def free_cores(before: Sample, after: Sample) -> int | None:
-    """The cores the other processes left free between two samples (at least 1), or None when
-    the window holds no clock tick."""
+def free_cores(before: Sample, after: Sample, whole: bool = True):
+    """The cores the other processes left free between two samples: a whole number, at least 1
+    (or with `whole` False, as a fraction, from 0); None when the window holds no clock tick."""
     ticks = after.all_ticks - before.all_ticks
     wall = after.wall_s - before.wall_s
     if ticks <= 0 or wall <= 0:
         return None
     busy = after.cores * (after.busy_ticks - before.busy_ticks) / ticks
     others = busy - (after.own_s - before.own_s) / wall
+    if not whole:
+        return min(after.cores, max(0.0, after.cores - others))
     return max(1, math.floor(after.cores - others + 0.5))
 
 

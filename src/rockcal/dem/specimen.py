@@ -23,6 +23,7 @@ from rockcal.dem.genesis import Genesis, floaters, grain_contacts, install_bonds
 from rockcal.dem.grain_limit import check_grains, expected_grains
 from rockcal.dem.neighbours import spatial_order
 from rockcal.dem.packing import pack_box
+from rockcal.output_files import atomic_path
 from rockcal.errors import InputError
 
 try:
@@ -93,11 +94,13 @@ def check_geometry(width_mm: float, height_mm: float, rmin_mm: float, radius_rat
                              f"{rmin_mm * radius_ratio:g} mm (need at least 4 diameters)")
 
 
-def hexagonal(width_mm: float, height_mm: float, radius_mm: float) -> Specimen:
-    """Equal disks on a triangular lattice, rows along x, every touching pair bonded."""
+def hexagonal(width_mm: float, height_mm: float, radius_mm: float, limited: bool = True) -> Specimen:
+    """Equal disks on a triangular lattice, rows along x, every touching pair bonded; held to
+    the grain limit unless not `limited` (rockcal's own lattices, not a user's specimen)."""
     check_geometry(width_mm, height_mm, radius_mm, 1.0)
-    check_grains("specimen", f"a hexagonal {width_mm:g} x {height_mm:g} mm specimen of R {radius_mm:g} mm",
-                 width_mm * height_mm / (2 * np.sqrt(3) * radius_mm**2))
+    if limited:
+        check_grains("specimen", f"a hexagonal {width_mm:g} x {height_mm:g} mm specimen of R {radius_mm:g} mm",
+                     width_mm * height_mm / (2 * np.sqrt(3) * radius_mm**2))
     r = radius_mm * 1e-3
     width, height = width_mm * 1e-3, height_mm * 1e-3
     rows = int((height - 2 * r) / (np.sqrt(3) * r)) + 1
@@ -157,9 +160,8 @@ def _pack(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis, label):
 
 
 def _save(path: Path, pos, radius, pressure) -> Path:
-    tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
-    np.savez(tmp, pos=pos, radius=radius, pressure_mpa=pressure)
-    os.replace(tmp, path)  # whole or not at all
+    with atomic_path(path) as tmp:  # whole or not at all; a killed write's file is cleaned later
+        np.savez(tmp, pos=pos, radius=radius, pressure_mpa=pressure)
     return path
 
 

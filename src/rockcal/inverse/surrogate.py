@@ -73,6 +73,12 @@ class HeldOutErrors:
         return all(e <= self.tolerance for e in self.max_relative_error.values())
 
 
+def minimum_runs(dimensions: int, degree: int = 1) -> int:
+    """The fewest runs a surrogate of `dimensions` parameters with a polynomial tail of
+    `degree` is fitted on."""
+    return {-1: 1, 0: 2, 1: dimensions + 2}.get(degree, 2)
+
+
 class RBFSurrogate:
     """Gaussian RBF per response, fitted on runs x (n, d) in physical units.
 
@@ -90,7 +96,7 @@ class RBFSurrogate:
         if not responses:
             raise InputError("responses", "at least one response is needed")
         n = len(x)
-        minimum = {-1: 1, 0: 2, 1: x.shape[1] + 2}.get(degree, 2)
+        minimum = minimum_runs(x.shape[1], degree)
         if n < minimum:
             raise InputError("x", f"{n} runs are too few for this surrogate (need at least {minimum})")
         if not np.all(np.isfinite(x)):

@@ -27,6 +27,7 @@ from rockcal.labtests.kind import (
     LabTest,
     Outline,
     Response,
+    check_grain_cloud,
     genesis_of,
     load_reading,
 )
@@ -256,6 +257,7 @@ def beam_of(settings: dict) -> Beam:
 def _check(s: dict) -> None:
     with fields_named(BEAM_SETTINGS):
         check_beam(beam_of(s), s["rmin_mm"], s["radius_ratio"])
+    check_grain_cloud(s["beam_length_mm"], s["beam_height_mm"], s)
 
 
 def _specimen(s: dict) -> Specimen:

@@ -27,6 +27,7 @@ from rockcal.labtests.kind import (
     LabTest,
     Outline,
     Response,
+    check_grain_cloud,
     genesis_of,
     load_reading,
 )
@@ -120,6 +121,7 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Spec
 def _check(s: dict) -> None:
     with fields_named({"diameter_mm": "disk_diameter_mm"}):
         check_disk(s["disk_diameter_mm"], s["rmin_mm"], s["radius_ratio"])
+    check_grain_cloud(s["disk_diameter_mm"], s["disk_diameter_mm"], s)
 
 
 def _specimen(s: dict) -> Specimen:

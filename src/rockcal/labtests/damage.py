@@ -34,6 +34,7 @@ import numpy as np
 
 from rockcal.labtests.kind import Response
 from rockcal.labtests.line_fit import fit_line
+from rockcal.labtests.result import RunFailed
 
 PAUSE_FRACTION = 0.1  # cracking that pauses over more than this x peak q was not yet sustained
 ELASTIC_WINDOW = (0.1, 0.3)  # the part of the rising curve (x peak q) E and nu are read over
@@ -126,7 +127,9 @@ def crack_strain(axial, lateral, q, window=ELASTIC_WINDOW) -> tuple[float, float
     if np.count_nonzero(rows) < 3:  # a curve too coarse there: its whole rise
         rows = np.arange(len(q)) < len(q) - 1
     if np.count_nonzero(rows) < 2:
-        raise ValueError("a compression curve needs two readings before its peak")
+        raise RunFailed("the compression curve has fewer than two readings before its peak (the "
+                        "test stopped before the specimen took up load): nothing to read E, nu, CI "
+                        "and CD from; try a larger maximum axial strain")
     slope_a, a0 = fit_line(q[rows], axial[rows])
     slope_l, l0 = fit_line(q[rows], lateral[rows])
     E, nu = 1.0 / slope_a, slope_l / slope_a

@@ -59,6 +59,19 @@ def check_grip(grip_fraction) -> None:
         raise InputError("grip_fraction", f"must be in (0, 0.4], got {grip_fraction!r}")
 
 
+def check_grip_rows(grip_fraction: float, height_mm: float, grain_diameter_mm: float) -> None:
+    """A grip reaches at least one mean grain diameter into the prism: it then holds the end
+    row of grains and the row behind it (rows lie about 0.87 diameters apart), and pulls on the
+    prism across its width; a shorter one may hold a few grains of the end row, which the
+    prism's first bonds tear out."""
+    grip_mm = grip_fraction * height_mm
+    if grip_mm < grain_diameter_mm:
+        raise InputError("grip_fraction", f"the grips ({grip_fraction:g} x {height_mm:g} mm = {grip_mm:.3g} mm) must "
+                                          f"reach at least one mean grain diameter ({grain_diameter_mm:.3g} mm) "
+                                          "into the prism, to hold two rows of grains: give at least "
+                                          f"{grain_diameter_mm / height_mm:.3g}, a taller prism or smaller grains")
+
+
 def simulate_direct_tension(params: BondedParams | dict | None = None,
                             specimen: Specimen | None = None, *,
                             grip_fraction: float = GRIP_FRACTION, rate_factor: float = 1.0,
@@ -74,6 +87,7 @@ def simulate_direct_tension(params: BondedParams | dict | None = None,
     if not 0 < max_strain <= 0.5:
         raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
     specimen = specimen or random_packing(50.0, 100.0)
+    check_grip_rows(grip_fraction, 1e3 * specimen.height_m, 2e3 * float(specimen.radius.mean()))
     grips = Grips(specimen, params, grip_fraction, ucs.DENSITY_SCALED_SPEED * rate_factor,
                   contact_stiffness)
     state = grips.state
@@ -101,6 +115,7 @@ def simulate_direct_tension(params: BondedParams | dict | None = None,
 def _check(s: dict) -> None:
     ucs.TEST.check(s)
     check_grip(s["grip_fraction"])
+    check_grip_rows(s["grip_fraction"], s["height_mm"], s["rmin_mm"] * (1 + s["radius_ratio"]))
 
 
 def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> DirectTensionResult:
@@ -109,17 +124,18 @@ def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> DirectT
 
 
 GRIP = Setting("grip_fraction", GRIP_FRACTION, "", check_grip,
-               "grip length / prism height at each end (FISHTank's tt_tg / H)")
+               "grip length / prism height at each end (FISHTank's tt_tg / H), in (0, 0.4]; the "
+               "grip reaches at least one mean grain diameter into the prism")
 
 TEST = LabTest(
     name="direct_tension", title="direct tension",
-    responses=(Response("sigma_t_direct_MPa", "MPa"),
-               Response("P_max_kN_per_m", "kN/m", target=False),
-               Response("peak_axial_strain", "", target=False)),
+    responses=(Response("sigma_t_direct_MPa", "MPa", label="direct tensile strength"),
+               Response("P_max_kN_per_m", "kN/m", target=False, label="peak load"),
+               Response("peak_axial_strain", "", target=False, label="axial strain at peak")),
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS,
               "grip_fraction", "contact_stiffness"),
     check=_check, make=ucs.TEST.make, run=_run,
     reading=lambda strain, stress_MPa: f"strain {100 * strain:.4f} %, {stress_MPa:.2f} MPa",
     outline=lambda s: Outline(f"direct tension {s['width_mm']:g} x {s['height_mm']:g} mm",
                               s["width_mm"], s["height_mm"]),
-    curve_columns=CURVE_COLUMNS, own_settings=(GRIP,))
+    curve_columns=CURVE_COLUMNS, own_settings=(GRIP,), plot="tension_curve")

@@ -10,6 +10,8 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 from rockcal.dem.genesis import Genesis
+from rockcal.dem.grain_limit import expected_grains
+from rockcal.errors import InputError
 
 GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_mpa
 # Settings added after runs were stored, with the value the engine had before them: a run's
@@ -58,6 +60,13 @@ class SeriesFigure:
     def file(self, test: str) -> str:
         """Its PNG file's name for a test: biaxial_strength_envelope.png."""
         return f"{test}_{self.title.lower().replace(' ', '_')}.png"
+
+    def heading(self, test_title: str) -> str:
+        """Its title under a test's ("Confined compression: strength envelope"), the test's
+        title said once ("Confined compression curves")."""
+        if self.title.lower().startswith(test_title.lower()):
+            return self.title
+        return f"{test_title[0].upper()}{test_title[1:]}: {self.title.lower()}"
 
 
 @dataclass(frozen=True)
@@ -166,6 +175,29 @@ class LabTest:
 def series_name(response: str, value: float, unit: str) -> str:
     """A response of one run of a series, by its value: sigma1_MPa@5MPa."""
     return f"{response}@{value:g}{unit}"
+
+
+# The smallest grain a specimen may have, 1 µm: the finest mineral grains of a rock (clay); a
+# finer R_min is no rock's grain, and (below 1e-154 mm) its area is no number.
+MIN_RMIN_MM = 1e-3
+# The fewest grains a specimen's cloud may hold: 4 x 4, a specimen 4 grains across as its size
+# must be (`dem.specimen.check_geometry`); a cloud porosity near 1 leaves fewer (1 or 2 grains:
+# no gauge, platen or pin has a grain to read or load).
+MIN_GRAINS = 16
+
+
+def check_grain_cloud(width_mm: float, height_mm: float, s: dict) -> None:
+    """The grains of a test's packing (width x height mm, the settings `s`): R_min at least
+    MIN_RMIN_MM, and the grain cloud at least MIN_GRAINS grains; before the genesis."""
+    if not s["rmin_mm"] >= MIN_RMIN_MM:
+        raise InputError("rmin_mm", f"must be at least {MIN_RMIN_MM:g} mm (1 µm, the finest mineral "
+                                    f"grains), got {s['rmin_mm']:g}")
+    grains = expected_grains(width_mm, height_mm, s["rmin_mm"], s["radius_ratio"], s["cloud_porosity"])
+    if grains < MIN_GRAINS:
+        raise InputError("cloud_porosity", f"a cloud porosity of {s['cloud_porosity']:.10g} leaves about "
+                                           f"{grains:.3g} grains in the {width_mm:g} x {height_mm:g} mm packing, "
+                                           f"fewer than {MIN_GRAINS} (4 grains across): lower it, or make the "
+                                           "specimen larger or R_min smaller")
 
 
 def genesis_of(settings: dict) -> Genesis:

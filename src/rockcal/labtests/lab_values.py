@@ -38,7 +38,7 @@ class LabValues(Section):
     spread: Spread = Field({}, description="The lab's spread of a response: its sd, or the [min, max] of the lab's "
                            "samples; turns the parameters' intervals on.")
     weights: dict[str, float] = Field({}, description="Weight of a response in the objective (default 1).")
-    packings: int = Field(1, ge=1, description="Its target is the mean over this many packings (the specimen's "
+    packings: int = Field(1, ge=1, le=100, description="Its target is the mean over this many packings (the specimen's "
                           "seed, seed + 1, ...), run at each verified point: for a response a few grains decide.")
 
     def scalars(self) -> dict[str, float]:

@@ -11,6 +11,32 @@ from rockcal.dem import measure
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 
 
+class RunFailed(RuntimeError):
+    """A lab test's run that could not go on: the physics failed, not the input (which was
+    checked before the run). Its message says what failed and what to try."""
+
+
+# The range of a response of an elastic solid, open at both ends: a reading outside it is no
+# solid's. A 2D specimen is a plane of disks, an isotropic 2D solid of area (bulk) modulus
+# K > 0 and shear modulus G > 0, whose nu = -lateral / axial strain = (K - G) / (K + G) lies
+# in (-1, 1); E = 4 K G / (K + G) > 0. (A 3D solid's nu in (-1, 0.5] reads as itself in plane
+# stress and as nu / (1 - nu) in (-0.5, 1] in plane strain: within the same bounds.) Not the
+# lab's range of rock (0 < nu < 0.5): a 2D packing may read nu above 0.5 and still be a solid.
+SOLID_RANGE = {"nu": (-1.0, 1.0), "E_GPa": (0.0, float("inf"))}
+
+
+def out_of_range(responses: dict) -> list[str]:
+    """Each response outside SOLID_RANGE, in words: no reading of an elastic solid."""
+    found = []
+    for name, (low, high) in SOLID_RANGE.items():
+        value = responses.get(name)
+        if isinstance(value, (int, float)) and not low < value < high:
+            found.append(f"{name} = {value:.4g} is outside ({low:g}, {high:g}), the range of an elastic "
+                         "2D solid: no elastic reading (too few grains for the gauges, too few bonds, or "
+                         "a specimen that did not load as a solid)")
+    return found
+
+
 @dataclass
 class LabResult:
     """The specimen's size, the bonds broken and the cost of the run, then the curve and the

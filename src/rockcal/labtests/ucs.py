@@ -26,7 +26,7 @@ from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.dem.specimen import Specimen, check_geometry, hexagonal, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
-from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, genesis_of
+from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, check_grain_cloud, genesis_of
 from rockcal.labtests.lab_values import LabValues, read_curve
 from rockcal.labtests.loading import (
     DISTRIBUTED_DAMAGE,
@@ -38,6 +38,7 @@ from rockcal.labtests.loading import (
 )
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.labtests.rig import Gauge, Platens
+from rockcal.labtests.rig.gauge import check_gauges
 from rockcal.materials import BondedParams, as_params
 
 POST_PEAK_FRACTION = 0.7
@@ -91,6 +92,7 @@ def simulate_ucs(params: BondedParams | dict | None = None, specimen: Specimen |
         raise InputError("strain", f"must be one of {', '.join(STRAIN_READINGS)}, got {strain!r}")
     check_stop_fraction(stop_fraction)
     specimen = specimen or random_packing(50.0, 100.0)
+    check_gauges(specimen)
     platens = Platens(specimen, params, DENSITY_SCALED_SPEED * rate_factor, contact_stiffness)
     state = platens.state
     scale_density(state)
@@ -117,6 +119,7 @@ def simulate_ucs(params: BondedParams | dict | None = None, specimen: Specimen |
 
 def _check(s: dict) -> None:
     check_geometry(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"])
+    check_grain_cloud(s["width_mm"], s["height_mm"], s)
 
 
 def _specimen(s: dict) -> Specimen:

@@ -36,13 +36,17 @@ def material(name: str, field: str = "model") -> Material:
 
 
 def parameters(chosen: Material, values: dict) -> BondedParams:
-    """`chosen.make(values)`, with a parameter of another material named as such."""
+    """`chosen.make(values)`, with a parameter of another material named as such, and
+    parameters no rock can have (`Material.check_rock`) refused."""
     for name in values:
         others = [m.name for m in MATERIALS.values() if name in m.parameters]
         if name not in chosen.parameters and others:
             raise InputError(name, f"a parameter of the {others[0]} material, not of "
                                    f"{chosen.name}: choose model {others[0]}")
-    return chosen.make(values)
+    params = chosen.make(values)
+    if chosen.check_rock is not None:
+        chosen.check_rock(params)
+    return params
 
 
 def material_of(params: BondedParams) -> Material:

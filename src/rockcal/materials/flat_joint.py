@@ -43,8 +43,9 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from rockcal.dem import flatjoint, laws, simulate
 from rockcal.dem.genesis import install_bonds
+from rockcal.errors import InputError
 from rockcal.materials.fishtank import FLAT_JOINTED, common_pfc, pfc_names, pfc_values
-from rockcal.materials.material import Material, validated
+from rockcal.materials.material import MAX_DAMPING, MIN_DENSITY, MIN_STIFFNESS_RATIO, Material, validated
 from rockcal.materials.strengths import truncated_normal
 from rockcal.materials.units import GPa, MM, MPa
 
@@ -66,7 +67,7 @@ class FlatJointParams(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     fj_emod: float = Field(21.65, gt=0, le=1e4, description="flat-joint effective modulus E*, GPa (fjm_emod)")
-    fj_kratio: float = Field(1.9, gt=0, le=1e3, description="flat-joint stiffness ratio k_n/k_s (fjm_krat)")
+    fj_kratio: float = Field(1.9, ge=MIN_STIFFNESS_RATIO, le=1e3, description="flat-joint stiffness ratio k_n/k_s (fjm_krat)")
     fj_ten: float = Field(36.55, ge=0, le=1e5, description="element tensile strength (mean), MPa (fjm_ten_m)")
     fj_ten_sd: float = Field(0.0, ge=0, le=1e5, description="tensile strength sd, MPa (fjm_ten_sd)")
     fj_ten_cv: float = Field(0.0, ge=0, le=10, description="tensile strength sd / mean")
@@ -76,17 +77,17 @@ class FlatJointParams(BaseModel):
     fj_fa: float = Field(0.0, ge=0, lt=90, description="element friction angle, degrees (fjm_fa)")
     fj_fric: float = Field(0.5, ge=0, le=10, description="element friction coefficient (fjm_fric)")
     fj_nr: int = Field(2, ge=1, le=64, description="elements per flat joint (fjm_Nr)")
-    fj_rmul: float = Field(1.0, gt=0, le=10, description="radius multiplier λ, starting value (fjm_rmulVal)")
+    fj_rmul: float = Field(1.0, ge=0.1, le=10, description="radius multiplier λ, starting value (fjm_rmulVal)")
     fjm_rmulCode: int = Field(0, ge=0, le=2, description="λ reduction: 0 none, 1 per joint, 2 uniform")
     fjm_B_frac: float = Field(1.0, ge=0, le=1, description="bonded fraction of the flat joints")
     fjm_G_frac: float = Field(0.0, ge=0, le=1, description="gapped fraction (slit: the rest)")
     fjm_G_m: float = Field(0.0, ge=0, le=1e3, description="initial gap of gapped joints (mean), mm")
     fjm_G_sd: float = Field(0.0, ge=0, le=1e3, description="initial gap sd, mm")
     lnm_emod: float | None = Field(None, ge=0, le=1e4, description="linear contacts' effective modulus, GPa (default fj_emod)")
-    lnm_krat: float | None = Field(None, gt=0, le=1e3, description="linear contacts' stiffness ratio (default fj_kratio)")
+    lnm_krat: float | None = Field(None, ge=MIN_STIFFNESS_RATIO, le=1e3, description="linear contacts' stiffness ratio (default fj_kratio)")
     lnm_fric: float | None = Field(None, ge=0, le=10, description="linear contacts' friction (default fj_fric)")
-    density: float = Field(2622.0, gt=0, le=1e5, description="grain density, kg/m³")
-    damping: float = Field(0.7, ge=0, lt=1, description="local damping coefficient")
+    density: float = Field(2622.0, ge=MIN_DENSITY, le=1e5, description="grain density, kg/m³")
+    damping: float = Field(0.7, ge=0, le=MAX_DAMPING, description="local damping coefficient")
 
     @model_validator(mode="after")
     def _check(self):
@@ -376,10 +377,23 @@ def _specimen_state(pos, radius, specimen, params, *, contact_stiffness=None, **
     return new_state(pos, radius, specimen.bonds, params, joint_draws=specimen.joint_draws, **options)
 
 
+def check_bonded(params: FlatJointParams) -> None:
+    """Some flat joints are bonded and their elements have a strength: with fjm_B_frac = 0
+    every joint is slit or gapped (unbonded), with fj_ten = fj_coh = 0 every bonded element
+    breaks at the first load; either way the specimen has no bonded element and is no rock."""
+    if params.fjm_B_frac == 0:
+        unbonded = "slit" if params.fjm_G_frac == 0 else "slit or gapped"
+        raise InputError("fjm_B_frac", f"0 leaves every flat joint {unbonded} (unbonded): the specimen has "
+                                       "no bonded element and is no rock; give fjm_B_frac > 0")
+    if params.fj_ten == 0 and params.fj_coh == 0:
+        raise InputError("fj_coh", "fj_ten and fj_coh both 0 leave the bonded elements without strength: "
+                                   "they break at the first load and the specimen is no rock; give either > 0")
+
+
 MATERIAL = Material(
     name="flatjoint", title="flat-jointed (flat joints + linear contacts)",
     parameters=NAMES, make=make_flatjoint_params, params_type=FlatJointParams,
     pfc_names=pfc_names(PFC_PROPERTIES, NAMES), bond_pairs=install_bonds,
     new_state=_specimen_state, pfc_parameters=pfc_parameters, pfc_material_type=FLAT_JOINTED,
     pfc_group="mpSetFJParams", pair_properties=pair_properties, pairs_word="flat joints",
-    breaks_word="elements")
+    breaks_word="elements", check_rock=check_bonded)

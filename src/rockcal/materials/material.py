@@ -12,6 +12,13 @@ from pydantic import BaseModel, ValidationError
 from rockcal.errors import InputError, from_validation_error
 
 
+# Bounds that keep a run finite: a lighter grain, a stiffer shear spring or heavier damping
+# than these makes the time step or the loading's settling time grow without end.
+MIN_DENSITY = 100.0  # kg/m³, a tenth of the lightest rock's grains
+MIN_STIFFNESS_RATIO = 0.1  # k_n / k_s: shear stiffness at most ten times the normal
+MAX_DAMPING = 0.95  # local damping; PFC's default 0.7
+
+
 @runtime_checkable
 class BondedParams(Protocol):
     """A material's micro-parameters as the lab tests and the store use them, whatever the
@@ -39,7 +46,9 @@ class Material:
     specimen)` its FISHTank material group's parameters in SI units, set by the FISH function
     `pfc_group`, with `pfc_material_type` (`cm_matType`); `pair_properties(params, specimen)`
     the properties of each bonded pair (columns by name, SI), for the specimen's export;
-    `pairs_word` and `breaks_word` name its bonded pairs and what breaks in them."""
+    `pairs_word` and `breaks_word` name its bonded pairs and what breaks in them;
+    `check_rock(params)` refuses valid parameters no rock can have (no bonded element), an
+    InputError naming the parameter."""
 
     name: str
     title: str
@@ -55,6 +64,7 @@ class Material:
     pair_properties: Callable[[BondedParams, object], dict]
     pairs_word: str = "bonds"  # its bonded pairs, in words
     breaks_word: str = "bonds"  # what breaks, each a crack
+    check_rock: Callable[[BondedParams], None] | None = None
 
 
 

@@ -25,7 +25,7 @@ from rockcal.dem.genesis import install_bonds
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS, State, assemble_state
 from rockcal.errors import InputError
 from rockcal.materials.fishtank import PARALLEL_BONDED, common_pfc, pfc_names, pfc_values
-from rockcal.materials.material import Material, validated
+from rockcal.materials.material import MAX_DAMPING, MIN_DENSITY, MIN_STIFFNESS_RATIO, Material, validated
 from rockcal.materials.strengths import truncated_normal
 from rockcal.materials.units import GPa, MPa
 
@@ -37,8 +37,8 @@ class MicroParams(BaseModel):
 
     E_c: float = Field(21.65, ge=0, le=1e4, description="contact effective modulus, GPa (0 = bonds only)")
     Ebar_c: float | None = Field(None, ge=0, le=1e4, description="bond effective modulus, GPa (default E_c)")
-    kn_ks: float = Field(1.9, gt=0, le=1e3, description="contact normal-to-shear stiffness ratio")
-    knbar_ksbar: float | None = Field(None, gt=0, le=1e3, description="bond stiffness ratio (default kn_ks)")
+    kn_ks: float = Field(1.9, ge=MIN_STIFFNESS_RATIO, le=1e3, description="contact normal-to-shear stiffness ratio")
+    knbar_ksbar: float | None = Field(None, ge=MIN_STIFFNESS_RATIO, le=1e3, description="bond stiffness ratio (default kn_ks)")
     sigma_c: float = Field(36.55, gt=0, le=1e5, description="bond tensile strength (mean), MPa")
     tau_c: float = Field(90.0, gt=0, le=1e5, description="bond cohesion (mean shear strength), MPa")
     sigma_c_sd: float = Field(0.0, ge=0, le=1e5, description="bond tensile strength sd, MPa")
@@ -49,8 +49,8 @@ class MicroParams(BaseModel):
     mcf: float = Field(1.0, ge=0, le=1, description="bond moment contribution factor")
     mu: float = Field(0.5, ge=0, le=10, description="contact friction coefficient")
     lambda_: float = Field(1.0, gt=0, le=1, alias="lambda", description="bond radius multiplier")
-    density: float = Field(2622.0, gt=0, le=1e5, description="particle density, kg/m³")
-    damping: float = Field(0.7, ge=0, lt=1, description="local damping coefficient")
+    density: float = Field(2622.0, ge=MIN_DENSITY, le=1e5, description="particle density, kg/m³")
+    damping: float = Field(0.7, ge=0, le=MAX_DAMPING, description="local damping coefficient")
 
     @model_validator(mode="after")
     def _fill_bond_defaults(self):
@@ -163,6 +163,14 @@ def pfc_parameters(params: MicroParams, specimen) -> dict[str, float | int]:
     return common_pfc(params, specimen, PARALLEL_BONDED) | pfc_values(PFC_PROPERTIES, values)
 
 
+def check_bonded(params: MicroParams) -> None:
+    """The bonds bear load: with Ebar_c = 0 they have no stiffness, never load and never
+    break, and the specimen is a granular pack with no bonded element, not a rock."""
+    if params.Ebar_c == 0:
+        raise InputError("Ebar_c", "0 leaves the bonds without stiffness: they bear no load, so the "
+                                   "specimen has no bonded element and is no rock; give Ebar_c > 0")
+
+
 MATERIAL = Material(
     name="parallel_bond", title="parallel-bonded (linear contact + linear parallel bond)",
     parameters=NAMES, make=make_params, params_type=MicroParams,
@@ -170,6 +178,7 @@ MATERIAL = Material(
     new_state=lambda pos, radius, specimen, params, **options: new_state(
         pos, radius, specimen.bonds, params, bond_draws=specimen.bond_draws, **options),
     pfc_parameters=pfc_parameters, pfc_material_type=PARALLEL_BONDED, pfc_group="mpSetPBParams",
+    check_rock=check_bonded,
     pair_properties=lambda params, specimen: dict(zip(
         ("tensile_strength_Pa", "cohesion_Pa"),
         bond_strengths(params, specimen.bond_draws, len(specimen.bonds)))))

@@ -8,15 +8,17 @@ source study) is used.
 from __future__ import annotations
 
 import functools
+import itertools
 import math
 import tomllib
 from importlib import resources
 from pathlib import Path
 from typing import Literal
 
-from pydantic import Field, ValidationError, field_validator, model_validator
+from pydantic import Field, PrivateAttr, ValidationError, field_validator, model_validator
 
 from rockcal.campaign.input.raw_values import check_numbers
+from rockcal.campaign.plan.route import route_of, with_route
 from rockcal.campaign.outputs.safe_text import unsafe_character
 from rockcal.campaign.input.targets import LabTargets, Section, Targets, ValidationTests
 from rockcal.labtests.lab_values import read_curve  # noqa: F401  (here too)
@@ -25,11 +27,20 @@ from rockcal.user_files import read_user_text
 from rockcal.dem.genesis import Genesis, make_genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
+from rockcal.inverse.arrays import design
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
 from rockcal.labtests.ucs import DEFAULT_MAX_AXIAL_STRAIN, DEFAULT_STRAIN, POST_PEAK_FRACTION
 
 RESPONSES = lab_test(PRIMARY_TEST).targets  # what the primary (UCS) test gives and the calibration can fit
+# Upper bounds on the numbers that decide work or memory. A surrogate solves a dense system of
+# its runs (MAX_DEM_RUNS runs: 200 MB); a search evaluates it ants x iterations times, in
+# batches of `ants` points (MAX_EVALUATIONS: seconds to a minute per search).
+MAX_DEM_RUNS = 5000
+MAX_ANTS = 10_000
+MAX_EVALUATIONS = 1_000_000
+MAX_DRAWS = 10_000
+MAX_PACKINGS = 100
 QUICK_RESOLUTION = 2  # `--quick`: R_min this many times the campaign's
 QUICK_DRAWS = 50  # `--quick`: at most this many target draws for the parameters' intervals
 
@@ -66,7 +77,7 @@ class SpecimenSettings(Genesis):
                                   "are removed (a sharp crack).")
     span_mm: float = Field(160.0, gt=0, description="Distance S between the beam's supports, mm.")
     disk_diameter_mm: float = Field(50.0, gt=0, description="Diameter of the Brazilian test's disk, mm.")
-    bending_seeds: int = Field(1, ge=1, description="The validation K_IC is the mean over this many packings of the "
+    bending_seeds: int = Field(1, ge=1, le=MAX_PACKINGS, description="The validation K_IC is the mean over this many packings of the "
                                "beam (seed, seed + 1, ...).")
     strain: Literal["gauge", "platen"] = Field(DEFAULT_STRAIN, description="Axial strain of the UCS test read on the "
                                                "specimen's end particles (gauge) or from the platens (platen, PFC's).")
@@ -154,12 +165,12 @@ class Search(Section):
 class Surrogate(Section):
     """The Latin hypercube runs the RBF surrogate is fitted on, and its check runs."""
 
-    samples: int = Field(30, ge=4, description="Latin hypercube DEM runs in the search box.")
-    checks: int = Field(3, ge=1, description="Fresh random DEM runs that check the surrogate.")
+    samples: int = Field(30, ge=4, le=MAX_DEM_RUNS, description="Latin hypercube DEM runs in the search box.")
+    checks: int = Field(3, ge=1, le=MAX_DEM_RUNS, description="Fresh random DEM runs that check the surrogate.")
     tolerance: float = Field(0.05, gt=0, description="The surrogate is trusted when every check is within this "
                              "relative error.")
     seed: int = Field(1, ge=0, description="Seed of the Latin hypercube and the check points.")
-    coarse_samples: int = Field(0, ge=0, description="Multi-fidelity: Latin hypercube runs at coarse resolution "
+    coarse_samples: int = Field(0, ge=0, le=MAX_DEM_RUNS, description="Multi-fidelity: Latin hypercube runs at coarse resolution "
                                 "(R_min x coarse_factor) that train a low-fidelity surrogate, which the samples "
                                 "correct; 0: none.")
     coarse_factor: float = Field(2.0, gt=1, le=4, description="R_min of the coarse samples over the campaign's "
@@ -172,12 +183,19 @@ class Optimizer(Section):
     method: Literal["aco", "ant-system", "acor"] = Field("aco", description="The source's Ant System (aco = "
                                                          "ant-system) or ACO_R (acor; alpha, beta and rho do not "
                                                          "apply to it).")
-    ants: int = Field(50, ge=2, description="Ants per iteration.")
-    iterations: int = Field(200, ge=1, description="Iterations of the colony.")
+    ants: int = Field(50, ge=2, le=MAX_ANTS, description="Ants per iteration.")
+    iterations: int = Field(200, ge=1, le=MAX_EVALUATIONS, description="Iterations of the colony.")
     alpha: float = Field(1.0, ge=0, description="Ant System: weight of the pheromone.")
     beta: float = Field(5.0, ge=0, description="Ant System: weight of the heuristic desirability.")
     rho: float = Field(0.5, gt=0, le=1, description="Ant System: evaporation rate of the pheromone.")
     seed: int = Field(1, ge=0, description="Seed of the search.")
+
+    @model_validator(mode="after")
+    def _evaluations(self):
+        if self.ants * self.iterations > MAX_EVALUATIONS:
+            raise ValueError(f"iterations: ants x iterations = {self.ants * self.iterations:,} surrogate "
+                             f"evaluations per search; at most {MAX_EVALUATIONS:,}")
+        return self
 
 
 class Acceptance(Section):
@@ -185,7 +203,7 @@ class Acceptance(Section):
 
     tolerance: float = Field(0.05, gt=0, lt=1, description="Accept a point when every response is within this "
                              "relative error of the lab's.")
-    max_dem_runs: int = Field(80, ge=1, description="Budget of parameter sets run in the DEM (UCS runs).")
+    max_dem_runs: int = Field(80, ge=1, le=MAX_DEM_RUNS, description="Budget of parameter sets run in the DEM (UCS runs).")
     # set here, not by --workers, so that the workers never change the result
     candidates: int = Field(2, ge=1, description="Distinct optima of the surrogate verified at once per loop "
                             "round.")
@@ -195,9 +213,9 @@ class UncertaintySettings(Section):
     """Intervals of the identified parameters (Monte Carlo on the surrogate)."""
 
     enabled: bool | None = Field(None, description="Default: on when a calibration target gives a spread.")
-    draws: int = Field(200, ge=10, description="Target sets drawn from the lab's spread, each solved on the "
+    draws: int = Field(200, ge=10, le=MAX_DRAWS, description="Target sets drawn from the lab's spread, each solved on the "
                        "surrogate.")
-    packings: int = Field(3, ge=1, description="UCS packings run at the identified point for the model's own "
+    packings: int = Field(3, ge=1, le=MAX_PACKINGS, description="UCS packings run at the identified point for the model's own "
                           "scatter (the first is the verified run).")
     seed: int = Field(1, ge=0, description="Seed of the draws.")
 
@@ -216,7 +234,10 @@ class MaterialChoice(Section):
 
 
 class Campaign(Section):
-    """A whole calibration campaign, as read from its TOML file."""
+    """A whole calibration campaign, as read from its TOML file (with the defaults its file
+    leaves open set from its runs' cost: `plan.route`)."""
+
+    _route: object = PrivateAttr(None)  # `plan.route.Route`, when the defaults were changed
 
     rock: Rock = Rock()
     material: MaterialChoice = MaterialChoice()
@@ -239,6 +260,7 @@ class Campaign(Section):
         both = set(self.search.bounds) & set(self.search.fixed)
         if both:
             raise ValueError(f"search.fixed: {sorted(both)[0]!r} is also in search.bounds")
+        _check_budget(self)
         given = self.targets.given()
         if "tests" in self.validation.model_fields_set:
             for test in self.validation.tests:
@@ -283,17 +305,30 @@ class Campaign(Section):
         return {"density": self.rock.density_kg_m3} | dict(self.search.fixed)
 
 
+def _check_budget(campaign: Campaign) -> None:
+    """The DEM runs the file asks for before any search fit in [acceptance] max_dem_runs."""
+    s, budget = campaign.surrogate, campaign.acceptance.max_dem_runs
+    if s.samples + s.checks > budget:
+        raise ValueError(f"surrogate.samples: {s.samples} samples and {s.checks} checks are more DEM runs than "
+                         f"the budget of {budget} (acceptance.max_dem_runs)")
+
+
 def quick_look(campaign: Campaign) -> Campaign:
     """The campaign as a first look in minutes: R_min doubled (a quarter of the grains), one
     validation beam and at most QUICK_DRAWS searches for the intervals. Its numbers are not the
-    full-resolution calibration."""
+    full-resolution calibration; its route is chosen from its own costs."""
+    route = route_of(campaign)
+    if route is not None:
+        return quick_look(route.other)
     s = campaign.specimen
     specimen = s.model_copy(update={"rmin_mm": QUICK_RESOLUTION * s.rmin_mm, "bending_seeds": 1})
     uncertainty = campaign.uncertainty.model_copy(update={"draws": min(campaign.uncertainty.draws, QUICK_DRAWS)})
     update = {"specimen": specimen, "uncertainty": uncertainty}
     if campaign.sensitivity and (campaign.sensitivity.rmin_mm or 0) <= specimen.rmin_mm:
         update["sensitivity"] = campaign.sensitivity.model_copy(update={"rmin_mm": None})
-    return campaign.model_copy(update=update)
+    quick = campaign.model_copy(update=update)
+    _check_specimens(quick, quick=True)
+    return with_route(quick, _coarse_possible(quick))
 
 
 def quick_look_note(quick: Campaign) -> str:
@@ -306,6 +341,7 @@ def quick_look_note(quick: Campaign) -> str:
 
 
 DEFAULT_ROCK = "granite"
+MAX_LINE = 4096  # characters on a line of a campaign file
 
 
 def embedded_rocks() -> list[str]:
@@ -322,9 +358,13 @@ def default_text(rock: str = DEFAULT_ROCK) -> str:
 def load_campaign(path: Path | str | None) -> tuple[Campaign, str]:
     """The campaign of a file, or of an embedded rock by name (a file of that name wins), and
     its TOML text; InputError naming the key for anything wrong."""
-    if path is None or (str(path) in embedded_rocks() and not Path(path).exists()):
+    try:
+        exists = path is not None and Path(path).exists()
+    except OSError as exc:  # a name too long for the file system
+        raise InputError("CONFIG", f"cannot read {str(path)[:80]}...: {exc.strerror}") from None
+    if path is None or (str(path) in embedded_rocks() and not exists):
         text, base = default_text(str(path or DEFAULT_ROCK)), Path.cwd()
-    elif not Path(path).suffix and not Path(path).exists():
+    elif not Path(path).suffix and not exists:
         raise InputError("CONFIG", f"no file {path} and no embedded rock of that name "
                                    f"(embedded: {', '.join(embedded_rocks())})")
     else:
@@ -336,18 +376,23 @@ def load_campaign(path: Path | str | None) -> tuple[Campaign, str]:
 def parse_campaign(text: str, base: Path) -> Campaign:
     """Validate campaign TOML text, values, specimens and curve file, so that bad input fails
     before any store or run is touched; relative curve paths are taken from `base`."""
+    long = next((n for n, line in enumerate(text.splitlines(), start=1) if len(line) > MAX_LINE), None)
+    if long is not None:  # TOML's parser takes the square of a long dotted key's parts
+        raise InputError("CONFIG", f"line {long} is longer than {MAX_LINE} characters; not a campaign file")
     try:
         data = tomllib.loads(text)
+        check_numbers(data)
     except tomllib.TOMLDecodeError as exc:
         raise InputError("CONFIG", f"not valid TOML: {exc}") from None
-    check_numbers(data)
+    except RecursionError:
+        raise InputError("CONFIG", "its tables or arrays nest too deeply; not a campaign file") from None
     try:
         campaign = Campaign.model_validate(data)
     except ValidationError as exc:
-        raise from_validation_error(exc) from None
+        raise from_validation_error(exc, Campaign) from None
     _check_values(campaign)
     _check_specimens(campaign)
-    return _curves_from(campaign, base)
+    return _curves_from(with_route(campaign, _coarse_possible(campaign)), base)
 
 
 def _curves_from(campaign: Campaign, base: Path) -> Campaign:
@@ -363,7 +408,9 @@ def _curves_from(campaign: Campaign, base: Path) -> Campaign:
 
 
 def _check_values(campaign: Campaign) -> None:
-    """Fixed values, bounds and levels must be valid micro-parameter values, named by their key."""
+    """Fixed values, bounds and levels must be valid values, named by their key: the fixed
+    values alone, the search box at every corner, the sensitivity runs row by row (fractions
+    that must not sum past 1 may be searched together)."""
     fixed = campaign.fixed_params()
     make_params = functools.partial(parameters, material(campaign.material.model))
     try:
@@ -371,22 +418,74 @@ def _check_values(campaign: Campaign) -> None:
     except InputError as exc:
         key = {"density": "rock.density_kg_m3"}.get(exc.field, f"search.fixed.{exc.field}")
         raise InputError(key if exc.field in fixed else "search.fixed", exc.problem) from None
-    values = [(f"search.bounds.{n}", n, v) for n, bound in campaign.search.bounds.items() for v in bound]
+    _check_box(campaign, make_params, fixed)
     if campaign.sensitivity is not None:
-        values += [(f"sensitivity.levels.{n}", n, v) for n, levels in campaign.sensitivity.levels.items()
-                   for v in levels]
-    for key, name, value in values:
-        try:
-            if name in SEARCHED_GENESIS:
-                make_genesis({name: value})
-            else:
-                make_params(fixed | {name: value})
-        except InputError as exc:
-            raise InputError(key, exc.problem) from None
+        with fields_named(lambda field: f"sensitivity.{field}"):
+            runs = design(campaign.sensitivity.array, campaign.sensitivity.levels)
+        for row, values in enumerate(zip(*runs.values()), start=1):
+            _check_point(make_params, fixed, dict(zip(runs, map(float, values))), "sensitivity.levels",
+                         f"in run {row} of {campaign.sensitivity.array}")
 
 
-def _check_specimens(campaign: Campaign) -> None:
-    """The specimen of each test the campaign runs can be made, naming the [specimen] key."""
-    for test in map(lab_test, campaign.tests()):
-        with fields_named(lambda field: f"specimen.{field}"):
-            test.check(test.settings_of(campaign.specimen))
+MAX_CORNERS = 1024  # a larger box is checked one bound at a time, the others at their defaults
+
+
+def _check_box(campaign: Campaign, make_params, fixed: dict) -> None:
+    """The searched micro-parameters are real numbers, valid together at every corner of the
+    search box."""
+    bounds = campaign.search.bounds
+    fields = material(campaign.material.model).params_type.model_fields
+    for name in split_genesis(bounds)[0]:
+        if fields[name].annotation is int:
+            raise InputError(f"search.bounds.{name}", f"a whole number ({fields[name].description}); the "
+                             "search varies real numbers: set it in [search] fixed")
+    if 2 ** len(bounds) <= MAX_CORNERS:
+        points = [dict(zip(bounds, corner)) for corner in itertools.product(*bounds.values())]
+    else:
+        points = [{name: value} for name, bound in bounds.items() for value in bound]
+    for values in points:
+        _check_point(make_params, fixed, values, "search.bounds", "at a corner of the search box")
+
+
+def _check_point(make_params, fixed: dict, values: dict, where: str, what: str) -> None:
+    """One point of the search (micro-parameters and genesis settings) is valid; an InputError
+    names the key under `where` and, for several values, the point (`what`)."""
+    params, genesis = split_genesis(values)
+    try:
+        make_genesis(genesis)
+        make_params(fixed | params)
+    except InputError as exc:
+        key = f"{where}.{exc.field}" if exc.field in values else where
+        at = "" if len(values) == 1 else f", {what} ({', '.join(f'{n} {v:g}' for n, v in values.items())})"
+        raise InputError(key, exc.problem + at) from None
+
+
+def _coarse_possible(campaign: Campaign) -> bool:
+    """The specimens of the campaign's tests can be made at [surrogate] coarse_factor x R_min."""
+    coarse = campaign.surrogate.model_copy(update={"coarse_samples": 1})
+    try:
+        _check_specimens(campaign.model_copy(update={"surrogate": coarse}))
+    except InputError:
+        return False
+    return True
+
+
+def _check_specimens(campaign: Campaign, quick: bool = False) -> None:
+    """The specimen of each test the campaign runs can be made at every resolution it runs
+    them (the campaign's, the coarse samples', the sensitivity runs'), naming the key that set
+    the resolution (`--quick` for a quick look's)."""
+    targets = list(campaign.target_sections())
+    made = [("--quick" if quick else None, campaign.specimen, campaign.tests())]
+    if campaign.sensitivity is not None and campaign.sensitivity.rmin_mm is not None:
+        made.append(("sensitivity.rmin_mm", campaign.sensitivity_specimen(), targets))
+    if campaign.surrogate.coarse_samples:
+        made.append(("surrogate.coarse_factor", campaign.coarse_specimen(), targets))
+    for key, specimen, tests in made:
+        for test in map(lab_test, tests):
+            try:
+                test.check(test.settings_of(specimen))
+            except InputError as exc:
+                if key is None:
+                    raise InputError(f"specimen.{exc.field}", exc.problem) from None
+                raise InputError(key, f"at R_min {specimen.rmin_mm:g} mm the {test.title} specimen cannot be "
+                                      f"made: specimen.{exc.field}: {exc.problem}") from None

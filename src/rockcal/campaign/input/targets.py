@@ -49,11 +49,14 @@ def _section(name: str, value) -> LabValues:
     if isinstance(value, LabValues):
         return value
     try:
-        return values_model(lab_test(name)).model_validate(value)
+        section = values_model(lab_test(name)).model_validate(value)
     except ValidationError as exc:
-        error = from_validation_error(exc)
+        error = from_validation_error(exc, values_model(lab_test(name)))
         field = name if error.field == "input" else f"{name}.{error.field}"
         raise ValueError(f"{field}: {error.problem}") from None
+    if name != PRIMARY_TEST and not section.measured():  # the primary's: `Campaign` checks it
+        raise ValueError(f"{name}: no lab value given; give at least one of {', '.join(lab_test(name).targets)}")
+    return section
 
 
 class ValidationTests(Section):

@@ -6,20 +6,19 @@ parameter files; and the specimen itself as ball and bond lists."""
 
 from __future__ import annotations
 
-import csv
 import json
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from rockcal.campaign.files import atomic_path
 from rockcal.campaign.input.config import SpecimenSettings
 from rockcal.campaign.runs.spec import ENGINE
 from rockcal.campaign.procedure.result import read_result
 from rockcal.campaign.outputs.safe_text import comment_text
 from rockcal.errors import InputError
 from rockcal.materials import DEFAULT_MATERIAL, material, material_of
+from rockcal.output_files import write_csv
 from rockcal.params import GPa, MicroParams
 
 FORMATS = ("pfc-fish", "pfc-python", "json")
@@ -104,13 +103,17 @@ def _header(calibrated: Calibrated) -> list[str]:
 
 
 def _fish_value(value) -> str:
-    """A value as FISH reads it: a string quoted, a boolean and an integer as one, a float
-    exactly."""
+    """A value as FISH reads it: a string quoted, a boolean and an integer as one, a float to
+    15 significant digits (a double's own precision: no 8190300.000000001 from a product) and
+    always with a point or an exponent, so FISH reads a float."""
     if isinstance(value, str):
         return f"'{value}'"
     if isinstance(value, bool):
         return "true" if value else "false"
-    return str(value) if isinstance(value, int) else repr(float(value))
+    if isinstance(value, int):
+        return str(value)
+    text = f"{float(value):.15g}"
+    return text if any(c in text for c in ".en") else text + ".0"
 
 
 def to_fish(calibrated: Calibrated) -> str:
@@ -183,14 +186,10 @@ def write_specimen(specimen, params, folder: Path) -> tuple[Path, Path]:
     columns = material_of(params).pair_properties(params, specimen)
     folder.mkdir(parents=True, exist_ok=True)
     balls_path, bonds_path = folder / "balls.csv", folder / "bonds.csv"
-    with atomic_path(balls_path) as tmp, open(tmp, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["id", "x_m", "y_m", "radius_m"])
-        for i, ((x, y), r) in enumerate(zip(specimen.pos, specimen.radius), start=1):
-            w.writerow([i, repr(float(x)), repr(float(y)), repr(float(r))])
-    with atomic_path(bonds_path) as tmp, open(tmp, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["ball1", "ball2", *columns])
-        for (i, j), *values in zip(bonds, *columns.values()):
-            w.writerow([int(i) + 1, int(j) + 1, *(repr(v.item()) for v in values)])
+    write_csv(balls_path, ["id", "x_m", "y_m", "radius_m"],
+              ([i, repr(float(x)), repr(float(y)), repr(float(r))]
+               for i, ((x, y), r) in enumerate(zip(specimen.pos, specimen.radius), start=1)))
+    write_csv(bonds_path, ["ball1", "ball2", *columns],
+              ([int(i) + 1, int(j) + 1, *(repr(v.item()) for v in values)]
+               for (i, j), *values in zip(bonds, *columns.values())))
     return balls_path, bonds_path

@@ -16,6 +16,7 @@ from rockcal import plots
 from rockcal.campaign.runs.pool import specimen_of
 from rockcal.campaign.procedure.result import CalibrationResult
 from rockcal.campaign.runs.store import RunStore, StoredRun
+from rockcal.errors import InputError
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.labtests.kind import SeriesFigure
 from rockcal.labtests.registry import lab_test
@@ -226,7 +227,7 @@ def figures_of(result: CalibrationResult) -> list[tuple[str, str, str, Figure]]:
     for test, keys in (result.series_runs or {}).items():
         kind = lab_test(test)
         for figure in kind.series_figures:
-            title = f"{kind.title[0].upper()}{kind.title[1:]}: {figure.title.lower()}"
+            title = figure.heading(kind.title)
             extra.append((title, figure.file(test), figure.caption,
                           partial(_series, keys, figure, f"{title}\nat the identified parameters")))
     return [*FIGURES, *extra]
@@ -234,11 +235,11 @@ def figures_of(result: CalibrationResult) -> list[tuple[str, str, str, Figure]]:
 
 def draw(name: str, figure: Figure, result: CalibrationResult, store: RunStore, path: Path) -> str | None:
     """Draw one figure; an error is logged and becomes the figure's note, except a file's
-    (a full or read-only disk), which fails the report as a whole."""
+    (a full or read-only disk) or a damaged store's, which fails the report as a whole."""
     try:
         note = figure(result, store, path)
     except Exception as exc:  # a figure that cannot be drawn must not lose the report
-        if isinstance(exc, OSError) and exc.errno is not None:
+        if isinstance(exc, InputError) or (isinstance(exc, OSError) and exc.errno is not None):
             raise
         logger.warning("report figure %s not drawn", name, exc_info=True)
         note = f"This figure could not be drawn ({type(exc).__name__}: {exc})."

@@ -12,12 +12,12 @@ import base64
 import html
 from pathlib import Path
 
-from rockcal.campaign.files import atomic_path, write_atomic
 from rockcal.campaign.input.config import SpecimenSettings
 from rockcal.campaign.outputs.figures import draw, figures_of
 from rockcal.campaign.procedure.result import CalibrationResult, SurrogateCheck
 from rockcal.campaign.runs.store import RunStore
 from rockcal.labtests.registry import lab_test
+from rockcal.output_files import write_atomic
 
 REPORT_NAME = "report.html"
 
@@ -243,9 +243,6 @@ def write_report(result: CalibrationResult, store: RunStore, out: Path) -> Path:
 
 
 def _drawn(name: str, figure, result: CalibrationResult, store: RunStore, out: Path) -> str | None:
-    """Draw a figure into OUT/name whole (`atomic_path`): its note, or None when drawn."""
-    with atomic_path(out / name) as tmp:
-        note = draw(name, figure, result, store, tmp)  # a figure left out removes its file
-    if note is not None:
-        (out / name).unlink(missing_ok=True)
-    return note
+    """Draw a figure into OUT/name (saved whole by `rockcal.plots`; a figure left out removes
+    its file): its note, or None when drawn."""
+    return draw(name, figure, result, store, out / name)

@@ -1,5 +1,9 @@
 """How fast this machine runs the engine: a fraction of a second of stepping a small bonded
-lattice on one thread, for the first screen's expected time before the store holds any run.
+lattice on one thread, for the first screen's expected time before the store holds any run, and
+how much of the machine other work takes meanwhile.
+
+The probe counts processor time, so that it gives a core's speed whatever else runs; the share of
+the cores the runs will get is the other part of the estimate.
 
 Machines of one kind differ about 2x in speed, so the plan scales its reference run time (measured
 on one machine, beside this probe's time there) by the ratio of this machine's probe time to that
@@ -9,11 +13,14 @@ one's.
 from __future__ import annotations
 
 import functools
+import os
 import time
+from typing import NamedTuple
 
 import numba
 import numpy as np
 
+from rockcal.dem import cores
 from rockcal.dem.simulate import advance
 from rockcal.dem.specimen import hexagonal
 from rockcal.materials.parallel_bond import make_params, new_state
@@ -25,22 +32,47 @@ STEPS = 300
 ROUNDS = 3
 
 
+class Probe(NamedTuple):
+    """The probe's time per step and how busy the machine was meanwhile."""
+
+    ms_per_step: float  # processor time: the engine's speed on a core of its own
+    cores: int  # the cores this process may run on
+    busy_cores: float  # of them, the cores other processes kept busy (0 where unknown)
+
+
 @functools.cache
-def probe_ms_per_step() -> float:
-    """The engine's time per step on the probe lattice at the granite's default parameters, its
-    disks moving slightly, on one thread: the fastest of ROUNDS runs of STEPS steps (ms)."""
-    spec = hexagonal(*LATTICE_MM)
+def probe() -> Probe:
+    """The engine's processor time per step on the probe lattice at the granite's default
+    parameters, its disks moving slightly, on one thread: the least of ROUNDS runs of STEPS
+    steps (ms); and the cores other work kept busy meanwhile (`dem.cores`)."""
+    spec = hexagonal(*LATTICE_MM, limited=False)  # the probe, not a user's specimen
     state = new_state(spec.pos, spec.radius, spec.bonds, make_params({}))
     state.particles.vel[:] = np.random.default_rng(0).normal(0, 1e-4, spec.pos.shape)
     threads = numba.get_num_threads()
     numba.set_num_threads(1)
     try:
         advance(state, 1)  # compiles the engine, or loads it from numba's cache
+        before = cores.sample()
         best = np.inf
         for _ in range(ROUNDS):
-            started = time.perf_counter()
+            started = time.process_time()
             advance(state, STEPS)
-            best = min(best, time.perf_counter() - started)
+            best = min(best, time.process_time() - started)
+        after = cores.sample()
     finally:
         numba.set_num_threads(threads)
-    return 1e3 * best / STEPS
+    free = None if before is None or after is None else cores.free_cores(before, after, whole=False)
+    if free is None:
+        return Probe(1e3 * best / STEPS, os.cpu_count() or 1, 0.0)
+    return Probe(1e3 * best / STEPS, after.cores, after.cores - free)
+
+
+def probe_ms_per_step() -> float:
+    """`probe`'s time per step, ms."""
+    return probe().ms_per_step
+
+
+def busy_cores() -> tuple[int, float]:
+    """This process's cores and, of them, those other work kept busy during the probe."""
+    p = probe()
+    return p.cores, p.busy_cores

@@ -8,6 +8,8 @@ is set per row), so a run's time goes about as (grains x rows)^1.1 (measured on 
 full-size bending run about 2.7 times slower than that (its steps grow with span² / height).
 A stage runs in rounds of one run per worker; the runs of a last, short round share the
 cores (a run alone on two cores goes LONE_RUN_SPEED_UP times faster than one of two at once).
+Beside other work (the cores it kept busy during the probe) the runs get their share of the
+cores, and a lone run no more cores than the others leave free.
 """
 
 from __future__ import annotations
@@ -17,7 +19,8 @@ import os
 import numpy as np
 
 from rockcal.campaign.input.config import Campaign, SpecimenSettings
-from rockcal.campaign.plan.engine_speed import probe_ms_per_step
+from rockcal.campaign.plan.engine_speed import busy_cores, probe_ms_per_step
+from rockcal.campaign.plan.route import route_of
 from rockcal.campaign.runs.retries import holds, retry_line
 from rockcal.campaign.procedure.points import packings_of
 from rockcal.campaign.procedure.steps import STEPS, planning_state, series_values
@@ -183,7 +186,11 @@ def _stage_walls(per_test: dict[tuple[str, str], tuple[int, float]], workers: in
     for (stage, _), (n, seconds) in per_test.items():
         runs, total = work.get(stage, (0, 0.0))
         work[stage] = (runs + n, total + seconds)
-    return {stage: (runs, stage_rounds(runs, workers) * seconds / runs if runs else 0.0)
+    cores, busy = busy_cores()
+    free = max(1, round(cores - busy))
+    # runs beside other work get their share of the cores
+    shared = max(1.0, (busy + min(workers, cores)) / cores)
+    return {stage: (runs, shared * stage_rounds(runs, workers, free) * seconds / runs if runs else 0.0)
             for stage, (runs, seconds) in work.items()}
 
 
@@ -208,7 +215,26 @@ def dry_run(campaign: Campaign, store, workers: int) -> dict:
     return {"rock": campaign.rock.name, "workers": workers, "stages": plan,
             "runs": sum(runs for runs, _ in walls.values()),
             "specimens_to_make": len(specimens_to_make(campaign)),
-            "expected_s": round(sum(wall for _, wall in walls.values()) + _draws_s(campaign), 1)}
+            "expected_s": round(sum(wall for _, wall in walls.values()) + _draws_s(campaign), 1),
+            "ucs_runs_time": round(ucs_runs_time(campaign, store), 1), "route": _route_data(campaign, store, workers)}
+
+
+def ucs_runs_time(campaign: Campaign, store) -> float:
+    """The runs still to do on one worker, in UCS runs' time: what a route costs, whatever the
+    machine and the workers."""
+    sizes = {test: specimen_size(test, campaign.specimen) for test in campaign.tests()}
+    ucs_s = run_times(campaign, store, sizes)[0][PRIMARY_TEST]
+    return sum(seconds for _, seconds in test_times(campaign, store).values()) / ucs_s
+
+
+def _route_data(campaign: Campaign, store, workers: int) -> dict | None:
+    """The route the defaults took and the other route's cost (None: the defaults stayed)."""
+    route = route_of(campaign)
+    if route is None:
+        return None
+    return {"name": route.name, "why": route.why,
+            "other": {"name": route.other_name, "expected_s": round(expected_s(route.other, store, workers), 1),
+                      "ucs_runs_time": round(ucs_runs_time(route.other, store), 1)}}
 
 
 def expected_s(campaign: Campaign, store, workers: int) -> float:
@@ -241,6 +267,9 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
         f"runs of this campaign already in the store: {sum(stage_runs(campaign).values()) - sum(runs.values())} "
         "(a run done is never run again)",
     ]
+    route = route_of(campaign)
+    if route is not None:
+        lines.append(f"route: {route.name}: {route.why}")
     retry = retry_line(store)
     if retry:
         lines.append(retry)
@@ -249,11 +278,18 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
         basis = ("the mean of this store's UCS runs" if measured else
                  f"scaled from the full-size granite run by this machine's engine speed, "
                  f"{machine_speed():.2g}x the reference machine's")
+        cores, busy = busy_cores()
+        if busy >= 0.5:
+            basis += f"; other work keeps {busy:.1f} of the {cores} cores busy"
         lines.append(f"expected: about {_duration(expected_s(campaign, store, workers))} on "
                      f"{workers} worker{'s' if workers > 1 else ''} "
                      f"for the {' and '.join(f'{n} {lab_test(t).title}' for t, n in runs.items())} runs "
                      f"still to do ({_duration(times[PRIMARY_TEST])} per UCS run on one worker: {basis})"
                      + _genesis(campaign))
+        if route is not None:
+            lines.append(f"cost: the runs' time is about {ucs_runs_time(campaign, store):.0f} UCS runs' on this "
+                         f"route; {route.other_name}: about {ucs_runs_time(route.other, store):.0f} "
+                         f"({_duration(expected_s(route.other, store, workers))} here)")
     return lines
 
 

@@ -10,7 +10,9 @@ from typing import TYPE_CHECKING
 
 from rockcal.campaign.input.config import Campaign, SpecimenSettings, split_genesis
 from rockcal.campaign.procedure.result import FailedRun
+from rockcal.campaign.runs.store import DAMAGED
 from rockcal.campaign.runs.spec import SPECIMEN_KEYS, RunResult, RunSpec, run_spec
+from rockcal.errors import InputError
 from rockcal.inverse import ant_colony
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
@@ -98,6 +100,13 @@ def point_responses(state: CampaignState, runs: dict[str, list[RunResult]]) -> t
     failures = [(t, r.message) for t, results in runs.items() for r in results if r.status != "ok"]
     if failures:
         return None, failures
+    given = state.campaign.targets.given()
+    for test, results in runs.items():
+        wanted = [name for name in (given[test].measured() if test in given else {}) if name in lab_test(test).targets]
+        missing = [name for r in results for name in wanted if name not in r.responses]
+        if missing:  # only a stored run can lack one: from a damaged store or one of an older rockcal
+            raise InputError("--out", f"a stored {lab_test(test).title} run lacks its response {missing[0]}, a target "
+                                      f"of this campaign; {DAMAGED}")
     by_test = {}
     for test, results in runs.items():
         try:

@@ -37,6 +37,7 @@ from rockcal.campaign.procedure.verdict import verdict_of
 from rockcal.campaign.procedure.final import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
 from rockcal.inverse import RBFSurrogate, Objective, design, latin_hypercube, range_analysis
 from rockcal.inverse.multifidelity import CorrectedSurrogate
+from rockcal.inverse.surrogate import minimum_runs
 from rockcal.labtests.registry import PRIMARY_TEST
 from rockcal.labtests.seeds import seed_list
 from rockcal.materials import DEFAULT_MATERIAL, material
@@ -228,7 +229,7 @@ def coarse_sample_runs(state: CampaignState) -> Runs:
         coarse_x, coarse_y = _usable(np.vstack([x, _points(new.sensitivity, reused, names)]),
                                      y + [new.sensitivity.run_responses[i] for i in reused])
         return replace(new, coarse=Samples(x=x.tolist(), responses=y, reused_sensitivity_runs=reused or None),
-                       low_fidelity=RBFSurrogate(coarse_x, _responses(new, coarse_y), box))
+                       low_fidelity=RBFSurrogate(_enough_runs(new, coarse_x), _responses(new, coarse_y), box))
 
     return Runs(point_specs(state, points), fold)
 
@@ -484,8 +485,19 @@ def _fit(state: CampaignState, x, y) -> RBFSurrogate | CorrectedSurrogate:
     """The surrogate of the full-resolution runs x, y; with coarse samples, the low-fidelity
     surrogate of the coarse runs corrected by them."""
     if state.low_fidelity is None:
-        return RBFSurrogate(x, _responses(state, y), state.box)
+        return RBFSurrogate(_enough_runs(state, x), _responses(state, y), state.box)
     return CorrectedSurrogate(state.low_fidelity, x, _responses(state, y), state.box)
+
+
+def _enough_runs(state: CampaignState, x: np.ndarray) -> np.ndarray:
+    """The runs `x` a surrogate is fitted on (none corrected: `minimum_runs`);
+    CalibrationFailed when too many failed."""
+    need = minimum_runs(len(state.box))
+    if len(x) < need:
+        first = f"; first: {state.failed_runs[0].message}" if state.failed_runs else ""
+        raise CalibrationFailed(f"{len(x)} runs succeeded where a surrogate needs {need} "
+                                f"({len(state.failed_runs)} failed{first})")
+    return x
 
 
 def _judged(state: CampaignState) -> RBFSurrogate | CorrectedSurrogate:

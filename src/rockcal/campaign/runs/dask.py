@@ -22,6 +22,7 @@ import time
 from concurrent.futures import CancelledError
 from typing import Callable, Iterable
 
+from rockcal.campaign.runs import MAX_WORKERS
 from rockcal.campaign.runs.tls import CLEAR_TEXT, TLSFiles, security_of
 from rockcal.campaign.runs.pool import Batch, execute
 from rockcal.campaign.runs.spec import ENGINE
@@ -33,7 +34,7 @@ log = logging.getLogger(__name__)
 
 OPTION = "--scheduler"
 CONNECT_TIMEOUT_S = 10.0
-FORMS = "tls://HOST:PORT, tcp://HOST:PORT or local:N (N >= 1)"
+FORMS = f"tls://HOST:PORT, tcp://HOST:PORT or local:N (1 <= N <= {MAX_WORKERS})"
 def parse_scheduler(scheduler: str) -> tuple[str, int | str]:
     """("local", N), ("tls", "tls://HOST:PORT") or ("tcp", "tcp://HOST:PORT"); InputError naming
     --scheduler for anything else, or when Dask is not installed. Connects to nothing (the CLI
@@ -44,8 +45,8 @@ def parse_scheduler(scheduler: str) -> tuple[str, int | str]:
     local = re.fullmatch(r"local:([+-]?\d+)", text)
     if local:
         n = int(local.group(1))
-        if n < 1:
-            raise InputError(OPTION, f"local:N needs N >= 1 workers, got {text!r}")
+        if not 1 <= n <= MAX_WORKERS:
+            raise InputError(OPTION, f"local:N needs 1 to {MAX_WORKERS} workers, got {text!r}")
         return "local", n
     remote = re.fullmatch(r"(tcp|tls)://([\w.-]+|\[[0-9A-Fa-f:.]+\]):(\d+)", text)
     if remote and 1 <= int(remote.group(3)) <= 65535:

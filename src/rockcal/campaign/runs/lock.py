@@ -58,10 +58,10 @@ def _claim(fd: int) -> None:
 
 @contextmanager
 def store_lock(folder: Path, wait: bool = False, waiting: Callable[[str], None] | None = None,
-               field: str = "--out"):
+               field: str = "--out", can_wait: bool = True):
     """Hold the lock of the store in `folder` (which must exist) within the block. Held
-    elsewhere: an InputError naming the holder, or with `wait` block until it is free
-    (`waiting(holder)` is told once)."""
+    elsewhere: an InputError naming the holder (advising --wait if the command `can_wait`),
+    or with `wait` block until it is free (`waiting(holder)` is told once)."""
     if fcntl is None:
         yield
         return
@@ -75,8 +75,9 @@ def store_lock(folder: Path, wait: bool = False, waiting: Callable[[str], None] 
             holder = holder_text(fd)
             if not wait:
                 os.close(fd)
+                then = ", or add --wait" if can_wait else " and run again"
                 raise InputError(field, f"{folder} is in use by another rockcal ({holder}); wait for "
-                                        "it to end, or add --wait") from None
+                                        f"it to end{then}") from None
             if waiting is not None and not told:
                 waiting(holder)
                 told = True
@@ -89,4 +90,24 @@ def store_lock(folder: Path, wait: bool = False, waiting: Callable[[str], None] 
         yield
     finally:
         path.unlink(missing_ok=True)  # while still held: a waiter then finds it gone and retries
+        os.close(fd)
+
+
+def holder_of(folder: Path) -> str | None:
+    """Who holds the lock of the store in `folder` now, in words, or None: no one (or no
+    flock). Asked read-only, so a read-only folder can be asked; the shared lock taken to ask
+    is let go at once."""
+    if fcntl is None:
+        return None
+    try:
+        fd = os.open(Path(folder) / LOCK_NAME,
+                     os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0))
+    except OSError:
+        return None  # no lock file: no holder
+    try:
+        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+        return None
+    except BlockingIOError:
+        return holder_text(fd)
+    finally:
         os.close(fd)

@@ -126,12 +126,10 @@ def _init_worker(cores: int, busy, live, live_interval_s: float, threads: int | 
     use_threads(None if threads is None else 1)
 
 
-def live_text(readings: dict[str, tuple]) -> str:
-    """The running tests in a line: their short key and latest reading."""
-    parts = []
-    for key, (kind, x, y, elapsed) in readings.items():
-        parts.append(f"{key[:6]} {lab_test(kind).reading(x, y)}, {elapsed:.0f} s")
-    return "running: " + "; ".join(parts) if parts else ""
+def live_lines(readings: dict[str, tuple]) -> list[str]:
+    """A line per running test: its title, short key, latest reading and time so far."""
+    return [f"{lab_test(kind).title} {key[:6]}: {lab_test(kind).reading(x, y)}, {elapsed:.0f} s"
+            for key, (kind, x, y, elapsed) in readings.items()]
 
 
 class _Shown:
@@ -177,7 +175,7 @@ class Executor:
         self._queue = None
         self.executed = 0  # runs done by this executor (not found in the store)
         self.tried: set[str] = set()  # keys run by this executor: a failure among them is not rerun
-        self.on_live: Callable[[str], None] | None = None  # shows `live_text` of running tests
+        self.on_live: Callable[[list[str]], None] | None = None  # shows `live_lines` of running tests
         self._readings: dict[str, tuple] = {}
 
     def _reading(self, item) -> None:
@@ -191,7 +189,7 @@ class Executor:
 
     def _show(self) -> None:
         if self.on_live is not None:
-            self.on_live(live_text(self._readings))
+            self.on_live(live_lines(self._readings))
 
     def _drain(self) -> None:
         while self._queue is not None and not self._queue.empty():

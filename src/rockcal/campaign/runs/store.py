@@ -160,6 +160,9 @@ class RunStore:
         return dict(self.db.execute("SELECT run_key, COUNT(*) FROM executions GROUP BY run_key"))
 
     def save_document(self, name: str, text: str) -> None:
+        """Store a document by name (one already so stored is not written again)."""
+        if self.document(name) == text:
+            return
         with self.db:
             self.db.execute("BEGIN IMMEDIATE")
             self.db.execute("INSERT OR REPLACE INTO documents VALUES (?, ?)", (name, text))

@@ -10,6 +10,7 @@ import numpy as np
 
 from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, THICKNESS_M, TOP, advance
 from rockcal.dem.specimen import Specimen
+from rockcal.labtests.result import RunFailed
 from rockcal.labtests.rig.platens import Platens
 from rockcal.labtests.rig.servo import SPEED_LIMIT, WallServo
 from rockcal.params import MPa
@@ -53,8 +54,11 @@ class SideWalls:
                 if unbalanced < EQUILIBRIUM_RATIO * scale:
                     servo.hold()
                     return state.step - start
-        raise RuntimeError(f"the specimen did not settle at {servo.target / MPa:g} MPa in "
-                           f"{state.step - start} steps")
+        raise RunFailed(f"the specimen did not settle at the confinement of {servo.target / MPa:g} MPa "
+                        f"in {state.step - start} steps (the servo-controlled walls could not bring it "
+                        "to equilibrium): a confinement near 0 is below what the servo resolves, one "
+                        "near the grains' stiffness or the bonds' strength crushes the specimen; try "
+                        "another confinement, or a larger specimen")
 
     def update(self) -> None:
         """Set the side walls' speeds from the stresses they bear now."""

@@ -1,0 +1,91 @@
+"""The campaign's route, chosen from what its runs cost where the file leaves it open.
+
+A parameter set whose runs cost at least DEAR UCS runs (a notched beam, a confined series, a
+direct-tension prism beside the UCS test) takes the multi-fidelity route unless [surrogate]
+sets samples or coarse_samples: coarse runs (R_min x coarse_factor, about a tenth of the work)
+train the surrogate and a few full-resolution runs correct it. A verified point that costs at
+least DEAR UCS runs (those tests, or several packings) is verified one at a time unless
+[acceptance] sets candidates: a second candidate would double each round's cost for a
+smaller chance of a second round. A UCS-only campaign keeps the defaults.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from rockcal.labtests.registry import PRIMARY_TEST, lab_test
+
+DEAR = 2.0  # UCS runs' time: a parameter set or a verified point this dear changes the defaults
+COARSE_PER_PARAMETER = 6  # multi-fidelity: coarse samples per searched parameter
+FULL_AFTER_PARAMETERS = 1  # multi-fidelity: full-resolution samples, the searched parameters + this
+CHECKS = 1  # multi-fidelity: full-resolution check runs
+
+
+@dataclass(frozen=True)
+class Route:
+    """What the defaults became and why, and the campaign the other route would run."""
+
+    name: str  # "multi-fidelity" or "single fidelity, one candidate a round"
+    why: str
+    other: object  # the Campaign with the defaults as they were
+    other_name: str
+
+
+def sample_cost(campaign) -> float:
+    """A parameter set's runs in UCS runs' time: every test calibrated against, once per value
+    of its series, on one packing (as the surrogate's samples run)."""
+    return sum(len(campaign.target_sections()[t].series() or [None]) * relative_time(campaign, t)
+               for t in campaign.target_sections())
+
+
+def point_cost(campaign) -> float:
+    """A verified point's runs in UCS runs' time: `sample_cost` on each test's packings."""
+    return sum(s.packings * len(s.series() or [None]) * relative_time(campaign, t)
+               for t, s in campaign.target_sections().items())
+
+
+def relative_time(campaign, test: str) -> float:
+    """One run of `test` over one UCS run, on the campaign's specimen (`plan.screen`'s model)."""
+    from rockcal.campaign.plan.screen import WORK_EXPONENT, specimen_size
+
+    work = specimen_size(test, campaign.specimen)[2] / specimen_size(PRIMARY_TEST, campaign.specimen)[2]
+    return work ** WORK_EXPONENT * lab_test(test).slower_than_work
+
+
+def with_route(campaign, coarse_possible: bool = True):
+    """The campaign with the defaults its file leaves open set from its runs' cost, and its
+    `route` (None for a campaign whose defaults stay); `coarse_possible`: its specimens can be
+    made at the coarse resolution."""
+    surrogate, acceptance = campaign.surrogate, campaign.acceptance
+    sample, point = sample_cost(campaign), point_cost(campaign)
+    multi = (sample >= DEAR and coarse_possible
+             and not ({"samples", "coarse_samples"} & surrogate.model_fields_set))
+    one = point >= DEAR and "candidates" not in acceptance.model_fields_set
+    if not (multi or one):
+        return campaign
+    update = {}
+    if one:
+        update["acceptance"] = acceptance.model_copy(update={"candidates": 1})
+    if multi:
+        n = len(campaign.search.bounds) or len(campaign.sensitivity.levels)
+        update["surrogate"] = surrogate.model_copy(update={
+            "coarse_samples": COARSE_PER_PARAMETER * n, "samples": n + FULL_AFTER_PARAMETERS,
+            **({} if "checks" in surrogate.model_fields_set else {"checks": CHECKS})})
+    chosen = campaign.model_copy(update=update)
+    reasons = []
+    if multi:
+        u = update["surrogate"]
+        reasons.append(f"a parameter set's runs take {sample:.2g} UCS runs' time: {u.coarse_samples} coarse runs "
+                       f"(R_min x {u.coarse_factor:g}) train the surrogate, {u.samples} full-resolution ones correct it")
+    if one:
+        reasons.append(("" if multi and point == sample else f"a verified point's runs take {point:.2g} UCS runs' "
+                        "time: ") + "one point is verified a round")
+    why = "; ".join(reasons) + " ([surrogate] samples or coarse_samples, [acceptance] candidates choose otherwise)"
+    chosen._route = (Route("multi-fidelity", why, campaign, "single fidelity") if multi else
+                     Route("one candidate a round", why, campaign, f"{acceptance.candidates} candidates a round"))
+    return chosen
+
+
+def route_of(campaign) -> Route | None:
+    """The route `with_route` chose (None: the defaults stayed)."""
+    return getattr(campaign, "_route", None)
