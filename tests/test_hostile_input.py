@@ -325,7 +325,7 @@ def campaign_file_property(case: hs.CampaignCase) -> None:
         check(outcome, writes=False, as_json=True)
 
 
-@settings(max_examples=80, **QUICK)
+@settings(max_examples=15, **QUICK)
 @given(hs.campaign_cases())
 def test_campaign_file(case):
     campaign_file_property(case)
@@ -406,7 +406,7 @@ def calibrate_argv_property(case) -> None:
         check(run_cli(argv, folder, DRY_RUN_S, env), writes=False, as_json=True)
 
 
-@settings(max_examples=60, **QUICK)
+@settings(max_examples=10, **QUICK)
 @given(calibrate_argv())
 def test_calibrate_arguments(case):
     calibrate_argv_property(case)
@@ -516,7 +516,7 @@ def simulate_property(argv: list, engine: bool) -> None:
         check(outcome, writes="--out" in argv, as_json="--json" in argv)
 
 
-@settings(max_examples=60, **QUICK)
+@settings(max_examples=10, **QUICK)
 @given(simulate_argv())
 def test_simulate_arguments(argv):
     simulate_property(argv, engine=False)
