@@ -6,7 +6,6 @@ test reads (its default and help from the campaign file's [specimen] keys)."""
 from __future__ import annotations
 
 import inspect
-import math
 import sys
 import typing
 from contextlib import nullcontext
@@ -23,10 +22,10 @@ from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from rockcal.campaign.input.config import MAX_PACKINGS, SpecimenSettings
-from pydantic import ValidationError
 
-from rockcal.errors import InputError, fields_named, from_validation_error
+from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kind import LabTest
+from rockcal.labtests.settings import specimen_settings
 from rockcal.labtests.result import RunFailed, out_of_range
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
@@ -181,22 +180,11 @@ def _on_packings(test, params, settings, packing, seeds, run, as_json, out, name
 
 
 def _checked_settings(test: LabTest, options: dict) -> dict:
-    """The test's specimen settings from the options, finite and valid, an error naming the flag."""
-    for setting, value in options.items():
-        if isinstance(value, float) and not math.isfinite(value):
-            raise InputError(flag_of(test, setting), f"must be a finite number, got {value}")
+    """The test's specimen settings from the options (`labtests.settings.specimen_settings`), an
+    error naming the flag."""
     rename = {setting: flag_of(test, setting) for setting in test.settings}
-    own = {s.name: s for s in test.own_settings}
     with fields_named(lambda field: rename.get(field.removeprefix("specimen."), field)):
-        try:
-            values = SpecimenSettings(**{k: v for k, v in options.items() if k not in own})
-        except ValidationError as exc:
-            raise from_validation_error(exc) from None
-        for name, setting in own.items():
-            setting.check(options[name])
-        settings = test.settings_of(values) | {name: options[name] for name in own}
-        test.check(settings)
-    return settings
+        return specimen_settings(test, options)
 
 
 def _run_one(test: LabTest, params, settings: dict, packing: str, label: str, as_json: bool):
