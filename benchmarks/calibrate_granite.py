@@ -9,13 +9,16 @@ is also given in "UCS units": divided by one full-size UCS run at the source's i
 machines of different speed compare: the fastest of `--reference-runs` (2) timings before the
 campaign and one after it, the unit their mean (a shared machine's speed can drift by a fifth
 over half an hour); that run's E, nu
-and UCS are printed too. The identification's wall time (`identification_s`, and in units) is
+and UCS are printed too. The campaign's work, which no other work on the machine moves, is
+given in the same unit (`work_ucs_units`): the grains times the steps of every run it made,
+over the reference run's (12 933 grains, 63 137 steps). The identification's wall time (`identification_s`, and in units) is
 the campaign's up to the stage of the runs at the identified point (its packings and
 validation), as the command's `stage_began_s` gives it.
 """
 
 import argparse
 import json
+import sqlite3
 import subprocess
 import sys
 import time
@@ -44,6 +47,16 @@ def reference_ucs(times: int) -> tuple[list[float], dict]:
         run = execute(run_spec("ucs", granite.specimen, params))
         walls.append(time.perf_counter() - started)
     return walls, {k: run.responses[k] for k in ("E_GPa", "nu", "ucs_MPa", "steps")}
+
+
+REFERENCE_WORK = 12_933 * 63_137  # grains x steps of the reference UCS run
+
+
+def campaign_work(store: Path) -> float:
+    """Grains x steps of the store's runs done, over the reference UCS run's."""
+    with sqlite3.connect(f"file:{store}?mode=ro", uri=True) as db:
+        rows = db.execute("SELECT responses FROM runs WHERE status = 'ok'").fetchall()
+    return sum(r["n_particles"] * r["steps"] for r in (json.loads(row[0]) for row in rows)) / REFERENCE_WORK
 
 
 def main() -> None:
@@ -79,6 +92,7 @@ def main() -> None:
         result["reference_ucs_at_source_point"] = at_source
         result["wall_ucs_units"] = result["wall_s"] / result["reference_ucs_s"]
         result["identification_ucs_units"] = result["identification_s"] / result["reference_ucs_s"]
+    result["work_ucs_units"] = campaign_work(args.out / "runs.sqlite")
     result["source"] = SOURCE
     print(json.dumps(result, indent=2))
 

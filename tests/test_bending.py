@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from rockcal import make_params
-from rockcal.labtests.bending import (CONFIRM_FLEXURAL_PERIODS, Beam, flexural_period_s, notched_beam, period_steps,
-                                      simulate_bending, wave_speed_m_per_s)
+from rockcal.labtests.bending import (CONFIRM_FLEXURAL_PERIODS, RUN_ON_FRACTION, Beam, crack_reach, flexural_period_s,
+                                      notched_beam, period_steps, rig_circles, simulate_bending, wave_speed_m_per_s)
 from rockcal.dem.specimen import random_packing
 from rockcal.labtests.kic import senb_kic
 from rockcal.labtests.loading import NOTCH_TIP_DAMAGE, Loading
@@ -108,6 +108,39 @@ def test_stopping_once_p_max_is_certain_finds_the_same_peak_sooner(specimen, res
     assert early.P_max_kN_per_m == result.P_max_kN_per_m
     assert early.steps < result.steps
     np.testing.assert_array_equal(early.curve, result.curve[:len(early.curve)])
+
+
+@pytest.mark.slow
+def test_a_beam_run_on_for_its_crack_reads_the_same_peak_and_its_crack_crosses_the_ligament(specimen, result):
+    """Run on until the load has all but vanished (the report's crack figure): the same run up
+    to the default stop, so the same P_max; the crack has by then crossed most of the ligament,
+    further than at the default stop."""
+    on = simulate_bending(make_params({}), specimen, SMALL, stop_fraction=RUN_ON_FRACTION)
+    assert on.P_max_kN_per_m == result.P_max_kN_per_m
+    np.testing.assert_array_equal(on.curve[:len(result.curve)], result.curve)
+    reach = {run.steps: crack_reach(SMALL, np.vstack([*run.cracks.values()])) for run in (result, on)}
+    assert reach[on.steps] >= 0.8 and reach[on.steps] >= reach[result.steps]
+
+
+def test_the_pin_and_the_supports_are_drawn_touching_the_beam():
+    """Each circle of the rig touches the beam's grains: no grain closer than its radius plus
+    the circle's, one at that distance; the pin above the beam, the supports below it."""
+    beam = Beam(44.0, 10.0, 3.6, 1.0, 32.0)
+    specimen = notched_beam(beam, 0.4, 1.65, seed=1)
+    circles = rig_circles(beam, specimen.pos, specimen.radius)
+    assert [x for x, _, _ in circles] == pytest.approx([0.022, 0.006, 0.038])
+    for x, y, r in circles:
+        gap = np.hypot(specimen.pos[:, 0] - x, specimen.pos[:, 1] - y) - specimen.radius - r
+        assert gap.min() == pytest.approx(0.0, abs=1e-12)
+    (_, pin_y, _), *supports = circles
+    assert pin_y > specimen.pos[:, 1].max() and all(y < specimen.pos[:, 1].min() for _, y, _ in supports)
+
+
+def test_the_crack_reach_is_the_highest_break_near_the_notch_line_over_the_ligament():
+    beam = Beam(66.0, 15.0, 5.4, 1.0, 48.0)  # ligament 9.6 mm above the notch tip at 5.4 mm
+    broken = 1e-3 * np.array([[33.0, 6.0], [34.0, 10.2], [60.0, 14.9]])  # the last: far from the notch line
+    assert crack_reach(beam, broken) == pytest.approx(0.5)
+    assert crack_reach(beam, np.empty((0, 2))) == 0.0
 
 
 @pytest.mark.slow

@@ -16,8 +16,9 @@ from rockcal.labtests.envelope import check_peaks, fit_hoek_brown, fit_mohr_coul
 from rockcal.output_files import save_figure  # noqa: E402
 
 
-def crack_pattern(positions, radius, cracks: dict, path: Path, title: str) -> None:
-    """The specimen's disks in grey with broken bonds: tension red, shear blue."""
+def crack_pattern(positions, radius, cracks: dict, path: Path, title: str, rig=()) -> None:
+    """The specimen's disks in grey with broken bonds: tension red, shear blue; `rig`: circles
+    (x, y, radius; m) of the loading rig (a beam's pin and supports), drawn dark."""
     width_m = positions[:, 0].max() - positions[:, 0].min()
     height_m = positions[:, 1].max() - positions[:, 1].min()
     fig, ax = plt.subplots(figsize=_specimen_figsize(width_m, height_m))
@@ -26,6 +27,8 @@ def crack_pattern(positions, radius, cracks: dict, path: Path, title: str) -> No
                               offset_transform=ax.transData, facecolors="0.85", edgecolors="0.6",
                               linewidths=0.2)
     ax.add_collection(disks)
+    for x, y, r in rig:
+        ax.add_patch(plt.Circle((1e3 * x, 1e3 * y), 1e3 * r, facecolor="0.35", edgecolor="0.1"))
     for mode, colour in (("tension", "tab:red"), ("shear", "tab:blue")):
         xy = cracks[mode] * 1e3
         ax.plot(xy[:, 0], xy[:, 1], "o", ms=2, color=colour, label=f"{mode} ({len(xy)})")

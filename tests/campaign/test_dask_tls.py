@@ -77,6 +77,7 @@ def tls_cluster(pki):
         yield cluster
 
 
+@pytest.mark.slow  # a campaign
 def test_a_tiny_campaign_runs_on_a_tls_cluster(pki, tls_cluster, tmp_path):
     p, _ = pki
     address = tls_cluster.scheduler_address

@@ -33,6 +33,7 @@ max_dem_runs = 16
 """
 
 
+@pytest.mark.slow  # a campaign
 def test_a_twin_recovers_the_installation_gap_and_e_c(tmp_path, monkeypatch):
     monkeypatch.setenv("ROCKCAL_CACHE", str(tmp_path / "cache"))
     specimen = random_packing(8, 16, 0.2, genesis=Genesis(install_gap=TRUE["install_gap"]))

@@ -36,6 +36,7 @@ max_dem_runs = 40
 SINGLE_FIDELITY_RUNS = 19  # the same twin with 15 full-resolution samples: 15 + 3 checks + 1 verification
 
 
+@pytest.mark.slow  # a campaign of 40 DEM runs
 def test_a_multi_fidelity_twin_recovers_its_parameters_with_fewer_fine_runs(tmp_path):
     lab = simulate_ucs(TRUE, random_packing(10, 20, 0.2))
     campaign = parse_campaign(CAMPAIGN.format(E_GPa=lab.E_GPa, nu=lab.nu, ucs_MPa=lab.ucs_MPa), tmp_path)

@@ -9,9 +9,9 @@ shapes chosen as now: where the leave-one-out errors tie (its 4 samples), the sm
 import json
 import shutil
 import sqlite3
-import subprocess
-import sys
 from pathlib import Path
+
+import pytest
 
 from same_record import differences
 
@@ -20,15 +20,14 @@ SAME = ("identified", "identified_params", "accepted", "dem_runs", "errors", "be
         "fixed", "objective", "iterations", "uncertainty", "checks", "surrogate_check")
 
 
-def test_a_store_of_the_earlier_procedure_resumes_with_the_same_answer(tmp_path):
+@pytest.mark.slow  # a campaign's UCS runs, run again
+def test_a_store_of_the_earlier_procedure_resumes_with_the_same_answer(tmp_path, cli):
     out = tmp_path / "out"
     out.mkdir()
     shutil.copy(DATA / "runs.sqlite", out / "runs.sqlite")
     with sqlite3.connect(DATA / "runs.sqlite") as db:
         ucs_runs = db.execute("SELECT COUNT(*) FROM runs WHERE kind = 'ucs'").fetchone()[0]
-    run = subprocess.run([sys.executable, "-m", "rockcal", "calibrate", str(DATA / "campaign.toml"), "--out",
-                          str(out), "--resume", "--workers", "1", "--json"], capture_output=True, text=True,
-                         timeout=900)
+    run = cli("calibrate", DATA / "campaign.toml", "--out", out, "--resume", "--workers", "1", "--json")
     assert run.returncode == 0, run.stderr
     now = json.loads((out / "record.json").read_text())
     before = json.loads((DATA / "record.json").read_text())

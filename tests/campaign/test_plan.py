@@ -4,9 +4,12 @@ import pytest
 
 from rockcal.campaign.input.config import parse_campaign, SpecimenSettings
 from rockcal.campaign.plan import screen as plan
-from rockcal.campaign.plan.screen import describe, grain_count, stages
+from rockcal.campaign.plan.screen import describe, grain_count, stage_runs, stages
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.runs.spec import RunResult
 from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.specimen import random_packing
+from tiny import tiny_campaign
 
 
 @pytest.mark.parametrize("rmin_mm, cloud_porosity", [(0.4, 0.09), (0.3, 0.15)])
@@ -35,12 +38,15 @@ checks = 2
 packings = 4
 """, tmp_path)
     assert stages(campaign) == [("sensitivity", "ucs", 9), ("samples and checks", "ucs", 14),
-                                ("verification", "ucs", 2),
+                                ("verification", "ucs", 1),
                                 ("packings and validation", "bending", 2),
                                 ("packings and validation", "ucs", 3)]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=2)
     assert "about 12940 grains" in lines[0]
-    assert lines[-1].startswith("expected: about ") and "28 UCS and 2 bending runs" in lines[-1]
+    assert lines[1] == ("stages: sensitivity 9, samples and checks 14, verification 1 a round (2 when the "
+                        "surrogate has a second optimum), packings and validation 5: 29 runs, plus a second "
+                        "optimum's run and more rounds if needed (at most 80 UCS runs)")
+    assert lines[-1].startswith("expected: about ") and "27 UCS and 2 bending runs" in lines[-1]
 
 
 def test_each_stage_runs_every_test_calibrated_against(tmp_path):
@@ -58,11 +64,11 @@ samples = 12
 checks = 2
 """, tmp_path)
     assert stages(campaign) == [("samples and checks", "ucs", 14), ("samples and checks", "brazilian", 14),
-                                ("verification", "ucs", 2), ("verification", "brazilian", 2)]
+                                ("verification", "ucs", 1), ("verification", "brazilian", 1)]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=1)
     assert "; disk D 40 mm, about 3252 grains" in lines[0]
     assert lines[1].endswith("each parameter set runs UCS and Brazilian")
-    assert "16 UCS and 16 Brazilian runs" in lines[-1]
+    assert "15 UCS and 15 Brazilian runs" in lines[-1]
 
 
 def test_coarser_sensitivity_runs_are_shown_and_expected_sooner(tmp_path, monkeypatch):
@@ -145,3 +151,73 @@ def test_other_work_on_the_cores_lengthens_the_estimate(tmp_path, monkeypatch):
     monkeypatch.setattr(plan, "busy_cores", lambda: (2, 2.0))
     assert plan.expected_s(campaign, store, workers=2) > 2 * idle
     assert "other work keeps 2.0 of the 2 cores busy" in describe(campaign, store, workers=2)[-1]
+
+
+class Twin:
+    """A synthetic forward model with a single optimum (E from E_c, UCS from sigma_c) that
+    reports its progress as the executors do: the runs it already holds at once, then each run
+    done; a run asked for again is held (as the store holds it)."""
+
+    def __init__(self):
+        self.held, self.made = set(), 0
+
+    def run(self, specs, progress):
+        progress(sum(spec.key in self.held for spec in specs), len(specs))
+        for spec in specs:
+            if spec.key not in self.held:
+                self.held.add(spec.key)
+                self.made += 1
+                progress(len({s.key for s in specs} & self.held), len(specs))
+        return [RunResult("ok", {"E_GPa": dict(spec.params)["E_c"], "nu": 0.2, "ucs_MPa": dict(spec.params)["sigma_c"],
+                                 "n_particles": 100}, None, 0.0) for spec in specs]
+
+
+def test_two_candidates_on_a_single_optimum_make_the_planned_runs(tmp_path):
+    """[acceptance] candidates = 2 plans the search's optimum only: where the surrogate has no
+    second optimum, the campaign makes the runs the first screen counts, and the campaign's bar
+    ends at that count without ever lowering its total."""
+    from rockcal.cli.calibrate import _stage_progress
+
+    campaign = parse_campaign(tiny_campaign().replace("max_dem_runs = 9", "max_dem_runs = 9\ncandidates = 2"),
+                              tmp_path)
+    planned = sum(stage_runs(campaign).values())
+    assert planned == 6 + 1 + 1  # samples, check, the search's optimum
+    progress = _stage_progress(True, stage_runs(campaign), {stage: (n, 10.0 * n)
+                                                            for stage, n in stage_runs(campaign).items()})
+    counts = []
+
+    def shown(stage, done, total):
+        progress(stage, done, total)
+        counts.append(progress.bar.tasks[progress.campaign].fields["count"])
+
+    twin = Twin()
+    record = calibrate(campaign, twin, shown)
+    assert record.accepted and len(record.iterations) == 1  # the second searches found the same optimum
+    assert twin.made == record.dem_runs == planned
+    assert counts[-1] == f"{planned}/{planned}"
+    assert {count.split("/")[1] for count in counts} == {str(planned)}
+
+
+def test_a_second_optimum_and_a_run_held_only_add_to_the_count():
+    """A verification round that verifies a second optimum adds its run to the campaign's count;
+    the identified point's first packing, held since its verification, is no run of the last
+    stage, and a second round counts on from the first."""
+    from rockcal.cli.calibrate import _stage_progress
+
+    progress = _stage_progress(True, {"verification": 1, "packings and validation": 5},
+                               {"verification": (1, 10.0), "packings and validation": (5, 50.0)})
+
+    def campaign():
+        return progress.bar.tasks[progress.campaign].fields["count"]
+
+    progress("verification", 0, 2)
+    assert campaign() == "0/7"  # grew by the second optimum's run
+    progress("verification", 2, 2)
+    progress("verification", 0, 1)  # a second round
+    assert campaign() == "2/8"
+    progress("verification", 1, 1)
+    progress("packings and validation", 1, 6)  # the identified point's first packing, held
+    assert campaign() == "3/8"
+    progress("packings and validation", 6, 6)
+    assert campaign() == "8/8"
+

@@ -15,6 +15,7 @@ from rockcal.campaign.outputs.figures import FIGURES
 from rockcal.campaign.outputs.report import write_report
 from rockcal.campaign.procedure.result import BendingValidation, CalibrationResult, Check, FailedRun
 from rockcal.campaign.runs.store import RunStore
+from rockcal.labtests.bending import RUN_ON_FRACTION
 
 pytestmark = pytest.mark.slow  # a small calibration campaign, then the report from it
 
@@ -121,6 +122,18 @@ def test_intervals_of_the_identified_parameters(campaign):
         assert low <= i.p5 <= i.p50 <= i.p95 <= high
         assert f"<td>{name}</td><td>{value:.4g}</td>" in page and f"<td>{i.p95:.4g}</td>" in page
     assert "target sets drawn from the lab spread" in page
+
+
+def test_the_beam_drawn_is_the_validations_first_run_on_past_its_peak(campaign):
+    """The first validation beam runs on until its crack has crossed the ligament (the report
+    draws it); the others stop as the campaign's runs do; K_IC is read at the peak of each."""
+    record, store, _ = campaign
+    runs = [store.run(key) for key in record.validation.run_keys]
+    assert record.validation.run_key == record.validation.run_keys[0]
+    assert [run.specimen["stop_fraction"] for run in runs] == [RUN_ON_FRACTION, record.specimen.stop_fraction]
+    assert runs[0].curve[-1, 1] < RUN_ON_FRACTION * runs[0].responses["P_max_kN_per_m"]
+    assert record.validation.K_IC_per_seed == [run.responses["K_IC_MPa_sqrt_m"] for run in runs]
+    assert record.final_bending_run_key is None  # K_IC is not a target here
 
 
 def test_the_store_gives_the_final_ucs_run(campaign):

@@ -79,6 +79,20 @@ def test_several_packings_verify_one_point_a_round_on_one_fidelity(tmp_path):
     assert (campaign.surrogate.coarse_samples, campaign.acceptance.candidates) == (0, 1)
 
 
+def test_the_cost_of_two_candidates_a_round_counts_the_second_optimum(tmp_path):
+    """The plan verifies the search's optimum a round on either route: the other route's cost
+    says what a second optimum's runs add."""
+    from rockcal.campaign.plan.screen import describe
+    from rockcal.campaign.runs.store import RunStore
+
+    campaign = parse_campaign(UCS_ONLY.replace("ucs_MPa = 40.0", "ucs_MPa = 40.0\npackings = 3"), tmp_path)
+    [cost] = [line for line in describe(campaign, RunStore(tmp_path / "out"), workers=2) if line.startswith("cost: ")]
+    ours, other = cost.split("; ")
+    assert " when a round verifies" not in ours
+    planned, most = (int(n) for n in other.split("about ")[1].split(" when")[0].split(", "))
+    assert other.startswith("2 candidates a round: ") and most == planned + 3  # a point on 3 packings
+
+
 def test_a_quick_look_compares_with_the_other_route_at_its_own_resolution(tmp_path):
     quick = quick_look(parse_campaign(UCS_ONLY.replace("rmin_mm = 0.4", "rmin_mm = 0.2") + BEAM, tmp_path))
     assert route_of(quick).other.specimen.rmin_mm == quick.specimen.rmin_mm == 0.4

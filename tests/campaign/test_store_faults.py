@@ -47,10 +47,13 @@ def out(finished, tmp_path):
     return tmp_path / "out"
 
 
-def rockcal(*args, cwd=None):
-    run = subprocess.run([sys.executable, "-m", "rockcal", *map(str, args)], capture_output=True, text=True,
-                         timeout=600, cwd=cwd)
-    return run.returncode, run.stderr
+@pytest.fixture
+def rockcal(cli):
+    """`rockcal ARGS` in this process: its exit code and stderr."""
+    def run(*args):
+        done = cli(*args)
+        return done.returncode, done.stderr
+    return run
 
 
 def assert_one_line(code, stderr, start):
@@ -108,7 +111,7 @@ SPOILS = {
 
 @pytest.mark.parametrize("command", ["resume", "report", "export"])
 @pytest.mark.parametrize("spoil, says", SPOILS.values(), ids=SPOILS.keys())
-def test_a_damaged_store_is_one_line_and_left_as_it_was(spoil, says, command, out, finished):
+def test_a_damaged_store_is_one_line_and_left_as_it_was(spoil, says, command, out, finished, rockcal):
     store = out / STORE_NAME
     spoil(store, finished[2])
     before = sha(store)
@@ -118,13 +121,13 @@ def test_a_damaged_store_is_one_line_and_left_as_it_was(spoil, says, command, ou
     assert sha(store) == before
 
 
-def test_a_stored_run_without_a_targeted_response_is_one_line_on_resume(out, finished):
+def test_a_stored_run_without_a_targeted_response_is_one_line_on_resume(out, finished, rockcal):
     spoil_run("responses", '{"E_GPa": 20.0}')(out / STORE_NAME, finished[2])
     code, stderr = rockcal(*commands(out)["resume"])
     assert_one_line(code, stderr, "--out: a stored UCS run lacks its response ucs_MPa, a target of this campaign")
 
 
-def test_out_below_a_file_is_one_line(tmp_path):
+def test_out_below_a_file_is_one_line(tmp_path, rockcal):
     (tmp_path / "campaign.toml").write_text(CAMPAIGN)
     (tmp_path / "file").write_text("not a folder")
     code, stderr = rockcal("calibrate", tmp_path / "campaign.toml", "--out", tmp_path / "file" / "out")
@@ -150,7 +153,7 @@ def test_copying_runs_sqlite_alone_after_a_kill_keeps_the_runs(tmp_path):
     store.close()
 
 
-def test_a_symbolic_link_in_out_is_replaced_not_followed(out, tmp_path):
+def test_a_symbolic_link_in_out_is_replaced_not_followed(out, tmp_path, rockcal):
     victim = tmp_path / "victim.txt"
     victim.write_text("precious")
     for name in ("report.html", "record.json", "range_analysis.png"):
@@ -163,7 +166,7 @@ def test_a_symbolic_link_in_out_is_replaced_not_followed(out, tmp_path):
     assert not (out / "record.json").is_symlink()
 
 
-def test_a_symbolic_link_as_the_store_is_refused(out, tmp_path):
+def test_a_symbolic_link_as_the_store_is_refused(out, tmp_path, rockcal):
     real = tmp_path / "elsewhere.sqlite"
     shutil.move(out / STORE_NAME, real)
     (out / STORE_NAME).symlink_to(real)
@@ -189,7 +192,7 @@ def fill(disk, leave: int) -> None:
         f.write(b"\0" * max(0, free - leave))
 
 
-def test_a_full_disk_is_one_line_and_leaves_the_old_report_whole(out, small_disk):
+def test_a_full_disk_is_one_line_and_leaves_the_old_report_whole(out, small_disk, rockcal):
     target = small_disk / "out"
     shutil.copytree(out, target)
     shutil.copy(out.parent / "campaign.toml", small_disk / "campaign.toml")
@@ -202,7 +205,7 @@ def test_a_full_disk_is_one_line_and_leaves_the_old_report_whole(out, small_disk
     assert sorted(p.name for p in target.iterdir()) == sorted(p.name for p in out.iterdir())  # no temp files
 
 
-def test_a_disk_that_fills_mid_campaign_is_one_line_and_the_store_stays_whole(small_disk):
+def test_a_disk_that_fills_mid_campaign_is_one_line_and_the_store_stays_whole(small_disk, rockcal):
     (small_disk / "campaign.toml").write_text(CAMPAIGN)
     fill(small_disk, 300 * 1024)
     out = small_disk / "out"
@@ -231,7 +234,7 @@ def read_only_disk(out, tmp_path):
     subprocess.run(["umount", "-l", str(mount)], check=True)
 
 
-def test_a_read_only_out_is_one_line(read_only_disk):
+def test_a_read_only_out_is_one_line(read_only_disk, rockcal):
     out = read_only_disk / "out"
     for args, start in ((commands(out)["resume"], "--out: "), (["report", out], "OUT: "),
                         (["calibrate", read_only_disk / "campaign.toml", "--out", read_only_disk / "new"], "--out: ")):

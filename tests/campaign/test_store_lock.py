@@ -62,17 +62,16 @@ def calibrate(config, out, *args, stderr=subprocess.PIPE):
                              "--workers", "1", *args], stdout=subprocess.PIPE, stderr=stderr, text=True)
 
 
-def test_a_second_rockcal_on_a_held_store_is_refused_in_one_line(tmp_path):
+def test_a_second_rockcal_on_a_held_store_is_refused_in_one_line(tmp_path, cli):
     config = tmp_path / "campaign.toml"
     config.write_text(CAMPAIGN)
     out = tmp_path / "out"
     out.mkdir()
     RunStore(out).close()
     before = (out / "runs.sqlite").read_bytes()
-    with store_lock(out):
+    with store_lock(out):  # a lock is an open file's: the command's own open of it is refused too
         for command in (["calibrate", config, "--out", out, "--resume"], ["report", out]):
-            run = subprocess.run([sys.executable, "-m", "rockcal", *map(str, command)], capture_output=True,
-                                 text=True, timeout=300)
+            run = cli(*command)
             assert run.returncode == 2, run.stderr
             assert len(run.stderr.splitlines()) == 1 and "Traceback" not in run.stderr
             field = "--out" if command[0] == "calibrate" else "OUT"
@@ -113,6 +112,7 @@ def stored_runs(store) -> int:
         return 0
 
 
+@pytest.mark.slow  # campaigns in new processes, killed
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM, signal.SIGINT], ids=["KILL", "TERM", "INT"])
 def test_a_killed_holder_leaves_its_store_to_the_waiter(sig, uninterrupted, tmp_path):
     config, expected = uninterrupted

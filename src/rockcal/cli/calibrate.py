@@ -191,7 +191,13 @@ class _stage_progress:
     stderr. The campaign's bar advances by the expected wall time of each run done
     (`plan.stage_times`: a full-size beam weighs more than a coarse sensitivity run), so its
     ETA, the rate over the last 10 minutes, holds from the first stage on; it shows the runs
-    done of those planned."""
+    done of those planned (`plan.stage_runs`, the first screen's count).
+
+    A stage's runs are those planned, or more when its batches have more to run (a
+    verification round that verifies a second optimum, another round): the counts only grow.
+    A run the store held when its batch began counts toward the stage's planned runs, never
+    beyond them: it may be a run of an earlier stage (the identified point's first packing is
+    its verification run), so a campaign as planned ends at the count the first screen gave."""
 
     def __init__(self, quiet: bool, planned_runs: dict[str, int], times: dict[str, tuple[int, float]]):
         self.bar = _Bars(TextColumn("{task.description:<23}"), BarColumn(bar_width=16),
@@ -203,7 +209,8 @@ class _stage_progress:
         self.run_s = {stage: seconds / runs for stage, (runs, seconds) in times.items() if runs}
         self.campaign = self.bar.add_task("campaign (planned runs)", total=round(sum(s for _, s in times.values())),
                                           count=f"0/{sum(planned_runs.values())}")
-        self.runs: dict[str, tuple[int, int, int]] = {}  # stage: (done when begun, done, total)
+        # stage: its batches (a verification round each), each [runs held when it began, done, total]
+        self.batches: dict[str, list[list[int]]] = {}
         self.tasks: dict[str, int] = {}
         self.began: dict[str, float] = {}  # when each stage began (time.perf_counter)
 
@@ -223,21 +230,38 @@ class _stage_progress:
             self.began[stage] = time.perf_counter()
             self.tasks[stage] = self.bar.add_task(stage, total=total, count="")
             self.to_do.pop(stage, None)
-            self.runs[stage] = (done, done, total)  # the runs done at once came from the store
-        self.bar.update(self.tasks[stage], completed=done, total=total, count=f"{done}/{total}")
-        if stage in self.planned:
-            self.runs[stage] = (self.runs[stage][0], done, total)
-            self._update_campaign()
+        if stage not in self.planned:  # not forward runs (the intervals' draws)
+            self.bar.update(self.tasks[stage], completed=done, total=total, count=f"{done}/{total}")
+            return
+        batches = self.batches.setdefault(stage, [])
+        # a batch counts up to its total: a count that falls back or a new total is the next one
+        if not batches or done < batches[-1][1] or total != batches[-1][2]:
+            batches.append([done, done, total])  # the runs done at once came from the store
+        batches[-1][1] = done
+        runs, left = self._runs(stage)
+        self.bar.update(self.tasks[stage], completed=runs - left, total=runs, count=f"{runs - left}/{runs}")
+        self._update_campaign()
+
+    def _runs(self, stage: str) -> tuple[int, int]:
+        """A begun stage's runs and those still to do: the planned runs, or its first batch's
+        runs to do if more, with the runs to do of its later batches."""
+        to_do = [total - held for held, _, total in self.batches[stage]]
+        left = sum(total - done for _, done, total in self.batches[stage])
+        return max(self.planned[stage], to_do[0]) + sum(to_do[1:]), left
 
     def _update_campaign(self) -> None:
         run_s = self.run_s.get
-        spent = sum((done - begun) * run_s(stage, 0.0) for stage, (begun, done, _) in self.runs.items())
-        left = sum((total - done) * run_s(stage, 0.0) for stage, (_, done, total) in self.runs.items()) \
+        spent = sum((done - held) * run_s(stage, 0.0)
+                    for stage, batches in self.batches.items() for held, done, _ in batches)
+        left = sum((total - done) * run_s(stage, 0.0)
+                   for stage, batches in self.batches.items() for _, done, total in batches) \
             + sum(runs * run_s(stage, 0.0) for stage, runs in self.to_do.items())
-        done = sum(done for _, done, _ in self.runs.values())
+        counts = [self._runs(stage) for stage in self.batches]
+        done = sum(runs - to_do for runs, to_do in counts)
+        planned = sum(runs for runs, _ in counts) + sum(n for stage, n in self.planned.items()
+                                                         if stage not in self.batches)
         # whole seconds: a new total resets the bar's rate (rich), so only a real change makes one
-        self.bar.update(self.campaign, completed=spent, total=round(spent + left),
-                        count=f"{done}/{max(sum(self.planned.values()), done)}")
+        self.bar.update(self.campaign, completed=spent, total=round(spent + left), count=f"{done}/{planned}")
 
 
 def summary(result: CalibrationResult) -> dict:

@@ -42,6 +42,7 @@ from rockcal.labtests.loading import (
 )
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.labtests.rig import Pins
+from rockcal.labtests.rig.pins import touching_centre_y
 from rockcal.materials import BondedParams, as_params
 
 PIN_RADIUS_MM = 5.0
@@ -63,6 +64,11 @@ DEFAULT_MAX_DISPLACEMENT_MM = 1.0
 # once. A run for K_IC alone may stop earlier (`stop_fraction` 0.9: P_max is certain once the
 # load has stayed below 0.9 of it for a flexural period).
 POST_PEAK_FRACTION = 0.3
+# A beam drawn for its crack runs on until the load has all but vanished: the crack has then
+# crossed the ligament but for the pin's compression zone (a granite beam's: about two thirds
+# of it at 0.3 of the peak, nearly all at 0.03, for about twice the steps of a run stopped at
+# 0.9). Its peak, and so its K_IC, is the one a run stopped earlier reads.
+RUN_ON_FRACTION = 0.03
 # The beam rings at its first flexural period after the pin touches it or slows down: the load
 # read at the pin swings about the one its travel gives (the pin touching a 220 x 50 mm beam
 # at R_min 0.5 mm: from 5.05 down to 1.24 kN/m in 1 960 steps, half a period, with no bond
@@ -156,6 +162,27 @@ def notched_beam(beam: Beam = Beam(), rmin_mm: float = 0.25, radius_ratio: float
     keep = outside_rectangle(spec.pos, spec.radius, middle - half, middle + half, -1.0,
                              1e-3 * beam.notch_mm)
     return keep_particles(spec, keep, label)
+
+
+def rig_circles(beam: Beam, pos: np.ndarray, radius: np.ndarray) -> list[tuple[float, float, float]]:
+    """The pin and the two supports touching the beam's grains `pos`, `radius` (m) before the
+    test, as circles (x, y, radius; m), as the test places them."""
+    r = 1e-3 * beam.pin_radius_mm
+    middle, half_span = 0.5e-3 * beam.length_mm, 0.5e-3 * beam.span_mm
+    pin = (middle, touching_centre_y(pos, radius, middle, r, above=True), r)
+    return [pin, *((x, touching_centre_y(pos, radius, x, r, above=False), r)
+                   for x in (middle - half_span, middle + half_span))]
+
+
+def crack_reach(beam: Beam, broken_xy: np.ndarray) -> float:
+    """How far up the ligament the crack has run: the highest broken bond (m) within half a
+    ligament of the notch line, as a fraction of the ligament (0 at the notch tip, 1 at the
+    beam's top)."""
+    ligament = 1e-3 * (beam.height_mm - beam.notch_mm)
+    near = broken_xy[np.abs(broken_xy[:, 0] - 0.5e-3 * beam.length_mm) <= 0.5 * ligament]
+    if not len(near):
+        return 0.0
+    return float(np.clip((near[:, 1].max() - 1e-3 * beam.notch_mm) / ligament, 0.0, 1.0))
 
 
 def wave_speed_m_per_s(params: BondedParams, porosity: float, mass_scale: float = 1.0) -> float:

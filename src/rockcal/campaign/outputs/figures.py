@@ -18,6 +18,7 @@ from rockcal.campaign.procedure.result import CalibrationResult
 from rockcal.campaign.runs.store import RunStore, StoredRun
 from rockcal.errors import InputError
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
+from rockcal.labtests.bending import beam_of, crack_reach, rig_circles
 from rockcal.labtests.kind import SeriesFigure
 from rockcal.labtests.registry import lab_test
 
@@ -139,8 +140,9 @@ def _series(keys: list[str], figure: SeriesFigure, title: str, result: Calibrati
     return None
 
 
-def _cracks(key: str, what: str, store: RunStore, path: Path) -> str | None:
-    """Broken bonds of a stored run over its undeformed specimen."""
+def _cracks(key: str, what: str, store: RunStore, path: Path, title: Callable | None = None) -> str | None:
+    """Broken bonds of a stored run over its undeformed specimen; `title(run, specimen)` gives
+    the figure's title and the rig's circles (default: what it is, no rig)."""
     run = store.run(key)
     if (why := _missing(run, what)) is not None:
         return why
@@ -149,8 +151,9 @@ def _cracks(key: str, what: str, store: RunStore, path: Path) -> str | None:
     specimen = specimen_of(run.kind, tuple(run.specimen.items()))
     modes = {"tension": run.cracks[run.cracks[:, 2] == BROKEN_TENSION, :2],
              "shear": run.cracks[run.cracks[:, 2] == BROKEN_SHEAR, :2]}
-    plots.crack_pattern(specimen.pos, specimen.radius, modes, path,
-                        f"{what[0].upper()}{what[1:]} —\nbroken bonds (undeformed specimen)")
+    heading, rig = (f"{what[0].upper()}{what[1:]} —\nbroken bonds (undeformed specimen)", ()) if title is None \
+        else title(run, specimen)
+    plots.crack_pattern(specimen.pos, specimen.radius, modes, path, heading, rig)
     return None
 
 
@@ -160,20 +163,39 @@ def _ucs_cracks(result: CalibrationResult, store: RunStore, path: Path) -> str |
 
 
 def _bending_cracks(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
-    """Crack pattern of the notched beam of the validation."""
-    if result.validation is None:
+    """Crack pattern of a notched beam at the identified parameters, with its pin and supports:
+    the validation's first packing (run on until its crack has crossed the ligament) or, where
+    K_IC is a target, the beam verified at the identified point."""
+    validation = result.validation
+    key = result.final_bending_run_key if validation is None else validation.run_key
+    if key is None:
         return NO_VALIDATION
-    return _cracks(result.validation.run_key, "notched-beam bending run", store, path)
+
+    def title(run: StoredRun, specimen) -> tuple[str, list]:
+        beam = beam_of(run.specimen)
+        seed = run.specimen["seed"]
+        which = f"packing {seed}" if validation is None else \
+            f"packing {seed}, the first of the validation's {len(validation.seeds)}"
+        broken = run.cracks[:, :2]
+        heading = (f"Notched beam at the identified parameters, {which}:\nK_IC "
+                   f"{run.responses['K_IC_MPa_sqrt_m']:.3g} MPa·m^0.5, peak {run.responses['P_max_kN_per_m']:.3g} "
+                   f"kN/m; the crack's tip at {crack_reach(beam, broken):.0%} of the ligament\n"
+                   f"broken bonds on the undeformed beam, with the pin and the supports")
+        return heading, rig_circles(beam, specimen.pos, specimen.radius)
+
+    return _cracks(key, "notched-beam bending run", store, path, title)
 
 
 def _bending_curve(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
     """Load-displacement curve of the validation's bending test."""
-    if result.validation is None:
+    key = result.final_bending_run_key if result.validation is None else result.validation.run_key
+    if key is None:
         return NO_VALIDATION
-    run = store.run(result.validation.run_key)
+    run = store.run(key)
     if (why := _missing(run, "notched-beam bending run")) is not None:
         return why
-    plots.load_displacement(run.curve, path, "Three-point bending at the identified parameters")
+    plots.load_displacement(run.curve, path, f"Three-point bending at the identified parameters, packing "
+                                             f"{run.specimen['seed']}")
     return None
 
 
@@ -185,7 +207,7 @@ def _parameter_draws(result: CalibrationResult, store: RunStore, path: Path) -> 
     return None
 
 
-NO_VALIDATION = "No bending validation in this campaign (no [targets.bending])."
+NO_VALIDATION = "No notched beam in this campaign (no [targets.bending])."
 Figure = Callable[[CalibrationResult, RunStore, Path], "str | None"]
 FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
     ("Range analysis", "range_analysis.png",
@@ -214,7 +236,8 @@ FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
     ("Crack pattern, UCS", "cracks_ucs.png",
      "Broken bonds: tension red, shear blue.", _ucs_cracks),
     ("Crack pattern, bending", "cracks_bending.png",
-     "Broken bonds: tension red, shear blue.", _bending_cracks),
+     "Broken bonds on the undeformed beam: tension red, shear blue; the pin and the supports dark grey.",
+     _bending_cracks),
     ("Load–displacement, bending", "bending_curve.png",
      "Load per metre of thickness against the load-point displacement.", _bending_curve),
 )

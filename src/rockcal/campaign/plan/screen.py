@@ -23,7 +23,8 @@ from rockcal.campaign.plan.engine_speed import busy_cores, probe_ms_per_step
 from rockcal.campaign.plan.route import route_of
 from rockcal.campaign.runs.retries import holds, retry_line
 from rockcal.campaign.procedure.points import packings_of
-from rockcal.campaign.procedure.steps import STEPS, planning_state, series_values
+from rockcal.campaign.procedure.steps import (STEPS, VERIFICATION, planning_state, series_values,
+                                              verified_at_most)
 from rockcal.campaign.runs.spec import RunSpec
 from rockcal.dem.specimen import packing_name, stored_packing
 from rockcal.labtests.kind import all_settings
@@ -66,7 +67,8 @@ def specimen_size(test: str, s: SpecimenSettings) -> tuple[str, int, float]:
 
 def planned_runs(campaign: Campaign) -> list[tuple[str, RunSpec]]:
     """(stage, run) of every run the procedure's steps ask for at the planning state, in the
-    order they run (the verification loop: its first round); a run asked for again is run once."""
+    order they run (the verification loop: its first round's search optimum); a run asked for
+    again is run once."""
     state, planned = planning_state(campaign), {}
     for step in STEPS:
         for spec in step.runs(state).specs:
@@ -219,12 +221,24 @@ def dry_run(campaign: Campaign, store, workers: int) -> dict:
             "ucs_runs_time": round(ucs_runs_time(campaign, store), 1), "route": _route_data(campaign, store, workers)}
 
 
-def ucs_runs_time(campaign: Campaign, store) -> float:
-    """The runs still to do on one worker, in UCS runs' time: what a route costs, whatever the
-    machine and the workers."""
+def ucs_runs_time(campaign: Campaign, store, stage: str | None = None) -> float:
+    """The runs still to do on one worker (of one stage, or all), in UCS runs' time: what a
+    route costs, whatever the machine and the workers."""
     sizes = {test: specimen_size(test, campaign.specimen) for test in campaign.tests()}
     ucs_s = run_times(campaign, store, sizes)[0][PRIMARY_TEST]
-    return sum(seconds for _, seconds in test_times(campaign, store).values()) / ucs_s
+    return sum(seconds for (of, _), (_, seconds) in test_times(campaign, store).items()
+               if stage in (None, of)) / ucs_s
+
+
+def _cost(campaign: Campaign, store) -> str:
+    """A route's cost in UCS runs' time, as planned (the search's optimum verified) and, where
+    a round verifies up to [acceptance] candidates, with the other optima's runs too: the
+    routes may differ only there."""
+    planned, candidates = ucs_runs_time(campaign, store), verified_at_most(campaign)
+    if candidates == 1:
+        return f"about {planned:.0f}"
+    most = planned + (candidates - 1) * ucs_runs_time(campaign, store, VERIFICATION)
+    return f"about {planned:.0f}, {most:.0f} when a round verifies {candidates} optima"
 
 
 def _route_data(campaign: Campaign, store, workers: int) -> dict | None:
@@ -260,9 +274,7 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
     lines = [
         "specimens: " + "; ".join(f"{text}, about {grains} grains" for text, grains, _ in sizes.values())
         + f" (R {s.rmin_mm:g} to {s.rmin_mm * s.radius_ratio:.3g} mm)",
-        "stages: " + ", ".join(f"{name} {n}" + _resolution(campaign, name)
-                               for name, n in stage_runs(campaign).items())
-        + f" (then more verifications if needed, at most {campaign.acceptance.max_dem_runs} UCS runs)"
+        "stages: " + _stages_text(campaign)
         + (f"; each parameter set runs {' and '.join(titles)}" if titles != [lab_test(PRIMARY_TEST).title] else ""),
         f"runs of this campaign already in the store: {sum(stage_runs(campaign).values()) - sum(runs.values())} "
         "(a run done is never run again)",
@@ -287,10 +299,35 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
                      f"still to do ({_duration(times[PRIMARY_TEST])} per UCS run on one worker: {basis})"
                      + _genesis(campaign))
         if route is not None:
-            lines.append(f"cost: the runs' time is about {ucs_runs_time(campaign, store):.0f} UCS runs' on this "
-                         f"route; {route.other_name}: about {ucs_runs_time(route.other, store):.0f} "
+            lines.append(f"cost: the runs' time is {_cost(campaign, store)} UCS runs' on this "
+                         f"route; {route.other_name}: {_cost(route.other, store)} "
                          f"({_duration(expected_s(route.other, store, workers))} here)")
     return lines
+
+
+def _stages_text(campaign: Campaign) -> str:
+    """The stages and their runs as planned, and what may add to them: a verification round
+    plans the search's optimum (the point it always verifies); it verifies up to [acceptance]
+    candidates - 1 more where the surrogate has other distinct optima, and more rounds follow
+    while no verified point passes."""
+    runs, candidates = stage_runs(campaign), verified_at_most(campaign)
+    listed = ", ".join(f"{name} {n}" + _resolution(campaign, name)
+                       + (" a round" + _other_optima(n, candidates) if name == VERIFICATION else "")
+                       for name, n in runs.items())
+    point = "run" if runs.get(VERIFICATION) == 1 else "runs"
+    others = "" if candidates == 1 else f"a second optimum's {point} and " if candidates == 2 else \
+        f"other optima's {point} and "
+    return (f"{listed}: {sum(runs.values())} runs, plus {others}more rounds if needed "
+            f"(at most {campaign.acceptance.max_dem_runs} UCS runs)")
+
+
+def _other_optima(point_runs: int, candidates: int) -> str:
+    """A verification round's runs where the surrogate has optima other than the search's."""
+    if candidates == 1:
+        return ""
+    if candidates == 2:
+        return f" ({2 * point_runs} when the surrogate has a second optimum)"
+    return f" (up to {candidates * point_runs} when the surrogate has other optima)"
 
 
 def _runs_text(campaign: Campaign, test: str) -> str:

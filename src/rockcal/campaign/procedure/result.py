@@ -215,6 +215,7 @@ class CalibrationResult(_Part):
     dem_run_keys: list[str]
     uncertainty: Uncertainty | None = _absent()
     final_ucs_run_key: str
+    final_bending_run_key: str | None = _absent()  # K_IC a target: the beam at the identified point
     # the runs at the identified point of each test run as a series (confined compression at
     # each confinement), on the campaign's packing; None: no such test
     series_runs: dict[str, list[str]] | None = _absent()

@@ -8,10 +8,11 @@ A step is a function of the results so far (`CampaignState`) that returns the fo
 and how to fold their results into the next state (`Runs`). `calibrate` passes the runs to
 the executor it is given (serial, process pool or Dask) and folds; the first screen
 (`rockcal.campaign.plan.screen`) asks the same steps for their runs at the planning state
-(`planning_state`), so what is planned is what runs. Each parameter set runs every
-lab test calibrated against (a test with a series, such as confined compression at several
-confinements, one run per value, folded by the test's `combine`), and their responses make one
-dict: the steps see one forward model whatever the tests behind it.
+(`planning_state`), so what is planned is what runs (but for a verification round's other
+optima and further rounds, which the first screen names: `verification_runs`). Each parameter
+set runs every lab test calibrated against (a test with a series, such as confined compression
+at several confinements, one run per value, folded by the test's `combine`), and their
+responses make one dict: the steps see one forward model whatever the tests behind it.
 
 Every forward run goes through the executor and its store, and every other step is seeded,
 so running a campaign again (after a kill, or to rebuild a report) gives the same answer and
@@ -38,6 +39,7 @@ from rockcal.campaign.procedure.final import KIC_TEST, checks_of, curve_fit_of, 
 from rockcal.inverse import RBFSurrogate, Objective, design, latin_hypercube, range_analysis
 from rockcal.inverse.multifidelity import CorrectedSurrogate
 from rockcal.inverse.surrogate import minimum_runs
+from rockcal.labtests.bending import RUN_ON_FRACTION
 from rockcal.labtests.registry import PRIMARY_TEST
 from rockcal.labtests.seeds import seed_list
 from rockcal.materials import DEFAULT_MATERIAL, material
@@ -51,6 +53,7 @@ Progress = Callable[[str, int, int], None]  # progress(stage, done, total)
 
 SAMPLES_AND_CHECKS = "samples and checks"  # the stage of the Latin hypercube runs and checks
 COARSE_SAMPLES = "coarse samples"  # the stage of the multi-fidelity search's coarse runs
+VERIFICATION = "verification"  # the stage of the verification loop's rounds
 # the stage of the runs at the identified point: the other packings and the validation tests
 PACKINGS_AND_VALIDATION = "packings and validation"
 
@@ -99,7 +102,7 @@ class CampaignState:
 
     def identified(self) -> dict[str, float]:
         if self.planning:
-            return dict(zip(self.names, _stand_ins(self.box, 1)[0]))
+            return dict(zip(self.names, _stand_in(self.box)))
         return dict(zip(self.names, self.iterations[self.best()].x))
 
 
@@ -151,8 +154,8 @@ def start(campaign: Campaign) -> CampaignState:
 def planning_state(campaign: Campaign) -> CampaignState:
     """The state every step plans its runs from before the campaign starts: the search box
     known before any run ([search] bounds, else every sensitivity factor's levels), with
-    stand-ins (`_stand_ins`) for the points a search finds: the first verification round's
-    optima and the identified point."""
+    a stand-in (`_stand_in`) for the point a search finds: the first verification round's
+    optimum, also the identified point."""
     levels = campaign.sensitivity.levels if campaign.sensitivity else {}
     bounds, fixed = search_space(campaign, list(levels))
     return replace(start(campaign), bounds=bounds, fixed=fixed, planning=True)
@@ -298,7 +301,10 @@ def verification_runs(state: CampaignState) -> Runs:
     the loop when a verified point is accepted, the budget is spent or nothing new was found."""
     campaign, names = state.campaign, state.names
     if state.planning:
-        points = [(campaign.specimen, dict(zip(names, x))) for x in _stand_ins(state.box, _wanted(state))]
+        # the plan counts the search's optimum, the one point every round verifies: the other
+        # candidates are verified only where the surrogate has other distinct optima
+        # (`_candidates`), and the first screen says so (`plan.screen`)
+        points = [(campaign.specimen, dict(zip(names, _stand_in(state.box))))]
         return Runs(point_specs(state, points, means=True), _not_folded)
     surrogate = _judged(state)
     objective = Objective(surrogate.predict, state.goals.targets, weights=state.goals.weights or None)
@@ -366,6 +372,12 @@ def _candidates(state: CampaignState, objective: Objective, surrogate: RBFSurrog
     return found
 
 
+def verified_at_most(campaign: Campaign) -> int:
+    """The points a verification round of the campaign verifies at most (the first screen's
+    wording): [acceptance] candidates, within the run budget."""
+    return _wanted(start(campaign))
+
+
 def _wanted(state: CampaignState) -> int:
     """The points a verification round verifies at most: [acceptance] candidates, within the
     run budget left."""
@@ -373,12 +385,11 @@ def _wanted(state: CampaignState) -> int:
     return max(1, min(state.campaign.acceptance.candidates, left))
 
 
-def _stand_ins(box: np.ndarray, n: int) -> np.ndarray:
-    """n distinct points on the box's diagonal, at golden-ratio steps so that none falls on a
-    design's level: where the planning state puts the points only a search finds (the
-    identified point is the first one verified)."""
-    fractions = (np.arange(1, n + 1) * GOLDEN) % 1.0
-    return _round_rows(box[:, 0] + fractions[:, None] * (box[:, 1] - box[:, 0]))
+def _stand_in(box: np.ndarray) -> np.ndarray:
+    """A point on the box's diagonal, at the golden ratio so that it falls on no design's
+    level: where the planning state puts the point only a search finds (the first round's
+    optimum, which is also the identified point)."""
+    return _round(box[:, 0] + GOLDEN * (box[:, 1] - box[:, 0]))
 
 
 def _not_folded(results, progress):
@@ -402,7 +413,7 @@ def final_runs(state: CampaignState) -> Runs:
     (the parameters' intervals); folded into the intervals, the curve fit and the checks."""
     campaign, identified = state.campaign, state.identified()
     validation = {test: [spec for s in validation_seeds(campaign, test) for spec in
-                         specs_of_test(state, test, campaign.specimen.model_copy(update={"seed": s}), identified)]
+                         specs_of_test(state, test, _validation_specimen(campaign, test, s), identified)]
                   for test in campaign.validation_tests()}
     packings = [(campaign.specimen.model_copy(update={"seed": s}), identified)
                 for s in packing_seeds(campaign)] if campaign.wants_uncertainty() else []
@@ -419,6 +430,16 @@ def final_runs(state: CampaignState) -> Runs:
         return replace(state, final=final)
 
     return Runs(specs, fold)
+
+
+def _validation_specimen(campaign: Campaign, test: str, seed: int) -> SpecimenSettings:
+    """The specimen of a validation run on packing `seed`: the campaign's; the first beam of
+    the K_IC validation runs on until its crack has crossed the ligament, for the report's
+    crack figure (its K_IC is the one it would read stopping earlier)."""
+    update = {"seed": seed}
+    if test == KIC_TEST and seed == campaign.specimen.seed:
+        update["stop_fraction"] = min(campaign.specimen.stop_fraction, RUN_ON_FRACTION)
+    return campaign.specimen.model_copy(update=update)
 
 
 def packing_seeds(campaign: Campaign) -> list[int]:
@@ -442,7 +463,7 @@ STEPS: tuple[Step, ...] = (
     Step("sensitivity", sensitivity_runs, specimen=lambda c: c.sensitivity_specimen()),
     Step(COARSE_SAMPLES, coarse_sample_runs, specimen=lambda c: c.coarse_specimen()),
     Step(SAMPLES_AND_CHECKS, sample_runs),
-    Step("verification", verification_runs, again=lambda state: not state.settled),
+    Step(VERIFICATION, verification_runs, again=lambda state: not state.settled),
     Step(PACKINGS_AND_VALIDATION, final_runs),
 )
 
@@ -453,6 +474,8 @@ def result_of(state: CampaignState) -> CalibrationResult:
     identified = state.identified()
     params, genesis = split_genesis(state.fixed | identified)
     final_ucs_run_key = spec_of(state, PRIMARY_TEST, campaign.specimen, identified).key
+    final_bending_run_key = spec_of(state, KIC_TEST, campaign.specimen, identified).key \
+        if KIC_TEST in goals.tests else None
     series_runs = {test: [spec.key for spec in specs_of_test(state, test, campaign.specimen, identified)]
                    for test in campaign.tests() if series_values(campaign, test)}
     return CalibrationResult(
@@ -468,7 +491,7 @@ def result_of(state: CampaignState) -> CalibrationResult:
         verified=state.iterations[best].verified, errors=state.iterations[best].errors,
         tolerance=campaign.acceptance.tolerance, objective=state.objective, dem_runs=len(state.dem_runs),
         best_iteration=best, dem_run_keys=list(state.dem_runs), final_ucs_run_key=final_ucs_run_key,
-        series_runs=series_runs or None,
+        final_bending_run_key=final_bending_run_key, series_runs=series_runs or None,
         verdict=None if state.accepted is not None else _verdict(state), **state.final)
 
 
