@@ -1,29 +1,182 @@
 """rockcal from Python (a notebook, a script): `calibrate` runs a campaign as `rockcal
-calibrate` does, without its screen; `simulate` runs one virtual lab test as `rockcal simulate
-<test>` does, and returns its result. Bad input raises `rockcal.errors.InputError` naming the
-key, as the command's one-line errors do."""
+calibrate` does, without its screen, and returns a `Calibration` (its result, figures and
+export); `simulate` runs one virtual lab test as `rockcal simulate <test>` does, and returns its
+result. Bad input raises `rockcal.errors.InputError` naming the key, as the command's one-line
+errors do."""
 
 from __future__ import annotations
 
+import html
+import os
+from base64 import b64encode
+from dataclasses import dataclass
+from numbers import Integral, Real
 from pathlib import Path
 
+from rockcal.errors import InputError
 
-def calibrate(campaign: str | Path | None = None, *, out: str | Path | None = None, quick: bool = False,
-              resume: bool = False, workers: int = 0, scheduler: str | None = None, threads: int | None = None):
-    """Calibrate a campaign file (or an embedded rock by name: "granite", "ldb"; None: the
-    granite) in `out` (default runs/<rock name>, runs/<rock name>-quick with `quick`), going on
-    with its stored runs if `resume`; returns the `CalibrationResult` (its `identified`
-    parameters, `verified` responses, `errors`...), also written to OUT/record.json with a
-    report. `workers`, `scheduler` and `threads` are `rockcal calibrate`'s options."""
+EXPORT_FILES = {"pfc-fish": "mpParams.p2dat", "pfc-python": "mpParams.py", "json": "mpParams.json"}
+
+
+@dataclass(frozen=True)
+class Figure:
+    """One of the report's figures, as its PNG file; a notebook shows it."""
+
+    title: str
+    path: Path
+
+    def _repr_png_(self) -> bytes:
+        return self.path.read_bytes()
+
+
+@dataclass(frozen=True, repr=False)
+class Calibration:
+    """What `calibrate` returns: the campaign's `result` (a `CalibrationResult`, whose fields
+    read through: `calibration.identified`, `verified`, `errors`, `accepted`...), its output
+    folder `out`, the report's `figures`, and `export`. A notebook shows its summary and
+    figures."""
+
+    result: object  # rockcal.campaign.procedure.result.CalibrationResult
+    out: Path
+
+    def __getattr__(self, name: str):
+        if name.startswith("_") or "result" not in self.__dict__:
+            raise AttributeError(name)
+        return getattr(self.result, name)
+
+    def __dir__(self):
+        return sorted({*super().__dir__(), *type(self.result).model_fields})
+
+    @property
+    def figures(self) -> dict[str, Figure]:
+        """The report's figures written to OUT, by their file's name without .png
+        ("stress_strain", "cracks_ucs", ...); those the campaign left out are not here."""
+        from rockcal.campaign.outputs.figures import figures_of
+
+        return {name.removesuffix(".png"): Figure(title, self.out / name)
+                for title, name, _, _ in figures_of(self.result) if (self.out / name).is_file()}
+
+    def export(self, format: str = "pfc-fish", to: str | Path | None = None) -> Path:
+        """Write the identified parameters under PFC FISHTank's names, as `rockcal export OUT
+        --format FORMAT --to TO` does: "pfc-fish" (a FISHTank mpParams data file), "pfc-python"
+        (a PFC Python script) or "json"; `to` by default OUT/mpParams.p2dat (.py, .json).
+        Returns the path written."""
+        from rockcal.campaign.outputs.export import WRITERS
+        from rockcal.cli.export import _calibration
+        from rockcal.output_files import write_atomic
+
+        if format not in WRITERS:
+            raise InputError("format", f"one of {', '.join(WRITERS)}, got {format!r}")
+        path = self.out / EXPORT_FILES[format] if to is None else Path(to)
+        text = WRITERS[format](_calibration(self.out))
+        try:
+            return write_atomic(path, text)
+        except OSError as exc:
+            raise InputError("to", f"cannot write {path}: {exc.strerror}") from None
+
+    def __repr__(self) -> str:
+        r = self.result
+        found = ", ".join(f"{name} {value:.4g}" for name, value in r.identified.items())
+        return f"<Calibration of {r.rock}: {_verdict(r)}; identified {found}; in {self.out}>"
+
+    def _repr_html_(self) -> str:
+        r = self.result
+        e = html.escape
+        rows = "".join(f"<tr><td>{e(name)}</td><td>{value:.4g}</td><td></td><td></td></tr>"
+                       for name, value in r.identified.items())
+        rows += "".join(f"<tr><td>{e(name)}</td><td>{_num(r.verified.get(name))}</td><td>{target:.4g}</td>"
+                        f"<td>{_pct(r.errors.get(name))}</td></tr>" for name, target in r.targets.items())
+        figures = "".join(f"<figure><img alt='{e(f.title)}' src='data:image/png;base64,"
+                          f"{b64encode(f._repr_png_()).decode()}'><figcaption>{e(f.title)}</figcaption></figure>"
+                          for f in self.figures.values())
+        note = f"<p><b>{e(r.quick_look)}</b></p>" if r.quick_look else ""
+        return (f"<h3>Calibration of {e(r.rock)}: {e(_verdict(r))}</h3>{note}<table><tr><th></th>"
+                f"<th>value</th><th>target</th><th>error</th></tr>{rows}</table>"
+                f"<p>report: {e(str(self.out / 'report.html'))}</p>{figures}")
+
+
+def _verdict(result) -> str:
+    return f"{'accepted' if result.accepted else 'not accepted'}, {result.dem_runs} DEM runs"
+
+
+def _num(value) -> str:
+    return "—" if value is None else f"{value:.4g}"
+
+
+def _pct(value) -> str:
+    return "—" if value is None else f"{100 * value:+.1f} %"
+
+
+def calibrate(campaign: str | Path | dict | None = None, *, out: str | Path | None = None, quick: bool = False,
+              resume: bool = False, workers: int = 0, scheduler: str | None = None,
+              threads: int | None = None) -> Calibration:
+    """Calibrate a campaign file, a dict of its tables (`{"targets": {"ucs": {...}}, "specimen":
+    {...}}`; a relative curve path taken from the current folder), or an embedded rock by name
+    ("granite", "ldb"; None: the granite) in `out` (default runs/<rock name>,
+    runs/<rock name>-quick with `quick`), going on with its stored runs if `resume`; returns the
+    `Calibration`, also written to OUT/record.json with a report. `workers`, `scheduler` and
+    `threads` are `rockcal calibrate`'s options."""
     from rockcal.campaign.job import campaign_of, run_in_folder
     from rockcal.campaign.runs import MAX_WORKERS
-    from rockcal.errors import InputError
 
     if not 0 <= workers <= MAX_WORKERS:
         raise InputError("workers", f"must be in [0, {MAX_WORKERS}], got {workers}")
-    chosen, text, note, out = campaign_of(campaign, quick, None if out is None else Path(out))
+    out = None if out is None else Path(out)
+    if isinstance(campaign, dict):
+        chosen, text, note, out = _campaign_of_text(toml_text(campaign), quick, out)
+    else:
+        chosen, text, note, out = campaign_of(campaign, quick, out)
     how = {"workers": workers, "scheduler": scheduler, "threads": threads}
-    return run_in_folder(chosen, text, out, note=note, resume=resume, how=how)[0]
+    return Calibration(run_in_folder(chosen, text, out, note=note, resume=resume, how=how)[0], out)
+
+
+def _campaign_of_text(text: str, quick: bool, out: Path | None):
+    """`campaign.job.campaign_of` for a campaign's TOML text, relative paths from the current
+    folder."""
+    from rockcal.campaign.input.config import parse_campaign, quick_look, quick_look_note
+    from rockcal.campaign.job import default_out
+    from rockcal.campaign.plan.sizes import check_campaign_sizes
+
+    campaign = parse_campaign(text, Path.cwd())
+    note = None
+    if quick:
+        campaign = quick_look(campaign)
+        note = quick_look_note(campaign)
+    check_campaign_sizes(campaign)
+    return campaign, text, note, out if out is not None else default_out(campaign.rock.name, quick)
+
+
+def toml_text(tables: dict) -> str:
+    """A campaign's tables as the TOML text of its file (kept in the run store as the file's
+    is); InputError naming a key whose value a campaign file cannot hold."""
+    import tomli_w
+
+    if not isinstance(tables, dict):
+        raise InputError("CONFIG", f"a dict of the campaign file's tables, got {type(tables).__name__}")
+    return tomli_w.dumps(_plain(tables, []))
+
+
+def _plain(value, path: list[str]):
+    """`value` as the Python TOML writes (numpy numbers and paths as numbers and text); the
+    numbers TOML cannot check (inf, nan, beyond 64 bits) are refused with the file's own
+    messages, when the text is read."""
+    if isinstance(value, dict):
+        for name in value:
+            if not isinstance(name, str):
+                raise InputError(".".join([*path, str(name)]), f"keys are text, got {type(name).__name__}")
+        return {name: _plain(v, [*path, name]) for name, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v, [*path[:-1], f"{path[-1]}[{i}]"]) for i, v in enumerate(value)]
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, Integral):
+        return int(value)
+    if isinstance(value, Real):
+        return float(value)
+    if isinstance(value, (str, os.PathLike)):
+        return os.fspath(value)
+    got = "None: leave the key out" if value is None else type(value).__name__
+    raise InputError(".".join(map(str, path)), f"a number, text, true/false, list or table, got {got}")
 
 
 def simulate(test: str, params: dict | None = None, *, model: str | None = None, packing: str = "random",
