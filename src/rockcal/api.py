@@ -116,34 +116,20 @@ def calibrate(campaign: str | Path | dict | None = None, *, out: str | Path | No
     runs/<rock name>-quick with `quick`), going on with its stored runs if `resume`; returns the
     `Calibration`, also written to OUT/record.json with a report. `workers`, `scheduler` and
     `threads` are `rockcal calibrate`'s options."""
-    from rockcal.campaign.job import campaign_of, run_in_folder
+    from rockcal.campaign.input.config import parse_campaign
+    from rockcal.campaign.job import as_run, campaign_of, run_in_folder
     from rockcal.campaign.runs import MAX_WORKERS
 
     if not 0 <= workers <= MAX_WORKERS:
         raise InputError("workers", f"must be in [0, {MAX_WORKERS}], got {workers}")
     out = None if out is None else Path(out)
     if isinstance(campaign, dict):
-        chosen, text, note, out = _campaign_of_text(toml_text(campaign), quick, out)
+        text = toml_text(campaign)
+        chosen, text, note, out = as_run(parse_campaign(text, Path.cwd()), text, quick, out)
     else:
         chosen, text, note, out = campaign_of(campaign, quick, out)
     how = {"workers": workers, "scheduler": scheduler, "threads": threads}
     return Calibration(run_in_folder(chosen, text, out, note=note, resume=resume, how=how)[0], out)
-
-
-def _campaign_of_text(text: str, quick: bool, out: Path | None):
-    """`campaign.job.campaign_of` for a campaign's TOML text, relative paths from the current
-    folder."""
-    from rockcal.campaign.input.config import parse_campaign, quick_look, quick_look_note
-    from rockcal.campaign.job import default_out
-    from rockcal.campaign.plan.sizes import check_campaign_sizes
-
-    campaign = parse_campaign(text, Path.cwd())
-    note = None
-    if quick:
-        campaign = quick_look(campaign)
-        note = quick_look_note(campaign)
-    check_campaign_sizes(campaign)
-    return campaign, text, note, out if out is not None else default_out(campaign.rock.name, quick)
 
 
 def toml_text(tables: dict) -> str:

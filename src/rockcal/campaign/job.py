@@ -30,10 +30,16 @@ def campaign_of(config, quick: bool, out: Path | None):
     """The campaign of a file or an embedded rock (`config`), as a quick look if `quick`, its
     specimens within the grain limit: (campaign, its file's text, the quick look's note or
     None, the output folder: `out` or the default)."""
-    from rockcal.campaign.input.config import load_campaign, quick_look, quick_look_note
+    from rockcal.campaign.input.config import load_campaign
+
+    return as_run(*load_campaign(config), quick, out)
+
+
+def as_run(campaign, text: str, quick: bool, out: Path | None):
+    """`campaign_of` for a campaign read from its file's `text`."""
+    from rockcal.campaign.input.config import quick_look, quick_look_note
     from rockcal.campaign.plan.sizes import check_campaign_sizes
 
-    campaign, text = load_campaign(config)
     note = None
     if quick:
         campaign = quick_look(campaign)
