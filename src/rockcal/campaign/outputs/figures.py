@@ -174,8 +174,9 @@ def _bending_cracks(result: CalibrationResult, store: RunStore, path: Path) -> s
     def title(run: StoredRun, specimen) -> tuple[str, list]:
         beam = beam_of(run.specimen)
         seed = run.specimen["seed"]
-        which = f"packing {seed}" if validation is None else \
-            f"packing {seed}, the first of the validation's {len(validation.seeds)}"
+        beams = 0 if validation is None else len(validation.seeds)
+        which = f"packing {seed}" + ("" if beams == 0 else ", the validation's beam" if beams == 1
+                                     else f", the first of the validation's {beams} beams")
         broken = run.cracks[:, :2]
         heading = (f"Notched beam at the identified parameters, {which}:\nK_IC "
                    f"{run.responses['K_IC_MPa_sqrt_m']:.3g} MPa·m^0.5, peak {run.responses['P_max_kN_per_m']:.3g} "
