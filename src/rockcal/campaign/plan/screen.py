@@ -221,23 +221,31 @@ def dry_run(campaign: Campaign, store, workers: int) -> dict:
             "ucs_runs_time": round(ucs_runs_time(campaign, store), 1), "route": _route_data(campaign, store, workers)}
 
 
-def ucs_runs_time(campaign: Campaign, store, stage: str | None = None) -> float:
-    """The runs still to do on one worker (of one stage, or all), in UCS runs' time: what a
-    route costs, whatever the machine and the workers."""
+def ucs_runs_time(campaign: Campaign, store) -> float:
+    """The runs still to do on one worker, in UCS runs' time: what a route costs, whatever the
+    machine and the workers."""
+    return sum(stage_ucs_runs_time(campaign, store).values())
+
+
+def stage_ucs_runs_time(campaign: Campaign, store) -> dict[str, float]:
+    """`ucs_runs_time` of each stage."""
     sizes = {test: specimen_size(test, campaign.specimen) for test in campaign.tests()}
     ucs_s = run_times(campaign, store, sizes)[0][PRIMARY_TEST]
-    return sum(seconds for (of, _), (_, seconds) in test_times(campaign, store).items()
-               if stage in (None, of)) / ucs_s
+    stages: dict[str, float] = {}
+    for (stage, _), (_, seconds) in test_times(campaign, store).items():
+        stages[stage] = stages.get(stage, 0.0) + seconds / ucs_s
+    return stages
 
 
 def _cost(campaign: Campaign, store) -> str:
     """A route's cost in UCS runs' time, as planned (the search's optimum verified) and, where
     a round verifies up to [acceptance] candidates, with the other optima's runs too: the
     routes may differ only there."""
-    planned, candidates = ucs_runs_time(campaign, store), verified_at_most(campaign)
+    stages, candidates = stage_ucs_runs_time(campaign, store), verified_at_most(campaign)
+    planned = sum(stages.values())
     if candidates == 1:
         return f"about {planned:.0f}"
-    most = planned + (candidates - 1) * ucs_runs_time(campaign, store, VERIFICATION)
+    most = planned + (candidates - 1) * stages.get(VERIFICATION, 0.0)
     return f"about {planned:.0f}, {most:.0f} when a round verifies {candidates} optima"
 
 
