@@ -118,6 +118,16 @@ def test_version(rockcal):
     assert run.returncode == 0 and run.stdout.strip() == f"rockcal {package.__version__}"
 
 
+def test_commands_are_added_once_however_often_main_runs(rockcal):
+    """A process may run `main` many times (a notebook, the tests): each command is added once."""
+    from rockcal.cli.app import app
+
+    for _ in range(3):
+        assert rockcal("--version").returncode == 0
+    names = [c.name for c in app.registered_commands] + [g.name for g in app.registered_groups]
+    assert len(names) == len(set(names)) == 7
+
+
 
 # `rockcal simulate` checks every input before the run: bad input is one line naming the option
 # and exit 2 (a confinement the servo cannot hold, an empty or repeated entry in a list, a grip

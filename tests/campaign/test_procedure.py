@@ -1,6 +1,7 @@
 """The procedure's logic on a synthetic forward model (no DEM): failed sensitivity runs are
 filled in and the campaign goes on, and the loop recovers the model's known parameters."""
 
+import numpy as np
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
@@ -259,3 +260,62 @@ rmin_mm = 0.5
     assert len(later[0]) == 12 + 2  # the samples and the surrogate's checks: one batch
     assert record.samples.reused_sensitivity_runs is None and record.accepted
     assert record.sensitivity.rmin_mm == 0.5
+
+
+FIRST_UCS = """
+[targets.ucs]
+E_GPa = 50.0
+nu = 0.2
+ucs_MPa = 100.0
+[targets.bending]
+K_IC_MPa_sqrt_m = 1.0
+[validation]
+tests = []
+[search]
+bounds = { E_c = [15, 35], kn_ks = [1, 3], sigma_c = [20, 50] }
+fixed = { tau_c = 90, mu = 0.5 }
+[surrogate]
+samples = 8
+checks = 1
+[optimizer]
+iterations = 40
+[acceptance]
+tolerance = 0.03
+candidates = 1
+"""
+
+
+def wavy_ucs(kind: str, p: dict) -> dict:
+    """A stand-in whose UCS wiggles 10 % over the box (as a packing's does), so that the
+    surrogate's first optimum misses it; K_IC follows sigma_c."""
+    if kind == "bending":
+        return {"K_IC_MPa_sqrt_m": 0.03 * p["sigma_c"], "P_max_kN_per_m": 1.0, "displacement_at_peak_mm": 0.1}
+    wiggle = 1 + 0.1 * np.sin(0.8 * p["sigma_c"]) * np.sin(30 * p["kn_ks"])
+    return {"E_GPa": 2 * p["E_c"], "nu": 0.1 * p["kn_ks"], "ucs_MPa": 3 * p["sigma_c"] * wiggle}
+
+
+def test_ucs_first_runs_a_beam_only_where_the_ucs_test_met_its_targets(tmp_path):
+    """[acceptance] ucs_first: a round runs its point's UCS test, then the beam only where E, nu
+    and UCS are within the tolerance; a point that missed is recorded with its UCS responses
+    (no K_IC), its beam never run, and the campaign accepts the point it accepts without."""
+    plain, first = ByTest(), ByTest()
+    without = calibrate(parse_campaign(FIRST_UCS, tmp_path), plain)
+    record = calibrate(parse_campaign(FIRST_UCS + "ucs_first = true\n", tmp_path), first)
+    assert record.accepted and record.identified == without.identified
+    missed, accepted = record.iterations
+    assert set(missed.errors) == {"E_GPa", "nu", "ucs_MPa"} and "K_IC_MPa_sqrt_m" not in missed.verified
+    assert max(abs(e) for e in missed.errors.values()) > record.tolerance
+    assert len(accepted.errors) == 4 and all(abs(e) <= record.tolerance for e in accepted.errors.values())
+    assert first.calls[-3:] == [["ucs"], ["ucs"], ["ucs", "bending"]]  # the last UCS run from the store
+    assert plain.calls[-2:] == [["ucs", "bending"], ["ucs", "bending"]]
+
+
+class ByTest(Workers):
+    """Workers over `wavy_ucs` that keep the tests of each call of `run`."""
+
+    def __init__(self):
+        super().__init__(1)
+
+    def run(self, specs, progress=None):
+        self.calls.append([spec.kind for spec in specs])
+        return [RunResult("ok", wavy_ucs(spec.kind, dict(spec.params)), None, 0.0) for spec in specs]

@@ -41,3 +41,20 @@ def test_one_high_fidelity_run_scales_the_low_fidelity_surrogate():
     assert surrogate.predict(x_high[0])["y"] == pytest.approx(0.9 * _low(x_high)["y"][0], rel=1e-9)
     probe = latin_hypercube(BOX, 50, seed=3)
     assert surrogate.predict(probe)["y"] == pytest.approx(0.9 * surrogate.low.predict(probe)["y"], rel=1e-4)
+
+
+def test_a_response_not_measured_at_a_run_is_corrected_by_the_other_runs():
+    """NaN marks a high-fidelity response a run did not measure: ρ and δ of that response are
+    those of the other runs, to the bit."""
+    x_low = latin_hypercube(BOX, 40, seed=1)
+    low = RBFSurrogate(x_low, {"y": _low(x_low)["y"], "z": _low(x_low)["y"]}, BOX)
+    x_high = latin_hypercube(BOX, 5, seed=2)
+    y = 0.8 * _low(x_high)["y"] + 0.1 * x_high[:, 1]
+    gapped = y.copy()
+    gapped[2] = np.nan
+    keep = [0, 1, 3, 4]
+    probe = latin_hypercube(BOX, 30, seed=3)
+    both = CorrectedSurrogate(low, x_high, {"y": gapped, "z": y}, BOX)
+    assert np.array_equal(both.predict(probe)["y"],
+                          CorrectedSurrogate(low, x_high[keep], {"y": y[keep]}, BOX).predict(probe)["y"])
+    assert np.array_equal(both.predict(probe)["z"], CorrectedSurrogate(low, x_high, {"z": y}, BOX).predict(probe)["z"])

@@ -61,6 +61,24 @@ def test_bad_surrogate_inputs():
     with pytest.raises(InputError, match="bounds"):
         RBFSurrogate(x, model(x), [(30, 20), (1, 3), (30, 50)])
     y = model(x)
-    y["E"][2] = np.nan
-    with pytest.raises(InputError, match="E"):
+    y["E"][2] = np.inf
+    with pytest.raises(InputError, match="E: run 3 has an infinite value"):
         RBFSurrogate(x, y, BOUNDS)
+    y["E"][:6] = np.nan
+    with pytest.raises(InputError, match="E: measured at 4 runs, too few"):
+        RBFSurrogate(x, y, BOUNDS)
+
+
+def test_a_response_not_measured_at_a_run_is_fitted_without_that_run():
+    """NaN marks a response a run did not measure: that response's model is the one fitted
+    on the other runs, to the bit, and the other responses keep every run."""
+    x = latin_hypercube(BOUNDS, 12, seed=2)
+    y = model(x)
+    gapped = {"E": y["E"].copy(), "UCS": y["UCS"]}
+    gapped["E"][[3, 7]] = np.nan
+    kept = np.ones(12, bool)
+    kept[[3, 7]] = False
+    probe = latin_hypercube(BOUNDS, 20, seed=4)
+    with_gaps = RBFSurrogate(x, gapped, BOUNDS).predict(probe)
+    assert np.array_equal(with_gaps["E"], RBFSurrogate(x[kept], {"E": y["E"][kept]}, BOUNDS).predict(probe)["E"])
+    assert np.array_equal(with_gaps["UCS"], RBFSurrogate(x, {"UCS": y["UCS"]}, BOUNDS).predict(probe)["UCS"])

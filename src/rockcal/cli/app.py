@@ -34,6 +34,10 @@ def _options(max_grains: Optional[int] = typer.Option(
 
 
 def _register() -> None:
+    """Add the commands to `app`, once: a process may run `main` many times (a notebook, the
+    tests), and each command added again would slow every later call."""
+    if app.registered_commands:
+        return
     from rockcal.cli import calibrate, export, kic, sensitivity, simulate
 
     app.add_typer(simulate.build_app(), name="simulate")

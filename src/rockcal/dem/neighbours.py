@@ -11,6 +11,9 @@ number them strip by strip, so a block is a band of the specimen). Pairs are gro
 when both ends lie in one, the rest (pairs across a block border) go last: the blocks' pairs
 are summed in parallel without write races, the border pairs after them, always in the same
 order whatever the number of threads.
+
+Pebbles of one rigid clump (`clumps`) never touch: a list given their `clump_of` drops their
+pairs.
 """
 
 from dataclasses import dataclass
@@ -39,6 +42,9 @@ class NeighbourList:
     contact_offsets: np.ndarray  # the same for the unbonded pairs (from n_bonds on)
     pos_at_build: np.ndarray  # particle positions when the list was built
     skin: float  # listed: gap below the skin
+    # per particle its rigid clump (-1: a ball, `clumps.members`): pairs within one clump are
+    # never listed; None: no clumps
+    clump_of: np.ndarray | None = None
 
     @property
     def rebuild_distance_sq(self) -> float:
@@ -73,13 +79,18 @@ def update(nlist: NeighbourList, pos: np.ndarray, radius: np.ndarray) -> Neighbo
     order = np.argsort(old_keys)
     ci, cj, shear = contact_pairs(pos, radius, nlist.skin, np.sort(bond_keys), old_keys[order],
                                   nlist.shear[nb:][order])
+    if nlist.clump_of is not None:  # pebbles of one clump: parts of one rigid body
+        clump = nlist.clump_of
+        apart = (clump[ci] != clump[cj]) | (clump[ci] < 0)
+        ci, cj, shear = ci[apart], cj[apart], shear[apart]
     by_block, offsets = block_layout(ci, cj, nlist.block_starts)
     return NeighbourList(
         pi=np.concatenate([nlist.pi[:nb], ci[by_block]]),
         pj=np.concatenate([nlist.pj[:nb], cj[by_block]]), n_bonds=nb,
         shear=np.concatenate([nlist.shear[:nb], shear[by_block]]),
         block_starts=nlist.block_starts, bond_offsets=nlist.bond_offsets,
-        contact_offsets=nb + offsets, pos_at_build=pos.copy(), skin=nlist.skin)
+        contact_offsets=nb + offsets, pos_at_build=pos.copy(), skin=nlist.skin,
+        clump_of=nlist.clump_of)
 
 
 def needs_update(nlist: NeighbourList, pos: np.ndarray) -> bool:

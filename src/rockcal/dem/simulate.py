@@ -11,6 +11,8 @@ Each step sums the pair forces block by block in parallel, then the pairs across
 borders, then moves the particles block by block (`neighbours.block_layout`): the order of
 every sum is fixed by the specimen, so results do not depend on the number of threads.
 Everything is SI; disks have unit thickness (PFC2D convention).
+A state whose particles are pebbles of rigid clumps (`State.clumps`) runs the same steps in the
+clumps' own kernel (`clump_motion`); without clumps nothing here changes.
 """
 
 from __future__ import annotations
@@ -101,6 +103,9 @@ class State:
     damping: float
     dt: float
     step: int = 0
+    # rigid clumps of pebbles (`clump_motion.Clumps`: it moves them, and sets their time step
+    # and density scaling); None: every particle is a ball
+    clumps: object = None
 
     @property
     def n_particles(self) -> int:
@@ -181,7 +186,10 @@ def stable_time_step(state: State) -> float:
     """Safety x the smallest sqrt(m / k_translational) and sqrt(I / k_rotational) of any particle.
 
     Stiffness sums count every listed pair (as if touching) and the walls, as PFC does.
+    With clumps, of every clump and ball (`clump_motion.Clumps.stable_time_step`).
     """
+    if state.clumps is not None:
+        return state.clumps.stable_time_step(state)
     p = state.particles
     k_trans, k_rot = _stiffness_sums(state)
     free = p.inv_mass > 0
@@ -199,7 +207,9 @@ def scale_density(state: State) -> float:
     behind the light one that sets the time step: stress waves cross the specimen in fewer
     steps, and a test may load it faster for the same equilibrium (each test's loading rate is
     its own, checked by halving it). Returns the free particles' scaled mass over their true
-    mass."""
+    mass. With clumps, every clump's and ball's (`clump_motion.Clumps.scale_density`)."""
+    if state.clumps is not None:
+        return state.clumps.scale_density(state)
     p = state.particles
     k_trans, k_rot = _stiffness_sums(state)
     critical_s = state.dt / TIME_STEP_SAFETY
@@ -215,6 +225,21 @@ def _stiffness_sums(state: State) -> tuple[np.ndarray, np.ndarray]:
     if touching: the larger of normal and shear, contact plus bond) and the walls. A bonded
     pair adds its bond's springs (`State.bonds.springs`: a flat joint's as a bonded interface,
     k_n A, k_s A; k_n (2/3) R̄³ t in rotation), and a flat joint is its pair's only spring."""
+    p, pairs = state.particles, state.neighbours
+    ri, rj = p.radius[pairs.pi], p.radius[pairs.pj]
+    kn, ks, kbn, kbs, kbr = pair_springs(state)
+    n = state.n_particles
+    k_trans = np.full(n, state.walls.stiffness)
+    k_rot = np.zeros(n)
+    for idx, r in ((pairs.pi, ri), (pairs.pj, rj)):
+        np.add.at(k_trans, idx, np.maximum(kn, ks) + np.maximum(kbn, kbs))
+        np.add.at(k_rot, idx, (ks + kbs) * r**2 + kbr)
+    return k_trans, k_rot
+
+
+def pair_springs(state: State):
+    """Each listed pair's springs: contact k_n, k_s (N/m) and its bond's k̄n Ā, k̄s Ā (N/m) and
+    k̄n Ī (N m/rad), zero for unbonded pairs (`_stiffness_sums`)."""
     E_c, ks_per_kn = state.laws[:2]
     p, pairs, nb = state.particles, state.neighbours, state.neighbours.n_bonds
     ri, rj = p.radius[pairs.pi], p.radius[pairs.pj]
@@ -226,14 +251,7 @@ def _stiffness_sums(state: State) -> tuple[np.ndarray, np.ndarray]:
         kn[:nb] = 0.0
     kbn, kbs, kbr = (np.concatenate([k, np.zeros(len(ri) - nb)]) for k in state.bonds.springs(
         rmin[:nb], length[:nb], state.laws, THICKNESS_M))
-    ks = kn * ks_per_kn
-    n = state.n_particles
-    k_trans = np.full(n, state.walls.stiffness)
-    k_rot = np.zeros(n)
-    for idx, r in ((pairs.pi, ri), (pairs.pj, rj)):
-        np.add.at(k_trans, idx, np.maximum(kn, ks) + np.maximum(kbn, kbs))
-        np.add.at(k_rot, idx, (ks + kbs) * r**2 + kbr)
-    return k_trans, k_rot
+    return kn, kn * ks_per_kn, kbn, kbs, kbr
 
 
 @njit(cache=True, error_model="numpy")
@@ -330,6 +348,9 @@ def advance(state: State, n_steps: int) -> None:
 
 
 def _advance_all(state: State, n_steps: int) -> None:
+    if state.clumps is not None:  # pebbles of rigid clumps: the clumps' kernel
+        state.clumps.advance(state, n_steps)
+        return
     p, w = state.particles, state.walls
     done = 0
     while done < n_steps:

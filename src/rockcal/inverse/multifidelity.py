@@ -19,24 +19,29 @@ from rockcal.inverse.surrogate import RBFSurrogate
 
 class CorrectedSurrogate:
     """ŷ_h = ρ ŷ_l + δ for each response, from the low-fidelity surrogate `low` and the
-    high-fidelity runs x (n, d) with their `responses`; the same interface as RBFSurrogate."""
+    high-fidelity runs x (n, d) with their `responses` (a NaN: not measured at that run, left
+    out of that response's ρ and δ); the same interface as RBFSurrogate."""
 
     def __init__(self, low: RBFSurrogate, x, responses: dict[str, np.ndarray], bounds):
         x = np.atleast_2d(np.asarray(x, float))
         at_runs = low.predict(x)
         self.low = low
         self.names = tuple(responses)
-        self.rho = {r: _scale(at_runs[r], np.asarray(responses[r], float)) for r in self.names}
-        left = {r: np.asarray(responses[r], float) - self.rho[r] * at_runs[r] for r in self.names}
-        # one high-fidelity run fixes ρ alone: nothing is left to interpolate
-        self.delta = RBFSurrogate(x, left, bounds, degree=0) if len(x) > 1 else None
-        self.epsilon = low.epsilon if self.delta is None else self.delta.epsilon
+        self.rho, self.delta, self.epsilon = {}, {}, {}
+        for r in self.names:
+            high = np.asarray(responses[r], float)
+            measured = ~np.isnan(high)
+            self.rho[r] = _scale(at_runs[r][measured], high[measured])
+            left = high[measured] - self.rho[r] * at_runs[r][measured]
+            # one high-fidelity run fixes ρ alone: nothing is left to interpolate
+            self.delta[r] = RBFSurrogate(x[measured], {r: left}, bounds, degree=0) if measured.sum() > 1 else None
+            self.epsilon[r] = (low if self.delta[r] is None else self.delta[r]).epsilon[r]
 
     def predict(self, x) -> dict:
         """{response: prediction} at x, (d,) for one point (scalars out) or (m, d)."""
         low = self.low.predict(x)
-        delta = self.delta.predict(x) if self.delta else dict.fromkeys(self.names, 0.0)
-        return {r: self.rho[r] * low[r] + delta[r] for r in self.names}
+        return {r: self.rho[r] * low[r] + (self.delta[r].predict(x)[r] if self.delta[r] else 0.0)
+                for r in self.names}
 
     validate = RBFSurrogate.validate
 

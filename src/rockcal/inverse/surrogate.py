@@ -82,7 +82,8 @@ def minimum_runs(dimensions: int, degree: int = 1) -> int:
 class RBFSurrogate:
     """Gaussian RBF per response, fitted on runs x (n, d) in physical units.
 
-    responses: {name: values per run}. epsilon: None (LOO over `epsilons`), a number, or
+    responses: {name: values per run}; a NaN is a response not measured at that run, which its
+    response's model is fitted without. epsilon: None (LOO over `epsilons`), a number, or
     {response: number}. smoothing: 0 interpolates the runs exactly; > 0 smooths noisy
     responses (same value for every response, or a dict).
     """
@@ -104,17 +105,21 @@ class RBFSurrogate:
         self.x = x
         self.names = tuple(responses)
         self.degree = degree
-        self.y = {}
+        self.y, self._measured = {}, {}
         for name, values in responses.items():
             values = np.asarray(values, dtype=float)
             if values.shape != (n,):
                 raise InputError(name, f"expected {n} values (one per run), got shape {values.shape}")
-            if not np.all(np.isfinite(values)):
-                raise InputError(name, f"run {np.flatnonzero(~np.isfinite(values))[0] + 1} has a non-finite value")
-            self.y[name] = values
-        u = self.scale(x)
+            if np.any(np.isinf(values)):
+                raise InputError(name, f"run {np.flatnonzero(np.isinf(values))[0] + 1} has an infinite value")
+            measured = ~np.isnan(values)
+            if measured.sum() < minimum:
+                raise InputError(name, f"measured at {measured.sum()} runs, too few for this surrogate (need at "
+                                       f"least {minimum})")
+            self.y[name], self._measured[name] = values[measured], measured
         self.epsilon, self.smoothing, self.loo_rms, self._models = {}, {}, {}, {}
         for name in self.names:
+            u = self.scale(x[self._measured[name]])
             s = float(smoothing[name] if isinstance(smoothing, dict) else smoothing)
             if s < 0:
                 raise InputError("smoothing", f"must be >= 0, got {s}")

@@ -207,6 +207,8 @@ class Acceptance(Section):
     # set here, not by --workers, so that the workers never change the result
     candidates: int = Field(2, ge=1, description="Distinct optima of the surrogate verified at once per loop "
                             "round.")
+    ucs_first: bool = Field(False, description="Verify a point's UCS test first and run its other tests only "
+                            "where the UCS responses meet the tolerance (on where those tests are dear).")
 
 
 class UncertaintySettings(Section):

@@ -6,7 +6,10 @@ sets samples or coarse_samples: coarse runs (R_min x coarse_factor, about a tent
 train the surrogate and a few full-resolution runs correct it. A verified point that costs at
 least DEAR UCS runs (those tests, or several packings) is verified one at a time unless
 [acceptance] sets candidates: a second candidate would double each round's cost for a
-smaller chance of a second round. A UCS-only campaign keeps the defaults.
+smaller chance of a second round. Where that point's other tests cost more than its UCS runs,
+the UCS runs go first and the others only where the UCS responses met the tolerance, unless
+[acceptance] sets ucs_first: a round whose point misses on UCS then costs one UCS run. A
+UCS-only campaign keeps the defaults.
 """
 
 from __future__ import annotations
@@ -38,10 +41,11 @@ def sample_cost(campaign) -> float:
                for t in campaign.target_sections())
 
 
-def point_cost(campaign) -> float:
-    """A verified point's runs in UCS runs' time: `sample_cost` on each test's packings."""
+def point_cost(campaign, tests: list[str] | None = None) -> float:
+    """A verified point's runs (of `tests`, default all) in UCS runs' time: `sample_cost` on
+    each test's packings."""
     return sum(s.packings * len(s.series() or [None]) * relative_time(campaign, t)
-               for t, s in campaign.target_sections().items())
+               for t, s in campaign.target_sections().items() if tests is None or t in tests)
 
 
 def relative_time(campaign, test: str) -> float:
@@ -64,8 +68,12 @@ def with_route(campaign, coarse_possible: bool = True):
     if not (multi or one):
         return campaign
     update = {}
+    # the tests beside UCS are the dearer part of a verified point: verify UCS first
+    others = [t for t in campaign.target_sections() if t != PRIMARY_TEST]
+    first = (one and point_cost(campaign, others) > point_cost(campaign, [PRIMARY_TEST])
+             and "ucs_first" not in acceptance.model_fields_set)
     if one:
-        update["acceptance"] = acceptance.model_copy(update={"candidates": 1})
+        update["acceptance"] = acceptance.model_copy(update={"candidates": 1, **({"ucs_first": True} if first else {})})
     if multi:
         n = len(campaign.search.bounds) or len(campaign.sensitivity.levels)
         update["surrogate"] = surrogate.model_copy(update={
@@ -79,8 +87,10 @@ def with_route(campaign, coarse_possible: bool = True):
                        f"(R_min x {u.coarse_factor:g}) train the surrogate, {u.samples} full-resolution ones correct it")
     if one:
         reasons.append(("" if multi and point == sample else f"a verified point's runs take {point:.2g} UCS runs' "
-                        "time: ") + "one point is verified a round")
-    why = "; ".join(reasons) + " ([surrogate] samples or coarse_samples, [acceptance] candidates choose otherwise)"
+                        "time: ") + "one point is verified a round"
+                       + (", its UCS test first and the others only where UCS meets the tolerance" if first else ""))
+    why = "; ".join(reasons) + (" ([surrogate] samples or coarse_samples, [acceptance] candidates"
+                                + (" and ucs_first" if first else "") + " choose otherwise)")
     chosen._route = (Route("multi-fidelity", why, campaign, "single fidelity") if multi else
                      Route("one candidate a round", why, campaign, f"{acceptance.candidates} candidates a round"))
     return chosen

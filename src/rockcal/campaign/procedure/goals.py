@@ -31,3 +31,11 @@ def goals_of(campaign: Campaign) -> Goals:
         weights={r: w for s in sections.values() for r, w in s.weights.items()},
         spread={r: list(v) if isinstance(v, tuple) else v for s in sections.values() for r, v in s.spread.items()},
         curve=next((c for c in curves if c is not None), None))
+
+
+def goals_of_tests(goals: Goals, tests: list[str]) -> Goals:
+    """The goals of some of the tests only (a verification's first stage)."""
+    responses = [r for test in tests for r in goals.tests[test]]
+    return Goals(targets={r: goals.targets[r] for r in responses}, tests={t: goals.tests[t] for t in tests},
+                 weights={r: w for r, w in goals.weights.items() if r in responses},
+                 spread={r: v for r, v in goals.spread.items() if r in responses}, curve=goals.curve)

@@ -27,7 +27,7 @@ from typing import Callable
 import numpy as np
 
 from rockcal.campaign.input.config import Campaign, SpecimenSettings, split_genesis
-from rockcal.campaign.procedure.goals import Goals, goals_of
+from rockcal.campaign.procedure.goals import Goals, goals_of, goals_of_tests
 from rockcal.campaign.procedure.result import (CalibrationResult, FailedRun, Iteration, Samples, Sensitivity,
                                      SurrogateCheck)
 from rockcal.campaign.runs.spec import RunResult, RunSpec
@@ -86,6 +86,7 @@ class CampaignState:
     curves: dict = field(default_factory=dict)  # verification runs' curves, by run key
     final: dict = field(default_factory=dict)  # the last step's parts of the result
     planning: bool = False  # the first screen's state: points found by searching are stand-ins
+    pending: Round | None = None  # a round's points whose UCS runs met the tolerance ([acceptance] ucs_first)
 
     @property
     def names(self) -> list[str]:
@@ -295,10 +296,27 @@ def _params(state: CampaignState, row: dict) -> dict:
 
 # -- step 3: search on the surrogate and DEM verification (a loop) -------------------------------
 
+@dataclass(frozen=True)
+class Round:
+    """A verification round's points: the search's optima on the surrogate, rounded (`xs`)."""
+
+    found: list
+    xs: list
+    surrogate: object
+    objective: str
+    loop: int
+
+    def only(self, keep: list[int]) -> Round:
+        return replace(self, found=[self.found[i] for i in keep], xs=[self.xs[i] for i in keep])
+
+
 def verification_runs(state: CampaignState) -> Runs:
     """One round of the loop: the surrogate on every run so far, the search's optimum and
     other distinct optima on it ([acceptance] candidates), their DEM runs; the round settles
-    the loop when a verified point is accepted, the budget is spent or nothing new was found."""
+    the loop when a verified point is accepted, the budget is spent or nothing new was found.
+    With [acceptance] ucs_first, a round has two stages: the UCS runs at its points, then
+    every test's at the points whose UCS responses met the tolerance (`pending`: their UCS
+    runs come from the store); a point that missed is recorded with its UCS responses only."""
     campaign, names = state.campaign, state.names
     if state.planning:
         # the plan counts the search's optimum, the one point every round verifies: the other
@@ -306,32 +324,64 @@ def verification_runs(state: CampaignState) -> Runs:
         # (`_candidates`), and the first screen says so (`plan.screen`)
         points = [(campaign.specimen, dict(zip(names, _stand_in(state.box))))]
         return Runs(point_specs(state, points, means=True), _not_folded)
+    if state.pending is not None:
+        round_ = state.pending
+        points = [(campaign.specimen, dict(zip(names, x))) for x in round_.xs]
+        return Runs(point_specs(state, points, means=True),
+                    lambda results, progress: replace(_recorded(state, round_, points, results), pending=None))
     surrogate = _judged(state)
     objective = Objective(surrogate.predict, state.goals.targets, weights=state.goals.weights or None)
     found = _candidates(state, objective, surrogate)
-    xs = [_round(opt.x) for opt in found]
-    points = [(campaign.specimen, dict(zip(names, x))) for x in xs]
-    loop = len({it.loop for it in state.iterations})
+    round_ = Round(found, [_round(opt.x) for opt in found], surrogate, objective.describe(),
+                   loop=len({it.loop for it in state.iterations}))
+    points = [(campaign.specimen, dict(zip(names, x))) for x in round_.xs]
+    if not _ucs_first(state):
+        return Runs(point_specs(state, points, means=True),
+                    lambda results, progress: _recorded(state, round_, points, results))
+    first = replace(state, goals=goals_of_tests(state.goals, [PRIMARY_TEST]))
 
     def fold(results, progress) -> CampaignState:
-        new, verified = folded(state, "verification", points, results, means=True)
-        per_point = grouped(state, points, results, means=True)
-        first = [point_responses(new, first_packing(new, runs))[0] for runs in per_point]
-        iterations = [_iteration(new, opt, x, surrogate, v, loop) for opt, x, v in zip(found, xs, verified)]
-        fresh = _unseen(xs, first, new.train_x)
+        per_point = grouped(first, points, results, means=True)
         tolerance = campaign.acceptance.tolerance
-        passed = [i for i, it in enumerate(iterations) if _within(it.errors, tolerance)]
-        start_at = len(new.iterations)
-        curves = dict(zip(specs_keys(new, points), (runs[PRIMARY_TEST][0].curve for runs in per_point)))
-        if _averaged(campaign):
-            new = _with_means(new, _unseen(xs, verified, new.means_x))
-        return replace(
-            new, iterations=new.iterations + tuple(iterations), objective=objective.describe(),
-            train_x=np.vstack([new.train_x, *[x for x, _ in fresh]]), train_y=new.train_y + [v for _, v in fresh],
-            accepted=start_at + passed[0] if passed else None, curves=new.curves | curves,
-            settled=bool(passed) or len(new.dem_runs) >= campaign.acceptance.max_dem_runs or not fresh)
+        met = [_within(_errors(first.goals.targets, point_responses(first, runs)[0]), tolerance) for runs in per_point]
+        missed, passed = [i for i, ok in enumerate(met) if not ok], [i for i, ok in enumerate(met) if ok]
+        new = first
+        if missed:
+            new = _recorded(first, round_.only(missed), [points[i] for i in missed],
+                            [r for i in missed for r in per_point[i][PRIMARY_TEST]])
+        new = replace(new, goals=state.goals)
+        return replace(new, pending=round_.only(passed), settled=False) if passed else new
 
-    return Runs(point_specs(state, points, means=True), fold)
+    return Runs(point_specs(first, points, means=True), fold)
+
+
+def _ucs_first(state: CampaignState) -> bool:
+    """Whether a round verifies the UCS test before the others ([acceptance] ucs_first)."""
+    return state.campaign.acceptance.ucs_first and len(state.goals.tests) > 1
+
+
+def _recorded(state: CampaignState, round_: Round, points: list, results: list[RunResult]) -> CampaignState:
+    """The state with the round's points verified by `results` (their runs of the tests of
+    `state.goals`): their iterations, the surrogate's new training runs (first packing) and
+    means, whether one was accepted and whether the loop is settled."""
+    campaign = state.campaign
+    new, verified = folded(state, VERIFICATION, points, results, means=True)
+    per_point = grouped(state, points, results, means=True)
+    first = [point_responses(new, first_packing(new, runs))[0] for runs in per_point]
+    iterations = [_iteration(new, opt, x, round_.surrogate, v, round_.loop)
+                  for opt, x, v in zip(round_.found, round_.xs, verified)]
+    fresh = _unseen(round_.xs, first, new.train_x)
+    passed = [i for i, it in enumerate(iterations)
+              if _within(it.errors, campaign.acceptance.tolerance) and len(it.errors) == len(new.goals.targets)]
+    start_at = len(new.iterations)
+    curves = dict(zip(specs_keys(new, points), (runs[PRIMARY_TEST][0].curve for runs in per_point)))
+    if _averaged(campaign):
+        new = _with_means(new, _unseen(round_.xs, verified, new.means_x))
+    return replace(
+        new, iterations=new.iterations + tuple(iterations), objective=round_.objective,
+        train_x=np.vstack([new.train_x, *[x for x, _ in fresh]]), train_y=new.train_y + [v for _, v in fresh],
+        accepted=start_at + passed[0] if passed else state.accepted, curves=new.curves | curves,
+        settled=bool(passed) or len(new.dem_runs) >= campaign.acceptance.max_dem_runs or not fresh)
 
 
 def _averaged(campaign: Campaign) -> bool:
@@ -397,8 +447,7 @@ def _not_folded(results, progress):
 
 
 def _iteration(state: CampaignState, opt, x, surrogate: RBFSurrogate, verified: dict | None, loop: int) -> Iteration:
-    targets = state.goals.targets
-    errors = None if verified is None else {r: verified[r] / t - 1 for r, t in targets.items()}
+    errors = _errors(state.goals.targets, verified)
     return Iteration(
         x=x.tolist(), objective_surrogate=float(opt.fun), predicted=surrogate.predict(x),
         verified=verified, errors=errors, history_fun=list(map(float, opt.history_fun)),
@@ -534,8 +583,9 @@ def _judged(state: CampaignState) -> RBFSurrogate | CorrectedSurrogate:
 
 
 def _responses(state: CampaignState, rows: list[dict]) -> dict[str, np.ndarray]:
-    """The target responses of runs, response by response."""
-    return {r: np.array([v[r] for v in rows]) for r in state.goals.targets}
+    """The target responses of runs, response by response (NaN where a run has none: a point
+    whose verification stopped after its UCS test)."""
+    return {r: np.array([v.get(r, np.nan) for v in rows]) for r in state.goals.targets}
 
 
 def _fill_failed(table: dict[str, list]) -> dict[str, np.ndarray]:
@@ -579,6 +629,11 @@ def _inside(point: dict, names: list[str], box: np.ndarray) -> bool:
     return all(low <= point[n] <= high for n, (low, high) in zip(names, box))
 
 
+def _errors(targets: dict[str, float], responses: dict | None) -> dict | None:
+    """Relative errors of responses against their targets (None: the runs failed)."""
+    return None if responses is None else {r: responses[r] / t - 1 for r, t in targets.items()}
+
+
 def _within(errors: dict | None, tolerance: float) -> bool:
     """The source's acceptance rule: every response within the tolerance of its target."""
     return errors is not None and all(abs(e) <= tolerance for e in errors.values())
@@ -591,8 +646,10 @@ def _distinct(a: np.ndarray, b: np.ndarray, box: np.ndarray) -> bool:
 
 def _closest(iterations: list[Iteration]) -> int:
     """The verified iteration with the smallest largest error (when none was accepted)."""
-    scored = [(max(abs(e) for e in it.errors.values()), i)
+    most = max((len(it.errors) for it in iterations if it.errors is not None), default=0)
+    # a point verified on every test before one whose verification stopped after its UCS test
+    scored = [(len(it.errors) < most, max(abs(e) for e in it.errors.values()), i)
               for i, it in enumerate(iterations) if it.errors is not None]
     if not scored:
         raise CalibrationFailed("no verification run succeeded")
-    return min(scored)[1]
+    return min(scored)[2]
