@@ -48,7 +48,7 @@ def test_a_beam_as_a_target_takes_the_multi_fidelity_route(tmp_path):
     assert route.name == "multi-fidelity"
     s = campaign.surrogate
     assert (s.coarse_samples, s.samples, s.checks) == (3 * COARSE_PER_PARAMETER, 4, 1)
-    assert campaign.acceptance.candidates == 1
+    assert campaign.acceptance.candidates == 1 and campaign.acceptance.ucs_first
     assert route.other.surrogate == Surrogate() and route.other.acceptance.candidates == 2
 
 

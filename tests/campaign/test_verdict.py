@@ -44,6 +44,8 @@ def test_the_pareto_front_holds_the_runs_no_other_beats_in_both():
     assert front.errors[3] == pytest.approx([-0.4, 0.05])
     # run 2 is beaten by run 1 in both; run 4 ties run 1 and stays
     assert front.pareto == [0, 1, 4, 3]
+    # a run that measured one of the two (its verification stopped after the UCS test) is left out
+    assert trade_off(["a", "b"], targets, [{"a": 0.5}, *seen]) == front
 
 
 def test_targets_that_conflict_only_together_are_named_by_those_that_bind():

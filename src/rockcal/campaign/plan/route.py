@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 
 DEAR = 2.0  # UCS runs' time: a parameter set or a verified point this dear changes the defaults
-COARSE_PER_PARAMETER = 6  # multi-fidelity: coarse samples per searched parameter
+COARSE_PER_PARAMETER = 5  # multi-fidelity: coarse samples per searched parameter
 FULL_AFTER_PARAMETERS = 1  # multi-fidelity: full-resolution samples, the searched parameters + this
 CHECKS = 1  # multi-fidelity: full-resolution check runs
 
@@ -84,7 +84,8 @@ def with_route(campaign, coarse_possible: bool = True):
     if multi:
         u = update["surrogate"]
         reasons.append(f"a parameter set's runs take {sample:.2g} UCS runs' time: {u.coarse_samples} coarse runs "
-                       f"(R_min x {u.coarse_factor:g}) train the surrogate, {u.samples} full-resolution ones correct it")
+                       f"(R_min x {u.coarse_factor:g}) train the surrogate, {u.samples} full-resolution ones "
+                       f"and {u.checks} check{'s' if u.checks != 1 else ''} correct it")
     if one:
         reasons.append(("" if multi and point == sample else f"a verified point's runs take {point:.2g} UCS runs' "
                         "time: ") + "one point is verified a round"

@@ -52,8 +52,9 @@ def verdict_of(targets: dict[str, float], tolerance: float, box: np.ndarray,
 
 def trade_off(responses: list[str], targets: dict[str, float], seen: list[dict]) -> TradeOff:
     """The DEM runs' relative errors in two responses and their Pareto front (the runs no
-    other run beats in both absolute errors)."""
-    errors = [[seen_run[r] / targets[r] - 1.0 for r in responses] for seen_run in seen]
+    other run beats in both absolute errors); a run that did not measure both is left out."""
+    errors = [[seen_run[r] / targets[r] - 1.0 for r in responses] for seen_run in seen
+              if all(r in seen_run for r in responses)]
     size = np.abs(np.array(errors, float).reshape(-1, 2))
     front = [i for i, (a, b) in enumerate(size)
              if not np.any((size[:, 0] <= a) & (size[:, 1] <= b) & ((size[:, 0] < a) | (size[:, 1] < b)))]
