@@ -1,24 +1,38 @@
-"""Virtual Brazilian (splitting tensile) test: a disk between two frictionless platens.
+"""Virtual Brazilian (splitting tensile) test: a disk between two frictionless flat platens
+(FISHTank's; the default), between the same platens with a bearing strip on each (ASTM D3967's
+cushion, `loading="strips"`) or between ISRM's curved jaws (`rig.Jaws`, `loading="isrm"`).
 
 The disk is carved from a square packing; the platens are the UCS test's
 (`rockcal.labtests.rig`), closing at the same quasi-static speed (slower where bonds break,
 full speed again past the peak; the test stops when the load has fallen below
 POST_PEAK_FRACTION of the peak, as in the bending test: a bond breaking under a platen drops the
-load for a while without splitting the disk). Tensile strength sigma_t = 2 P / (pi D t)
-(ISRM 1978; ASTM D3967) with P the peak load per metre of thickness.
+load for a while without splitting the disk). The jaws close at the same speed; their test, and
+the strips', stops as a lab's at the first fall below loading.PAST_PEAK_FRACTION of the peak that
+left a crack across the disk's middle (`broken_through`): the jaws and the strips hold the
+pieces and would load them on.
+Tensile strength sigma_t = 2 P / (pi D t) (ISRM 1978; ASTM D3967) with P the peak load per metre
+of thickness; `split` says whether the disk split through its centre (`central_split`) or not
+(crushed at a contact, or split off the centre).
+
+What the loading decides: a bare platen or jaw first bears on the one to three grains of the
+rim that stand out (the rim is rough by a grain, far more than the contacts' overlap), so the
+disk may fail at a contact before its centre splits. A bearing strip spreads the load over
+many rim grains, as the cushion does in the lab.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 from pydantic import Field
 
+from rockcal.dem import measure
 from rockcal.dem.carving import inside_circle, keep_particles
 from rockcal.dem.genesis import Genesis
+from rockcal.dem.laws import INTACT
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
@@ -34,13 +48,14 @@ from rockcal.labtests.kind import (
 from rockcal.labtests.lab_values import LabValues
 from rockcal.labtests.loading import (
     LOCALISED_DAMAGE,
+    PAST_PEAK_FRACTION,
     RAMP_STEPS_PER_ROW,
     Loading,
     Reading,
     load_to_failure,
 )
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.labtests.rig import Platens
+from rockcal.labtests.rig import BearingStrip, Jaws, Platens
 from rockcal.materials import BondedParams, as_params
 
 DEFAULT_MAX_STRAIN = 0.02  # platen closure / diameter at which the test stops at the latest
@@ -48,6 +63,37 @@ DEFAULT_MAX_STRAIN = 0.02  # platen closure / diameter at which the test stops a
 # back. The disk counts as split only once the load has fallen below POST_PEAK_FRACTION of the
 # peak (as in the bending test) with the platens closed by one more mean particle radius since.
 POST_PEAK_FRACTION = 0.3
+# The failure mode, read on the bonds broken by just after the peak (the first reading below
+# loading.PAST_PEAK_FRACTION of it; where the jaws' test stops). A crack crosses a slice of the
+# loaded diameter where at least half as many bonds broke in it as grains fit along it. On the
+# full-size granite disks (benchmarks/brazilian_jaws.py: D 50 and 100 mm, packings 1-3) a
+# central split leaves a crack within 0.1 D of the loaded diameter across most of its middle
+# (D 50, flat, packing 2: all of it at once; packing 1: from the top contact, five sixths of
+# it), at times two cracks up to 0.15 D apart (D 50 with a compliant platen contact); a crush
+# leaves a fan of broken bonds within 0.1 D of a contact (D 50, flat, packing 3), or drives a
+# wedge whose side cracks cross the middle 0.2-0.4 D off the diameter (D 50, jaws, packing 3;
+# D 100, flat, packing 3); a load line off the centre (jaws first touching the grain-rough rim
+# 12 degrees off the diameter: D 50, packings 1, 2) splits the disk along a chord 0.1-0.2 D
+# off it, with no crack in the band. The runs lie far from the lines drawn: a crack in the band
+# crosses 0.83-1 of the middle or at most a third of it, a side crack 0.83-1 or at most 0.17.
+# So the middle is what lies more than 0.2 D from both contacts; a split is a crack in the band
+# across half of it or more, and no crack across half of it beyond twice the band.
+CENTRAL_BAND = 0.1  # the band's half-width, x D (plus a grain: a crack's path is known to one)
+SLICES = 10  # of the loaded diameter, each D / 10 long
+END_SLICES = 2  # at each contact: its crushed zone
+SPLIT_SHARE = 0.5  # of the middle slices a crack crosses
+# the UCS test's flat platens; ISRM's curved jaws; the flat platens with a bearing strip on each
+LOADINGS = ("flat", "isrm", "strips")
+DEFAULT_LOADING = "flat"
+# The bearing strip: thin plywood, ASTM D3967's cushion, about 0.01 D thick. Through its
+# thickness a rotary-cut veneer is loaded along the wood's radial direction: E_R = 0.078 x
+# E_L 13.9 GPa = 1.08 GPa for yellow birch, 0.068 x 13.4 = 0.91 GPa for Douglas-fir (USDA
+# Wood Handbook, FPL-GTR-190, 2010: Tables 5-1 and 5-3a, 12 % moisture); 1 GPa. In PFC terms it
+# sets the wall-ball contacts' kn (`rig.BearingStrip`): under the granite's 0.64 mm grains on a
+# 50 mm disk the strip's column is 1.27 GN/m per m, 1.24 in series with the bare platen's
+# 2 t E_c (43.3), 17 times softer than a grain-grain contact (t E_c, PFC 3.x/4.0's).
+STRIP_MODULUS_GPA = 1.0
+STRIP_THICKNESS_PER_DIAMETER = 0.01
 
 
 @dataclass
@@ -58,6 +104,8 @@ class BrazilianResult(LabResult):
     P_max_kN_per_m: float
     displacement_at_peak_mm: float
     diameter_mm: float
+    split: float  # 1.0: the disk split through its centre; 0.0: crushed at a contact or split off it
+    peak_cracks: dict = field(repr=False)  # the bonds broken by just after the peak, by mode
 
 
 def check_disk(diameter_mm: float, rmin_mm: float, radius_ratio: float) -> None:
@@ -79,43 +127,112 @@ def brazilian_disk(diameter_mm: float = 50.0, rmin_mm: float = 0.25, radius_rati
     return keep_particles(spec, keep, f"{spec.label}, disk D {diameter_mm:g} mm")
 
 
-def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Specimen | None = None,
-                       *, rate_factor: float = 1.0, max_strain: float = DEFAULT_MAX_STRAIN,
-                       contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
-                       progress: Callable[[float, float], None] | None = None) -> BrazilianResult:
-    """Run the Brazilian test; defaults: granite parameters on a 50 mm disk.
+def disk_centre(specimen: Specimen) -> tuple[float, float]:
+    """The centre of the disk's outline (the middle of its grains' extent each way), m."""
+    pos, radius = specimen.pos, specimen.radius
+    return tuple(0.5 * ((pos[:, a] - radius).min() + (pos[:, a] + radius).max()) for a in range(2))
 
+
+def crack_share(crack_xy: np.ndarray, centre, diameter: float, grain_m: float) -> float:
+    """The share of the middle slices of the loaded (vertical) diameter (of the SLICES slices it
+    is cut into, all but END_SLICES at each contact) that a crack crosses: where at least half
+    as many bonds broke (at `crack_xy`, m) as grains of `grain_m` (m) fit along the slice; on a
+    disk of `diameter` (m) about `centre`. Isolated breaks do not make a crack."""
+    y = (crack_xy[:, 1] - centre[1]) / diameter  # in diameters from the centre
+    counts = np.bincount(np.clip(np.floor((y + 0.5) * SLICES), 0, SLICES - 1).astype(int),
+                         minlength=SLICES)[END_SLICES:SLICES - END_SLICES]
+    return float(np.mean(counts >= max(1.0, 0.5 * diameter / SLICES / grain_m)))
+
+
+def central_split(crack_xy: np.ndarray, centre, diameter: float, grain_m: float) -> bool:
+    """Whether the bonds broken at `crack_xy` split the disk through its centre: a crack within
+    CENTRAL_BAND x D plus a grain (its path is known to a grain) of the loaded diameter crosses
+    SPLIT_SHARE of its middle or more, and none crosses it beyond twice that (the side of a
+    wedge a crushed contact drives)."""
+    band = CENTRAL_BAND * diameter + grain_m
+    off = np.abs(crack_xy[:, 0] - centre[0])
+    return bool(crack_share(crack_xy[off < band], centre, diameter, grain_m) >= SPLIT_SHARE
+                and crack_share(crack_xy[off >= 2 * band], centre, diameter, grain_m) < SPLIT_SHARE)
+
+
+def broken_through(crack_xy: np.ndarray, centre, diameter: float, grain_m: float) -> bool:
+    """Whether the bonds broken at `crack_xy` cross SPLIT_SHARE of the loaded diameter's middle
+    or more, anywhere across the disk: more than a crush at the contacts."""
+    return crack_share(crack_xy, centre, diameter, grain_m) >= SPLIT_SHARE
+
+
+def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Specimen | None = None,
+                       *, loading: str = DEFAULT_LOADING, rate_factor: float = 1.0,
+                       max_strain: float = DEFAULT_MAX_STRAIN,
+                       contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
+                       strip_modulus_GPa: float = STRIP_MODULUS_GPA, strip_thickness_mm: float | None = None,
+                       progress: Callable[[float, float], None] | None = None) -> BrazilianResult:
+    """Run the Brazilian test; defaults: granite parameters on a 50 mm disk between flat platens.
+
+    loading: "flat" (the UCS test's platens), "isrm" (ISRM's curved jaws, `rig.Jaws`) or
+    "strips" (the flat platens with a bearing strip of `strip_modulus_GPa` and
+    `strip_thickness_mm`, None: STRIP_THICKNESS_PER_DIAMETER x D, on each; `rig.BearingStrip`);
     contact_stiffness: PFC's convention for kn ("pfc5" or "pfc4", `dem.simulate`);
     progress(closure_mm, load_kN_per_m) is called as the test goes.
     """
     started = time.perf_counter()
     params = as_params(params)
+    if loading not in LOADINGS:
+        raise InputError("loading", f"must be one of {', '.join(LOADINGS)}, got {loading!r}")
     if not 0 < max_strain <= 0.5:
         raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
     specimen = specimen or brazilian_disk()
-    platens = Platens(specimen, params, rate_factor, contact_stiffness)
-    state = platens.state
-    diameter = platens.top - platens.bottom
+    diameter = (specimen.pos[:, 1] + specimen.radius).max() - (specimen.pos[:, 1] - specimen.radius).min()
+    strip, squeeze = None, 0.0  # the strips, and how far they may close the platens at most
+    if loading == "strips":
+        strip = BearingStrip(strip_modulus_GPa, strip_thickness_mm if strip_thickness_mm is not None
+                             else 1e3 * STRIP_THICKNESS_PER_DIAMETER * diameter)
+        squeeze = 2e-3 * strip.thickness_mm
+    if loading == "isrm":
+        rig = Jaws(specimen, params, rate_factor, contact_stiffness)
+    else:
+        rig = Platens(specimen, params, rate_factor, contact_stiffness, strip)
+    state = rig.state
+    centre, grain = disk_centre(specimen), 2 * specimen.radius.mean()
+    peak, after_peak = 0.0, None  # the largest load so far; the bonds broken just after it
+
+    def cracks_now() -> np.ndarray:
+        modes, where = state.breaks()
+        return where[modes != INTACT]
 
     def read() -> Reading:
-        closure = platens.closure_m()
-        load = platens.load()
+        nonlocal peak, after_peak
+        closure = rig.closure_m()
+        load = rig.load()
+        if load > peak:
+            peak, after_peak = load, None
+        elif after_peak is None and load < PAST_PEAK_FRACTION * peak:
+            after_peak = state.breaks()[0].copy()
         return Reading(load, closure, (1e3 * closure, load / 1e3))
 
-    def split(reading: Reading) -> bool:
-        return (loading.fallen_below(POST_PEAK_FRACTION, reading.load) and state.n_broken() > 0
-                and reading.travel > loading.peak_travel + specimen.radius.mean())
+    def failed(reading: Reading) -> bool:
+        if loading != "flat":  # as a lab, at the first fall that broke the disk: the jaws (the
+            # strips) would load its pieces on; a fall from a crush at a contact is the disk seating
+            return (schedule.fallen_below(PAST_PEAK_FRACTION, reading.load)
+                    and broken_through(cracks_now(), centre, diameter, grain))
+        return (schedule.fallen_below(POST_PEAK_FRACTION, reading.load) and state.n_broken() > 0
+                and reading.travel > schedule.peak_travel + specimen.radius.mean())
 
-    loading = Loading(RAMP_STEPS_PER_ROW * platens.rows, LOCALISED_DAMAGE)
-    curve = load_to_failure(platens, loading, read, split,
-                            max_strain * diameter, full_speed_past_peak=True, progress=progress)
+    schedule = Loading(RAMP_STEPS_PER_ROW * rig.rows, LOCALISED_DAMAGE)
+    curve = load_to_failure(rig, schedule, read, failed,
+                            max_strain * diameter + squeeze, full_speed_past_peak=True, progress=progress)
     k = int(np.argmax(curve[:, 1]))
     P_max = 1e3 * curve[k, 1]
+    modes, where = state.breaks()
+    if loading != "flat" or after_peak is None:  # the jaws and the strips stop just after the peak
+        after_peak = modes
+    cracks = measure.cracks(after_peak, where)
     return BrazilianResult(
-        sigma_t_MPa=2 * P_max / (np.pi * diameter * platens.thickness_m) / 1e6,
+        sigma_t_MPa=2 * P_max / (np.pi * diameter * rig.thickness_m) / 1e6,
         P_max_kN_per_m=P_max / 1e3,
-        displacement_at_peak_mm=float(curve[k, 0]), diameter_mm=1e3 * diameter, curve=curve,
-        **run_fields(state, specimen, started))
+        displacement_at_peak_mm=float(curve[k, 0]), diameter_mm=1e3 * diameter,
+        split=float(central_split(np.vstack(list(cracks.values())), centre, diameter, grain)),
+        peak_cracks=cracks, curve=curve, **run_fields(state, specimen, started))
 
 
 def _check(s: dict) -> None:
@@ -129,9 +246,8 @@ def _specimen(s: dict) -> Specimen:
 
 
 def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> BrazilianResult:
-    return simulate_brazilian(params, specimen, contact_stiffness=s["contact_stiffness"],
-                              progress=progress)
-
+    return simulate_brazilian(params, specimen, loading=s["brazilian_loading"],
+                              contact_stiffness=s["contact_stiffness"], progress=progress)
 
 
 class BrazilianValues(LabValues):
@@ -143,13 +259,18 @@ class BrazilianValues(LabValues):
 TEST = LabTest(
     lab_values=BrazilianValues,
     name="brazilian", title="Brazilian",
-    help="Brazilian test of a disk between platens: sigma_t = 2P/(pi D t), load-closure curve.",
+    help="Brazilian test of a disk between flat platens, flat platens with bearing strips or ISRM's "
+         "curved jaws (--loading): "
+         "sigma_t = 2P/(pi D t), load-closure curve, whether the disk split through its centre.",
     responses=(Response("sigma_t_MPa", "MPa", label="tensile strength sigma_t"),
                Response("P_max_kN_per_m", "kN/m", target=False, label="peak load"),
-               Response("displacement_at_peak_mm", "mm", target=False, label="platen closure at peak")),
+               Response("displacement_at_peak_mm", "mm", target=False, label="platen closure at peak"),
+               Response("split", "", target=False, label="split through the centre (1) or not (0)")),
     curve_columns=("displacement_mm", "load_kN_per_m"), plot="load_displacement",
-    flags=(("disk_diameter_mm", "diameter_mm"),),
-    settings=("disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "contact_stiffness"),
+    flags=(("disk_diameter_mm", "diameter_mm"), ("brazilian_loading", "loading")),
+    # brazilian_loading last: at its default ("flat", kind.LATER_SETTINGS) a run's key leaves it out
+    settings=("disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "contact_stiffness",
+              "brazilian_loading"),
     check=_check, make=_specimen, run=_run, reading=load_reading,
     outline=lambda s: Outline(f"disk D {s['disk_diameter_mm']:g} mm", s["disk_diameter_mm"],
                               s["disk_diameter_mm"], share=np.pi / 4))

@@ -16,7 +16,7 @@ from rockcal.errors import InputError
 GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_mpa
 # Settings added after runs were stored, with the value the engine had before them: a run's
 # key names one only where it differs from that, so the runs stored before keep their keys.
-LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02}
+LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02, "brazilian_loading": "flat"}
 
 
 @dataclass(frozen=True)
@@ -149,9 +149,10 @@ class LabTest:
 
     def settings_of(self, specimen_settings) -> dict:
         """This test's settings, in their order, from an object that has them as attributes (a
-        setting of its own that the object lacks at its default)."""
-        own = {s.name: s.default for s in self.own_settings}
-        return {name: getattr(specimen_settings, name, own.get(name)) for name in self.settings}
+        setting of its own that the object lacks at its default, a LATER_SETTINGS one at the
+        value it had before it existed)."""
+        missing = LATER_SETTINGS | {s.name: s.default for s in self.own_settings}
+        return {name: getattr(specimen_settings, name, missing.get(name)) for name in self.settings}
 
     def key_settings(self, specimen_settings) -> dict:
         """The settings that key a stored run: `settings_of` less LATER_SETTINGS at their old

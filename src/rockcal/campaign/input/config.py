@@ -90,6 +90,11 @@ class SpecimenSettings(Genesis):
     max_axial_strain: float = Field(DEFAULT_MAX_AXIAL_STRAIN, gt=0, le=0.5,
                                     exclude_if=lambda v: v == DEFAULT_MAX_AXIAL_STRAIN,
                                     description="UCS: stop at this axial strain at the latest.")
+    brazilian_loading: Literal["flat", "isrm", "strips"] = Field(
+        "flat", exclude_if=lambda v: v == "flat",
+        description="Brazilian test: the disk between flat frictionless platens (flat, FISHTank's), ISRM's curved "
+                    "jaws of radius 1.5 x the disk's radius (isrm) or the flat platens with a bearing strip on each, "
+                    "plywood 0.01 D thick (strips, ASTM D3967's cushion).")
 
 
 NAMES = tuple(dict.fromkeys(name for m in MATERIALS.values() for name in m.parameters))

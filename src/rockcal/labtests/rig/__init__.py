@@ -4,16 +4,19 @@ what reads the strains. A lab test is a short script over a specimen, a rig, a l
 thickness of the 2D model live here and nowhere else in the lab tests.
 
 - `Platens`: two frictionless platens closing on the specimen (UCS, confined compression,
-  Brazilian); their load, closure and axial strain, the specimen's loaded area.
+  Brazilian); their load, closure and axial strain, the specimen's loaded area. A
+  `BearingStrip` on each (Brazilian, `brazilian_loading = "strips"`) softens their contacts.
 - `SideWalls`: the side walls, servo-controlled to a confining stress (confined compression);
   the seating at it, sigma3.
+- `Jaws`: ISRM's curved jaws closing on a disk (Brazilian, `brazilian_loading = "isrm"`); their
+  load and closure, as the platens'.
 - `Pins`: the loading pin and the two supports of three-point bending; the load, the pin's
-  displacement.
+  displacement. Jaws and pins are rigid arcs of small driven disks (`arc`).
 - `Grips`: rigid grips pulling a prism apart (direct tension); the pull, the strain between
   them, the loaded area.
 - `Gauge`: the specimen's own axial and lateral strains, from the grains along its sides.
 
-Every loading part (platens, pins, grips) is a `Loader`, which `loading.load_to_failure` drives.
+Every loading part (platens, jaws, pins, grips) is a `Loader`, which `loading.load_to_failure` drives.
 
 This is the 2D rig: disks in a slab of unit thickness `THICKNESS_M`, so loads are N per metre of
 thickness and an area is a width x THICKNESS_M. A 3D rig (spheres; a cylinder or cuboid
@@ -32,11 +35,12 @@ from typing import Protocol
 from rockcal.dem.simulate import State
 from rockcal.labtests.rig.gauge import Gauge
 from rockcal.labtests.rig.grips import Grips
+from rockcal.labtests.rig.jaws import Jaws
 from rockcal.labtests.rig.pins import Pins
-from rockcal.labtests.rig.platens import Platens
+from rockcal.labtests.rig.platens import BearingStrip, Platens
 from rockcal.labtests.rig.sides import SideWalls
 
-__all__ = ["Gauge", "Grips", "Loader", "Pins", "Platens", "SideWalls"]
+__all__ = ["BearingStrip", "Gauge", "Grips", "Jaws", "Loader", "Pins", "Platens", "SideWalls"]
 
 
 class Loader(Protocol):

@@ -1,28 +1,22 @@
 """The loading pin and the two supports of three-point bending: rigid cylinders built from small
-driven disks on their surface, so that the engine's ordinary linear contacts (with the rock's
-friction) carry the load and the neighbour grid stays fine. The supports stay put; the pin moves
-down.
+driven disks on their surface (`rig.arc`), so that the engine's ordinary linear contacts (with
+the rock's friction) carry the load and the neighbour grid stays fine. The supports stay put;
+the pin moves down.
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M
 from rockcal.dem.specimen import Specimen
-from rockcal.materials import new_state
+from rockcal.labtests.rig.arc import arc_disks, with_rigid_parts
 
 
 def pin_disks(centre, pin_radius: float, disk_radius: float, facing_up: bool) -> np.ndarray:
     """Centres of small disks whose envelope is the half of a cylinder facing the beam."""
-    arc = pin_radius - disk_radius
-    count = int(np.ceil(np.pi * arc / (0.5 * disk_radius))) + 1
-    angle = np.linspace(0.0, np.pi, count) if facing_up else np.linspace(np.pi, 2 * np.pi, count)
-    # the C library's cos and sin: numpy's AVX-512 ones round otherwise on some angles
-    cos, sin = np.array([math.cos(a) for a in angle]), np.array([math.sin(a) for a in angle])
-    return np.column_stack([centre[0] + arc * cos, centre[1] + arc * sin])
+    start = 0.0 if facing_up else np.pi
+    return arc_disks(centre, pin_radius - disk_radius, start, start + np.pi, disk_radius)
 
 
 def touching_centre_y(pos, radius, x: float, pin_radius: float, above: bool) -> float:
@@ -44,22 +38,15 @@ class Pins:
     def __init__(self, specimen: Specimen, params, pin_x_m: float, support_x_m: tuple[float, float],
                  radius_m: float, step_m: float, contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS):
         pos, radius = specimen.pos, specimen.radius
-        n = specimen.n_particles
         disk = radius.min()
         pin = pin_disks((pin_x_m, touching_centre_y(pos, radius, pin_x_m, radius_m, above=True)),
                         radius_m, disk, facing_up=False)
         supports = [pin_disks((x, touching_centre_y(pos, radius, x, radius_m, above=False)), radius_m,
                               disk, facing_up=True)
                     for x in support_x_m]
-        rigid = np.vstack([pin, *supports])
-        self.is_pin = np.zeros(n + len(rigid), bool)
-        self.is_pin[n:n + len(pin)] = True
-        self.is_support = np.zeros(n + len(rigid), bool)
-        self.is_support[n + len(pin):] = True
-        self.state = new_state(params, specimen, np.vstack([pos, rigid]),
-                               np.concatenate([radius, np.full(len(rigid), disk)]),
-                               driven=self.is_pin | self.is_support,
-                               contact_stiffness=contact_stiffness)
+        self.state, (self.is_pin, *on_supports) = with_rigid_parts(specimen, params, [pin, *supports],
+                                                                    contact_stiffness)
+        self.is_support = np.any(on_supports, axis=0)
         self.step_m = step_m
         self.rows = specimen.height_m / (2 * radius.mean())
         self.chunk = max(10, int(self.rows / 4))
