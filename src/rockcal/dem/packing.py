@@ -4,6 +4,8 @@ The cloud's grains (`genesis.cloud_radii`) are dropped at random with half the s
 at jamming, grown in stages to it with frictionless contacts, then all their radii are scaled
 by one factor until the mean wall stress is the material pressure. What comes out is a
 dense packing under a small isotropic stress, whose grains are the cloud's scaled by one factor.
+The grains are balls (`Balls`) or rigid clumps (`clump_genesis.ClumpedGrains`), sized alike by
+their equivalent radii and put through the same steps (`pack_grains`).
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ SAMPLES_PER_SERVO = 8
 MAX_SERVO_ROUNDS = 60
 PACKING_MODULUS_GPA = 1.0  # frictionless contacts used only to make the packing
 JAMMING_FRACTION = 0.845  # solid fraction of frictionless 2D polydisperse disks at jamming
+MAX_SERVO_GAIN = 16.0  # of a growing servo gain (`Servo`)
 PRESSURE_TOLERANCE = 0.05  # relative; the servo stops once the wall stress is this close to P_m
 FLOATER_ROUNDS = 200  # at most this many rounds of enlarging floaters, servo step and cycling
 STEPS_PER_FLOATER_ROUND = 2000
@@ -36,25 +39,65 @@ SERVO_STEPS_PER_ROW = 60
 FLOATER_STEPS_PER_ROW = 20
 
 
+class Balls:
+    """Grains that are balls: the engine's particles themselves, sized by their radii."""
+
+    extent = 1.0  # a grain's reach from its centre, in sizes
+    jamming_fraction = JAMMING_FRACTION
+    servo_growth = 1.0  # the servo's gain stays that of the contacts (`Servo`)
+
+    def orientations(self, rng: np.random.Generator, n: int) -> np.ndarray:
+        return np.zeros(n)  # a ball has none: no draw
+
+    def new_state(self, pos, size, angle, params, width: float, height: float):
+        # packed with PFC 5's contacts whatever the test's: generator v6's specimens, as cached
+        return new_state(pos, size, np.empty((0, 2)), params, walls=(0.0, width, 0.0, height),
+                         wall_active=(True,) * 4, contact_stiffness="pfc5")
+
+    def sizes(self, state) -> np.ndarray:
+        return state.particles.radius
+
+    def resize(self, state, sizes: np.ndarray) -> None:
+        state.particles.radius[:] = sizes
+
+    def enlarge_floaters(self, state, width: float, height: float, overlap: float) -> np.ndarray:
+        p = state.particles
+        return enlarge_floaters(p.pos, p.radius, width, height, overlap)
+
+    def count_floaters(self, state, width: float, height: float) -> int:
+        p = state.particles
+        return int(np.count_nonzero(floaters(p.pos, p.radius, width, height)))
+
+
 def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed: int,
              cloud_porosity: float, pressure_mpa: float):
     """Centres and radii (m) of the cloud packed in [0, width] x [0, height] to the pressure,
     and the mean wall stress reached (MPa)."""
+    state, pressure = pack_grains(Balls(), width, height, rmin, radius_ratio, seed,
+                                  cloud_porosity, pressure_mpa)
+    return state.particles.pos.copy(), state.particles.radius.copy(), pressure
+
+
+def pack_grains(grains, width: float, height: float, rmin: float, radius_ratio: float, seed: int,
+                cloud_porosity: float, pressure_mpa: float):
+    """The cloud of `grains` (`Balls`, or clumps: `clump_genesis.ClumpedGrains`), sized by
+    their equivalent radii, packed in [0, width] x [0, height] to the pressure (steps 1-3 of
+    the genesis): the engine state, and the mean wall stress reached (MPa)."""
     rng = np.random.default_rng(seed)
     radius = cloud_radii(rng, width * height, rmin, radius_ratio, cloud_porosity)
     n = len(radius)
-    radius *= min(1.0, np.sqrt(JAMMING_FRACTION / (np.pi * (radius**2).sum() / (width * height))))
+    radius *= min(1.0, np.sqrt(grains.jamming_fraction / (np.pi * (radius**2).sum() / (width * height))))
     rmax = radius.max()
-    pos = np.column_stack([rng.uniform(rmax, width - rmax, n), rng.uniform(rmax, height - rmax, n)])
+    reach = rmax * grains.extent
+    pos = np.column_stack([rng.uniform(reach, width - reach, n), rng.uniform(reach, height - reach, n)])
+    angle = grains.orientations(rng, n)
     order = spatial_order(pos, 4 * rmax)  # blocks of the engine are then bands of the vessel
-    pos, radius = pos[order], radius[order]
+    pos, radius, angle = pos[order], radius[order], angle[order]
     params = MicroParams(E_c=PACKING_MODULUS_GPA, mu=0.0, damping=0.7)
-    # packed with PFC 5's contacts whatever the test's: generator v6's specimens, as cached
-    state = new_state(pos, radius, np.empty((0, 2)), params, walls=(0.0, width, 0.0, height),
-                      wall_active=(True,) * 4, contact_stiffness="pfc5")
+    state = grains.new_state(pos, radius, angle, params, width, height)
 
     for stage in range(GROWTH_STAGES):
-        state.particles.radius[:] = radius * (0.5 + 0.5 * (stage + 1) / GROWTH_STAGES)
+        grains.resize(state, radius * (0.5 + 0.5 * (stage + 1) / GROWTH_STAGES))
         rebuild_neighbours(state)
         advance(state, STEPS_PER_STAGE)
 
@@ -62,24 +105,24 @@ def pack_box(width: float, height: float, rmin: float, radius_ratio: float, seed
     servo_steps = min(STEPS_PER_SERVO, int(SERVO_STEPS_PER_ROW * rows))
     floater_steps = min(STEPS_PER_FLOATER_ROUND, int(FLOATER_STEPS_PER_ROW * rows))
     target = pressure_mpa * MPa
-    stress = scale_to_pressure(state, radius, target, servo_steps)
+    servo = Servo(target, grains.servo_growth)
+    stress = scale_to_pressure(state, grains, radius, servo, servo_steps)
     overlap = target / (PACKING_MODULUS_GPA * GPa)  # ~ a contact's at P_m, / R
-    particles = state.particles
     for round_ in range(FLOATER_ROUNDS):
-        grown = enlarge_floaters(particles.pos, particles.radius, width, height, overlap)
-        enlarged = np.count_nonzero(grown != particles.radius)
+        grown = grains.enlarge_floaters(state, width, height, overlap)
+        enlarged = np.count_nonzero(grown != grains.sizes(state))
         log.debug("floater round %d: %d floaters, wall stress %.3g MPa", round_, enlarged, stress / MPa)
         if not enlarged and abs(stress - target) < PRESSURE_TOLERANCE * target:
             break
-        particles.radius[:] = grown * servo_factor(stress, target)
+        grains.resize(state, grown * servo.factor(stress))
         rebuild_neighbours(state)
         stress = settled_stress(state, floater_steps)
     else:
-        left = np.count_nonzero(floaters(particles.pos, particles.radius, width, height))
+        left = grains.count_floaters(state, width, height)
         log.warning("genesis of %g x %g mm, seed %d: %d of %d grains still have fewer than %d "
                     "contacts after %d floater rounds", 1e3 * width, 1e3 * height, seed, left, n,
                     MIN_CONTACTS, FLOATER_ROUNDS)
-    return particles.pos.copy(), particles.radius.copy(), stress / MPa
+    return state, stress / MPa
 
 
 def wall_stress(state, width: float, height: float) -> float:
@@ -88,9 +131,28 @@ def wall_stress(state, width: float, height: float) -> float:
     return 0.5 * ((f[LEFT] + f[RIGHT]) / height + (f[BOTTOM] + f[TOP]) / width) / THICKNESS_M
 
 
-def servo_factor(stress: float, target: float) -> float:
-    """The factor on all radii that moves the wall stress towards `target` (Pa)."""
-    return 1.0 + 0.5 * (target - stress) / (PACKING_MODULUS_GPA * GPa)
+def servo_factor(stress: float, target: float, gain: float = 1.0) -> float:
+    """The factor on all radii that moves the wall stress towards `target` (Pa): the packing's
+    contacts' (`gain` 1), or `gain` times theirs."""
+    return 1.0 + gain * 0.5 * (target - stress) / (PACKING_MODULUS_GPA * GPa)
+
+
+class Servo:
+    """`servo_factor` round after round towards the stress `target` (Pa), its gain multiplied
+    by `growth` after each round whose stress missed on the same side as the round before (up
+    to MAX_SERVO_GAIN), and back to 1 once it crosses. Balls keep gain 1 (`growth` 1). A packing of frictionless clumps
+    yields as its grains turn and slide into room, so its stress relaxes far below the one its
+    contacts would hold: a growing gain reaches the target in a few rounds all the same."""
+
+    def __init__(self, target: float, growth: float):
+        self.target, self.growth = target, growth
+        self.gain, self.below = 1.0, None
+
+    def factor(self, stress: float) -> float:
+        below = stress < self.target
+        self.gain = min(MAX_SERVO_GAIN, self.gain * self.growth) if below == self.below else 1.0
+        self.below = below
+        return servo_factor(stress, self.target, self.gain)
 
 
 def settled_stress(state, steps: int) -> float:
@@ -104,15 +166,16 @@ def settled_stress(state, steps: int) -> float:
     return float(np.mean(samples[SAMPLES_PER_SERVO // 2:]))
 
 
-def scale_to_pressure(state, radius: np.ndarray, target: float, steps: int) -> float:
-    """Scale all radii by one factor until the mean wall stress is within PRESSURE_TOLERANCE of
-    `target` (Pa), cycling `steps` steps between scalings; returns the stress reached."""
+def scale_to_pressure(state, grains, radius: np.ndarray, servo: Servo, steps: int) -> float:
+    """Scale all grains (`radius`: their sizes) by one factor until the mean wall stress is
+    within PRESSURE_TOLERANCE of the `servo`'s target (Pa), cycling `steps` steps between scalings;
+    returns the stress reached."""
     scale = 1.0
     for round_ in range(MAX_SERVO_ROUNDS):
         stress = settled_stress(state, steps)
         log.debug("servo round %d: wall stress %.3g MPa", round_, stress / MPa)
-        if abs(stress - target) < PRESSURE_TOLERANCE * target:
+        if abs(stress - servo.target) < PRESSURE_TOLERANCE * servo.target:
             break
-        scale *= servo_factor(stress, target)
-        state.particles.radius[:] = radius * scale
+        scale *= servo.factor(stress)
+        grains.resize(state, radius * scale)
     return stress

@@ -5,6 +5,8 @@ strength that fixes, with the micro-parameters that come later, each bond's stre
 specimen serves every forward run of a calibration. Random packings are cached on disk by
 (geometry, resolution, cloud porosity, pressure, seed, generator version), and rockcal ships
 the packings of its embedded campaigns; the bonds of an installation gap are found on loading.
+A random packing's grains are balls or rigid clumps of a template's pebbles (`grain_shape`,
+`clump_templates`; `clump_genesis`), its key naming the shape only when it is not a ball.
 """
 
 from __future__ import annotations
@@ -19,7 +21,10 @@ from pathlib import Path
 import numpy as np
 
 from rockcal.materials.flat_joint import flatjoint_draws
-from rockcal.dem.genesis import Genesis, floaters, grain_contacts, install_bonds
+from rockcal.dem.clump_genesis import clump_bonds, floating_clumps, pack_clumps
+from rockcal.dem.clump_templates import DEFAULT_SHAPE, template
+from rockcal.dem.clumps import clump_properties, members
+from rockcal.dem.genesis import CONTACT_GAP, Genesis, floaters, grain_contacts, install_bonds, pair_gaps
 from rockcal.dem.grain_limit import check_grains, expected_grains
 from rockcal.dem.neighbours import spatial_order
 from rockcal.dem.packing import pack_box
@@ -43,7 +48,9 @@ SHIPPED_DIR = Path(__file__).with_name("specimens")
 class Specimen:
     """Disk centres (m), radii (m) and bonded pairs (i < j) in a width x height box (m);
     bond_draws holds each bond's uniform draws in [0, 1) for its tensile strength and cohesion;
-    the pairs are a flat-jointed material's flat joints too."""
+    the pairs are a flat-jointed material's flat joints too. A clumped specimen's particles
+    are the pebbles of rigid clumps (`clump_of`: each pebble's clump; None: every particle a
+    ball), its grains the clumps."""
 
     pos: np.ndarray
     radius: np.ndarray
@@ -57,18 +64,31 @@ class Specimen:
     # a flat-jointed material's uniform draws per bonded pair (`materials.flat_joint.flatjoint_draws`);
     # None: those of seed 1
     joint_draws: np.ndarray | None = None
+    clump_of: np.ndarray | None = None  # per particle its clump (`clumps.members`); None: balls
 
     @property
     def n_particles(self) -> int:
         return len(self.radius)
 
     @property
+    def n_grains(self) -> int:
+        """Grains: clumps, or balls."""
+        return self.n_particles if self.clump_of is None else int(self.clump_of.max()) + 1
+
+    @property
     def porosity(self) -> float:
-        return 1.0 - float(np.pi * (self.radius**2).sum()) / (self.width_m * self.height_m)
+        if self.clump_of is None:
+            return 1.0 - float(np.pi * (self.radius**2).sum()) / (self.width_m * self.height_m)
+        area = clump_properties(self.pos, self.radius, *members(self.clump_of))[0]
+        return 1.0 - float(area.sum()) / (self.width_m * self.height_m)
 
     def coordination(self) -> float:
-        """Grain-grain contacts per grain."""
-        return float(grain_contacts(self.pos, self.radius).mean())
+        """Grain-grain contacts per grain (of clumps: contacts between pebbles of different
+        clumps, per clump, as PFC counts a clump's contacts)."""
+        if self.clump_of is None:
+            return float(grain_contacts(self.pos, self.radius).mean())
+        pi, pj, _ = pair_gaps(self.pos, self.radius, CONTACT_GAP * self.radius.min())
+        return 2.0 * np.count_nonzero(self.clump_of[pi] != self.clump_of[pj]) / self.n_grains
 
     def bonds_per_particle(self) -> float:
         return 2.0 * len(self.bonds) / self.n_particles
@@ -120,48 +140,67 @@ def hexagonal(width_mm: float, height_mm: float, radius_mm: float, limited: bool
 
 def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
                    radius_ratio: float = 1.65, seed: int = 1, genesis: Genesis | None = None,
-                   cache: bool = True) -> Specimen:
+                   cache: bool = True, grain_shape: str = DEFAULT_SHAPE) -> Specimen:
     """A specimen made by PFC's material genesis (`rockcal.dem.genesis`); kept on disk (found
-    in the cache, or among the packings shipped with rockcal) unless `cache` is False."""
+    in the cache, or among the packings shipped with rockcal) unless `cache` is False. Its
+    grains are balls, or clumps of the template `grain_shape` (`clump_templates.GRAIN_SHAPES`)
+    sized by their equivalent radii (`clump_genesis`)."""
     check_geometry(width_mm, height_mm, rmin_mm, radius_ratio)
     if isinstance(seed, bool) or int(seed) != seed or seed < 0:
         raise InputError("seed", f"must be a whole number >= 0, got {seed}")
+    shape = template(grain_shape)
     genesis = genesis or Genesis()
-    name = packing_name(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis)
+    name = packing_name(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis, grain_shape)
     label = (f"random {width_mm:g}x{height_mm:g} mm, Rmin {rmin_mm:g} mm x{radius_ratio:g}, "
              f"gap {genesis.install_gap:g} Rmin, seed {seed}")
+    if grain_shape != DEFAULT_SHAPE:
+        label += f", {grain_shape} clumps"
     found = stored_packing(name) if cache else None
     if found is None and cache:
         with _one_maker(cache_dir() / name):
             found = stored_packing(name)  # made meanwhile by another process
             if found is None:
                 found = _save(cache_dir() / name, *_pack(width_mm, height_mm, rmin_mm,
-                                                         radius_ratio, seed, genesis, label))
+                                                         radius_ratio, seed, genesis, label, shape))
     if found is None:
-        pos, radius, pressure = _pack(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis, label)
+        pos, radius, pressure, clump_of = _pack(width_mm, height_mm, rmin_mm, radius_ratio, seed,
+                                                genesis, label, shape)
     else:
         data = np.load(found)
         pos, radius, pressure = data["pos"], data["radius"], float(data["pressure_mpa"])
-    bonds = install_bonds(pos, radius, genesis.install_gap * rmin_mm * 1e-3)
+        clump_of = data["clump_of"] if "clump_of" in data else None
+    gap, width, height = genesis.install_gap * rmin_mm * 1e-3, width_mm * 1e-3, height_mm * 1e-3
+    if clump_of is None:
+        bonds = install_bonds(pos, radius, gap)
+        left = np.count_nonzero(floaters(pos, radius, width, height))
+    else:
+        bonds = clump_bonds(pos, radius, clump_of, gap)
+        left = np.count_nonzero(floating_clumps(pos, radius, clump_of, width, height))
     draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
-    left = np.count_nonzero(floaters(pos, radius, width_mm * 1e-3, height_mm * 1e-3))
-    return Specimen(pos, radius, bonds, width_mm * 1e-3, height_mm * 1e-3, label, draws, pressure,
-                    int(left), flatjoint_draws(len(bonds), seed))
+    return Specimen(pos, radius, bonds, width, height, label, draws, pressure,
+                    int(left), flatjoint_draws(len(bonds), seed), clump_of)
 
 
-def _pack(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis, label):
-    """Genesis of the grains (centres in spatial order, radii, the final pressure in MPa)."""
+def _pack(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis, label, shape):
+    """Genesis of the grains: centres in spatial order, radii, the final pressure in MPa and
+    (clumps) each pebble's clump, else None."""
     check_grains("specimen", f"a {label}",
                  expected_grains(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity))
-    pos, radius, pressure = pack_box(width_mm * 1e-3, height_mm * 1e-3, rmin_mm * 1e-3,
-                                     radius_ratio, seed, genesis.cloud_porosity, genesis.pressure_mpa)
+    box = (width_mm * 1e-3, height_mm * 1e-3, rmin_mm * 1e-3, radius_ratio, seed,
+           genesis.cloud_porosity, genesis.pressure_mpa)
+    if shape.name != DEFAULT_SHAPE:
+        return pack_clumps(shape, *box)
+    pos, radius, pressure = pack_box(*box)
     order = spatial_order(pos, 4 * radius_ratio * rmin_mm * 1e-3)
-    return pos[order], radius[order], pressure
+    return pos[order], radius[order], pressure, None
 
 
-def _save(path: Path, pos, radius, pressure) -> Path:
+def _save(path: Path, pos, radius, pressure, clump_of=None) -> Path:
     with atomic_path(path) as tmp:  # whole or not at all; a killed write's file is cleaned later
-        np.savez(tmp, pos=pos, radius=radius, pressure_mpa=pressure)
+        if clump_of is None:
+            np.savez(tmp, pos=pos, radius=radius, pressure_mpa=pressure)
+        else:
+            np.savez(tmp, pos=pos, radius=radius, pressure_mpa=pressure, clump_of=clump_of)
     return path
 
 
@@ -182,12 +221,17 @@ def _one_maker(path: Path):
 
 
 def packing_name(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float,
-                 seed: int, genesis: Genesis) -> str:
+                 seed: int, genesis: Genesis, grain_shape: str = DEFAULT_SHAPE) -> str:
     """The file a random packing is kept in: a hash of what its genesis depends on (the
-    installation gap only places bonds, which are found on loading)."""
+    installation gap only places bonds, which are found on loading); the grain shape named
+    only when not a ball, so that ball packings keep the names they had before clumps."""
     key = dict(kind="random", width_mm=float(width_mm), height_mm=float(height_mm),  # 50 and 50.0: one key
                rmin_mm=float(rmin_mm), radius_ratio=float(radius_ratio), seed=int(seed), version=GENERATOR_VERSION,
                cloud_porosity=genesis.cloud_porosity, pressure_mpa=genesis.pressure_mpa)
+    if grain_shape != DEFAULT_SHAPE:  # the template's pebbles too: a changed template, new packings
+        shape = template(grain_shape)
+        key |= dict(grain_shape=grain_shape, pebble_offsets=shape.offsets.ravel().tolist(),
+                    pebble_radii=shape.radii.tolist())
     return hashlib.sha1(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16] + ".npz"
 
 

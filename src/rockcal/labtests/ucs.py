@@ -22,6 +22,8 @@ import numpy as np
 from pydantic import Field
 
 from rockcal.dem import measure
+from rockcal.dem.clump_templates import DEFAULT_SHAPE
+from rockcal.dem.genesis import Genesis
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.dem.specimen import Specimen, check_geometry, hexagonal, random_packing
 from rockcal.errors import InputError
@@ -122,9 +124,19 @@ def _check(s: dict) -> None:
     check_grain_cloud(s["width_mm"], s["height_mm"], s)
 
 
+def ucs_specimen(width_mm: float = 50.0, height_mm: float = 100.0, rmin_mm: float = 0.25,
+                 radius_ratio: float = 1.65, seed: int = 1, genesis: Genesis | None = None,
+                 grain_shape: str = DEFAULT_SHAPE) -> Specimen:
+    """The UCS test's specimen: a random packing of balls, or of rigid clumps of the template
+    `grain_shape` (`dem.clump_templates`: PFC's clumped materials), whose equivalent radii are
+    drawn in [R_min, radius_ratio x R_min]."""
+    return random_packing(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis,
+                          grain_shape=grain_shape)
+
+
 def _specimen(s: dict) -> Specimen:
-    return random_packing(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"],
-                          genesis_of(s))
+    return ucs_specimen(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"],
+                        genesis_of(s), s.get("grain_shape", DEFAULT_SHAPE))
 
 
 def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> UCSResult:

@@ -10,6 +10,9 @@ state with `new_state`, whatever the material, and reads its parameters as `Bond
 
 from __future__ import annotations
 
+import numpy as np
+
+from rockcal.dem.clump_motion import clump
 from rockcal.dem.simulate import State
 from rockcal.errors import InputError
 from rockcal.materials import flat_joint, parallel_bond
@@ -65,7 +68,17 @@ def as_params(params) -> BondedParams:
 def new_state(params: BondedParams, specimen, pos=None, radius=None, **options) -> State:
     """The engine state of `specimen` in the material of `params`: its grains, or `pos` and
     `radius` (m) with the test's rig after them; `options` as `simulate.assemble_state`'s
-    (walls, wall_active, driven, skin) and a parallel bond's `contact_stiffness`."""
-    return material_of(params).new_state(specimen.pos if pos is None else pos,
-                                         specimen.radius if radius is None else radius,
-                                         specimen, params, **options)
+    (walls, wall_active, driven, skin) and a parallel bond's `contact_stiffness`. A clumped
+    specimen's pebbles are made its rigid clumps (`clump_motion.clump`), the rig's particles
+    after them staying balls."""
+    clump_of = getattr(specimen, "clump_of", None)
+    if clump_of is not None and len(clump_of) != specimen.n_particles:
+        raise ValueError(f"the specimen's clump_of has {len(clump_of)} entries for its "
+                         f"{specimen.n_particles} particles")
+    state = material_of(params).new_state(specimen.pos if pos is None else pos,
+                                          specimen.radius if radius is None else radius,
+                                          specimen, params, **options)
+    if clump_of is not None:
+        rig = state.n_particles - len(clump_of)
+        clump(state, np.concatenate([clump_of, np.full(rig, -1, np.int64)]), params.density)
+    return state

@@ -1,0 +1,112 @@
+"""Clump templates: the shapes of the grains of a clumped material (FISHTank's clumped
+materials, `cm_shape`; PFC's `clump template`), by name.
+
+A template is its pebbles' offsets and radii in units of the clump's equivalent radius, the
+radius of a disk of the clump's area (overlaps counted once: `clumps.union_properties`), with
+the clump's centroid at the origin. The grain size distribution applies to this equivalent
+radius, as FISHTank sizes its clumps by their equivalent diameter: a clump of equivalent radius
+R has pebbles at R x offset of radii R x radius, and the area π R² of a ball of radius R.
+
+- "ball": one pebble, the ball itself;
+- "two-pebble": two equal pebbles whose centres lie PEBBLE_SPACING pebble radii apart;
+- "three-pebble": three equal pebbles at the corners of an equilateral triangle of side
+  PEBBLE_SPACING pebble radii.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rockcal.dem.clumps import union_properties
+from rockcal.errors import InputError
+
+# centre distance of neighbouring pebbles / pebble radius: one pebble radius makes a grain half
+# again as long as it is wide (elongated grains that interlock, as Cho et al. (2007) build theirs)
+PEBBLE_SPACING = 1.0
+DEFAULT_SHAPE = "ball"
+
+
+@dataclass(frozen=True)
+class ClumpTemplate:
+    """A clump's pebbles: `offsets` (k, 2) from its centroid and `radii` (k,), both in units of
+    its equivalent radius (module docstring)."""
+
+    name: str
+    offsets: np.ndarray
+    radii: np.ndarray
+
+    @property
+    def n_pebbles(self) -> int:
+        return len(self.radii)
+
+    @property
+    def extent(self) -> float:
+        """The farthest reach of a pebble from the centroid, in equivalent radii."""
+        return float((np.hypot(*self.offsets.T) + self.radii).max())
+
+    def pebbles(self, size_m: float, angle_rad: float) -> tuple[np.ndarray, np.ndarray]:
+        """The offsets (m) and radii (m) of a clump of equivalent radius `size_m` turned by
+        `angle_rad` counter-clockwise."""
+        c, s = math.cos(angle_rad), math.sin(angle_rad)
+        turned = self.offsets @ np.array([[c, s], [-s, c]])
+        return size_m * turned, size_m * self.radii
+
+
+def from_pebbles(name: str, centres, radii, field: str = "grain_shape") -> ClumpTemplate:
+    """A template of pebbles given in any length unit and placement: moved to put the union's
+    centroid at the origin and scaled to unit equivalent radius. InputError naming `field` if
+    there is no pebble, a radius is not positive, or the pebbles do not overlap into one body."""
+    centres = np.asarray(centres, float).reshape(-1, 2)
+    radii = np.asarray(radii, float).reshape(-1)
+    if len(radii) == 0 or len(centres) != len(radii):
+        raise InputError(field, f"template {name!r} needs one or more pebbles, each a centre and a radius")
+    if not (np.isfinite(centres).all() and np.isfinite(radii).all() and (radii > 0).all()):
+        raise InputError(field, f"template {name!r}: every pebble needs a finite centre and a radius > 0")
+    if not _one_body(centres, radii):
+        raise InputError(field, f"template {name!r}: its pebbles must overlap into one body "
+                                "(each linked to the others through overlapping pebbles)")
+    area, centroid, _ = union_properties(centres, radii)
+    scale = math.sqrt(area / math.pi)
+    return ClumpTemplate(name, (centres - centroid) / scale, radii / scale)
+
+
+def _one_body(centres: np.ndarray, radii: np.ndarray) -> bool:
+    """Whether the pebbles, linked where two overlap (centre distance < sum of radii), are all
+    linked to the first."""
+    d = np.hypot(*(centres[:, None, :] - centres[None, :, :]).transpose(2, 0, 1))
+    linked = d < radii[:, None] + radii[None, :]
+    reached = np.zeros(len(radii), bool)
+    reached[0] = True
+    while True:
+        more = reached | linked[reached].any(axis=0)
+        if (more == reached).all():
+            return bool(reached.all())
+        reached = more
+
+
+def _polygon(corners: int, spacing: float) -> np.ndarray:
+    """Centres of `corners` unit pebbles on a regular polygon of side `spacing`."""
+    if corners == 1:
+        return np.zeros((1, 2))
+    circumradius = spacing / (2.0 * math.sin(math.pi / corners))
+    angles = 2.0 * math.pi * np.arange(corners) / corners
+    return circumradius * np.column_stack([np.cos(angles), np.sin(angles)])
+
+
+TEMPLATES = {
+    "ball": ClumpTemplate("ball", np.zeros((1, 2)), np.ones(1)),
+    "two-pebble": from_pebbles("two-pebble", _polygon(2, PEBBLE_SPACING), np.ones(2)),
+    "three-pebble": from_pebbles("three-pebble", _polygon(3, PEBBLE_SPACING), np.ones(3)),
+}
+GRAIN_SHAPES = tuple(TEMPLATES)
+
+
+def template(name: str, field: str = "grain_shape") -> ClumpTemplate:
+    """The template of that name; InputError naming `field` for a name no template has."""
+    try:
+        return TEMPLATES[name]
+    except (KeyError, TypeError):
+        raise InputError(field, f"no grain shape named {name!r}; known: {', '.join(GRAIN_SHAPES)}") from None
