@@ -170,13 +170,21 @@ def _on_packings(test, params, settings, packing, seeds, run, as_json, out, name
         for problem in out_of_range(result.summary()):
             print(f"rockcal: warning: {label}: {problem}", file=sys.stderr)
         curves.append(result.curve)
-        per_seed.append(result.summary() | specimen.description() | run | {"specimen": specimen.label, "seed": seed})
+        per_seed.append(result.summary() | specimen.description() | _clumps(specimen) | run
+                        | {"specimen": specimen.label, "seed": seed})
         if out is not None:
             write_outputs(out, test, result, per_seed[-1], name if seeds == 1 else f"{name}_seed{seed}")
     summary = per_seed[0] if seeds == 1 else _over_seeds(per_seed, settings["seed"], run)
     if out is not None and seeds > 1:
         _write_text(out / f"{name}_summary.json", json_text(summary, indent=2))
     return summary, curves[0]
+
+
+def _clumps(specimen) -> dict:
+    """A clumped specimen's grains (clumps) beside its particles (pebbles); nothing for balls."""
+    if getattr(specimen, "clump_of", None) is None:
+        return {}
+    return {"n_grains": specimen.n_grains}
 
 
 def _checked_settings(test: LabTest, options: dict) -> dict:
@@ -253,6 +261,8 @@ def _show(test: LabTest, summary: dict, as_json: bool) -> None:
     """The responses as a table (with their spread over packings), or one JSON object."""
     chosen = material(summary.get("model", DEFAULT_MATERIAL))
     rows = [(r.label or r.name, _value(summary, r.name, r.unit)) for r in test.responses]
+    if "n_grains" in summary:  # clumps: their pebbles are the particles
+        rows.append(("grains (clumps)", f"{summary['n_grains']:.0f}"))
     rows += [(f"particles / {chosen.pairs_word}", f"{summary['n_particles']:.0f} / {summary['n_bonds']:.0f}"),
              (f"broken {chosen.breaks_word} tension / shear",
               f"{summary['n_broken_tension']:.0f} / {summary['n_broken_shear']:.0f}"),

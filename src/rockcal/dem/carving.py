@@ -3,6 +3,10 @@ A notch of zero width is a cut: the bonds across a line are removed, no particle
 
 Carving keeps the packing's contact forces and fabric (as when a lab specimen is cut from a
 block); particles left with no bond at all would float, so they are removed as well.
+
+A clumped specimen (`Specimen.clump_of`) is carved grain by grain: a clump is kept or removed
+whole, judged as the disk of its area at its centroid (`grains`), and one is left floating
+when none of its pebbles keeps a bond. The kept clumps are renumbered in their order.
 """
 
 from __future__ import annotations
@@ -11,22 +15,60 @@ from dataclasses import replace
 
 import numpy as np
 
+from rockcal.dem.clumps import clump_properties, members
 from rockcal.dem.specimen import Specimen
+
+
+def grains(spec: Specimen) -> tuple[np.ndarray, np.ndarray]:
+    """Each grain's centre (m) and radius (m): a ball's own; a clump's centroid and equivalent
+    radius (of a disk of its area), clump by clump."""
+    if spec.clump_of is None:
+        return spec.pos, spec.radius
+    area, centroid, _ = clump_properties(spec.pos, spec.radius, *members(spec.clump_of))
+    return centroid, np.sqrt(area / np.pi)
+
+
+def of_particles(spec: Specimen, keep_grains: np.ndarray) -> np.ndarray:
+    """A mask of the grains (`grains`' order) as a mask of the particles: each pebble its clump's."""
+    return keep_grains if spec.clump_of is None else keep_grains[spec.clump_of]
+
+
+def _whole_clumps(spec: Specimen, keep: np.ndarray) -> np.ndarray:
+    """The mask with each clump kept only where all its pebbles are."""
+    if spec.clump_of is None:
+        return keep
+    whole = np.ones(spec.n_grains, bool)
+    np.logical_and.at(whole, spec.clump_of, keep)
+    return whole[spec.clump_of]
+
+
+def _any_of_clump(spec: Specimen, mask: np.ndarray) -> np.ndarray:
+    """The mask with each clump's pebbles all set where one of them is."""
+    if spec.clump_of is None:
+        return mask
+    some = np.zeros(spec.n_grains, bool)
+    np.logical_or.at(some, spec.clump_of, mask)
+    return some[spec.clump_of]
 
 
 def keep_particles(spec: Specimen, keep: np.ndarray, label: str,
                    width_m: float | None = None, height_m: float | None = None) -> Specimen:
-    """The specimen made of the kept particles (re-indexed, bonds between kept ones only)."""
+    """The specimen made of the kept particles (re-indexed, bonds between kept ones only); of a
+    clumped specimen, of the clumps all of whose pebbles are kept (renumbered, in order)."""
+    keep = _whole_clumps(spec, np.asarray(keep, bool))
     for _ in range(2):  # once for the cut, once for particles it left without any bond
         bonds = spec.bonds[keep[spec.bonds[:, 0]] & keep[spec.bonds[:, 1]]]
         bonded = np.zeros(spec.n_particles, bool)
         bonded[bonds.ravel()] = True
-        keep = keep & bonded
+        keep = keep & _any_of_clump(spec, bonded)
     index = np.full(spec.n_particles, -1)
     index[keep] = np.arange(np.count_nonzero(keep))
     kept = keep[spec.bonds[:, 0]] & keep[spec.bonds[:, 1]]
+    clump_of = None
+    if spec.clump_of is not None:
+        clump_of = np.unique(spec.clump_of[keep], return_inverse=True)[1].reshape(-1).astype(np.int64)
     return replace(spec, pos=spec.pos[keep].copy(), radius=spec.radius[keep].copy(),
-                   bonds=index[spec.bonds[kept]], **_kept_draws(spec, kept),
+                   bonds=index[spec.bonds[kept]], **_kept_draws(spec, kept), clump_of=clump_of,
                    width_m=width_m if width_m is not None else spec.width_m,
                    height_m=height_m if height_m is not None else spec.height_m, label=label)
 

@@ -16,7 +16,8 @@ from typing import Callable
 import numpy as np
 from pydantic import Field
 
-from rockcal.dem.carving import cut_bonds, keep_particles, outside_rectangle
+from rockcal.dem.carving import cut_bonds, grains, keep_particles, of_particles, outside_rectangle
+from rockcal.dem.clump_templates import DEFAULT_SHAPE
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
@@ -149,18 +150,21 @@ class BendingResult(LabResult):
 
 
 def notched_beam(beam: Beam = Beam(), rmin_mm: float = 0.25, radius_ratio: float = 1.65,
-                 seed: int = 1, genesis: Genesis | None = None) -> Specimen:
-    """The beam packing with the notch carved out of the middle of its bottom edge (or, for
-    width 0, cut into it)."""
+                 seed: int = 1, genesis: Genesis | None = None,
+                 grain_shape: str = DEFAULT_SHAPE) -> Specimen:
+    """The beam packing (of balls or of clumps of `grain_shape`) with the notch carved out of
+    the middle of its bottom edge (or, for width 0, cut into it): a clump is removed whole where
+    the disk of its area at its centroid overlaps the notch (`carving.grains`)."""
     check_beam(beam, rmin_mm, radius_ratio)
-    spec = random_packing(beam.length_mm, beam.height_mm, rmin_mm, radius_ratio, seed, genesis)
+    spec = random_packing(beam.length_mm, beam.height_mm, rmin_mm, radius_ratio, seed, genesis,
+                          grain_shape=grain_shape)
     half = 0.5e-3 * beam.notch_width_mm
     middle = 0.5e-3 * beam.length_mm
     label = f"{spec.label}, notch {beam.notch_mm:g} x {beam.notch_width_mm:g} mm"
     if beam.notch_width_mm == 0:
         return cut_bonds(spec, middle, 1e-3 * beam.notch_mm, label)
-    keep = outside_rectangle(spec.pos, spec.radius, middle - half, middle + half, -1.0,
-                             1e-3 * beam.notch_mm)
+    keep = of_particles(spec, outside_rectangle(*grains(spec), middle - half, middle + half, -1.0,
+                                                1e-3 * beam.notch_mm))
     return keep_particles(spec, keep, label)
 
 
@@ -288,7 +292,8 @@ def _check(s: dict) -> None:
 
 
 def _specimen(s: dict) -> Specimen:
-    return notched_beam(beam_of(s), s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
+    return notched_beam(beam_of(s), s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s),
+                        s.get("grain_shape", DEFAULT_SHAPE))
 
 
 def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> BendingResult:
@@ -320,7 +325,7 @@ TEST = LabTest(
     flags=(("beam_length_mm", "length_mm"), ("beam_height_mm", "height_mm")),
     defaults=(("stop_fraction", POST_PEAK_FRACTION),),
     settings=(*BEAM_SETTINGS.values(), "rmin_mm", "radius_ratio", "seed", *GENESIS,
-              "stop_fraction", "contact_stiffness"),
+              "stop_fraction", "contact_stiffness", "grain_shape"),  # grain_shape last: kind.LATER_SETTINGS
     check=_check, make=_specimen, run=_run, reading=load_reading,
     outline=lambda s: Outline(f"beam {s['beam_length_mm']:g} x {s['beam_height_mm']:g} mm",
                               s["beam_length_mm"], s["beam_height_mm"]),

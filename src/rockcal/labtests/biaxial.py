@@ -249,7 +249,7 @@ TEST = LabTest(
                Response("sigma3_MPa", "MPa", target=False, label="sigma3 the walls held at peak"),
                *CRACK_RESPONSES),
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
-              "stop_fraction", "contact_stiffness", "confinement_mpa"),
+              "stop_fraction", "contact_stiffness", "confinement_mpa", "grain_shape"),  # last: kind.LATER_SETTINGS
     check=_check, make=ucs.TEST.make, run=_run,
     reading=lambda strain, q_MPa: f"strain {100 * strain:.3f} %, q {q_MPa:.1f} MPa",
     outline=lambda s: Outline(f"biaxial {s['width_mm']:g} x {s['height_mm']:g} mm, "

@@ -30,7 +30,8 @@ import numpy as np
 from pydantic import Field
 
 from rockcal.dem import measure
-from rockcal.dem.carving import inside_circle, keep_particles
+from rockcal.dem.carving import grains, inside_circle, keep_particles, of_particles
+from rockcal.dem.clump_templates import DEFAULT_SHAPE
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.laws import INTACT
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS
@@ -118,12 +119,16 @@ def check_disk(diameter_mm: float, rmin_mm: float, radius_ratio: float) -> None:
 
 
 def brazilian_disk(diameter_mm: float = 50.0, rmin_mm: float = 0.25, radius_ratio: float = 1.65,
-                   seed: int = 1, genesis: Genesis | None = None) -> Specimen:
-    """A disk of the given diameter carved from a square packing of the same size."""
+                   seed: int = 1, genesis: Genesis | None = None,
+                   grain_shape: str = DEFAULT_SHAPE) -> Specimen:
+    """A disk of the given diameter carved from a square packing of the same size, of balls or
+    of clumps of `grain_shape` (a clump kept whole where the disk of its area at its centroid
+    lies inside the disk: `carving.grains`)."""
     check_disk(diameter_mm, rmin_mm, radius_ratio)
-    spec = random_packing(diameter_mm, diameter_mm, rmin_mm, radius_ratio, seed, genesis)
+    spec = random_packing(diameter_mm, diameter_mm, rmin_mm, radius_ratio, seed, genesis,
+                          grain_shape=grain_shape)
     r = 0.5e-3 * diameter_mm
-    keep = inside_circle(spec.pos, spec.radius, (r, r), r)
+    keep = of_particles(spec, inside_circle(*grains(spec), (r, r), r))
     return keep_particles(spec, keep, f"{spec.label}, disk D {diameter_mm:g} mm")
 
 
@@ -242,7 +247,8 @@ def _check(s: dict) -> None:
 
 
 def _specimen(s: dict) -> Specimen:
-    return brazilian_disk(s["disk_diameter_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
+    return brazilian_disk(s["disk_diameter_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s),
+                          s.get("grain_shape", DEFAULT_SHAPE))
 
 
 def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> BrazilianResult:
@@ -268,9 +274,10 @@ TEST = LabTest(
                Response("split", "", target=False, label="split through the centre (1) or not (0)")),
     curve_columns=("displacement_mm", "load_kN_per_m"), plot="load_displacement",
     flags=(("disk_diameter_mm", "diameter_mm"), ("brazilian_loading", "loading")),
-    # brazilian_loading last: at its default ("flat", kind.LATER_SETTINGS) a run's key leaves it out
+    # brazilian_loading and grain_shape last: at their defaults ("flat", "ball": kind.LATER_SETTINGS)
+    # a run's key leaves them out
     settings=("disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "contact_stiffness",
-              "brazilian_loading"),
+              "brazilian_loading", "grain_shape"),
     check=_check, make=_specimen, run=_run, reading=load_reading,
     outline=lambda s: Outline(f"disk D {s['disk_diameter_mm']:g} mm", s["disk_diameter_mm"],
                               s["disk_diameter_mm"], share=np.pi / 4))

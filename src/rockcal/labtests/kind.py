@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Callable
 
+from rockcal.dem.clump_templates import DEFAULT_SHAPE
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.grain_limit import expected_grains
 from rockcal.errors import InputError
@@ -16,7 +17,8 @@ from rockcal.errors import InputError
 GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_mpa
 # Settings added after runs were stored, with the value the engine had before them: a run's
 # key names one only where it differs from that, so the runs stored before keep their keys.
-LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02, "brazilian_loading": "flat"}
+LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02, "brazilian_loading": "flat",
+                  "grain_shape": DEFAULT_SHAPE}
 
 
 @dataclass(frozen=True)
@@ -162,11 +164,13 @@ class LabTest:
 
     def packing(self, specimen_settings) -> dict:
         """The random packing this test's specimen is cut from, as `random_packing`'s arguments:
-        its outline's box, grains, seed and genesis."""
+        its outline's box, grains, seed, genesis and grain shape (balls for a test without the
+        `grain_shape` setting)."""
         s = self.settings_of(specimen_settings)
         box = self.outline(s)
         return dict(width_mm=box.width_mm, height_mm=box.height_mm, rmin_mm=s["rmin_mm"],
-                    radius_ratio=s["radius_ratio"], seed=s["seed"], genesis=genesis_of(s))
+                    radius_ratio=s["radius_ratio"], seed=s["seed"], genesis=genesis_of(s),
+                    grain_shape=s.get("grain_shape", DEFAULT_SHAPE))
 
     def responses_of(self, result) -> dict:
         """The declared responses of a test's result, in their declared order."""

@@ -188,7 +188,7 @@ TEST = LabTest(
                Response("peak_axial_strain", "", target=False, label="axial strain at peak"),
                *(replace(r, target=r.name in CRACK_TARGETS) for r in CRACK_RESPONSES)),
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
-              "stop_fraction", "contact_stiffness", "max_axial_strain"),
+              "stop_fraction", "contact_stiffness", "max_axial_strain", "grain_shape"),
     plot="stress_strain",
     hexagonal=lambda s: hexagonal(s["width_mm"], s["height_mm"], s["rmin_mm"]),
     check=_check, make=_specimen, run=_run,

@@ -24,6 +24,7 @@ from rockcal.campaign.input.targets import LabTargets, Section, Targets, Validat
 from rockcal.labtests.lab_values import read_curve  # noqa: F401  (here too)
 from rockcal.labtests.ucs import UCSValues as UCSTargets  # noqa: F401  (the UCS section, here too)
 from rockcal.user_files import read_user_text
+from rockcal.dem.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES
 from rockcal.dem.genesis import Genesis, make_genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
@@ -95,6 +96,12 @@ class SpecimenSettings(Genesis):
         description="Brazilian test: the disk between flat frictionless platens (flat, FISHTank's), ISRM's curved "
                     "jaws of radius 1.5 x the disk's radius (isrm) or the flat platens with a bearing strip on each, "
                     "plywood 0.01 D thick (strips, ASTM D3967's cushion).")
+    grain_shape: Literal[GRAIN_SHAPES] = Field(
+        DEFAULT_SHAPE, exclude_if=lambda v: v == DEFAULT_SHAPE,
+        description="The grains: balls (ball) or rigid clumps of two or three overlapping pebbles, randomly "
+                    "oriented (two-pebble, three-pebble: FISHTank's clumped materials, PFC's clump templates), "
+                    "sized by the radius of a disk of their area. UCS, confined compression, Brazilian and bending "
+                    "tests (the direct tension test is on balls).")
 
 
 NAMES = tuple(dict.fromkeys(name for m in MATERIALS.values() for name in m.parameters))
