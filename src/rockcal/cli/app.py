@@ -34,12 +34,18 @@ def _options(max_grains: Optional[int] = typer.Option(
 
 
 def _register() -> None:
-    """Add the commands to `app`, once: a process may run `main` many times (a notebook, the
-    tests), and each command added again would slow every later call."""
-    if app.registered_commands:
+    """Add the commands to `app` for the lab tests registered now, once: a process may run
+    `main` many times (a notebook, the tests), and commands added again at each call would slow
+    every later call."""
+    global _registered_for
+    from rockcal.labtests.registry import LAB_TESTS
+
+    if app.registered_commands and tuple(LAB_TESTS) == _registered_for:
         return
     from rockcal.cli import calibrate, export, kic, sensitivity, simulate
 
+    app.registered_groups.clear()
+    app.registered_commands.clear()
     app.add_typer(simulate.build_app(), name="simulate")
     app.add_typer(sensitivity.app, name="sensitivity")
     app.command("kic")(kic.kic)
@@ -47,6 +53,10 @@ def _register() -> None:
     app.command("report")(calibrate.report)
     app.command("export")(export.export)
     app.command("export-specimen")(export.export_specimen)
+    _registered_for = tuple(LAB_TESTS)
+
+
+_registered_for: tuple[str, ...] = ()  # the lab tests `simulate`'s commands were made for
 
 
 def _fail(message: str) -> None:
