@@ -33,34 +33,27 @@ def of_particles(spec: Specimen, keep_grains: np.ndarray) -> np.ndarray:
     return keep_grains if spec.clump_of is None else keep_grains[spec.clump_of]
 
 
-def _whole_clumps(spec: Specimen, keep: np.ndarray) -> np.ndarray:
-    """The mask with each clump kept only where all its pebbles are."""
-    if spec.clump_of is None:
-        return keep
-    whole = np.ones(spec.n_grains, bool)
-    np.logical_and.at(whole, spec.clump_of, keep)
-    return whole[spec.clump_of]
-
-
-def _any_of_clump(spec: Specimen, mask: np.ndarray) -> np.ndarray:
-    """The mask with each clump's pebbles all set where one of them is."""
+def _over_clumps(spec: Specimen, mask: np.ndarray, whole: bool) -> np.ndarray:
+    """The mask made the same for every pebble of a clump: set where all its pebbles are
+    (`whole`) or where any one is."""
     if spec.clump_of is None:
         return mask
-    some = np.zeros(spec.n_grains, bool)
-    np.logical_or.at(some, spec.clump_of, mask)
-    return some[spec.clump_of]
+    reduce = np.logical_and if whole else np.logical_or
+    per_clump = np.full(spec.n_grains, whole)
+    reduce.at(per_clump, spec.clump_of, mask)
+    return per_clump[spec.clump_of]
 
 
 def keep_particles(spec: Specimen, keep: np.ndarray, label: str,
                    width_m: float | None = None, height_m: float | None = None) -> Specimen:
     """The specimen made of the kept particles (re-indexed, bonds between kept ones only); of a
     clumped specimen, of the clumps all of whose pebbles are kept (renumbered, in order)."""
-    keep = _whole_clumps(spec, np.asarray(keep, bool))
+    keep = _over_clumps(spec, np.asarray(keep, bool), whole=True)
     for _ in range(2):  # once for the cut, once for particles it left without any bond
         bonds = spec.bonds[keep[spec.bonds[:, 0]] & keep[spec.bonds[:, 1]]]
         bonded = np.zeros(spec.n_particles, bool)
         bonded[bonds.ravel()] = True
-        keep = keep & _any_of_clump(spec, bonded)
+        keep = keep & _over_clumps(spec, bonded, whole=False)
     index = np.full(spec.n_particles, -1)
     index[keep] = np.arange(np.count_nonzero(keep))
     kept = keep[spec.bonds[:, 0]] & keep[spec.bonds[:, 1]]

@@ -105,7 +105,7 @@ class RBFSurrogate:
         self.x = x
         self.names = tuple(responses)
         self.degree = degree
-        self.y, self._measured = {}, {}
+        self.y, measured_at = {}, {}
         for name, values in responses.items():
             values = np.asarray(values, dtype=float)
             if values.shape != (n,):
@@ -116,10 +116,10 @@ class RBFSurrogate:
             if measured.sum() < minimum:
                 raise InputError(name, f"measured at {measured.sum()} runs, too few for this surrogate (need at "
                                        f"least {minimum})")
-            self.y[name], self._measured[name] = values[measured], measured
+            self.y[name], measured_at[name] = values[measured], measured
         self.epsilon, self.smoothing, self.loo_rms, self._models = {}, {}, {}, {}
         for name in self.names:
-            u = self.scale(x[self._measured[name]])
+            u = self.scale(x[measured_at[name]])
             s = float(smoothing[name] if isinstance(smoothing, dict) else smoothing)
             if s < 0:
                 raise InputError("smoothing", f"must be >= 0, got {s}")
