@@ -5,9 +5,10 @@ import numpy as np
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
-from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.procedure.steps import calibrate, spread_out
 from rockcal.campaign.procedure.result import FailedRun
 from rockcal.campaign.runs.spec import RunResult
+from rockcal.errors import InputError
 
 CAMPAIGN = """
 [targets.ucs]
@@ -319,3 +320,30 @@ class ByTest(Workers):
     def run(self, specs, progress=None):
         self.calls.append([spec.kind for spec in specs])
         return [RunResult("ok", wavy_ucs(spec.kind, dict(spec.params)), None, 0.0) for spec in specs]
+
+
+def test_samples_every_test_runs_the_beam_at_that_many_samples_spread_over_the_box(tmp_path):
+    """Multi-fidelity with [surrogate] samples_every_test = 3 of 8: the samples' batch runs 8 + 1
+    UCS tests and 3 + 1 beams (the check runs every test); the other samples are recorded
+    without K_IC, and the corrected K_IC still leads to the point the targets ask for."""
+    workers = ByTest()
+    text = FIRST_UCS.replace("checks = 1", "checks = 1\ncoarse_samples = 12\nsamples_every_test = 3")
+    record = calibrate(parse_campaign(text, tmp_path), workers)
+    assert sorted(workers.calls[1]) == ["bending"] * 4 + ["ucs"] * 9
+    with_beam = [r for r in record.samples.responses if "K_IC_MPa_sqrt_m" in r]
+    assert len(with_beam) == 3 and all("ucs_MPa" in r for r in record.samples.responses)
+    assert record.accepted
+
+
+def test_spread_out_takes_the_centre_then_the_farthest_points():
+    box = np.array([[0.0, 10.0], [0.0, 1.0]])
+    x = np.array([[5.0, 0.5], [0.0, 0.0], [4.0, 0.6], [10.0, 1.0], [9.0, 0.9]])
+    assert spread_out(x, box, 1) == [0]
+    assert spread_out(x, box, 3) == [0, 1, 3]
+    assert spread_out(x, box, 9) == [0, 1, 2, 3, 4]
+
+
+@pytest.mark.parametrize("setting", ["coarse_samples = 12\nsamples_every_test = 9", "samples_every_test = 3"])
+def test_samples_every_test_above_samples_or_without_coarse_runs_is_refused(setting, tmp_path):
+    with pytest.raises(InputError, match="samples_every_test"):
+        parse_campaign(FIRST_UCS.replace("checks = 1", "checks = 1\n" + setting), tmp_path)

@@ -187,6 +187,18 @@ class Surrogate(Section):
                                 "correct; 0: none.")
     coarse_factor: float = Field(2.0, gt=1, le=4, description="R_min of the coarse samples over the campaign's "
                                  "(2: about 1/8 of a run's work).")
+    samples_every_test: int | None = Field(None, ge=2, le=MAX_DEM_RUNS, description="Multi-fidelity: of the samples, "
+                                           "how many run every test calibrated against (the others run the UCS "
+                                           "test alone); default: all.")
+
+    @model_validator(mode="after")
+    def _every_test(self):
+        n = self.samples_every_test
+        if n is not None and not self.coarse_samples:
+            raise ValueError("samples_every_test: needs coarse_samples (the coarse runs train every response)")
+        if n is not None and n > self.samples:
+            raise ValueError(f"samples_every_test: at most samples ({self.samples}), got {n}")
+        return self
 
 
 class Optimizer(Section):

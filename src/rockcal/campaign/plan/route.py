@@ -3,7 +3,8 @@
 A parameter set whose runs cost at least DEAR UCS runs (a notched beam, a confined series, a
 direct-tension prism beside the UCS test) takes the multi-fidelity route unless [surrogate]
 sets samples or coarse_samples: coarse runs (R_min x coarse_factor, about a tenth of the work)
-train the surrogate and a few full-resolution runs correct it. A verified point that costs at
+train the surrogate and a few full-resolution runs correct it, the tests beside UCS at half of
+them (unless [surrogate] sets samples_every_test). A verified point that costs at
 least DEAR UCS runs (those tests, or several packings) is verified one at a time unless
 [acceptance] sets candidates: a second candidate would double each round's cost for a
 smaller chance of a second round. Where that point's other tests cost more than its UCS runs,
@@ -76,21 +77,26 @@ def with_route(campaign, coarse_possible: bool = True):
         update["acceptance"] = acceptance.model_copy(update={"candidates": 1, **({"ucs_first": True} if first else {})})
     if multi:
         n = len(campaign.search.bounds) or len(campaign.sensitivity.levels)
+        samples = n + FULL_AFTER_PARAMETERS
+        # the dear tests' corrections (a ratio and a smooth rest) need fewer full-size runs
+        every = max(2, samples // 2) if others else None
         update["surrogate"] = surrogate.model_copy(update={
-            "coarse_samples": COARSE_PER_PARAMETER * n, "samples": n + FULL_AFTER_PARAMETERS,
-            **({} if "checks" in surrogate.model_fields_set else {"checks": CHECKS})})
+            "coarse_samples": COARSE_PER_PARAMETER * n, "samples": samples,
+            **({} if "checks" in surrogate.model_fields_set else {"checks": CHECKS}),
+            **({} if "samples_every_test" in surrogate.model_fields_set else {"samples_every_test": every})})
     chosen = campaign.model_copy(update=update)
     reasons = []
     if multi:
         u = update["surrogate"]
+        others = "" if u.samples_every_test is None else f" (the other tests at {u.samples_every_test} of them)"
         reasons.append(f"a parameter set's runs take {sample:.2g} UCS runs' time: {u.coarse_samples} coarse runs "
-                       f"(R_min x {u.coarse_factor:g}) train the surrogate, {u.samples} full-resolution ones "
+                       f"(R_min x {u.coarse_factor:g}) train the surrogate, {u.samples} full-resolution ones{others} "
                        f"and {u.checks} check{'s' if u.checks != 1 else ''} correct it")
     if one:
         reasons.append(("" if multi and point == sample else f"a verified point's runs take {point:.2g} UCS runs' "
                         "time: ") + "one point is verified a round"
                        + (", its UCS test first and the others only where UCS meets the tolerance" if first else ""))
-    why = "; ".join(reasons) + (" ([surrogate] samples or coarse_samples, [acceptance] candidates"
+    why = "; ".join(reasons) + (" ([surrogate] samples, coarse_samples or samples_every_test, [acceptance] candidates"
                                 + (" and ucs_first" if first else "") + " choose otherwise)")
     chosen._route = (Route("multi-fidelity", why, campaign, "single fidelity") if multi else
                      Route("one candidate a round", why, campaign, f"{acceptance.candidates} candidates a round"))

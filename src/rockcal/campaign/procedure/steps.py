@@ -240,15 +240,29 @@ def coarse_sample_runs(state: CampaignState) -> Runs:
 
 def sample_runs(state: CampaignState) -> Runs:
     """The Latin hypercube runs and the check runs as one batch; the surrogate on the samples
-    (with the sensitivity runs that are runs of the search), checked on the check points."""
+    (with the sensitivity runs that are runs of the search), checked on the check points.
+    The checks and [surrogate] samples_every_test of the samples (`spread_out`) run every
+    test; the other samples run the UCS test alone."""
     campaign, names, box = state.campaign, state.names, state.box
     s = campaign.surrogate
     x, checks = sample_points(box, s)
-    points = [(campaign.specimen, dict(zip(names, row))) for row in [*x, *checks]]
+    every = spread_out(x, box, len(x) if s.samples_every_test is None else s.samples_every_test)
+    ucs_only = [i for i in range(len(x)) if i not in every]
+    points = [(campaign.specimen, dict(zip(names, row))) for row in [*x[every], *checks]]
+    ucs_points = [(campaign.specimen, dict(zip(names, row))) for row in x[ucs_only]]
+    ucs_state = replace(state, goals=goals_of_tests(state.goals, [PRIMARY_TEST]))
+    specs = point_specs(state, points)
 
     def fold(results, progress) -> CampaignState:
-        new, y_all = folded(state, SAMPLES_AND_CHECKS, points, results)
-        y, y_checks = y_all[:len(x)], y_all[len(x):]
+        new, y_all = folded(state, SAMPLES_AND_CHECKS, points, results[:len(specs)])
+        if ucs_points:
+            new, y_ucs = folded(replace(new, goals=ucs_state.goals), SAMPLES_AND_CHECKS, ucs_points,
+                                results[len(specs):])
+            new = replace(new, goals=state.goals)
+        y = [None] * len(x)
+        for i, v in zip([*every, *ucs_only], y_all[:len(every)] + (y_ucs if ucs_points else [])):
+            y[i] = v
+        y_checks = y_all[len(every):]
         reused = _reusable(new, names, box, campaign.specimen)
         train_x, train_y = _usable(np.vstack([x, _points(new.sensitivity, reused, names)]),
                                    y + [new.sensitivity.run_responses[i] for i in reused])
@@ -258,7 +272,18 @@ def sample_runs(state: CampaignState) -> Runs:
                        surrogate_check=_check(new, surrogate, checks, y_checks, check_x, check_y),
                        train_x=np.vstack([train_x, check_x]), train_y=train_y + check_y)
 
-    return Runs(point_specs(state, points), fold)
+    return Runs(specs + point_specs(ucs_state, ucs_points), fold)
+
+
+def spread_out(x: np.ndarray, box: np.ndarray, k: int) -> list[int]:
+    """k of the points x, each the farthest (in the box scaled to a unit cube) from those
+    taken before it, the first the nearest the box's centre: few runs that still span it."""
+    unit = (x - box[:, 0]) / (box[:, 1] - box[:, 0])
+    taken = [int(np.argmin(np.linalg.norm(unit - 0.5, axis=1)))]
+    while len(taken) < min(k, len(x)):
+        gap = np.min(np.linalg.norm(unit[:, None, :] - unit[taken][None, :, :], axis=2), axis=1)
+        taken.append(int(np.argmax(gap)))
+    return sorted(taken)
 
 
 def _check(state: CampaignState, surrogate: RBFSurrogate, checks, y_checks, check_x, check_y) -> SurrogateCheck:
@@ -315,8 +340,9 @@ def verification_runs(state: CampaignState) -> Runs:
     other distinct optima on it ([acceptance] candidates), their DEM runs; the round settles
     the loop when a verified point is accepted, the budget is spent or nothing new was found.
     With [acceptance] ucs_first, a round has two stages: the UCS runs at its points, then
-    every test's at the points whose UCS responses met the tolerance (`pending`: their UCS
-    runs come from the store); a point that missed is recorded with its UCS responses only."""
+    every test's at the points whose UCS responses met the tolerance of the targets or of the
+    surrogate's prediction (`pending`: their UCS runs come from the store); a point that
+    missed both is recorded with its UCS responses only."""
     campaign, names = state.campaign, state.names
     if state.planning:
         # the plan counts the search's optimum, the one point every round verifies: the other
@@ -342,8 +368,15 @@ def verification_runs(state: CampaignState) -> Runs:
 
     def fold(results, progress) -> CampaignState:
         per_point = grouped(first, points, results, means=True)
-        tolerance = campaign.acceptance.tolerance
-        met = [_within(_errors(first.goals.targets, point_responses(first, runs)[0]), tolerance) for runs in per_point]
+        tolerance, targets = campaign.acceptance.tolerance, first.goals.targets
+        met = []
+        for x, runs in zip(round_.xs, per_point):
+            responses, predicted = point_responses(first, runs)[0], round_.surrogate.predict(x)
+            # a miss the surrogate foresaw is the search's trade-off with the other tests, which
+            # only their runs can settle: they run there too
+            foreseen = {r: predicted[r] for r in targets}
+            met.append(_within(_errors(targets, responses), tolerance)
+                       or _within(_errors(foreseen, responses), tolerance))
         missed, passed = [i for i, ok in enumerate(met) if not ok], [i for i, ok in enumerate(met) if ok]
         new = first
         if missed:
