@@ -56,19 +56,20 @@ class Calibration:
         return {name.removesuffix(".png"): Figure(title, self.out / name)
                 for title, name, _, _ in figures_of(self.result) if (self.out / name).is_file()}
 
-    def export(self, format: str = "pfc-fish", to: str | Path | None = None) -> Path:
+    def export(self, format: str = "pfc-fish", to: str | Path | None = None, fishtank: int = 6) -> Path:
         """Write the identified parameters under PFC FISHTank's names, as `rockcal export OUT
-        --format FORMAT --to TO` does: "pfc-fish" (a FISHTank mpParams data file), "pfc-python"
-        (a PFC Python script) or "json"; `to` by default OUT/mpParams.p2dat (.py, .json).
+        --format FORMAT --to TO --fishtank N` does: "pfc-fish" (a FISHTank mpParams data file),
+        "pfc-python" (a PFC Python script) or "json"; `to` by default OUT/mpParams.p2dat (.py,
+        .json); `fishtank` the PFC version whose FISHTank reads it (5, 6 or 7).
         Returns the path written."""
-        from rockcal.campaign.outputs.export import WRITERS
+        from rockcal.campaign.outputs.export import WRITERS, for_fishtank
         from rockcal.cli.export import _calibration
         from rockcal.output_files import write_atomic
 
         if format not in WRITERS:
             raise InputError("format", f"one of {', '.join(WRITERS)}, got {format!r}")
         path = self.out / EXPORT_FILES[format] if to is None else Path(to)
-        text = WRITERS[format](_calibration(self.out))
+        text = WRITERS[format](for_fishtank(_calibration(self.out), fishtank, "fishtank"))
         try:
             return write_atomic(path, text)
         except OSError as exc:

@@ -34,7 +34,7 @@ READ = {  # by cm_matType
 }
 # Read too but left to FISHTank's defaults, which are what a rockcal material means or which
 # only steer PFC's own genesis: cm_matNameSAV (set to cm_matName), cm_modName (cm_matType 5),
-# cm_ctName (clumps), pk_seed (PFC's random numbers are not rockcal's), pk_PTol,
+# cm_ctName (a ball material's; a clumped one sets it), pk_seed (PFC's random numbers are not rockcal's), pk_PTol,
 # pk_ARatLimit, pk_stepLimit (its genesis tolerances), pk_fricCA, pk_vLimit (boundary
 # contraction), fjm_Nal (3D).
 

@@ -19,15 +19,27 @@ class Format(str, Enum):
     json = "json"
 
 
+class FishTank(str, Enum):
+    """The FISHTank targeted, by PFC version (`materials.fishtank.FISHTANKS`)."""
+
+    pfc5 = "5"
+    pfc6 = "6"
+    pfc7 = "7"
+
+
 def export(
     out: Path = typer.Argument(..., help="Output folder of a finished campaign."),
     format: Format = typer.Option(Format.pfc_fish, "--format", help="pfc-fish: FISHTank mpParams-style data file; pfc-python: a PFC Python script; json."),
     to: Optional[Path] = typer.Option(None, "--to", help="File to write (default: stdout)."),
+    fishtank: FishTank = typer.Option(FishTank.pfc6, "--fishtank", help="The PFC version whose FISHTank reads the "
+                                      "file: its cm_matType codes (flat-jointed: 3 in PFC 5's fistPkg25, 4 in "
+                                      "PFC 6's; 7: numbered as 6)."),
 ) -> None:
-    """The identified micro-parameters under PFC FISHTank's names (pbm_emod, ...), in SI units."""
-    from rockcal.campaign.outputs.export import WRITERS
+    """The identified micro-parameters under PFC FISHTank's names (pbm_emod, ...), in SI units;
+    a clumped material's clump template too."""
+    from rockcal.campaign.outputs.export import WRITERS, for_fishtank
 
-    calibrated = _calibration(out)
+    calibrated = for_fishtank(_calibration(out), fishtank.value)
     text = WRITERS[format.value](calibrated)
     if to is None:
         typer.echo(text, nl=False)

@@ -10,7 +10,13 @@ R has pebbles at R x offset of radii R x radius, and the area π R² of a ball o
 - "ball": one pebble, the ball itself;
 - "two-pebble": two equal pebbles whose centres lie PEBBLE_SPACING pebble radii apart;
 - "three-pebble": three equal pebbles at the corners of an equilateral triangle of side
-  PEBBLE_SPACING pebble radii.
+  PEBBLE_SPACING pebble radii;
+- "cloud": CLOUD_PEBBLES pebbles of random radii, each overlapping one pebble before it at a
+  random offset, so that they make one body (`pebble_cloud`, drawn from CLOUD_SEED: the same
+  template in every run).
+
+Every template here reaches less than MAX_EXTENT equivalent radii from its centroid, so a
+specimen at least 4 grain diameters wide (`specimen.check_geometry`) holds its largest clump.
 """
 
 from __future__ import annotations
@@ -27,6 +33,13 @@ from rockcal.errors import InputError
 # again as long as it is wide (elongated grains that interlock, as Cho et al. (2007) build theirs)
 PEBBLE_SPACING = 1.0
 DEFAULT_SHAPE = "ball"
+# the "cloud": its pebbles, their radii (in units of the largest possible) and each one's centre
+# distance to the pebble it overlaps (a fraction of their radii's sum: < 1 overlaps), and its seed
+CLOUD_PEBBLES = 4
+CLOUD_RADII = (0.5, 1.0)
+CLOUD_SPACING = (0.4, 0.8)
+CLOUD_SEED = 2024
+MAX_EXTENT = 4.0  # equivalent radii: a specimen 4 diameters wide holds such a clump
 
 
 @dataclass(frozen=True)
@@ -87,6 +100,24 @@ def _one_body(centres: np.ndarray, radii: np.ndarray) -> bool:
         reached = more
 
 
+def pebble_cloud(seed: int, n_pebbles: int = CLOUD_PEBBLES, name: str = "cloud") -> ClumpTemplate:
+    """A template of `n_pebbles` pebbles of radii uniform in CLOUD_RADII, the first at the
+    origin, each later one overlapping an earlier one drawn at random: its centre at a uniform
+    fraction CLOUD_SPACING of their radii's sum from that one's, in a uniform direction. One
+    body by construction; the same pebbles for the same seed."""
+    if isinstance(n_pebbles, bool) or int(n_pebbles) != n_pebbles or n_pebbles < 1:
+        raise InputError("grain_shape", f"template {name!r} needs one or more pebbles, got {n_pebbles!r}")
+    rng = np.random.default_rng([seed, int(n_pebbles)])
+    radii = rng.uniform(*CLOUD_RADII, int(n_pebbles))
+    centres = np.zeros((int(n_pebbles), 2))
+    for k in range(1, int(n_pebbles)):
+        on = int(rng.integers(k))
+        distance = rng.uniform(*CLOUD_SPACING) * (radii[k] + radii[on])
+        angle = rng.uniform(0.0, 2.0 * math.pi)
+        centres[k] = centres[on] + distance * np.array([math.cos(angle), math.sin(angle)])
+    return from_pebbles(name, centres, radii)
+
+
 def _polygon(corners: int, spacing: float) -> np.ndarray:
     """Centres of `corners` unit pebbles on a regular polygon of side `spacing`."""
     if corners == 1:
@@ -100,6 +131,7 @@ TEMPLATES = {
     "ball": ClumpTemplate("ball", np.zeros((1, 2)), np.ones(1)),
     "two-pebble": from_pebbles("two-pebble", _polygon(2, PEBBLE_SPACING), np.ones(2)),
     "three-pebble": from_pebbles("three-pebble", _polygon(3, PEBBLE_SPACING), np.ones(3)),
+    "cloud": pebble_cloud(CLOUD_SEED),
 }
 GRAIN_SHAPES = tuple(TEMPLATES)
 

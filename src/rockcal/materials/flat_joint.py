@@ -353,14 +353,16 @@ def new_state(pos, radius, pairs, params: FlatJointParams, *, joint_draws=None,
                                    linear_contacts(params), params.fj_emod * GPa, joints, **options)
 
 
-def pfc_parameters(params: FlatJointParams, specimen) -> dict[str, float | int | bool]:
-    """FISHTank's flat-jointed material parameters (SI) of a rockcal material: the common
-    groups and `PFC_PROPERTIES`, the strengths' sd as PFC takes them (`strength_sds`), the
-    microstructure not tracked."""
+def pfc_parameters(params: FlatJointParams, specimen,
+                   fishtank: int | None = None) -> dict[str, float | int | bool | str]:
+    """FISHTank's flat-jointed material parameters (SI) of a rockcal material for the FISHTank
+    of PFC `fishtank` (its cm_matType; None: the default's): the common groups and
+    `PFC_PROPERTIES`, the strengths' sd as PFC takes them (`strength_sds`), the microstructure
+    not tracked."""
     ten_sd, coh_sd = params.strength_sds
     values = params.key() | {"fj_ten_sd": ten_sd, "fj_coh_sd": coh_sd, "track_microstructure": False,
                              "install_gap_mm": specimen.install_gap * specimen.rmin_mm}
-    return common_pfc(params, specimen, FLAT_JOINTED) | pfc_values(PFC_PROPERTIES, values)
+    return common_pfc(params, specimen, "flat-jointed", fishtank) | pfc_values(PFC_PROPERTIES, values)
 
 
 def pair_properties(params: FlatJointParams, specimen) -> dict:

@@ -44,7 +44,7 @@ class Material:
     within the installation gap); `new_state(pos, radius, specimen, params, **options)` the
     engine state its laws run in (`simulate.assemble_state`'s options); `pfc_parameters(params,
     specimen)` its FISHTank material group's parameters in SI units, set by the FISH function
-    `pfc_group`, with `pfc_material_type` (`cm_matType`); `pair_properties(params, specimen)`
+    `pfc_group`, with `pfc_material_type` (`cm_matType` in the default FISHTank's numbering, PFC 6's); `pair_properties(params, specimen)`
     the properties of each bonded pair (columns by name, SI), for the specimen's export;
     `pairs_word` and `breaks_word` name its bonded pairs and what breaks in them;
     `check_rock(params)` refuses valid parameters no rock can have (no bonded element), an

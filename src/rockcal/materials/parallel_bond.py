@@ -154,13 +154,14 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
                           driven=driven, skin=skin)
 
 
-def pfc_parameters(params: MicroParams, specimen) -> dict[str, float | int]:
-    """FISHTank's parallel-bonded material parameters (SI) of a rockcal material: the common
-    groups and `PFC_PROPERTIES`, the strengths' sd as PFC takes them (`strength_sds`)."""
+def pfc_parameters(params: MicroParams, specimen, fishtank: int | None = None) -> dict[str, float | int | str]:
+    """FISHTank's parallel-bonded material parameters (SI) of a rockcal material for the
+    FISHTank of PFC `fishtank` (its cm_matType; None: the default's): the common groups and
+    `PFC_PROPERTIES`, the strengths' sd as PFC takes them (`strength_sds`)."""
     ten_sd, coh_sd = params.strength_sds
     values = params.key() | {"sigma_c_sd": ten_sd, "tau_c_sd": coh_sd,
                              "install_gap_mm": specimen.install_gap * specimen.rmin_mm}
-    return common_pfc(params, specimen, PARALLEL_BONDED) | pfc_values(PFC_PROPERTIES, values)
+    return common_pfc(params, specimen, "parallel-bonded", fishtank) | pfc_values(PFC_PROPERTIES, values)
 
 
 def check_bonded(params: MicroParams) -> None:

@@ -98,10 +98,10 @@ class SpecimenSettings(Genesis):
                     "plywood 0.01 D thick (strips, ASTM D3967's cushion).")
     grain_shape: Literal[GRAIN_SHAPES] = Field(
         DEFAULT_SHAPE, exclude_if=lambda v: v == DEFAULT_SHAPE,
-        description="The grains: balls (ball) or rigid clumps of two or three overlapping pebbles, randomly "
-                    "oriented (two-pebble, three-pebble: FISHTank's clumped materials, PFC's clump templates), "
-                    "sized by the radius of a disk of their area. UCS, confined compression, Brazilian and bending "
-                    "tests (the direct tension test is on balls).")
+        description="The grains: balls (ball) or rigid clumps of overlapping pebbles, randomly oriented "
+                    "(two-pebble, three-pebble, cloud: four pebbles of random sizes; FISHTank's clumped materials, "
+                    "PFC's clump templates), sized by the radius of a disk of their area. UCS, confined "
+                    "compression, Brazilian and bending tests (the direct tension test is on balls).")
 
 
 NAMES = tuple(dict.fromkeys(name for m in MATERIALS.values() for name in m.parameters))

@@ -2,12 +2,14 @@
 Itasca's FISHTank material (`cm_matType`, the common and packing groups and the material's
 group: `mpSetPBParams` for the parallel-bonded material, `mpSetFJParams` for the flat-jointed
 one, each with the linear material group `lnm_*`), in SI units, as complete as FISHTank's own
-parameter files; and the specimen itself as ball and bond lists."""
+parameter files, for the FISHTank of one PFC version (`cm_matType` differs between them); a
+clumped material's grains as the clump template FISHTank's `clump distribute` takes, created
+first (`clump template create`); and the specimen itself as ball and bond lists."""
 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +20,8 @@ from rockcal.campaign.procedure.result import read_result
 from rockcal.campaign.outputs.safe_text import comment_text
 from rockcal.errors import InputError
 from rockcal.materials import DEFAULT_MATERIAL, material, material_of
+from rockcal.materials.fishtank import (DEFAULT_FISHTANK, FISHTANKS, MATERIAL_TYPES, fishtank_version,
+                                        grain_template, template_name, template_pebbles)
 from rockcal.output_files import write_csv
 from rockcal.params import GPa, MicroParams
 
@@ -27,11 +31,22 @@ FORMATS = ("pfc-fish", "pfc-python", "json")
 @dataclass(frozen=True)
 class Calibrated:
     """What a finished campaign identified: the material, its specimen settings and where it
-    came from (for the export's header)."""
+    came from (for the export's header); and the FISHTank the export targets, by PFC version."""
 
     params: object  # of its material (`rockcal.materials`)
     specimen: SpecimenSettings
     origin: dict
+    fishtank: int = DEFAULT_FISHTANK
+
+
+def for_fishtank(calibrated: Calibrated, version, field: str = "--fishtank") -> Calibrated:
+    """The calibration exported for the FISHTank of PFC `version` (5, 6 or 7); InputError
+    naming `field` for another."""
+    return replace(calibrated, fishtank=fishtank_version(version, field))
+
+
+def _fishtank(calibrated) -> int:
+    return getattr(calibrated, "fishtank", DEFAULT_FISHTANK)
 
 
 def read_calibration(store, folder: Path) -> Calibrated:
@@ -58,8 +73,26 @@ def pfc_parameters(calibrated: Calibrated) -> dict[str, float | int | bool | str
     first: cm_matName 'rockcal_<material>' (the rock's own name stays in the header's comments:
     no user text becomes code)."""
     chosen = material_of(calibrated.params)
-    return {"cm_matName": f"rockcal_{chosen.name}"} | chosen.pfc_parameters(calibrated.params,
-                                                                          calibrated.specimen)
+    return {"cm_matName": f"rockcal_{chosen.name}"} | chosen.pfc_parameters(
+        calibrated.params, calibrated.specimen, _fishtank(calibrated))
+
+
+def clump_templates(calibrated: Calibrated) -> dict[str, list[tuple[float, float, float]]]:
+    """The clump template of a clumped material by its PFC name (`cm_ctName`): each pebble's
+    radius and centre x, y in the template's frame (`fishtank.template_pebbles`); none for
+    balls."""
+    shape = grain_template(calibrated.specimen)
+    return {} if shape is None else {template_name(shape): template_pebbles(shape)}
+
+
+def template_command(name: str, pebbles) -> list[str]:
+    """PFC's command creating the clump template `name` of `pebbles` (radius, x, y), its
+    inertial properties computed from the pebbles as FISHTank's clumped examples do
+    (`pebcalculate`): one line per pebble, each number to the last bit."""
+    lines = [f"clump template create pebcalculate name {name} pebbles {len(pebbles)} ..."]
+    lines += [" ".join(["   ", *(repr(float(v)) for v in pebble)]) + " ..." for pebble in pebbles]
+    lines[-1] = lines[-1].removesuffix(" ...")
+    return lines
 
 
 UNITS = {"cm_densityVal": "kg/m3", "cm_Dlo": "m", "cm_Dup": "m", "pk_Pm": "Pa", "pbm_emod": "Pa",
@@ -67,8 +100,8 @@ UNITS = {"cm_densityVal": "kg/m3", "cm_Dlo": "m", "cm_Dup": "m", "pk_Pm": "Pa", 
          "pbm_coh_m": "Pa", "pbm_coh_sd": "Pa", "pbm_fa": "degrees", "fjm_igap": "m",
          "fjm_G_m": "m", "fjm_G_sd": "m", "fjm_emod": "Pa", "fjm_ten_m": "Pa", "fjm_ten_sd": "Pa",
          "fjm_coh_m": "Pa", "fjm_coh_sd": "Pa", "fjm_fa": "degrees", "lnm_emod": "Pa"}
-# FISHTank's size-distribution arrays, one entry each (cm_nSD = 1)
-SIZE_ARRAYS = ("cm_typeSD", "cm_Dlo", "cm_Dup", "cm_Vfrac")
+# FISHTank's size-distribution arrays, one entry each (cm_nSD = 1); cm_ctName for clumps only
+SIZE_ARRAYS = ("cm_typeSD", "cm_ctName", "cm_Dlo", "cm_Dup", "cm_Vfrac")
 
 
 def header_lines(calibrated: Calibrated) -> list[str]:
@@ -98,7 +131,20 @@ def _header(calibrated: Calibrated) -> list[str]:
                      f"per contact whatever the radii; in PFC 5+ set the contacts' kn {kn:.6g}, ks "
                      f"{ks:.6g} N/m directly); pbm_emod below is PFC 5+'s deformability method, "
                      "softer by 2 min(R)/(R_A + R_B) between unequal grains")
-    lines.append("2D: disks of unit thickness; SI units")
+    version = _fishtank(calibrated)
+    codes = MATERIAL_TYPES[version]
+    lines.append(f"for {FISHTANKS[version]}: cm_matType {codes['parallel-bonded']} parallel-bonded, "
+                 f"{codes['flat-jointed']} flat-jointed (rockcal export --fishtank 5, 6 or 7)")
+    shape = grain_template(calibrated.specimen)
+    if shape is None:
+        lines.append("2D: disks of unit thickness; SI units")
+    else:
+        lines += [f"2D: clumps of {shape.n_pebbles} disks of unit thickness (template "
+                  f"{template_name(shape)}, rockcal's {shape.name!r}); SI units",
+                  "the template's pebbles: radius, then centre x, y, in the template's frame (centroid "
+                  "at the origin, lengths in equivalent radii: its equivalent diameter is 2);",
+                  "FISHTank's clump distribute (diameter) sizes each clump's equivalent diameter "
+                  "(of a disk of its area) in cm_Dlo..cm_Dup and turns it at random"]
     return lines
 
 
@@ -122,15 +168,18 @@ def to_fish(calibrated: Calibrated) -> str:
     values = pfc_parameters(calibrated)
     group = material_of(calibrated.params).pfc_group
     out = [f"; {line}" for line in header_lines(calibrated)]
+    for name, pebbles in clump_templates(calibrated).items():
+        out += [*template_command(name, pebbles), ""]
+    arrays = [name for name in SIZE_ARRAYS if name in values]
 
     def assign(name: str, target: str | None = None) -> str:
         unit = f"  ; {UNITS[name]}" if name in UNITS else ""
         return f"  {target or name} = {_fish_value(values[name])}{unit}"
 
-    common = [name for name in values if name.startswith("cm_") and name not in SIZE_ARRAYS]
+    common = [name for name in values if name.startswith("cm_") and name not in arrays]
     out += ["def mpSetCommonParams", *(assign(name) for name in common), "  cm_matNameSAV = cm_matName"]
-    out += [f"  {name} = array.create(cm_nSD)" for name in SIZE_ARRAYS]
-    out += [assign(name, f"{name}(1)") for name in SIZE_ARRAYS]
+    out += [f"  {name} = array.create(cm_nSD)" for name in arrays]
+    out += [assign(name, f"{name}(1)") for name in arrays]
     out += ["end", "@mpSetCommonParams", "", "def mpSetPackingParams",
             *(assign(name) for name in values if name.startswith("pk_")),
             "end", "@mpSetPackingParams", "", f"def {group}",
@@ -140,11 +189,20 @@ def to_fish(calibrated: Calibrated) -> str:
 
 
 def to_python(calibrated: Calibrated) -> str:
-    """A PFC Python script that sets the FISH parameters (itasca.fish.set); outside PFC it only
+    """A PFC Python script that creates the clump template of a clumped material
+    (itasca.command) and sets the FISH parameters (itasca.fish.set); outside PFC it only
     defines them."""
     values = pfc_parameters(calibrated)
+    arrays = tuple(name for name in SIZE_ARRAYS if name in values)
     # a fixed first line: the coding declaration no later comment can set
     out = ["# -*- coding: utf-8 -*-"] + [f"# {line}" for line in header_lines(calibrated)]
+    out.append(f"FISHTANK = {_fishtank(calibrated)!r}  # the PFC version whose FISHTank this targets")
+    out.append("CLUMP_TEMPLATES = {  # name: pebbles (radius, x, y) in the template's frame")
+    for name, pebbles in clump_templates(calibrated).items():
+        out.append(f"    {name!r}: [")
+        out += [f"        {tuple(float(v) for v in pebble)!r}," for pebble in pebbles]
+        out.append("    ],")
+    out.append("}")
     out.append("PARAMETERS = {")
     for name, value in values.items():
         unit = f"  # {UNITS[name]}" if name in UNITS else ""
@@ -156,8 +214,11 @@ def to_python(calibrated: Calibrated) -> str:
             "except ImportError:  # not inside PFC",
             "    itasca = None",
             "if itasca is not None:",
+            "    for name, pebbles in CLUMP_TEMPLATES.items():",
+            "        itasca.command('clump template create pebcalculate name %s pebbles %d %s' % (",
+            "            name, len(pebbles), ' '.join(repr(v) for pebble in pebbles for v in pebble)))",
             "    for name, value in PARAMETERS.items():",
-            f"        if name in {SIZE_ARRAYS!r}:",
+            f"        if name in {arrays!r}:",
             "            itasca.fish.set(name, [value])",
             "        else:",
             "            itasca.fish.set(name, value)",
@@ -168,7 +229,13 @@ def to_python(calibrated: Calibrated) -> str:
 
 def to_json(calibrated: Calibrated) -> str:
     values = pfc_parameters(calibrated)
+    version = _fishtank(calibrated)
+    templates = {name: {"pebbles": [{"radius": r, "x": x, "y": y} for r, x, y in pebbles],
+                        "frame": "centroid at the origin; lengths in equivalent radii (equivalent diameter 2)"}
+                 for name, pebbles in clump_templates(calibrated).items()}
     return json.dumps({"origin": calibrated.origin, "model": material_of(calibrated.params).name,
+                       "fishtank": {"pfc": version, "target": FISHTANKS[version]},
+                       "clump_templates": templates,
                        "parameters": values,
                        "units": {name: UNITS.get(name, "1") for name in values},
                        "rockcal_params": calibrated.params.key()}, indent=1) + "\n"
