@@ -1,0 +1,202 @@
+"""Stepping in time: the state of a 3D bonded-particle model and the explicit integrator.
+
+`advance` runs many steps inside one compiled loop (pair laws, PFC local damping, central
+differences) and returns to Python only to rebuild the neighbour list. Each step sums the
+pairs' forces block by block in parallel, then the pairs across block borders, then moves the
+spheres block by block: the order of every sum is fixed by the specimen, so a run's numbers do
+not depend on the number of threads. SI units.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+from numba import njit, prange
+
+from rockcal.dem3d import forces, neighbours
+from rockcal.dem3d.bonds import Bonds, new_bonds, set_radii
+from rockcal.dem3d.laws import INTACT, Laws, bond_springs, contact_springs
+from rockcal.dem3d.state import Load, Sphere, Spheres, new_spheres
+
+TIME_STEP_SAFETY = 0.8
+
+
+@dataclass
+class State:
+    """A bonded sphere model: spheres, bonds (the first pairs of the neighbour list), the
+    neighbour list, the law constants, local damping and time step."""
+
+    spheres: Spheres
+    bonds: Bonds
+    neighbours: neighbours.NeighbourList
+    laws: Laws
+    damping: float
+    dt: float
+    step: int = 0
+
+    @property
+    def n_spheres(self) -> int:
+        return self.spheres.pos.shape[0]
+
+    def n_broken(self, mode: int | None = None) -> int:
+        """Bonds broken so far, in `mode` (laws.BROKEN_TENSION, BROKEN_SHEAR) or (None) either."""
+        state = self.bonds.state
+        return int(np.count_nonzero(state != INTACT if mode is None else state == mode))
+
+
+def assemble_state(pos, radius, pairs, density: float, laws: Laws, *, damping=0.7,
+                   ten=np.inf, coh=np.inf, driven=None, skin=None) -> State:
+    """A state at rest: spheres of `density` (kg/m³; `driven` ones keep their prescribed
+    velocity and spin), parallel bonds at the `pairs` (i < j) with tensile strength `ten` and
+    cohesion `coh` (Pa; one value or one per pair, in the order of `pairs`), each taking its
+    pair's overlap at installation as its reference; and the stable time step."""
+    pos = np.ascontiguousarray(pos, float)
+    radius = np.asarray(radius, float)
+    pairs = np.asarray(pairs, np.int64).reshape(-1, 2)
+    nlist, order = neighbours.allocate(pos, radius, pairs,
+                                       skin if skin is not None else 0.5 * radius.min())
+    pi, pj = nlist.pi[:nlist.n_bonds], nlist.pj[:nlist.n_bonds]
+    overlap = radius[pi] + radius[pj] - np.linalg.norm(pos[pj] - pos[pi], axis=1)
+    ten, coh = (np.broadcast_to(np.asarray(v, float), len(pairs))[order] for v in (ten, coh))
+    state = State(spheres=new_spheres(pos, radius, density, driven),
+                  bonds=new_bonds(overlap, ten, coh, radius[pi], radius[pj]),
+                  neighbours=nlist,
+                  laws=laws, damping=damping, dt=0.0)
+    state.dt = stable_time_step(state)
+    return state
+
+
+def rebuild_neighbours(state: State) -> None:
+    """Rebuild the neighbour list at the spheres' positions and give the bonds their spheres'
+    radii (needed after changing radii)."""
+    s, nb = state.spheres, state.neighbours.n_bonds
+    state.neighbours = neighbours.update(state.neighbours, s.pos, s.radius)
+    set_radii(state.bonds, s.radius[state.neighbours.pi[:nb]], s.radius[state.neighbours.pj[:nb]])
+
+
+def stiffness_sums(state: State) -> tuple[np.ndarray, np.ndarray]:
+    """Each sphere's translational and rotational stiffness, summed over every listed pair as
+    if touching (the 2D engine's rule): max(kn, ks) + max(k̄n Ā, k̄s Ā) in translation,
+    (ks + k̄s Ā) R² + max(k̄n Ī, k̄s J̄) in rotation (R the sphere's own radius)."""
+    s, pairs, nb = state.spheres, state.neighbours, state.neighbours.n_bonds
+    ri, rj = s.radius[pairs.pi], s.radius[pairs.pj]
+    rmin, length = np.minimum(ri, rj), ri + rj
+    kn, ks = contact_springs(rmin, length, state.laws)
+    intact = np.zeros(len(ri), bool)
+    intact[:nb] = state.bonds.state == INTACT
+    kbn, kbs, kbt, kbb = (np.where(intact, k, 0.0) for k in bond_springs(rmin, length, state.laws))
+    n = state.n_spheres
+    k_trans, k_rot = np.zeros(n), np.zeros(n)
+    for idx, r in ((pairs.pi, ri), (pairs.pj, rj)):
+        np.add.at(k_trans, idx, np.maximum(kn, ks) + np.maximum(kbn, kbs))
+        np.add.at(k_rot, idx, (ks + kbs) * r**2 + np.maximum(kbt, kbb))
+    return k_trans, k_rot
+
+
+def stable_time_step(state: State) -> float:
+    """Safety × the smallest sqrt(m / k_translational) and sqrt(I / k_rotational) of any free
+    sphere (`stiffness_sums`); inf if no free sphere has a spring."""
+    s = state.spheres
+    k_trans, k_rot = stiffness_sums(state)
+    free = (s.inv_mass > 0) & (k_trans > 0)
+    if not free.any():
+        return np.inf
+    dt_t = np.sqrt(1.0 / (s.inv_mass[free] * k_trans[free]))
+    dt_r = np.sqrt(1.0 / (s.inv_inertia[free] * np.maximum(k_rot[free], 1e-300)))
+    return TIME_STEP_SAFETY * float(min(dt_t.min(), dt_r.min()))
+
+
+def scale_density(state: State) -> float:
+    """Density scaling for quasi-static runs, as the 2D engine (PFC's `timestep scale`): each
+    free sphere's mass and inertia set so that its own critical step equals the specimen's,
+    the time step unchanged. Returns the scaled over the true mass of the free spheres."""
+    s = state.spheres
+    k_trans, k_rot = stiffness_sums(state)
+    critical_s = state.dt / TIME_STEP_SAFETY
+    free = (s.inv_mass > 0) & (k_trans > 0)
+    true_mass = np.sum(1.0 / s.inv_mass[free])
+    s.inv_mass[free] = 1.0 / (k_trans[free] * critical_s**2)
+    s.inv_inertia[free] = 1.0 / (np.maximum(k_rot[free], 1e-300) * critical_s**2)
+    return float(np.sum(1.0 / s.inv_mass[free]) / true_mass)
+
+
+@njit(cache=True, error_model="numpy")
+def _move(first, last, bodies, loads, damping, dt, pos_at_build):
+    """PFC local damping (each force and moment component reduced by damping × its size against
+    its velocity), then central differences, of spheres first..last-1; driven spheres keep
+    their velocity and spin. Returns their largest squared displacement since the list was
+    built."""
+    moved = 0.0
+    for k in range(numba.uint64(first), numba.uint64(last)):
+        inv_mass = bodies[k, Sphere.INV_MASS]
+        if inv_mass > 0.0:
+            inv_inertia = bodies[k, Sphere.INV_INERTIA]
+            for a in range(3):
+                f = loads[k, Load.FX + a]
+                f -= damping * abs(f) * np.sign(bodies[k, Sphere.VX + a])
+                bodies[k, Sphere.VX + a] += f * inv_mass * dt
+                m = loads[k, Load.MX + a]
+                m -= damping * abs(m) * np.sign(bodies[k, Sphere.WX + a])
+                bodies[k, Sphere.WX + a] += m * inv_inertia * dt
+        dist_sq = 0.0
+        for a in range(3):
+            bodies[k, Sphere.X + a] += bodies[k, Sphere.VX + a] * dt
+            step = bodies[k, Sphere.X + a] - pos_at_build[k, a]
+            dist_sq += step * step
+        moved = max(moved, dist_sq)
+    return moved
+
+
+# numba caches this kernel with the law kernels compiled into it, keyed by this file alone:
+# after editing laws.py or forces.py in a checkout, clear the caches (__pycache__/*.nbi, *.nbc).
+@njit(parallel=True, cache=True, error_model="numpy")
+def _advance(n_steps, bodies, loads, pi, pj, shear, table, bond_state, break_xyz, starts,
+             bond_offsets, contact_offsets, pos_at_build, half_skin_sq, laws, damping, dt):
+    """Run up to n_steps; stop early when the list must be rebuilt. Returns the steps done and
+    whether the list must be rebuilt."""
+    blocks = starts.shape[0] - 1
+    moved = np.zeros(blocks)
+    for s in range(n_steps):
+        for b in prange(blocks):
+            for k in range(numba.uint64(starts[b]), numba.uint64(starts[b + 1])):
+                for c in range(6):
+                    loads[k, c] = 0.0
+            forces.add_bond_forces(bond_offsets[b], bond_offsets[b + 1], bodies, loads, pi, pj,
+                                   table, bond_state, break_xyz, laws, dt)
+            forces.add_contact_forces(contact_offsets[b], contact_offsets[b + 1], bodies, loads,
+                                      pi, pj, shear, laws, dt)
+        forces.add_bond_forces(bond_offsets[blocks], bond_offsets[blocks + 1], bodies, loads, pi,
+                               pj, table, bond_state, break_xyz, laws, dt)
+        forces.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], bodies,
+                                  loads, pi, pj, shear, laws, dt)
+        for b in prange(blocks):
+            moved[b] = _move(starts[b], starts[b + 1], bodies, loads, damping, dt, pos_at_build)
+        for b in range(blocks):
+            if moved[b] > half_skin_sq:
+                return s + 1, True
+    return n_steps, False
+
+
+def advance(state: State, n_steps: int) -> None:
+    """Run n_steps time steps, rebuilding the neighbour list whenever spheres moved enough; on
+    numba's threads, at most one per block."""
+    cap = numba.get_num_threads()
+    numba.set_num_threads(max(1, min(cap, len(state.neighbours.block_starts) - 1)))
+    try:
+        done = 0
+        s, b = state.spheres, state.bonds
+        while done < n_steps:
+            pairs = state.neighbours
+            done_now, rebuild = _advance(
+                n_steps - done, s.bodies, s.loads, pairs.pi, pairs.pj, pairs.shear, b.table,
+                b.state, b.break_xyz, pairs.block_starts, pairs.bond_offsets,
+                pairs.contact_offsets, pairs.pos_at_build, pairs.rebuild_distance_sq,
+                state.laws, state.damping, state.dt)
+            done += done_now
+            state.step += done_now
+            if rebuild:
+                state.neighbours = neighbours.update(pairs, s.pos, s.radius)
+    finally:
+        numba.set_num_threads(cap)
