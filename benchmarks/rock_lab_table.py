@@ -3,7 +3,8 @@ Hoek-Brown m_i), CI / UCS and CD / UCS, Brazilian and direct tensile strength of
 parallel-bonded granite, beside the lab's values for granite.
 
 Run by hand: `python benchmarks/rock_lab_table.py [--out runs/rock-lab] [--rmin-mm 0.25]
-[--confinement-mpa 0,5,10,20] [--workers 1] [--from CAMPAIGN_OUT]`. The parameters are the
+[--confinement-mpa 0,5,10,20] [--workers 1] [--from CAMPAIGN_OUT] [--grain-shape two-pebble]
+[--seed 2]`. The parameters are the
 embedded granite campaign's (`rockcal.campaign.granite.toml`: its specimen, genesis and fixed
 parameters) at the point its calibration identifies (E_c 21.65 GPa, kn/ks 1.985, sigma_c
 35.61 MPa), or with `--from` those a finished campaign identified, of its material, on its
@@ -79,11 +80,12 @@ def calibrated_point(folder: Path | None) -> tuple[SpecimenSettings, dict, str, 
     return SpecimenSettings(**record["specimen"]), record["identified_params"], model, f"{words} {record['rock']}"
 
 
-def run_all(out: Path, point, rmin_mm: float | None, confinements: list[float], workers: int):
-    """The tests at the calibrated point, through the store in `out`: the specimen settings,
-    the runs by name and the wall time of the runs done now."""
+def run_all(out: Path, point, settings: dict, confinements: list[float], workers: int):
+    """The tests at the calibrated point, through the store in `out`, on its specimen with
+    `settings` changed: the specimen settings, the runs by name and the wall time of the runs
+    done now."""
     specimen, params, model, _ = point
-    specimen = specimen if rmin_mm is None else specimen.model_copy(update={"rmin_mm": rmin_mm})
+    specimen = specimen.model_copy(update=settings)
     specs = {"ucs": run_spec("ucs", specimen, params, model),
              "brazilian": run_spec("brazilian", specimen, params, model),
              "direct_tension": run_spec("direct_tension", specimen, params, model)}
@@ -138,7 +140,7 @@ def markdown(model: dict, envelope: dict, confinements: list[float], specimen, w
         f"R² {envelope['mc_r2']:.4f}, rms {envelope['mc_rms_MPa']:.2f} MPa; Hoek–Brown σ_ci "
         f"{envelope['sigma_ci_MPa']:.1f} MPa, r² {envelope['hb_r2']:.4f}, rms {envelope['hb_rms_MPa']:.2f} MPa. "
         f"Specimen {specimen.width_mm:g} × {specimen.height_mm:g} mm (disk D {specimen.disk_diameter_mm:g} mm), "
-        f"R_min {specimen.rmin_mm:g} mm, packing seed {specimen.seed}.\n")
+        f"R_min {specimen.rmin_mm:g} mm, packing seed {specimen.seed}, grains: {specimen.grain_shape}.\n")
 
 
 def figures(out: Path, runs: dict, confinements: list[float], words: str) -> None:
@@ -157,13 +159,17 @@ def main() -> None:
     parser.add_argument("--rmin-mm", type=float, default=None, help="default: the granite campaign's, 0.25 mm")
     parser.add_argument("--confinement-mpa", default="0,5,10,20")
     parser.add_argument("--workers", type=int, default=1)
+    parser.add_argument("--grain-shape", default=None, help="the grains: ball or a clump template (default: the point's)")
+    parser.add_argument("--seed", type=int, default=None, help="packing seed (default: the point's)")
     parser.add_argument("--from", dest="campaign", type=Path, default=None,
                         help="a finished campaign's OUT: its identified point (default: the embedded granite's)")
     args = parser.parse_args()
     confinements = [float(v) for v in args.confinement_mpa.split(",")]
     args.out.mkdir(parents=True, exist_ok=True)
     point = calibrated_point(args.campaign)
-    specimen, runs, wall_s = run_all(args.out, point, args.rmin_mm, confinements, args.workers)
+    settings = {k: v for k, v in (("rmin_mm", args.rmin_mm), ("grain_shape", args.grain_shape), ("seed", args.seed))
+                if v is not None}
+    specimen, runs, wall_s = run_all(args.out, point, settings, confinements, args.workers)
     model, envelope = table(runs, confinements)
     text = markdown(model, envelope, confinements, specimen, point[3])
     (args.out / "rock_lab_table.md").write_text(text)
