@@ -33,7 +33,7 @@ max_dem_runs = 9
 SENSITIVITY = "[sensitivity]\narray = 'L16(4^5)'\nlevels = { E_c = [15, 20, 25, 30], sigma_c = [20, 30, 40, 50] }\n"
 FLAT_JOINT = BASE.replace("bounds = { E_c = [10, 30], sigma_c = [20, 60] }\nfixed = { mu = 0.5 }",
                           "bounds = { fj_emod = [10, 30], fj_ten = [20, 60], fjm_B_frac = [0.5, 0.7], "
-                          "fjm_G_frac = [0.1, 0.3] }").replace("[search]", '[material]\nmodel = "flatjoint"\n[search]')
+                          "fjm_G_frac = [0.1, 0.3] }\nfixed = { fjm_G_m = 0.005 }").replace("[search]", '[material]\nmodel = "flatjoint"\n[search]')
 BENDING = "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0\n"
 BRAZILIAN = "[targets.brazilian]\nsigma_t_MPa = 9.0\n"
 
@@ -147,7 +147,7 @@ CASES = [  # (case, campaign file as text or bytes, the start of the message aft
     # targets and the search box
     ("empty target section", BASE + "[targets.direct_tension]\n",
      "targets.direct_tension: no lab value given; give at least one of sigma_t_direct_MPa"),
-    ("a whole number searched", FLAT_JOINT.replace("fj_ten = [20, 60]", "fj_nr = [1, 4]"),
+    ("a whole number's bounds not whole", FLAT_JOINT.replace("fj_ten = [20, 60]", "fj_nr = [1.5, 4]"),
      "search.bounds.fj_nr: a whole number"),
     ("a code searched", FLAT_JOINT.replace("fj_ten = [20, 60]", "fjm_rmulCode = [0, 2]"),
      "search.bounds.fjm_rmulCode: a whole number"),

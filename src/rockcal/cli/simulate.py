@@ -37,7 +37,8 @@ SET_HELP = ("Micro-parameter NAME=VALUE, repeatable. Parallel bond: E_c, Ebar_c 
             "(sd / mean), phi_b (degrees), mcf, mu, lambda. Flat joint (--model flatjoint): "
             "fj_emod, lnm_emod (GPa), fj_kratio, lnm_krat, fj_ten, fj_coh (MPa) and their _sd "
             "(MPa) or _cv, fj_fa (degrees), fj_fric, lnm_fric, fj_nr, fj_rmul, fjm_rmulCode, "
-            "fjm_B_frac, fjm_G_frac, fjm_G_m, fjm_G_sd (mm). Both: density (kg/m3), damping.")
+            "fjm_B_frac, fjm_G_frac, fjm_G_m, fjm_G_sd (mm), fj_cohres (MPa) with fj_resmode 1. Both: "
+            "density (kg/m3), damping.")
 Model = Enum("Model", [(name, name) for name in MATERIALS], type=str)
 Packing = Enum("Packing", [("random", "random"), ("hexagonal", "hexagonal")], type=str)
 SHARED = {  # the options of every test: name -> (annotation, typer option)

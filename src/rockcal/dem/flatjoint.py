@@ -29,6 +29,9 @@ The interface (PFC manual, "Flat-Joint Model"; see the docs, "FISHTank's flat-jo
   else in shear when |F_s^e| / A_e > τ_c = c - σ^e tan φ (`fj_coh`, `fj_fa`: compression
   raises the strength); it is then unbonded at once, in the same step;
 - an unbonded element carries compression only and slips at |F_s^e| = μ |F_n^e| (`fj_fric`);
+  one broken in shear slips at |F_s^e| = μ |F_n^e| + c_r L_c t (`fj_cohres`, acting with
+  `fj_resmode` 1; L_c its closed length, where g <= 0): the sheared surface keeps a residual
+  cohesion over the part of it that touches;
 - the interface force is the sum of the elements' (F_n = Σ F_n^e along n on i, tension
   positive; F_s = Σ F_s^e along t on i), its moment on i about the contact point
   M = Σ (M^e - ξ_e F_n^e); so a partly broken interface still resists rotation. On i act
@@ -41,9 +44,8 @@ k_n A and k_s A for translation, k_n I for rotation with I = Σ_e (A_e ξ_e² + 
 
 State, SI: a joints table (rows GAP to M, one column per joint) and per element a state array
 (joints x N_r, PFC's `fj_state` codes) and an elements array (rows E_FN to E_COH, joints x
-N_r). Residual cohesion (`fj_cohres`, `fj_resmode`, PFC 7+) is not modelled: their PFC
-defaults (c_r = 0, mode 0: the shear stress of a broken element drops to zero, then friction)
-are what this law does.
+N_r). With c_r = 0 (PFC's defaults: `fj_cohres` 0, `fj_resmode` 0) the residual term is not
+evaluated at all, so the law is the one without it to the last bit.
 """
 
 from __future__ import annotations
@@ -60,9 +62,10 @@ from rockcal.dem.laws import Disk, Load, contact_velocity, force_xy, pair_geomet
 UNBONDED, BROKEN_TENSION, BROKEN_SHEAR, BONDED = 0, 1, 2, 3
 # rows of the joints table, one column per flat joint: surface gap g_s (m), relative
 # bend-rotation θ_b (rad), k_n and k_s (Pa/m), radius multiplier λ, friction μ, tan φ, and the
-# interface's normal force (N, tension positive), shear force (N) and moment on i (N m)
-GAP, THETA, KN, KS, RMUL, FRIC, TAN_FA, FN, FS, M = range(10)
-JOINT_ROWS = 10
+# interface's normal force (N, tension positive), shear force (N) and moment on i (N m), and
+# the residual cohesion c_r of its elements broken in shear (Pa)
+GAP, THETA, KN, KS, RMUL, FRIC, TAN_FA, FN, FS, M, COHRES = range(11)
+JOINT_ROWS = 11
 # rows of the elements array (rows x joints x N_r): normal force (N, tension positive), shear
 # force (N), bending moment on i about the element centroid (N m), tensile strength and
 # cohesion (Pa)
@@ -111,17 +114,20 @@ class FlatJoints(NamedTuple):
         return np.where((state == BROKEN_TENSION) | (state == BROKEN_SHEAR), state, 0)
 
 
-def new_flatjoints(nr: int, kn, ks, rmul, fric, tan_fa, gap0, bonded, ten, coh) -> FlatJoints:
+def new_flatjoints(nr: int, kn, ks, rmul, fric, tan_fa, gap0, bonded, ten, coh,
+                   cohres=0.0) -> FlatJoints:
     """Flat joints at zero force with N_r = `nr` elements each. Per joint: kn, ks (Pa/m), λ,
     μ, tan φ, initial surface gap g_0 (m) and whether its elements are bonded (a bool per joint,
-    or per element as (joints, nr)); ten, coh (Pa) per joint or per element."""
+    or per element as (joints, nr)); ten, coh (Pa) per joint or per element; the residual
+    cohesion c_r (Pa) of elements broken in shear (0: none)."""
     if int(nr) != nr or nr < 1:
         raise ValueError(f"nr must be a whole number >= 1, got {nr}")
     kn = np.atleast_1d(np.asarray(kn, float))
     n = len(kn)
     table = np.zeros((JOINT_ROWS, n))
     table[KN] = kn
-    for row, value in ((KS, ks), (RMUL, rmul), (FRIC, fric), (TAN_FA, tan_fa), (GAP, gap0)):
+    for row, value in ((KS, ks), (RMUL, rmul), (FRIC, fric), (TAN_FA, tan_fa), (GAP, gap0),
+                       (COHRES, cohres)):
         table[row] = value
     state = np.where(_per_element(bonded, bool, n, nr), BONDED, UNBONDED).astype(np.int64)
     elements = np.zeros((ELEMENT_ROWS, n, nr))
@@ -178,6 +184,20 @@ def element_normal_force(kn, gap, theta, xc, length, bonded):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def closed_length(gap, theta, xc, length):
+    """The length of the part of an element (centred at ξ = xc, of length `length`) where the
+    gap g(ξ) = gap - theta ξ is closed (g <= 0)."""
+    gc = gap - theta * xc
+    half = 0.5 * length
+    if theta == 0.0:
+        return length if gc <= 0.0 else 0.0
+    edge = gc / theta  # g = 0 at u = edge (u from the centroid)
+    if theta > 0.0:  # closed where u >= edge
+        return min(max(half - edge, 0.0), length)
+    return min(max(edge + half, 0.0), length)  # closed where u <= edge
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def update_joint(p, rbar, dn, ds, dtheta, table, state, elements):
     """PFC's flat-joint force-displacement law for joint p of half-length `rbar` (m), given the
     relative motion of the step: normal displacement dn (opening positive), shear displacement
@@ -193,6 +213,7 @@ def update_joint(p, rbar, dn, ds, dtheta, table, state, elements):
     ks = table[KS, p]
     fric = table[FRIC, p]
     tan_fa = table[TAN_FA, p]
+    cohres = table[COHRES, p]
     nr = state.shape[1]
     length = 2.0 * rbar / nr
     area = length  # unit thickness
@@ -220,6 +241,8 @@ def update_joint(p, rbar, dn, ds, dtheta, table, state, elements):
                 fn, me = element_normal_force(kn, gap, theta, xc, length, False)
         if not bonded:
             cap = fric * max(-fn, 0.0)
+            if cohres > 0.0 and state[p, e] == BROKEN_SHEAR:
+                cap += cohres * closed_length(gap, theta, xc, length)  # unit thickness
             if fs > cap:
                 fs = cap
             elif fs < -cap:

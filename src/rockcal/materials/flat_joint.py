@@ -10,8 +10,10 @@ packed specimen as FISHTank makes it (`ft.fis`: `_mpAssignFJ`, `_mpAssignFJProps
    (`fjm_fric`), tensile strength and cohesion drawn per joint from normal distributions
    truncated at zero (`fjm_ten_m/_sd`, `fjm_coh_m/_sd`: FISHTank redraws negative values; every
    element of a joint gets the joint's draw, since `fj_ten` and `fj_coh` are properties of the
-   contact in PFC), friction angle (`fjm_fa`), and stiffnesses from the effective modulus and
-   stiffness ratio (`fjm_emod`, `fjm_krat`): k_n = E*/(R_i + R_j), k_s = k_n/κ*, fixed then.
+   contact in PFC), friction angle (`fjm_fa`), the residual cohesion of elements broken in
+   shear (PFC 7+'s `fj_cohres` with `fj_resmode` 1; FISHTank has no name for it), and
+   stiffnesses from the effective modulus and stiffness ratio (`fjm_emod`, `fjm_krat`):
+   k_n = E*/(R_i + R_j), k_s = k_n/κ*, fixed then.
 3. λ is reduced where two flat-joint faces of one grain would overlap (`fjm_rmulCode`):
    a face of joint c seen from the grain's centre spans the half-angle α = atan(R̄_c / l_c),
    l_c the distance from the centre to the contact point (FISHTank subtracts half the initial
@@ -33,6 +35,7 @@ specimen and seed serve every parameter set.
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass
 from typing import ClassVar
@@ -49,6 +52,7 @@ from rockcal.materials.material import MAX_DAMPING, MIN_DENSITY, MIN_STIFFNESS_R
 from rockcal.materials.strengths import truncated_normal
 from rockcal.materials.units import GPa, MM, MPa
 
+logger = logging.getLogger(__name__)
 FLATJOINT_STREAM = 2  # the flat joints' random stream (the parallel bonds' strengths use 1)
 TYPE, TEN, COH, GAP = range(4)  # columns of the draws: rank for the microstructure, strengths, gap
 DRAWS_PER_JOINT = 4
@@ -57,6 +61,7 @@ DRAWS_PER_JOINT = 4
 BONDED, GAPPED, SLIT = 1, 2, 3
 REDUCTION = 0.99  # FISHTank's factor on λ per overlap check
 FRACTION_TOLERANCE = 1e-9
+CODE = {"code": True}  # marks a whole-number parameter that picks a rule rather than counts
 
 
 class FlatJointParams(BaseModel):
@@ -75,10 +80,19 @@ class FlatJointParams(BaseModel):
     fj_coh_sd: float = Field(0.0, ge=0, le=1e5, description="cohesion sd, MPa (fjm_coh_sd)")
     fj_coh_cv: float = Field(0.0, ge=0, le=10, description="cohesion sd / mean")
     fj_fa: float = Field(0.0, ge=0, lt=90, description="element friction angle, degrees (fjm_fa)")
+    # PFC 7+'s residual strength; left out of `key()` at their defaults, so runs stored before
+    # them keep their keys
+    fj_cohres: float = Field(0.0, ge=0, le=1e5, exclude_if=lambda v: v == 0,
+                             description="residual cohesion of an element broken in shear, MPa "
+                                         "(fj_cohres; acts with fj_resmode 1)")
+    fj_resmode: int = Field(0, ge=0, le=1, exclude_if=lambda v: v == 0, json_schema_extra=CODE,
+                            description="residual mode: 0 an element broken in shear keeps friction, "
+                                        "1 friction and fj_cohres (fj_resmode)")
     fj_fric: float = Field(0.5, ge=0, le=10, description="element friction coefficient (fjm_fric)")
     fj_nr: int = Field(2, ge=1, le=64, description="elements per flat joint (fjm_Nr)")
     fj_rmul: float = Field(1.0, ge=0.1, le=10, description="radius multiplier λ, starting value (fjm_rmulVal)")
-    fjm_rmulCode: int = Field(0, ge=0, le=2, description="λ reduction: 0 none, 1 per joint, 2 uniform")
+    fjm_rmulCode: int = Field(0, ge=0, le=2, json_schema_extra=CODE,
+                              description="λ reduction: 0 none, 1 per joint, 2 uniform")
     fjm_B_frac: float = Field(1.0, ge=0, le=1, description="bonded fraction of the flat joints")
     fjm_G_frac: float = Field(0.0, ge=0, le=1, description="gapped fraction (slit: the rest)")
     fjm_G_m: float = Field(0.0, ge=0, le=1e3, description="initial gap of gapped joints (mean), mm")
@@ -103,6 +117,9 @@ class FlatJointParams(BaseModel):
         for name in ("fj_ten", "fj_coh"):
             if getattr(self, name + "_sd") and getattr(self, name + "_cv"):
                 raise ValueError(f"{name}_cv: set {name}_sd or {name}_cv, not both")
+        if self.fj_cohres and self.fj_resmode == 0:
+            raise ValueError(f"fj_cohres: {self.fj_cohres:g} MPa acts only with fj_resmode = 1 "
+                             "(mode 0 keeps no residual cohesion); set fj_resmode = 1 or fj_cohres = 0")
         return self
 
     def key(self) -> dict[str, float]:
@@ -272,6 +289,7 @@ class FlatJointedMaterial:
     lnm_emod: float  # Pa
     lnm_krat: float
     lnm_fric: float
+    cohres: float = 0.0  # residual cohesion of elements broken in shear, Pa (0: none)
 
     @property
     def nr(self) -> int:
@@ -287,7 +305,7 @@ class FlatJointedMaterial:
         """The flat joints' initial law state (`rockcal.dem.flatjoint`)."""
         return flatjoint.new_flatjoints(self.nr, self.kn, self.ks, self.rmul, self.fric,
                                         self.tan_fa, self.gap0, self.kind == BONDED, self.ten,
-                                        self.coh)
+                                        self.coh, self.cohres)
 
 
 def assign_flatjointed(pos, radius, params: FlatJointParams, install_gap: float,
@@ -329,7 +347,8 @@ def flatjointed(pos, radius, pairs, params: FlatJointParams, draws: np.ndarray |
         pairs=pairs, kind=kind.astype(np.int8), gap0=gap0, rmul=rmul, kn=kn,
         ks=kn / params.fj_kratio, ten=np.ascontiguousarray(ten), coh=np.ascontiguousarray(coh),
         fric=params.fj_fric, tan_fa=math.tan(math.radians(params.fj_fa)),
-        lnm_emod=params.lnm_emod * GPa, lnm_krat=params.lnm_krat, lnm_fric=params.lnm_fric)
+        lnm_emod=params.lnm_emod * GPa, lnm_krat=params.lnm_krat, lnm_fric=params.lnm_fric,
+        cohres=params.fj_cohres * MPa if params.fj_resmode == 1 else 0.0)
 
 
 def linear_contacts(params: FlatJointParams) -> laws.Laws:
@@ -359,6 +378,9 @@ def pfc_parameters(params: FlatJointParams, specimen,
     of PFC `fishtank` (its cm_matType; None: the default's): the common groups and
     `PFC_PROPERTIES`, the strengths' sd as PFC takes them (`strength_sds`), the microstructure
     not tracked."""
+    if params.fj_resmode == 1 and params.fj_cohres > 0:
+        logger.warning("fj_cohres %g MPa: FISHTank has no name for the residual cohesion; after the genesis "
+                       "set the flat joints' fj_cohres and fj_resmode 1 in PFC 7+", params.fj_cohres)
     ten_sd, coh_sd = params.strength_sds
     values = params.key() | {"fj_ten_sd": ten_sd, "fj_coh_sd": coh_sd, "track_microstructure": False,
                              "install_gap_mm": specimen.install_gap * specimen.rmin_mm}
@@ -382,7 +404,8 @@ def _specimen_state(pos, radius, specimen, params, *, contact_stiffness=None, **
 def check_bonded(params: FlatJointParams) -> None:
     """Some flat joints are bonded and their elements have a strength: with fjm_B_frac = 0
     every joint is slit or gapped (unbonded), with fj_ten = fj_coh = 0 every bonded element
-    breaks at the first load; either way the specimen has no bonded element and is no rock."""
+    breaks at the first load; either way the specimen has no bonded element and is no rock.
+    And gapped joints have a gap: with fjm_G_m = fjm_G_sd = 0 they would be slit ones."""
     if params.fjm_B_frac == 0:
         unbonded = "slit" if params.fjm_G_frac == 0 else "slit or gapped"
         raise InputError("fjm_B_frac", f"0 leaves every flat joint {unbonded} (unbonded): the specimen has "
@@ -390,6 +413,10 @@ def check_bonded(params: FlatJointParams) -> None:
     if params.fj_ten == 0 and params.fj_coh == 0:
         raise InputError("fj_coh", "fj_ten and fj_coh both 0 leave the bonded elements without strength: "
                                    "they break at the first load and the specimen is no rock; give either > 0")
+    if params.fjm_G_frac > 0 and params.fjm_G_m == 0 and params.fjm_G_sd == 0:
+        raise InputError("fjm_G_frac", f"fjm_G_frac = {params.fjm_G_frac:g} asks for gapped joints but their initial "
+                                       "gap is 0 (fjm_G_m = fjm_G_sd = 0: they would be slit joints); "
+                                       "give fjm_G_m > 0, mm")
 
 
 MATERIAL = Material(

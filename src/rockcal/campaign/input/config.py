@@ -15,6 +15,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Literal
 
+import numpy as np
 from pydantic import Field, PrivateAttr, ValidationError, field_validator, model_validator
 
 from rockcal.campaign.input.raw_values import check_numbers
@@ -154,7 +155,8 @@ class Search(Section):
     """The parameters to invert and their box; the others held fixed."""
 
     bounds: dict[str, tuple[float, float]] = Field({}, description="[low, high] of each parameter to invert; "
-                                                   "may name install_gap (a fraction of R_min, as in [specimen]).")
+                                                   "may name install_gap (a fraction of R_min, as in [specimen]); "
+                                                   "a whole number's (fj_nr) are whole, and its runs round it.")
     fixed: dict[str, float] = Field({}, description="Values of parameters held constant (others keep rockcal's "
                                     "defaults, the source study's granite).")
 
@@ -435,15 +437,11 @@ def _curves_from(campaign: Campaign, base: Path) -> Campaign:
 
 def _check_values(campaign: Campaign) -> None:
     """Fixed values, bounds and levels must be valid values, named by their key: the fixed
-    values alone, the search box at every corner, the sensitivity runs row by row (fractions
-    that must not sum past 1 may be searched together)."""
+    values (`_check_fixed`), the search box at every corner, the sensitivity runs row by row
+    (fractions that must not sum past 1 may be searched together)."""
     fixed = campaign.fixed_params()
     make_params = functools.partial(parameters, material(campaign.material.model))
-    try:
-        make_params(fixed)
-    except InputError as exc:
-        key = {"density": "rock.density_kg_m3"}.get(exc.field, f"search.fixed.{exc.field}")
-        raise InputError(key if exc.field in fixed else "search.fixed", exc.problem) from None
+    _check_fixed(campaign, make_params, fixed)
     _check_box(campaign, make_params, fixed)
     if campaign.sensitivity is not None:
         with fields_named(lambda field: f"sensitivity.{field}"):
@@ -453,24 +451,83 @@ def _check_values(campaign: Campaign) -> None:
                          f"in run {row} of {campaign.sensitivity.array}")
 
 
-MAX_CORNERS = 1024  # a larger box is checked one bound at a time, the others at their defaults
+def _check_fixed(campaign: Campaign, make_params, fixed: dict) -> None:
+    """The fixed values are valid with the searched and varied parameters at their lowest or at
+    their highest values (not at their defaults): a fault at both is the fixed values', one
+    at some points only is left to the box's and the sensitivity runs' checks, which name it."""
+    levels = campaign.sensitivity.levels if campaign.sensitivity else {}
+    varied = split_genesis(campaign.search.bounds | levels)[0]
+    fault = None
+    for end in (min, max):
+        try:
+            make_params(fixed | {name: end(values) for name, values in varied.items()})
+            return
+        except InputError as exc:
+            fault = fault or exc
+    if fault.field not in varied:
+        key = {"density": "rock.density_kg_m3"}.get(fault.field, f"search.fixed.{fault.field}")
+        raise InputError(key if fault.field in fixed else "search.fixed", fault.problem) from None
+
+
+MAX_CORNERS = 1024  # a larger box is checked on the corners of each pair of its parameters
+
+
+def nearest_whole(value: float) -> float:
+    """The whole number nearest `value`, halves up: the one rounding of a whole-number
+    parameter wherever a point of the search is run."""
+    return float(math.floor(value + 0.5))
+
+
+def middle_levels(campaign: Campaign, searched) -> dict[str, float]:
+    """The middle (mean) level of each sensitivity factor neither `searched` nor fixed, at
+    which the search holds it (a whole number's nearest whole)."""
+    levels = campaign.sensitivity.levels if campaign.sensitivity else {}
+    fixed, counts = campaign.fixed_params(), whole_numbers(campaign.material.model)
+    middle = {f: float(np.mean(v)) for f, v in levels.items() if f not in searched and f not in fixed}
+    return {f: nearest_whole(v) if f in counts else v for f, v in middle.items()}
+
+
+def whole_numbers(model: str) -> set[str]:
+    """The parameters of the material `model` that count something (N_r): whole numbers that
+    the search may vary, as real numbers rounded to whole ones wherever a point is run."""
+    fields = material(model).params_type.model_fields
+    return {name for name, info in fields.items() if info.annotation is int and not _is_code(info)}
+
+
+def _is_code(info) -> bool:
+    """A whole-number parameter that picks a rule (a mode, a method) rather than counts."""
+    return bool((info.json_schema_extra or {}).get("code"))
 
 
 def _check_box(campaign: Campaign, make_params, fixed: dict) -> None:
-    """The searched micro-parameters are real numbers, valid together at every corner of the
-    search box."""
+    """The searched micro-parameters are real numbers or counts with whole bounds, valid
+    together at every corner of the search box (of a large box, at the corners of each pair of
+    its parameters, the others at their lower bounds: every constraint between two values)."""
     bounds = campaign.search.bounds
     fields = material(campaign.material.model).params_type.model_fields
+    counts = whole_numbers(campaign.material.model)
     for name in split_genesis(bounds)[0]:
-        if fields[name].annotation is int:
-            raise InputError(f"search.bounds.{name}", f"a whole number ({fields[name].description}); the "
-                             "search varies real numbers: set it in [search] fixed")
+        info = fields[name]
+        if info.annotation is int and _is_code(info):
+            raise InputError(f"search.bounds.{name}", f"a whole number that picks a rule ({info.description}); "
+                             "the search varies quantities: set it in [search] fixed")
+        if name in counts and not all(float(v).is_integer() for v in bounds[name]):
+            low, high = bounds[name]
+            raise InputError(f"search.bounds.{name}", f"a whole number ({info.description}): its bounds must be "
+                             f"whole numbers, got [{low:g}, {high:g}]")
+    held = fixed | split_genesis(middle_levels(campaign, bounds))[0]
+    for values in _corners(bounds):
+        _check_point(make_params, held, values, "search.bounds", "at a corner of the search box")
+
+
+def _corners(bounds: dict) -> list[dict]:
+    """The corners of the box, or of a box of more than MAX_CORNERS corners the corners of each
+    pair of its parameters with the others at their lower bounds."""
     if 2 ** len(bounds) <= MAX_CORNERS:
-        points = [dict(zip(bounds, corner)) for corner in itertools.product(*bounds.values())]
-    else:
-        points = [{name: value} for name, bound in bounds.items() for value in bound]
-    for values in points:
-        _check_point(make_params, fixed, values, "search.bounds", "at a corner of the search box")
+        return [dict(zip(bounds, corner)) for corner in itertools.product(*bounds.values())]
+    low = {name: bound[0] for name, bound in bounds.items()}
+    return [low | {a: va, b: vb} for a, b in itertools.combinations(bounds, 2)
+            for va in bounds[a] for vb in bounds[b]]
 
 
 def _check_point(make_params, fixed: dict, values: dict, where: str, what: str) -> None:

@@ -26,7 +26,8 @@ from typing import Callable
 
 import numpy as np
 
-from rockcal.campaign.input.config import Campaign, SpecimenSettings, split_genesis
+from rockcal.campaign.input.config import (Campaign, SpecimenSettings, middle_levels, nearest_whole, split_genesis,
+                                           whole_numbers)
 from rockcal.campaign.procedure.goals import Goals, goals_of, goals_of_tests
 from rockcal.campaign.procedure.result import (CalibrationResult, FailedRun, Iteration, Samples, Sensitivity,
                                      SurrogateCheck)
@@ -97,13 +98,19 @@ class CampaignState:
     def box(self) -> np.ndarray:
         return np.array([self.bounds[n] for n in self.names], dtype=float)
 
+    @property
+    def whole(self) -> np.ndarray:
+        """Which of the parameters searched are whole numbers (`_round` rounds them so)."""
+        counts = whole_numbers(self.campaign.material.model)
+        return np.array([n in counts for n in self.names], dtype=bool)
+
     def best(self) -> int:
         """The accepted iteration, or the verified one with the smallest largest error."""
         return self.accepted if self.accepted is not None else _closest(list(self.iterations))
 
     def identified(self) -> dict[str, float]:
         if self.planning:
-            return dict(zip(self.names, _stand_in(self.box)))
+            return dict(zip(self.names, _stand_in(self.box, self.whole)))
         return dict(zip(self.names, self.iterations[self.best()].x))
 
 
@@ -176,15 +183,12 @@ def sensitivity_rows(campaign: Campaign) -> list[dict]:
 def search_space(campaign: Campaign, chosen: list[str]) -> tuple[dict, dict]:
     """The search bounds ([search] bounds, else the levels of the factors the range analysis
     chose) and the fixed parameters, with the middle level of each factor neither searched
-    nor fixed."""
+    nor fixed (`middle_levels`)."""
     bounds, fixed = dict(campaign.search.bounds), campaign.fixed_params()
     levels = campaign.sensitivity.levels if campaign.sensitivity else {}
     if not bounds:
         bounds = {f: (min(levels[f]), max(levels[f])) for f in chosen}
-    for f, values in levels.items():
-        if f not in bounds and f not in fixed:
-            fixed[f] = float(np.mean(values))
-    return bounds, fixed
+    return bounds, fixed | middle_levels(campaign, bounds)
 
 
 def sensitivity_runs(state: CampaignState) -> Runs:
@@ -223,7 +227,7 @@ def coarse_sample_runs(state: CampaignState) -> Runs:
     s = campaign.surrogate
     if not s.coarse_samples:
         return Runs([], lambda results, progress: state)
-    x = _round_rows(latin_hypercube(box, s.coarse_samples, seed=s.seed + 2))
+    x = _round_rows(latin_hypercube(box, s.coarse_samples, seed=s.seed + 2), state.whole)
     specimen = campaign.coarse_specimen()
     points = [(specimen, dict(zip(names, row))) for row in x]
 
@@ -245,7 +249,7 @@ def sample_runs(state: CampaignState) -> Runs:
     test; the other samples run the UCS test alone."""
     campaign, names, box = state.campaign, state.names, state.box
     s = campaign.surrogate
-    x, checks = sample_points(box, s)
+    x, checks = sample_points(box, s, state.whole)
     every = spread_out(x, box, len(x) if s.samples_every_test is None else s.samples_every_test)
     ucs_only = [i for i in range(len(x)) if i not in every]
     points = [(campaign.specimen, dict(zip(names, row))) for row in [*x[every], *checks]]
@@ -348,7 +352,7 @@ def verification_runs(state: CampaignState) -> Runs:
         # the plan counts the search's optimum, the one point every round verifies: the other
         # candidates are verified only where the surrogate has other distinct optima
         # (`_candidates`), and the first screen says so (`plan.screen`)
-        points = [(campaign.specimen, dict(zip(names, _stand_in(state.box))))]
+        points = [(campaign.specimen, dict(zip(names, _stand_in(state.box, state.whole))))]
         return Runs(point_specs(state, points, means=True), _not_folded)
     if state.pending is not None:
         round_ = state.pending
@@ -358,7 +362,7 @@ def verification_runs(state: CampaignState) -> Runs:
     surrogate = _judged(state)
     objective = Objective(surrogate.predict, state.goals.targets, weights=state.goals.weights or None)
     found = _candidates(state, objective, surrogate)
-    round_ = Round(found, [_round(opt.x) for opt in found], surrogate, objective.describe(),
+    round_ = Round(found, [_round(opt.x, state.whole) for opt in found], surrogate, objective.describe(),
                    loop=len({it.loop for it in state.iterations}))
     points = [(campaign.specimen, dict(zip(names, x))) for x in round_.xs]
     if not _ucs_first(state):
@@ -448,7 +452,7 @@ def _candidates(state: CampaignState, objective: Objective, surrogate: RBFSurrog
         if len(found) >= wanted:
             break
         opt = optimise(campaign, objective, box, seed=seed + k)
-        predicted = surrogate.predict(_round(opt.x))
+        predicted = surrogate.predict(_round(opt.x, state.whole))
         close = _within({r: predicted[r] / t - 1 for r, t in state.goals.targets.items()}, tolerance)
         if close and all(_distinct(opt.x, other.x, box) for other in found):
             found.append(opt)
@@ -468,11 +472,11 @@ def _wanted(state: CampaignState) -> int:
     return max(1, min(state.campaign.acceptance.candidates, left))
 
 
-def _stand_in(box: np.ndarray) -> np.ndarray:
+def _stand_in(box: np.ndarray, whole: np.ndarray | None = None) -> np.ndarray:
     """A point on the box's diagonal, at the golden ratio so that it falls on no design's
     level: where the planning state puts the point only a search finds (the first round's
     optimum, which is also the identified point)."""
-    return _round(box[:, 0] + GOLDEN * (box[:, 1] - box[:, 0]))
+    return _round(box[:, 0] + GOLDEN * (box[:, 1] - box[:, 0]), whole)
 
 
 def _not_folded(results, progress):
@@ -631,21 +635,26 @@ def _fill_failed(table: dict[str, list]) -> dict[str, np.ndarray]:
     return filled
 
 
-def sample_points(box: np.ndarray, s) -> tuple[np.ndarray, np.ndarray]:
-    """The Latin hypercube points and the surrogate's random check points in the box (rounded:
-    stable store keys), as the campaign's [surrogate] settings and seed make them."""
-    x = _round_rows(latin_hypercube(box, s.samples, seed=s.seed))
+def sample_points(box: np.ndarray, s, whole: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The Latin hypercube points and the surrogate's random check points in the box (rounded,
+    `whole` parameters to whole numbers: stable store keys), as the campaign's [surrogate]
+    settings and seed make them."""
+    x = _round_rows(latin_hypercube(box, s.samples, seed=s.seed), whole)
     rng = np.random.default_rng(s.seed + 1)
-    checks = _round_rows(box[:, 0] + rng.random((s.checks, len(box))) * (box[:, 1] - box[:, 0]))
+    checks = _round_rows(box[:, 0] + rng.random((s.checks, len(box))) * (box[:, 1] - box[:, 0]), whole)
     return x, checks
 
 
-def _round(x: np.ndarray) -> np.ndarray:
-    return np.array([float(f"{v:.{SIGNIFICANT_DIGITS}g}") for v in x])
+def _round(x: np.ndarray, whole: np.ndarray | None = None) -> np.ndarray:
+    """A point to be run, rounded to SIGNIFICANT_DIGITS (stable store keys), the parameters
+    marked `whole` to the nearest whole number (halves up), the one rounding of every point
+    run: samples, checks, stand-ins and verified optima."""
+    whole = np.zeros(len(x), bool) if whole is None else whole
+    return np.array([nearest_whole(v) if w else float(f"{v:.{SIGNIFICANT_DIGITS}g}") for v, w in zip(x, whole)])
 
 
-def _round_rows(x: np.ndarray) -> np.ndarray:
-    return np.array([_round(row) for row in x])
+def _round_rows(x: np.ndarray, whole: np.ndarray | None = None) -> np.ndarray:
+    return np.array([_round(row, whole) for row in x])
 
 
 def _usable(x: np.ndarray, y: list) -> tuple[np.ndarray, list]:
