@@ -136,7 +136,9 @@ def _bond_law(start, count, table, bond_state, laws, dt, tile):
         kn = laws.E_c * np.pi * rmin * rmin * inv_length
         ref = table[Bond.REF_OVERLAP, p]
         last_cs = rotate(_row3(table, Bond.CSX, p), n, k, c, inv_opc, cos_t, sin_t)
-        fn, fs = contact_force(overlap - ref, kn, last_cs, ds, laws)
+        # the contact's reference: the overlap at installation, or touching for a bond installed
+        # across a gap (its contact carries nothing until the spheres touch, as PFC's and 2D's)
+        fn, fs = contact_force(overlap - max(ref, 0.0), kn, last_cs, ds, laws)
 
         inv_rb, area = bond_section(rmin, table[Bond.INV_RMIN, p], laws)
         last_fs = rotate(_row3(table, Bond.FSX, p), n, k, c, inv_opc, cos_t, sin_t)

@@ -2,20 +2,22 @@
 
 `advance` runs many steps inside one compiled loop (pair laws, PFC local damping, central
 differences) and returns to Python only to rebuild the neighbour list. Each step sums the
-pairs' forces block by block in parallel, then the pairs across block borders, then moves the
-spheres block by block: the order of every sum is fixed by the specimen, so a run's numbers do
-not depend on the number of threads. SI units.
+pairs' forces block by block in parallel, then the pairs across block borders, then adds the
+walls' pushes and moves the spheres block by block, then moves the walls: the order of every
+sum is fixed by the specimen, so a run's numbers do not depend on the number of threads. SI
+units.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numba
 import numpy as np
 from numba import njit, prange
 
 from rockcal.dem3d import forces, neighbours
+from rockcal.dem3d import walls as planes
 from rockcal.dem3d.bonds import Bonds, new_bonds, set_radii
 from rockcal.dem3d.laws import INTACT, Laws, bond_springs, contact_springs
 from rockcal.dem3d.state import Load, Sphere, Spheres, new_spheres
@@ -26,7 +28,8 @@ TIME_STEP_SAFETY = 0.8
 @dataclass
 class State:
     """A bonded sphere model: spheres, bonds (the first pairs of the neighbour list), the
-    neighbour list, the law constants, local damping and time step."""
+    neighbour list, the law constants, local damping, time step and planar walls (none
+    unless given: `walls`)."""
 
     spheres: Spheres
     bonds: Bonds
@@ -35,6 +38,7 @@ class State:
     damping: float
     dt: float
     step: int = 0
+    walls: planes.Walls = field(default_factory=planes.no_walls)
 
     @property
     def n_spheres(self) -> int:
@@ -47,11 +51,12 @@ class State:
 
 
 def assemble_state(pos, radius, pairs, density: float, laws: Laws, *, damping=0.7,
-                   ten=np.inf, coh=np.inf, driven=None, skin=None) -> State:
+                   ten=np.inf, coh=np.inf, driven=None, skin=None, walls=None) -> State:
     """A state at rest: spheres of `density` (kg/m³; `driven` ones keep their prescribed
     velocity and spin), parallel bonds at the `pairs` (i < j) with tensile strength `ten` and
     cohesion `coh` (Pa; one value or one per pair, in the order of `pairs`), each taking its
-    pair's overlap at installation as its reference; and the stable time step."""
+    pair's overlap at installation as its reference; `walls` (`walls.Walls`, default none);
+    and the stable time step."""
     pos = np.ascontiguousarray(pos, float)
     radius = np.asarray(radius, float)
     pairs = np.asarray(pairs, np.int64).reshape(-1, 2)
@@ -63,7 +68,8 @@ def assemble_state(pos, radius, pairs, density: float, laws: Laws, *, damping=0.
     state = State(spheres=new_spheres(pos, radius, density, driven),
                   bonds=new_bonds(overlap, ten, coh, radius[pi], radius[pj]),
                   neighbours=nlist,
-                  laws=laws, damping=damping, dt=0.0)
+                  laws=laws, damping=damping, dt=0.0,
+                  walls=walls if walls is not None else planes.no_walls())
     state.dt = stable_time_step(state)
     return state
 
@@ -79,7 +85,8 @@ def rebuild_neighbours(state: State) -> None:
 def stiffness_sums(state: State) -> tuple[np.ndarray, np.ndarray]:
     """Each sphere's translational and rotational stiffness, summed over every listed pair as
     if touching (the 2D engine's rule): max(kn, ks) + max(k̄n Ā, k̄s Ā) in translation,
-    (ks + k̄s Ā) R² + max(k̄n Ī, k̄s J̄) in rotation (R the sphere's own radius)."""
+    (ks + k̄s Ā) R² + max(k̄n Ī, k̄s J̄) in rotation (R the sphere's own radius); and π E R
+    in translation for each wall within the list's skin (`walls.wall_springs`)."""
     s, pairs, nb = state.spheres, state.neighbours, state.neighbours.n_bonds
     ri, rj = s.radius[pairs.pi], s.radius[pairs.pj]
     rmin, length = np.minimum(ri, rj), ri + rj
@@ -92,6 +99,8 @@ def stiffness_sums(state: State) -> tuple[np.ndarray, np.ndarray]:
     for idx, r in ((pairs.pi, ri), (pairs.pj, rj)):
         np.add.at(k_trans, idx, np.maximum(kn, ks) + np.maximum(kbn, kbs))
         np.add.at(k_rot, idx, (ks + kbs) * r**2 + np.maximum(kbt, kbb))
+    if len(state.walls.table):
+        k_trans += planes.wall_springs(state.walls, s.pos, s.radius, state.neighbours.skin)
     return k_trans, k_rot
 
 
@@ -153,11 +162,14 @@ def _move(first, last, bodies, loads, damping, dt, pos_at_build):
 # after editing laws.py or forces.py in a checkout, clear the caches (__pycache__/*.nbi, *.nbc).
 @njit(parallel=True, cache=True, error_model="numpy")
 def _advance(n_steps, bodies, loads, pi, pj, shear, table, bond_state, break_xyz, starts,
-             bond_offsets, contact_offsets, pos_at_build, half_skin_sq, laws, damping, dt):
+             bond_offsets, contact_offsets, pos_at_build, half_skin_sq, laws, damping, dt,
+             walls, wall_force):
     """Run up to n_steps; stop early when the list must be rebuilt. Returns the steps done and
-    whether the list must be rebuilt."""
+    whether the list must be rebuilt. The walls push the spheres of each block, their
+    reactions summed block by block into `wall_force`, and move after the spheres."""
     blocks = starts.shape[0] - 1
     moved = np.zeros(blocks)
+    wall_parts = np.zeros((blocks, walls.shape[0], 3))
     for s in range(n_steps):
         for b in prange(blocks):
             for k in range(numba.uint64(starts[b]), numba.uint64(starts[b + 1])):
@@ -172,7 +184,17 @@ def _advance(n_steps, bodies, loads, pi, pj, shear, table, bond_state, break_xyz
         forces.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], bodies,
                                   loads, pi, pj, shear, laws, dt)
         for b in prange(blocks):
+            part = wall_parts[b]
+            part[:] = 0.0
+            planes.add_wall_forces(starts[b], starts[b + 1], bodies, loads, walls, part)
             moved[b] = _move(starts[b], starts[b + 1], bodies, loads, damping, dt, pos_at_build)
+        for w in range(walls.shape[0]):
+            for a in range(3):
+                total = 0.0
+                for b in range(blocks):
+                    total += wall_parts[b, w, a]
+                wall_force[w, a] = total
+        planes.move_walls(walls, dt)
         for b in range(blocks):
             if moved[b] > half_skin_sq:
                 return s + 1, True
@@ -193,7 +215,7 @@ def advance(state: State, n_steps: int) -> None:
                 n_steps - done, s.bodies, s.loads, pairs.pi, pairs.pj, pairs.shear, b.table,
                 b.state, b.break_xyz, pairs.block_starts, pairs.bond_offsets,
                 pairs.contact_offsets, pairs.pos_at_build, pairs.rebuild_distance_sq,
-                state.laws, state.damping, state.dt)
+                state.laws, state.damping, state.dt, state.walls.table, state.walls.force)
             done += done_now
             state.step += done_now
             if rebuild:

@@ -74,6 +74,15 @@ class UCSResult(LabResult):
     cd_ratio: float
 
 
+def check_reading(max_axial_strain: float, strain: str, stop_fraction: float) -> None:
+    """The UCS test's reading options (in 2D and 3D); InputError naming the bad one."""
+    if not 0 < max_axial_strain <= 0.5:
+        raise InputError("max_axial_strain", f"must be in (0, 0.5], got {max_axial_strain}")
+    if strain not in STRAIN_READINGS:
+        raise InputError("strain", f"must be one of {', '.join(STRAIN_READINGS)}, got {strain!r}")
+    check_stop_fraction(stop_fraction)
+
+
 def simulate_ucs(params: BondedParams | dict | None = None, specimen: Specimen | None = None, *,
                  rate_factor: float = 1.0, max_axial_strain: float = DEFAULT_MAX_AXIAL_STRAIN,
                  strain: str = DEFAULT_STRAIN, stop_fraction: float = POST_PEAK_FRACTION,
@@ -88,11 +97,7 @@ def simulate_ucs(params: BondedParams | dict | None = None, specimen: Specimen |
     """
     started = time.perf_counter()
     params = as_params(params)
-    if not 0 < max_axial_strain <= 0.5:
-        raise InputError("max_axial_strain", f"must be in (0, 0.5], got {max_axial_strain}")
-    if strain not in STRAIN_READINGS:
-        raise InputError("strain", f"must be one of {', '.join(STRAIN_READINGS)}, got {strain!r}")
-    check_stop_fraction(stop_fraction)
+    check_reading(max_axial_strain, strain, stop_fraction)
     specimen = specimen or random_packing(50.0, 100.0)
     check_gauges(specimen)
     platens = Platens(specimen, params, DENSITY_SCALED_SPEED * rate_factor, contact_stiffness)

@@ -1,0 +1,112 @@
+"""Packing a sphere cloud by grain scaling in a rigid cuboid vessel (steps 1-3 of PFC's genesis,
+as the 2D `rockcal.dem.packing`): the cloud's spheres are dropped at random with half the size
+they have at jamming, grown in stages to it with frictionless contacts, then all radii are
+scaled by one factor until the mean wall stress is the material pressure P_m; floaters are
+enlarged and the packing cycled and scaled back to P_m until none is left.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from rockcal.dem.genesis import MIN_CONTACTS
+from rockcal.dem.packing import (
+    FLOATER_ROUNDS,
+    GROWTH_STAGES,
+    MAX_SERVO_ROUNDS,
+    PACKING_MODULUS_GPA,
+    PRESSURE_TOLERANCE,
+    SAMPLES_PER_SERVO,
+    STEPS_PER_STAGE,
+    Servo,
+)
+from rockcal.dem3d.genesis import cloud_radii, enlarge_floaters, floaters
+from rockcal.dem3d.laws import Laws
+from rockcal.dem3d.neighbours import spatial_order
+from rockcal.dem3d.simulate import advance, assemble_state, rebuild_neighbours
+from rockcal.dem3d.walls import box_walls
+from rockcal.materials.units import GPa, MPa
+
+log = logging.getLogger(__name__)
+
+JAMMING_FRACTION = 0.64  # solid fraction of frictionless polydisperse spheres at jamming
+PACKING_DENSITY = 2650.0  # kg/m³; the packing is cycled to rest, so the mass sets only its pace
+# Rounds are at most this many steps per row of spheres along the vessel's longest side (the
+# 2D genesis' rule; at least the floor, so a small vessel still settles).
+SERVO_STEPS_PER_ROW = 60
+FLOATER_STEPS_PER_ROW = 20
+MIN_ROUND_STEPS = 400
+MAX_SERVO_STEPS = 8000
+MAX_FLOATER_STEPS = 2000
+
+
+def pack_cuboid(size, rmin: float, radius_ratio: float, seed: int, cloud_porosity: float,
+                pressure_mpa: float):
+    """Centres (in spatial order) and radii (m) of the cloud packed in the vessel [0, size]
+    (m, 3 sides) to the pressure, the mean wall stress reached (MPa) and the floaters left."""
+    size = np.asarray(size, float)
+    rng = np.random.default_rng(seed)
+    radius = cloud_radii(rng, float(np.prod(size)), rmin, radius_ratio, cloud_porosity)
+    n = len(radius)
+    fraction = 4 / 3 * np.pi * (radius**3).sum() / np.prod(size)
+    radius *= min(1.0, (JAMMING_FRACTION / fraction) ** (1 / 3))
+    rmax = radius.max()
+    pos = rng.uniform(rmax, size - rmax, (n, 3))
+    order = spatial_order(pos, 4 * rmax)
+    pos, radius = pos[order], radius[order]
+    laws = Laws(E_c=PACKING_MODULUS_GPA * GPa, ks_per_kn=1.0, mu=0.0, Ebar_c=0.0,
+                ksbar_per_knbar=1.0, lam=1.0, tan_phi=0.0, mcf=1.0)
+    state = assemble_state(pos, 0.5 * radius, np.empty((0, 2)), PACKING_DENSITY, laws,
+                           damping=0.7, skin=0.5 * radius.min(),
+                           walls=box_walls(np.zeros(3), size, PACKING_MODULUS_GPA * GPa))
+    s = state.spheres
+    for stage in range(GROWTH_STAGES):
+        s.radius[:] = radius * (0.5 + 0.5 * (stage + 1) / GROWTH_STAGES)
+        rebuild_neighbours(state)
+        advance(state, STEPS_PER_STAGE)
+
+    rows = size.max() / (2.0 * radius.mean())
+    servo_steps = int(np.clip(SERVO_STEPS_PER_ROW * rows, MIN_ROUND_STEPS, MAX_SERVO_STEPS))
+    floater_steps = int(np.clip(FLOATER_STEPS_PER_ROW * rows, MIN_ROUND_STEPS, MAX_FLOATER_STEPS))
+    target = pressure_mpa * MPa
+    servo = Servo(target, 1.0)
+    scale = 1.0
+    for _ in range(MAX_SERVO_ROUNDS):
+        stress = settled_stress(state, size, servo_steps)
+        if abs(stress - target) < PRESSURE_TOLERANCE * target:
+            break
+        scale *= servo.factor(stress)
+        s.radius[:] = radius * scale
+    overlap = target / (PACKING_MODULUS_GPA * GPa)
+    for round_ in range(FLOATER_ROUNDS):
+        grown = enlarge_floaters(s.pos, s.radius, size, overlap)
+        enlarged = np.count_nonzero(grown != s.radius)
+        log.debug("floater round %d: %d floaters, wall stress %.3g MPa", round_, enlarged,
+                  stress / MPa)
+        if not enlarged and abs(stress - target) < PRESSURE_TOLERANCE * target:
+            break
+        s.radius[:] = grown * servo.factor(stress)
+        rebuild_neighbours(state)
+        stress = settled_stress(state, size, floater_steps)
+    left = int(np.count_nonzero(floaters(s.pos, s.radius, size)))
+    if left:
+        log.warning("3D genesis of %s mm, seed %d: %d of %d spheres have fewer than %d contacts",
+                    np.round(1e3 * size, 3), seed, left, n, MIN_CONTACTS)
+    return s.pos.copy(), s.radius.copy(), stress / MPa, left
+
+
+def wall_stress(state, size) -> float:
+    """Mean normal stress on the six faces of the vessel [0, size], Pa."""
+    area = np.prod(size) / np.repeat(size, 2)
+    return float(np.mean(state.walls.normal_force() / area))
+
+
+def settled_stress(state, size, steps: int) -> float:
+    """Cycle `steps` steps; the mean wall stress over their second half, Pa."""
+    samples = []
+    for _ in range(SAMPLES_PER_SERVO):
+        advance(state, steps // SAMPLES_PER_SERVO)
+        samples.append(wall_stress(state, size))
+    return float(np.mean(samples[SAMPLES_PER_SERVO // 2:]))

@@ -1,0 +1,49 @@
+"""Two frictionless platens closing on a 3D specimen at a quasi-static speed (the 2D rig's
+rule, `rockcal.labtests.rig.platens`): an axial strain per step of STRAIN_PER_STEP_PER_ROW /
+(rows of spheres between them), so the number of wave transits to the peak is the same for
+every specimen size; `rockcal.labtests.loading` ramps them in and slows them where bonds break.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rockcal.dem3d.material import material_state, wall_modulus_pa
+from rockcal.dem3d.walls import new_walls
+from rockcal.labtests.rig.platens import STRAIN_PER_STEP_PER_ROW
+
+BOTTOM, TOP = 0, 1
+
+
+class Platens3D:
+    """A specimen between a bottom and a top platen (walls normal to z) that touch it: the
+    engine `state`, the platens' starting heights (m), the `rows` of spheres between them, the
+    `chunk` of steps between readings and the loaded `area_m2` (the nominal cross-section)."""
+
+    def __init__(self, specimen, params, rate_factor: float):
+        pos, radius = specimen.pos, specimen.radius
+        self.bottom, self.top = (pos[:, 2] - radius).min(), (pos[:, 2] + radius).max()
+        centre = pos.mean(axis=0)
+        walls = new_walls([(centre[0], centre[1], self.bottom), (centre[0], centre[1], self.top)],
+                          [(0, 0, 1), (0, 0, -1)], wall_modulus_pa(params))
+        self.state = material_state(params, specimen, walls)
+        height = self.top - self.bottom
+        self.rows = height / (2 * radius.mean())
+        self.speed = 0.5 * rate_factor * STRAIN_PER_STEP_PER_ROW / self.rows * height / self.state.dt
+        self.chunk = max(5, int(self.rows / 8))
+        x, y, _ = specimen.size_m
+        self.area_m2 = np.pi / 4 * x * y if specimen.shape == "cylinder" else x * y
+
+    def move(self, factor: float) -> None:
+        """Close the platens at `factor` x the full speed."""
+        vel = self.state.walls.vel
+        vel[BOTTOM, 2], vel[TOP, 2] = self.speed * factor, -self.speed * factor
+
+    def load(self) -> float:
+        """The force on the platens (mean of the two), N."""
+        return float(self.state.walls.normal_force().mean())
+
+    def strain(self) -> float:
+        """The axial strain from the platens' separation, shortening positive."""
+        z = self.state.walls.point[:, 2]
+        return 1.0 - (z[TOP] - z[BOTTOM]) / (self.top - self.bottom)
