@@ -5,7 +5,10 @@ on packings 1, 2, 3.
 
 Run by hand: `python benchmarks/brazilian_jaws.py [--diameters-mm 50] [--seeds 1,2,3]
 [--loadings flat,isrm,strips] [--strip-modulus-gpa 1.0] [--out DIR] [--json FILE]`, one run at a
-time on one thread.
+time on one thread. Another material's point: `--campaign FILE` (its specimen, material and fixed
+parameters) and `--set NAME=VALUE` for each searched parameter, e.g. the flat-jointed granite's
+identified point: `--campaign docs/campaigns/granite-flatjoint.toml --set fj_emod=38.03
+--set fj_kratio=1.922 --set fj_ten=48.4`.
 Prints a table: sigma_t, whether the disk split through its centre, where the loading first
 touched it (degrees from the loaded diameter, top and bottom), the closure at the peak, how far
 the disk turned and shifted as a whole by the end, the bonds broken by just after the peak,
@@ -27,7 +30,7 @@ from rockcal.labtests.brazilian import STRIP_MODULUS_GPA, disk_centre, simulate_
 from rockcal.labtests.registry import lab_test
 from rockcal.labtests.rig.jaws import JAW_RADIUS_PER_DISK_RADIUS, touching_jaw_centre_y
 from rockcal.labtests.settings import specimen_settings
-from rockcal.materials import as_params
+from rockcal.materials import material
 
 IDENTIFIED = {"E_c": 21.65, "kn_ks": 1.985, "sigma_c": 35.61}  # docs/validation/granite-calibration.md
 
@@ -103,13 +106,19 @@ def main() -> None:
     parser.add_argument("--loadings", default="flat,isrm,strips")
     parser.add_argument("--strip-modulus-gpa", type=float, default=STRIP_MODULUS_GPA,
                         help="the bearing strips' Young's modulus through their thickness, GPa")
+    parser.add_argument("--campaign", default=None, help="a campaign file: its specimen, material and fixed "
+                        "parameters (default: the embedded granite at its identified point)")
+    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                        help="a parameter's value (with --campaign: each searched parameter)")
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--out", type=Path, default=None, help="write crack patterns and curves here")
     parser.add_argument("--json", type=Path, default=None, help="write the rows as JSON here")
     args = parser.parse_args()
     numba.set_num_threads(args.threads)
-    campaign = load_campaign(None)[0]
-    params = as_params(campaign.fixed_params() | IDENTIFIED)
+    campaign = load_campaign(args.campaign)[0]
+    chosen = {name: float(value) for name, value in (item.split("=", 1) for item in args.set)}
+    values = campaign.fixed_params() | (chosen if args.campaign else IDENTIFIED | chosen)
+    params = material(campaign.material.model).make(values)
     test = lab_test("brazilian")
 
     rows = []

@@ -132,25 +132,53 @@ def test_a_machine_twice_as_slow_expects_twice_the_time(tmp_path, monkeypatch):
                               tmp_path)
     store = RunStore(tmp_path / "out")
     monkeypatch.setattr(plan, "probe_ms_per_step", lambda: plan.REFERENCE_PROBE_MS)
-    here = plan.expected_s(campaign, store, workers=2)
+    here = plan.expected_s(campaign, store, workers=2) - plan._main_process_s(campaign)
     monkeypatch.setattr(plan, "probe_ms_per_step", lambda: 2 * plan.REFERENCE_PROBE_MS)
-    assert plan.expected_s(campaign, store, workers=2) == pytest.approx(2 * here)
+    assert plan.expected_s(campaign, store, workers=2) - plan._main_process_s(campaign) == pytest.approx(2 * here)
     assert "0.5x the reference machine's" in describe(campaign, store, workers=2)[-1]
 
 
 
 def test_other_work_on_the_cores_lengthens_the_estimate(tmp_path, monkeypatch):
-    """Two runs at a time beside two busy cores get half the machine each: twice the time, and
-    a last lone run no second core."""
+    """Two runs at a time beside two CPU-bound processes get half the machine each: twice the
+    time, and a last lone run no second core; the main process gets two thirds of a core."""
     from rockcal.campaign.plan import screen as plan
 
     campaign = parse_campaign("[targets.ucs]\nE_GPa = 20.0\n[search]\nbounds = { E_c = [10, 30] }\n", tmp_path)
     store = RunStore(tmp_path / "out")
+
+    def runs_s():
+        return sum(seconds for _, seconds in plan.stage_times(campaign, store, workers=2).values())
+
     monkeypatch.setattr(plan, "busy_cores", lambda: (2, 0.0))
-    idle = plan.expected_s(campaign, store, workers=2)
+    idle, idle_main = runs_s(), plan._main_process_s(campaign)
     monkeypatch.setattr(plan, "busy_cores", lambda: (2, 2.0))
-    assert plan.expected_s(campaign, store, workers=2) > 2 * idle
-    assert "other work keeps 2.0 of the 2 cores busy" in describe(campaign, store, workers=2)[-1]
+    assert runs_s() > 2 * idle
+    assert plan._main_process_s(campaign) == pytest.approx(1.5 * idle_main)
+    assert "other work asks for 2.0 of the 2 cores" in describe(campaign, store, workers=2)[-1]
+
+
+def test_the_probe_counts_what_other_work_asks_for():
+    """Two CPU-bound processes ready to run are two tasks besides this one, whatever share of
+    the cores they get."""
+    import subprocess
+    import sys
+
+    from rockcal.dem import cores
+
+    if cores.others_runnable() is None:
+        pytest.skip("no /proc/stat here")
+    code = "import sys; print(flush=True); sys.stdin.close()\nwhile True: pass"
+    hogs = [subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stdin=subprocess.PIPE)
+            for _ in range(2)]
+    try:
+        for hog in hogs:
+            hog.stdout.readline()  # spinning from here on
+        assert min(cores.others_runnable() for _ in range(5)) >= 2
+    finally:
+        for hog in hogs:
+            hog.kill()
+            hog.wait()
 
 
 class Twin:

@@ -8,6 +8,11 @@ therefore runs on no more threads than there are free cores: the cores it may ru
 (`os.sched_getaffinity`) less the processor time that the other processes took on them since
 the last look (`/proc/stat`, less this process's own time). Without `/proc/stat` (not Linux) it
 does not limit the threads.
+
+What other work asks of the cores (`others_runnable`) is read otherwise: processor time shows
+what the others got, which beside this process is less than they want (two CPU-bound processes
+and this one on 2 cores get 2/3 of a core each), so the plan's estimate counts the tasks ready
+to run instead (`procs_running` in `/proc/stat`).
 """
 
 from __future__ import annotations
@@ -52,17 +57,28 @@ def sample() -> Sample | None:
     return Sample(time.monotonic(), time.process_time(), busy, total, cores)
 
 
-def free_cores(before: Sample, after: Sample, whole: bool = True):
-    """The cores the other processes left free between two samples: a whole number, at least 1
-    (or with `whole` False, as a fraction, from 0); None when the window holds no clock tick."""
+def others_runnable() -> float | None:
+    """The tasks ready to run now other than this one (the caller is running: `procs_running`
+    less one), or None where `/proc/stat` cannot be read."""
+    try:
+        with open("/proc/stat", "rb") as stat:
+            for line in stat.read().decode().splitlines():
+                if line.startswith("procs_running "):
+                    return max(0, int(line.split()[1]) - 1)
+    except OSError:
+        pass
+    return None
+
+
+def free_cores(before: Sample, after: Sample) -> int | None:
+    """The cores the other processes left free between two samples, at least 1; None when the
+    window holds no clock tick."""
     ticks = after.all_ticks - before.all_ticks
     wall = after.wall_s - before.wall_s
     if ticks <= 0 or wall <= 0:
         return None
     busy = after.cores * (after.busy_ticks - before.busy_ticks) / ticks
     others = busy - (after.own_s - before.own_s) / wall
-    if not whole:
-        return min(after.cores, max(0.0, after.cores - others))
     return max(1, math.floor(after.cores - others + 0.5))
 
 

@@ -3,7 +3,8 @@ lattice on one thread, for the first screen's expected time before the store hol
 how much of the machine other work takes meanwhile.
 
 The probe counts processor time, so that it gives a core's speed whatever else runs; the share of
-the cores the runs will get is the other part of the estimate.
+the cores the runs will get is the other part of the estimate: the tasks that other work has
+ready to run, counted between the probe's rounds (`cores.others_runnable`).
 
 Machines of one kind differ about 2x in speed, so the plan scales its reference run time (measured
 on one machine, beside this probe's time there) by the ratio of this machine's probe time to that
@@ -28,8 +29,8 @@ from rockcal.materials.parallel_bond import make_params, new_state
 # width, height and disk radius: 7 300 disks, whose arrays (2 MB) outgrow a core's L2 cache as
 # a full-size specimen's do
 LATTICE_MM = (40.0, 40.0, 0.25)
-STEPS = 300
-ROUNDS = 3
+STEPS = 100
+ROUNDS = 9
 
 
 class Probe(NamedTuple):
@@ -37,14 +38,15 @@ class Probe(NamedTuple):
 
     ms_per_step: float  # processor time: the engine's speed on a core of its own
     cores: int  # the cores this process may run on
-    busy_cores: float  # of them, the cores other processes kept busy (0 where unknown)
+    busy_cores: float  # of them, the cores other processes ask for (0 where unknown)
 
 
 @functools.cache
 def probe() -> Probe:
     """The engine's processor time per step on the probe lattice at the granite's default
     parameters, its disks moving slightly, on one thread: the least of ROUNDS runs of STEPS
-    steps (ms); and the cores other work kept busy meanwhile (`dem.cores`)."""
+    steps (ms); and the cores other work asks for meanwhile: the mean of its tasks ready to
+    run, counted before each round, at most the cores (`dem.cores.others_runnable`)."""
     spec = hexagonal(*LATTICE_MM, limited=False)  # the probe, not a user's specimen
     state = new_state(spec.pos, spec.radius, spec.bonds, make_params({}))
     state.particles.vel[:] = np.random.default_rng(0).normal(0, 1e-4, spec.pos.shape)
@@ -52,19 +54,17 @@ def probe() -> Probe:
     numba.set_num_threads(1)
     try:
         advance(state, 1)  # compiles the engine, or loads it from numba's cache
-        before = cores.sample()
-        best = np.inf
+        best, others = np.inf, []
         for _ in range(ROUNDS):
+            others.append(cores.others_runnable())
             started = time.process_time()
             advance(state, STEPS)
             best = min(best, time.process_time() - started)
-        after = cores.sample()
     finally:
         numba.set_num_threads(threads)
-    free = None if before is None or after is None else cores.free_cores(before, after, whole=False)
-    if free is None:
-        return Probe(1e3 * best / STEPS, os.cpu_count() or 1, 0.0)
-    return Probe(1e3 * best / STEPS, after.cores, after.cores - free)
+    mine = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+    busy = 0.0 if None in others else min(mine, float(np.mean(others)))
+    return Probe(1e3 * best / STEPS, mine, busy)
 
 
 def probe_ms_per_step() -> float:

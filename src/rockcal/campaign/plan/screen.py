@@ -8,8 +8,9 @@ is set per row), so a run's time goes about as (grains x rows)^1.1 (measured on 
 full-size bending run about 2.7 times slower than that (its steps grow with span² / height).
 A stage runs in rounds of one run per worker; the runs of a last, short round share the
 cores (a run alone on two cores goes LONE_RUN_SPEED_UP times faster than one of two at once).
-Beside other work (the cores it kept busy during the probe) the runs get their share of the
-cores, and a lone run no more cores than the others leave free.
+Beside other work (the cores it asks for during the probe) the runs get their share of the
+cores, and a lone run no more cores than the others leave free. The main process's own work,
+the searches for the parameters' intervals and the report, comes on top, with its share too.
 """
 
 from __future__ import annotations
@@ -40,7 +41,11 @@ REFERENCE_PROBE_MS = 0.66
 # the full-size one at the same point on one thread (a small specimen stays in the caches)
 WORK_EXPONENT = 1.1
 LONE_RUN_SPEED_UP = 1.4  # a run alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
-DRAW_S = 0.05  # one search on the surrogate for the parameters' intervals (main process)
+# the main process's own work, on one core of a machine of the project's kind (numpy and
+# matplotlib, not the engine, so not scaled by the probe): one search on the surrogate for the
+# parameters' intervals, and the start, the first screen and the report with its figures
+DRAW_S = 0.08
+MAIN_PROCESS_S = 10.0
 
 
 def grain_count(width_mm: float, height_mm: float, s: SpecimenSettings) -> int:
@@ -190,8 +195,7 @@ def _stage_walls(per_test: dict[tuple[str, str], tuple[int, float]], workers: in
         work[stage] = (runs + n, total + seconds)
     cores, busy = busy_cores()
     free = max(1, round(cores - busy))
-    # runs beside other work get their share of the cores
-    shared = max(1.0, (busy + min(workers, cores)) / cores)
+    shared = _share(min(workers, cores))
     return {stage: (runs, shared * stage_rounds(runs, workers, free) * seconds / runs if runs else 0.0)
             for stage, (runs, seconds) in work.items()}
 
@@ -217,7 +221,7 @@ def dry_run(campaign: Campaign, store, workers: int) -> dict:
     return {"rock": campaign.rock.name, "workers": workers, "stages": plan,
             "runs": sum(runs for runs, _ in walls.values()),
             "specimens_to_make": len(specimens_to_make(campaign)),
-            "expected_s": round(sum(wall for _, wall in walls.values()) + _draws_s(campaign), 1),
+            "expected_s": round(sum(wall for _, wall in walls.values()) + _main_process_s(campaign), 1),
             "ucs_runs_time": round(ucs_runs_time(campaign, store), 1), "route": _route_data(campaign, store, workers)}
 
 
@@ -259,16 +263,25 @@ def _route_data(campaign: Campaign, store, workers: int) -> dict | None:
                       "ucs_runs_time": round(ucs_runs_time(route.other, store), 1)}}
 
 
+def _share(processes: int) -> float:
+    """How much slower `processes` CPU-bound processes run beside the other work seen by the
+    probe than on cores of their own: each gets its share of the cores."""
+    cores, busy = busy_cores()
+    return max(1.0, (busy + processes) / cores)
+
+
 def expected_s(campaign: Campaign, store, workers: int) -> float:
-    """The campaign's expected wall time: its stages' runs and the searches for the parameters'
-    intervals (without the specimens' genesis)."""
+    """The campaign's expected wall time: its stages' runs and the main process's own work
+    (without the specimens' genesis)."""
     total = sum(seconds for _, seconds in stage_times(campaign, store, workers).values())
-    return total + _draws_s(campaign)
+    return total + _main_process_s(campaign)
 
 
-def _draws_s(campaign: Campaign) -> float:
-    """The searches for the parameters' intervals (main process), s."""
-    return campaign.uncertainty.draws * DRAW_S if campaign.wants_uncertainty() else 0.0
+def _main_process_s(campaign: Campaign) -> float:
+    """The main process's own work, s: the searches for the parameters' intervals, the start
+    and the report."""
+    draws = campaign.uncertainty.draws * DRAW_S if campaign.wants_uncertainty() else 0.0
+    return (draws + MAIN_PROCESS_S) * _share(1)
 
 
 def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
@@ -300,7 +313,7 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
                  f"{machine_speed():.2g}x the reference machine's")
         cores, busy = busy_cores()
         if busy >= 0.5:
-            basis += f"; other work keeps {busy:.1f} of the {cores} cores busy"
+            basis += f"; other work asks for {busy:.1f} of the {cores} cores"
         lines.append(f"expected: about {_duration(expected_s(campaign, store, workers))} on "
                      f"{workers} worker{'s' if workers > 1 else ''} "
                      f"for the {' and '.join(f'{n} {lab_test(t).title}' for t, n in runs.items())} runs "
