@@ -21,7 +21,7 @@ from rich.console import Console
 from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from rockcal.campaign.input.config import MAX_PACKINGS, SpecimenSettings
+from rockcal.campaign.input.config import DEFAULTS_3D, MAX_PACKINGS, SpecimenSettings
 
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kind import LabTest
@@ -65,11 +65,12 @@ def build_app() -> typer.Typer:
 
 def _command(test: LabTest):
     """The function typer reads a test's command from: its signature is the options."""
-    def command(**options) -> None:
-        simulate(test, options)
+    def command(ctx: typer.Context, **options) -> None:
+        simulate(test, _given(ctx, options))
 
-    parameters = [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=option, annotation=kind)
-                  for name, (kind, option) in {**_setting_options(test), **SHARED}.items()]
+    parameters = [inspect.Parameter("ctx", inspect.Parameter.POSITIONAL_OR_KEYWORD, annotation=typer.Context)]
+    parameters += [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=option, annotation=kind)
+                   for name, (kind, option) in {**_setting_options(test), **SHARED}.items()]
     command.__signature__ = inspect.Signature(parameters)
     return command
 
@@ -111,6 +112,8 @@ def simulate(test: LabTest, options: dict) -> None:
     packing = options.pop("packing", "random")
     if not 1 <= seeds <= MAX_PACKINGS:
         raise InputError("--seeds", f"must be a number of packings in [1, {MAX_PACKINGS}], got {seeds}")
+    with fields_named({"model": "--model"}):  # 3D (--dimensions 3): a material the 3D engine has
+        test.check_dimensions(options.get("dimensions", 2), chosen.name)
     series, values = _series(test, options)
     settings = _checked_settings(test, options)
     run = {"params": params.key(), "contact_stiffness": settings.get("contact_stiffness")}
@@ -129,6 +132,13 @@ def simulate(test: LabTest, options: dict) -> None:
         _write_text(out / f"{test.name}_summary.json", json_text(combined, indent=2))
         _draw_series(test, done, out)
     _show_combined(test, combined, as_json)
+
+
+def _given(ctx: typer.Context, options: dict) -> dict:
+    """The options less those of DEFAULTS_3D not given, which the specimen settings then take
+    at their default for the dimensions chosen."""
+    return {name: value for name, value in options.items()
+            if not (name in DEFAULTS_3D and ctx.get_parameter_source(name).name == "DEFAULT")}
 
 
 def _draw_series(test: LabTest, done: list[tuple[dict, np.ndarray]], out: Path) -> None:
@@ -199,7 +209,7 @@ def _checked_settings(test: LabTest, options: dict) -> dict:
 def _run_one(test: LabTest, params, settings: dict, packing: str, label: str, as_json: bool):
     """One packing's specimen and its result, with a spinner and the test's reading on stderr;
     a setting found wrong on the specimen made (before the run) is named by its flag."""
-    flags = fields_named({setting: flag_of(test, setting) for setting in test.settings})
+    flags = fields_named({setting: flag_of(test, setting) for setting in test.settings} | {"packing": "--packing"})
     with flags, nullcontext() if as_json else Console(stderr=True).status("making the specimen"):
         specimen = test.hexagonal(settings) if packing == "hexagonal" else test.make(settings)
     failed = None

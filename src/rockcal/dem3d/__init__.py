@@ -4,7 +4,7 @@ Modules, one idea each: `state` (the spheres' arrays), `laws` (the contact and b
 `bonds` (the bonded pairs' state), `forces` (the compiled pair loops), `neighbours` (the cell
 grid and pair list), `walls` (planar walls: vessel faces, platens) and `simulate` (time step,
 density scaling, the stepping loop). Specimens: `genesis` (the sphere cloud, floaters, bonds),
-`packing` (grain scaling to the material pressure), `specimen` (cuboids and carved cylinders,
-cached). The UCS test: `material` (2D's micro-parameters mapped to the 3D laws), `platens`,
-`gauge` and `ucs`.
+`packing` (grain scaling to the material pressure), `specimen` (cuboids, carved cylinders and
+disks, cached). The tests: `material` (2D's micro-parameters mapped to the 3D laws), `platens`,
+`gauge`, `ucs` and `brazilian`. `export`: PFC3D's FISHTank parameter file and sphere lists.
 """

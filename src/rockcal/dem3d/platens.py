@@ -18,14 +18,16 @@ BOTTOM, TOP = 0, 1
 class Platens3D:
     """A specimen between a bottom and a top platen (walls normal to z) that touch it: the
     engine `state`, the platens' starting heights (m), the `rows` of spheres between them, the
-    `chunk` of steps between readings and the loaded `area_m2` (the nominal cross-section)."""
+    `chunk` of steps between readings and the loaded `area_m2` (the nominal cross-section).
+    `modulus_pa`: the platens' contact modulus, if not the material's (`wall_modulus_pa`)."""
 
-    def __init__(self, specimen, params, rate_factor: float):
+    def __init__(self, specimen, params, rate_factor: float, modulus_pa: float | None = None):
         pos, radius = specimen.pos, specimen.radius
         self.bottom, self.top = (pos[:, 2] - radius).min(), (pos[:, 2] + radius).max()
         centre = pos.mean(axis=0)
         walls = new_walls([(centre[0], centre[1], self.bottom), (centre[0], centre[1], self.top)],
-                          [(0, 0, 1), (0, 0, -1)], wall_modulus_pa(params))
+                          [(0, 0, 1), (0, 0, -1)],
+                          wall_modulus_pa(params) if modulus_pa is None else modulus_pa)
         self.state = material_state(params, specimen, walls)
         height = self.top - self.bottom
         self.rows = height / (2 * radius.mean())
@@ -47,3 +49,8 @@ class Platens3D:
         """The axial strain from the platens' separation, shortening positive."""
         z = self.state.walls.point[:, 2]
         return 1.0 - (z[TOP] - z[BOTTOM]) / (self.top - self.bottom)
+
+    def closure_m(self) -> float:
+        """How far the platens have closed in since the start (both together), m."""
+        z = self.state.walls.point[:, 2]
+        return float((z[BOTTOM] - self.bottom) + (self.top - z[TOP]))

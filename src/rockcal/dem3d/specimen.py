@@ -18,7 +18,8 @@ import numpy as np
 
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.specimen import STRENGTH_STREAM, _one_maker, cache_dir
-from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D, floaters, install_bonds
+from rockcal.dem.grain_limit import check_grains
+from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D, floaters, install_bonds, sphere_contacts
 from rockcal.dem3d.neighbours import spatial_order
 from rockcal.dem3d.packing import pack_cuboid
 from rockcal.errors import InputError
@@ -31,8 +32,9 @@ SHAPES = ("cylinder", "cuboid")
 @dataclass(frozen=True)
 class Specimen3D:
     """Sphere centres (m), radii (m) and bonded pairs (i < j); a `shape` of `size_m`: a
-    cylinder (diameter, diameter, height) about the vertical line through its centre, or a
-    cuboid (x, y, z sides), standing on z = 0. bond_draws: each bond's uniform draws in
+    cylinder (diameter, diameter, height) about the vertical line through its centre, a
+    cuboid (x, y, z sides), standing on z = 0, or a disk (diameter, thickness, diameter) about
+    the horizontal line along y through its centre (`carve_disk`). bond_draws: each bond's uniform draws in
     [0, 1) for its tensile strength and cohesion."""
 
     pos: np.ndarray
@@ -52,9 +54,13 @@ class Specimen3D:
         return len(self.radius)
 
     @property
+    def n_particles(self) -> int:  # the 2D specimen's name, read by the lab tests' runners
+        return self.n_spheres
+
+    @property
     def volume_m3(self) -> float:
         x, y, z = self.size_m
-        return np.pi / 4 * x * y * z if self.shape == "cylinder" else x * y * z
+        return np.pi / 4 * x * y * z if self.shape in ("cylinder", "disk") else x * y * z
 
     @property
     def porosity(self) -> float:
@@ -62,6 +68,16 @@ class Specimen3D:
 
     def bonds_per_sphere(self) -> float:
         return 2.0 * len(self.bonds) / self.n_spheres
+
+    def coordination(self) -> float:
+        """Sphere-sphere contacts per sphere."""
+        return float(sphere_contacts(self.pos, self.radius).mean())
+
+    def description(self) -> dict:
+        """What a PFC user reports of a specimen, under the 2D specimen's names."""
+        return {"n_particles": self.n_spheres, "porosity": self.porosity,
+                "coordination": self.coordination(), "bonds_per_particle": self.bonds_per_sphere(),
+                "floaters": self.floaters}
 
 
 def random_specimen(shape: str, width_mm: float, height_mm: float, rmin_mm: float,
@@ -72,11 +88,8 @@ def random_specimen(shape: str, width_mm: float, height_mm: float, rmin_mm: floa
     disk unless `cache` is False."""
     if shape not in SHAPES:
         raise InputError("shape", f"must be one of {', '.join(SHAPES)}, got {shape!r}")
-    for name, value in (("width_mm", width_mm), ("height_mm", height_mm)):
-        if not value >= 8 * rmin_mm * radius_ratio:
-            raise InputError(name, f"{value} mm is too small for spheres of radius up to "
-                             f"{rmin_mm * radius_ratio:g} mm (need at least 4 diameters)")
     genesis = genesis or DEFAULT_GENESIS_3D
+    check_size(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity)
     vessel = np.array([width_mm, width_mm, height_mm]) * 1e-3
     pos, radius, pressure, left = packing(vessel, rmin_mm * 1e-3, radius_ratio, seed, genesis,
                                           cache)
@@ -87,6 +100,39 @@ def random_specimen(shape: str, width_mm: float, height_mm: float, rmin_mm: floa
     specimen = Specimen3D(pos, radius, bonds, "cuboid", tuple(vessel), label, draws, pressure,
                           left, rmin_mm, genesis.install_gap)
     return carve_cylinder(specimen) if shape == "cylinder" else specimen
+
+
+# The fewest spheres a 3D packing's cloud may hold: 4 x 4 x 4, a specimen 4 spheres across
+MIN_SPHERES = 64
+
+
+def expected_spheres(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float,
+                     cloud_porosity: float) -> float:
+    """The sphere cloud's count in the width x width x height cuboid a specimen is packed in:
+    (1 - n_c) x volume / mean sphere volume (radii uniform in [R_min, ratio R_min]), a float
+    so that no size overflows."""
+    lo, hi = rmin_mm, radius_ratio * rmin_mm
+    mean_cube = (hi**4 - lo**4) / (4 * (hi - lo)) if hi > lo else lo**3
+    return (1 - cloud_porosity) * width_mm**2 * height_mm / (4 / 3 * np.pi * mean_cube)
+
+
+def check_size(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float,
+               cloud_porosity: float) -> None:
+    """Before the genesis: the specimen at least 4 of its largest spheres across and tall, its
+    cloud at least MIN_SPHERES spheres and within the grain limit (`dem.grain_limit`); an
+    InputError naming the setting."""
+    for name, value in (("width_mm", width_mm), ("height_mm", height_mm)):
+        if not value >= 8 * rmin_mm * radius_ratio:
+            raise InputError(name, f"{value:g} mm is too small for spheres of radius up to "
+                             f"{rmin_mm * radius_ratio:g} mm (need at least 4 diameters)")
+    spheres = expected_spheres(width_mm, height_mm, rmin_mm, radius_ratio, cloud_porosity)
+    if spheres < MIN_SPHERES:
+        raise InputError("cloud_porosity", f"a cloud porosity of {cloud_porosity:.10g} leaves about "
+                                           f"{spheres:.3g} spheres in the {width_mm:g} x {width_mm:g} x "
+                                           f"{height_mm:g} mm packing, fewer than {MIN_SPHERES} (4 "
+                                           "across): lower it, or make the specimen larger or R_min smaller")
+    check_grains("rmin_mm", f"a {width_mm:g} x {width_mm:g} x {height_mm:g} mm 3D packing of R_min "
+                            f"{rmin_mm:g} mm", spheres)
 
 
 def carve_cylinder(cuboid: Specimen3D) -> Specimen3D:
@@ -107,6 +153,43 @@ def carve_cylinder(cuboid: Specimen3D) -> Specimen3D:
     index[keep] = np.arange(np.count_nonzero(keep))
     return replace(cuboid, pos=cuboid.pos[keep].copy(), radius=cuboid.radius[keep].copy(),
                    bonds=index[cuboid.bonds[kept]], shape="cylinder", size_m=(x, x, z),
+                   bond_draws=cuboid.bond_draws[kept])
+
+
+def random_cuboid(sides_mm, rmin_mm: float, radius_ratio: float = 1.65, seed: int = 1,
+                  genesis: Genesis | None = None, cache: bool = True) -> Specimen3D:
+    """A cuboid of sides x, y, z `sides_mm` packed by the 3D genesis (as `random_specimen`'s
+    square prism, of any three sides: the Brazilian disk's block is D x t x D); its packing
+    kept on disk unless `cache` is False. The sides are checked by the caller."""
+    genesis = genesis or DEFAULT_GENESIS_3D
+    vessel = np.asarray(sides_mm, float) * 1e-3
+    pos, radius, pressure, left = packing(vessel, rmin_mm * 1e-3, radius_ratio, seed, genesis,
+                                          cache)
+    bonds = install_bonds(pos, radius, genesis.install_gap * rmin_mm * 1e-3)
+    label = (f"cuboid {'x'.join(f'{v:g}' for v in sides_mm)} mm, Rmin {rmin_mm:g} mm "
+             f"x{radius_ratio:g}, gap {genesis.install_gap:g} Rmin, seed {seed}")
+    draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
+    return Specimen3D(pos, radius, bonds, "cuboid", tuple(vessel), label, draws, pressure, left,
+                      rmin_mm, genesis.install_gap)
+
+
+def carve_disk(cuboid: Specimen3D) -> Specimen3D:
+    """The disk of a D x t x D cuboid: its spheres whose centres lie inside the cylinder of
+    diameter D about the horizontal line along y through the cuboid's centre (its axis; the
+    disk's faces are the cuboid's y faces), less those the cut leaves without a bond, with
+    their bonds and draws; centres, not whole spheres, as `carve_cylinder`."""
+    d, t, _ = cuboid.size_m
+    keep = np.hypot(cuboid.pos[:, 0] - d / 2, cuboid.pos[:, 2] - d / 2) <= d / 2
+    bi, bj = cuboid.bonds.T
+    for _ in range(2):
+        bonded = np.zeros(cuboid.n_spheres, bool)
+        bonded[cuboid.bonds[keep[bi] & keep[bj]].ravel()] = True
+        keep &= bonded
+    kept = keep[bi] & keep[bj]
+    index = np.full(cuboid.n_spheres, -1)
+    index[keep] = np.arange(np.count_nonzero(keep))
+    return replace(cuboid, pos=cuboid.pos[keep].copy(), radius=cuboid.radius[keep].copy(),
+                   bonds=index[cuboid.bonds[kept]], shape="disk", size_m=(d, t, d),
                    bond_draws=cuboid.bond_draws[kept])
 
 
@@ -142,6 +225,12 @@ def packing_name(vessel, rmin: float, radius_ratio: float, seed: int, genesis: G
            "seed": int(seed), "version": GENERATOR_VERSION_3D,
            "cloud_porosity": genesis.cloud_porosity, "pressure_mpa": genesis.pressure_mpa}
     return hashlib.sha1(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16] + ".npz"
+
+
+def front_view(xyz: np.ndarray) -> np.ndarray:
+    """3D positions (n, 3) seen from the front, (x, z): the axis up, where a 2D specimen has
+    y, so that a 3D run's spheres and cracks are drawn and stored as a 2D run's."""
+    return np.asarray(xyz)[:, [0, 2]].copy()
 
 
 def vessel_floaters(specimen: Specimen3D) -> int:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -40,7 +40,8 @@ CURVE_COLUMNS = ("axial_strain", "lateral_strain", "axial_stress_MPa", "broken_b
 @dataclass
 class UCS3DResult:
     """Responses of a 3D UCS test and its curve (columns `CURVE_COLUMNS`, a first row of
-    zeros for the unloaded specimen)."""
+    zeros for the unloaded specimen); the spheres' final centres (m) and where bonds broke,
+    by mode ("tension", "shear": (n, 3) positions, m)."""
 
     E_GPa: float
     nu: float
@@ -54,6 +55,8 @@ class UCS3DResult:
     n_broken_shear: int
     steps: int
     wall_s: float
+    positions: np.ndarray = field(default=None, repr=False)
+    cracks: dict = field(default_factory=dict, repr=False)
 
 
 def simulate_ucs_3d(params, specimen, *, rate_factor: float = 1.0,
@@ -91,4 +94,12 @@ def simulate_ucs_3d(params, specimen, *, rate_factor: float = 1.0,
                        n_spheres=specimen.n_spheres, n_bonds=len(specimen.bonds),
                        n_broken_tension=state.n_broken(BROKEN_TENSION),
                        n_broken_shear=state.n_broken(BROKEN_SHEAR), steps=state.step,
-                       wall_s=time.perf_counter() - started)
+                       wall_s=time.perf_counter() - started,
+                       positions=state.spheres.pos[:specimen.n_spheres].copy(),
+                       cracks=cracks_of(state.bonds))
+
+
+def cracks_of(bonds) -> dict[str, np.ndarray]:
+    """Where the bonds broke (m), by mode."""
+    return {mode: bonds.break_xyz[bonds.state == code].copy()
+            for mode, code in (("tension", BROKEN_TENSION), ("shear", BROKEN_SHEAR))}

@@ -18,7 +18,11 @@ GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_m
 # Settings added after runs were stored, with the value the engine had before them: a run's
 # key names one only where it differs from that, so the runs stored before keep their keys.
 LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02, "brazilian_loading": "flat",
-                  "grain_shape": DEFAULT_SHAPE}
+                  "grain_shape": DEFAULT_SHAPE, "dimensions": 2}
+# A specimen's dimensions: 2, PFC2D's disks, or 3, PFC3D's spheres (the tests with the setting
+# `dimensions` alone, on the parallel-bonded material: `rockcal.dem3d`).
+DIMENSIONS = (2, 3)
+MATERIALS_3D = ("parallel_bond",)
 
 
 @dataclass(frozen=True)
@@ -143,6 +147,19 @@ class LabTest:
             elif name in self.targets:
                 found |= {series_name(name, v, unit): x for v, x in zip(values, value)}
         return found
+
+    def check_dimensions(self, dimensions: int, model: str) -> None:
+        """InputError when the test cannot run in `dimensions` on the material `model`: naming
+        the test (`name`) where it has no 3D implementation, `model` where the 3D engine has
+        no such material."""
+        if dimensions != 3:  # 2, or a value the setting's own check refuses
+            return
+        if "dimensions" not in self.settings:
+            raise InputError(self.name, f"the {self.title} test has no 3D implementation: with "
+                                        "dimensions = 3 (PFC3D) a campaign runs the UCS test alone")
+        if model not in MATERIALS_3D:
+            raise InputError("model", f"the 3D engine has no {model} material; with dimensions = 3 "
+                                      f"(PFC3D) the material is {' or '.join(MATERIALS_3D)}")
 
     @property
     def targets(self) -> tuple[str, ...]:

@@ -9,6 +9,9 @@ own top and bottom particles, like gauges on a lab sample ("gauge"). The platens
 (`simulate.scale_density`), slower where bonds break (`rockcal.labtests.loading`); the test
 stops once the stress has fallen below a fraction of the peak (FISHTank's ct_loadFac), or at
 the maximum axial strain.
+
+With the setting `dimensions` 3 (PFC3D) the test's kind runs the 3D test (`rockcal.dem3d.ucs`)
+on a cylinder of the width as diameter and reads it as this test's result.
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ from rockcal.dem.clump_templates import DEFAULT_SHAPE
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.dem.specimen import Specimen, check_geometry, hexagonal, random_packing
+from rockcal.dem3d.specimen import Specimen3D, check_size, front_view, random_specimen
 from rockcal.errors import InputError
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, check_grain_cloud, genesis_of
@@ -41,7 +45,7 @@ from rockcal.labtests.loading import (
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.labtests.rig import Gauge, Platens
 from rockcal.labtests.rig.gauge import check_gauges
-from rockcal.materials import BondedParams, as_params
+from rockcal.materials import BondedParams, as_params, material_of
 
 POST_PEAK_FRACTION = 0.7
 CRACK_TARGETS = ("ci_MPa", "ci_ratio", "cd_MPa", "cd_ratio")  # a lab reads these too
@@ -53,6 +57,7 @@ DEFAULT_MAX_AXIAL_STRAIN = 0.02
 # are this much shorter, for the same equilibrium: on three full-size granite specimens halving
 # the speed moves E, nu and UCS by at most 1.0 %.
 DENSITY_SCALED_SPEED = 1.6
+PFC5_STIFFNESS = "pfc5"  # the 3D engine's contacts: PFC 5's deformability method (`rockcal.dem3d`)
 COMPRESSION_CURVE = ("axial_strain", "lateral_strain", "axial_stress_MPa", "broken_bonds")
 
 
@@ -125,8 +130,28 @@ def simulate_ucs(params: BondedParams | dict | None = None, specimen: Specimen |
 
 
 def _check(s: dict) -> None:
+    if in_3d(s):
+        return _check_3d(s)
     check_geometry(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"])
     check_grain_cloud(s["width_mm"], s["height_mm"], s)
+
+
+def in_3d(s: dict) -> bool:
+    """The settings `s` ask for a 3D specimen (PFC3D: `dimensions` 3)."""
+    return s.get("dimensions", 2) == 3
+
+
+def _check_3d(s: dict) -> None:
+    """A 3D cylinder's settings: the size and grains `dem3d.specimen.check_size` asks for, and
+    none of the 2D engine's alone (clumped grains, PFC 4's contact stiffness)."""
+    if s.get("grain_shape", DEFAULT_SHAPE) != DEFAULT_SHAPE:
+        raise InputError("grain_shape", f"the 3D engine's grains are balls (grain_shape = "
+                                        f"\"{DEFAULT_SHAPE}\"), got {s['grain_shape']!r} with dimensions = 3")
+    if s["contact_stiffness"] != PFC5_STIFFNESS:
+        raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
+                                              f"({PFC5_STIFFNESS!r}), got {s['contact_stiffness']!r} "
+                                              "with dimensions = 3")
+    check_size(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["cloud_porosity"])
 
 
 def ucs_specimen(width_mm: float = 50.0, height_mm: float = 100.0, rmin_mm: float = 0.25,
@@ -139,16 +164,55 @@ def ucs_specimen(width_mm: float = 50.0, height_mm: float = 100.0, rmin_mm: floa
                           grain_shape=grain_shape)
 
 
-def _specimen(s: dict) -> Specimen:
+def _specimen(s: dict) -> Specimen | Specimen3D:
+    if in_3d(s):  # a cylinder of the width as diameter, carved from a cached cuboid packing
+        return random_specimen("cylinder", s["width_mm"], s["height_mm"], s["rmin_mm"],
+                               s["radius_ratio"], s["seed"], genesis_of(s))
     return ucs_specimen(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"],
                         genesis_of(s), s.get("grain_shape", DEFAULT_SHAPE))
 
 
-def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> UCSResult:
+def _run(params: BondedParams, specimen: Specimen | Specimen3D, s: dict, progress) -> UCSResult:
+    """The 2D or (`dimensions` 3) the 3D test on the specimen `_specimen` made of `s`."""
+    if in_3d(s):
+        return _run_3d(params, specimen, s, progress)
     return simulate_ucs(params, specimen, strain=s["strain"], stop_fraction=s["stop_fraction"],
                         contact_stiffness=s["contact_stiffness"], max_axial_strain=s["max_axial_strain"],
                         progress=progress)
 
+
+def _run_3d(params: BondedParams, specimen: Specimen3D, s: dict, progress) -> UCSResult:
+    """The 3D test (`dem3d.ucs.simulate_ucs_3d`) read as the 2D test's result, its spheres and
+    cracks seen from the front (`front_view`) as a 2D run's disks and cracks."""
+    from rockcal.dem3d.ucs import simulate_ucs_3d  # the 3D engine's kernels: only for a 3D run
+
+    TEST.check_dimensions(3, material_of(params).name)  # before the engine reads its laws
+    r = simulate_ucs_3d(params, specimen, strain=s["strain"], stop_fraction=s["stop_fraction"],
+                        max_axial_strain=s["max_axial_strain"], progress=progress)
+    axial, lateral, stress, broken = r.curve.T
+    # the volumetric strain of a cylinder is axial - 2 lateral: `crack_stresses` reads the 2D
+    # areal strain axial - lateral, so it is given twice the lateral strain
+    damage = crack_stresses(axial, 2 * lateral, stress, broken).responses
+    return UCSResult(E_GPa=r.E_GPa, nu=r.nu, strain=r.strain, ucs_MPa=r.ucs_MPa,
+                     peak_axial_strain=r.peak_axial_strain, curve=r.curve, **damage,
+                     n_particles=r.n_spheres, n_bonds=r.n_bonds, n_broken_tension=r.n_broken_tension,
+                     n_broken_shear=r.n_broken_shear, steps=r.steps, wall_s=r.wall_s,
+                     positions=front_view(r.positions), radius=specimen.radius,
+                     cracks={mode: front_view(xyz) for mode, xyz in r.cracks.items()})
+
+
+def _hexagonal(s: dict) -> Specimen:
+    if in_3d(s):
+        raise InputError("packing", "a hexagonal lattice is a 2D specimen; with dimensions = 3 the "
+                                    "UCS specimen is a random packing")
+    return hexagonal(s["width_mm"], s["height_mm"], s["rmin_mm"])
+
+
+def _outline(s: dict) -> Outline:
+    if in_3d(s):  # the cylinder keeps pi/4 of its cuboid packing's spheres
+        return Outline(f"UCS cylinder Ø{s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"],
+                       s["height_mm"], np.pi / 4)
+    return Outline(f"UCS {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"], s["height_mm"])
 
 
 class UCSValues(LabValues):
@@ -193,13 +257,13 @@ TEST = LabTest(
                Response("peak_axial_strain", "", target=False, label="axial strain at peak"),
                *(replace(r, target=r.name in CRACK_TARGETS) for r in CRACK_RESPONSES)),
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
-              "stop_fraction", "contact_stiffness", "max_axial_strain", "grain_shape"),
+              "stop_fraction", "contact_stiffness", "max_axial_strain", "grain_shape",
+              "dimensions"),  # the later settings last, at their defaults out of a run's key
     plot="stress_strain",
-    hexagonal=lambda s: hexagonal(s["width_mm"], s["height_mm"], s["rmin_mm"]),
+    hexagonal=_hexagonal,
     check=_check, make=_specimen, run=_run,
     reading=lambda strain, stress_MPa: f"strain {100 * strain:.3f} %, {stress_MPa:.1f} MPa",
-    outline=lambda s: Outline(f"UCS {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"],
-                              s["height_mm"]),
+    outline=_outline,
     curve_columns=COMPRESSION_CURVE,
     revision=4)  # part of every stored UCS run's key: raise it when the test's numbers change
                  # (what changed in each revision: CHANGELOG.md)

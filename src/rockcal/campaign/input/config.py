@@ -30,6 +30,8 @@ from rockcal.dem.genesis import Genesis, make_genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.inverse.arrays import design
+from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D
+from rockcal.labtests.kind import DIMENSIONS
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
 from rockcal.labtests.ucs import DEFAULT_MAX_AXIAL_STRAIN, DEFAULT_STRAIN, POST_PEAK_FRACTION
@@ -62,6 +64,11 @@ class Rock(Section):
         return name
 
 
+# The specimen settings whose default differs in 3D: the 3D genesis' cloud porosity (2D's 0.09
+# would overfill a vessel of spheres) and PFC 5's contact stiffness, the 3D engine's only one.
+DEFAULTS_3D = {"cloud_porosity": DEFAULT_GENESIS_3D.cloud_porosity, "contact_stiffness": "pfc5"}
+
+
 class SpecimenSettings(Genesis):
     """Resolution, size and genesis of the virtual specimens (UCS, Brazilian disk, notched
     beam: one genesis for all) and how the UCS test reads them (defaults: the source's; the
@@ -70,7 +77,7 @@ class SpecimenSettings(Genesis):
     rmin_mm: float = Field(0.25, gt=0, description="Smallest particle radius R_min, mm: the resolution.")
     radius_ratio: float = Field(1.65, ge=1, le=10, description="Largest / smallest radius; radii are uniform between.")
     seed: int = Field(1, ge=0, description="Packing seed; other packings (intervals, validation beams) take seed + 1, ...")
-    width_mm: float = Field(50.0, gt=0, description="UCS specimen width, mm.")
+    width_mm: float = Field(50.0, gt=0, description="UCS specimen width, mm (in 3D the cylinder's diameter).")
     height_mm: float = Field(100.0, gt=0, description="UCS specimen height, mm.")
     beam_length_mm: float = Field(220.0, gt=0, description="Notched beam length, mm.")
     beam_height_mm: float = Field(50.0, gt=0, description="Notched beam depth W, mm.")
@@ -103,6 +110,26 @@ class SpecimenSettings(Genesis):
                     "(two-pebble, three-pebble, cloud: four pebbles of random sizes; FISHTank's clumped materials, "
                     "PFC's clump templates), sized by the radius of a disk of their area. UCS, confined "
                     "compression, Brazilian and bending tests (the direct tension test is on balls).")
+    dimensions: int = Field(
+        2, exclude_if=lambda v: v == 2,
+        description="2: PFC2D's disks; 3: PFC3D's spheres, the UCS test on a cylinder of width_mm as diameter "
+                    "and height_mm tall (parallel bonds and balls only; the other tests are 2D only); in 3D "
+                    "cloud_porosity is 0.35 and contact_stiffness pfc5 unless given.")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _defaults_in_3d(cls, data):
+        """In 3D the settings not given take their 3D defaults (DEFAULTS_3D)."""
+        if isinstance(data, dict) and data.get("dimensions") == 3:
+            return DEFAULTS_3D | data
+        return data
+
+    @field_validator("dimensions")
+    @classmethod
+    def _dimensions(cls, dimensions):
+        if dimensions not in DIMENSIONS:
+            raise ValueError(f"must be 2 (PFC2D) or 3 (PFC3D), got {dimensions}")
+        return dimensions
 
 
 NAMES = tuple(dict.fromkeys(name for m in MATERIALS.values() for name in m.parameters))
@@ -289,6 +316,7 @@ class Campaign(Section):
         if both:
             raise ValueError(f"search.fixed: {sorted(both)[0]!r} is also in search.bounds")
         _check_budget(self)
+        _check_dimensions(self)
         given = self.targets.given()
         if "tests" in self.validation.model_fields_set:
             for test in self.validation.tests:
@@ -339,6 +367,17 @@ def _check_budget(campaign: Campaign) -> None:
     if s.samples + s.checks > budget:
         raise ValueError(f"surrogate.samples: {s.samples} samples and {s.checks} checks are more DEM runs than "
                          f"the budget of {budget} (acceptance.max_dem_runs)")
+
+
+def _check_dimensions(campaign: Campaign) -> None:
+    """In 3D, every test the campaign runs has a 3D implementation and the material is one the
+    3D engine has (`LabTest.check_dimensions`), named by its section's key."""
+    for test in campaign.tests():
+        try:
+            lab_test(test).check_dimensions(campaign.specimen.dimensions, campaign.material.model)
+        except InputError as exc:
+            key = "material.model" if exc.field == "model" else f"targets.{test}"
+            raise ValueError(f"{key}: {exc.problem}") from None
 
 
 def quick_look(campaign: Campaign) -> Campaign:

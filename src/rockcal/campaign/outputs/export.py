@@ -111,6 +111,11 @@ def header_lines(calibrated: Calibrated) -> list[str]:
 
 
 def _header(calibrated: Calibrated) -> list[str]:
+    return origin_lines(calibrated) + _material_lines(calibrated)
+
+
+def origin_lines(calibrated: Calibrated) -> list[str]:
+    """Where the calibration came from: its verdict, campaign, targets, identified values."""
     o = calibrated.origin
     verdict = "accepted" if o["accepted"] else "NOT accepted (closest verified point)"
     lines = [f"rockcal calibration of {o['rock']}: {verdict}, {o['dem_runs']} DEM runs",
@@ -124,6 +129,12 @@ def _header(calibrated: Calibrated) -> list[str]:
     for name, i in o.get("intervals", {}).items():
         pinned = "" if i["pinned"] else " (not pinned down by the lab data)"
         lines.append(f"  {name}: 5-95 % interval {i['p5']:.4g} to {i['p95']:.4g}{pinned}")
+    return lines
+
+
+def _material_lines(calibrated: Calibrated) -> list[str]:
+    """What the 2D export's values mean in PFC: the contacts, the target FISHTank, the grains."""
+    lines = []
     if calibrated.specimen.contact_stiffness == "pfc4" and isinstance(calibrated.params, MicroParams):
         kn = calibrated.params.E_c * GPa
         ks = kn / calibrated.params.kn_ks
@@ -162,14 +173,30 @@ def _fish_value(value) -> str:
     return text if any(c in text for c in ".en") else text + ".0"
 
 
+def in_3d(calibrated: Calibrated) -> bool:
+    """A calibration of PFC3D's spheres (`[specimen] dimensions = 3`)."""
+    return getattr(calibrated.specimen, "dimensions", 2) == 3
+
+
 def to_fish(calibrated: Calibrated) -> str:
     """A FISH data file in the layout of FISHTank's mpParams: the common, packing and material
-    group functions, then FISHTank's own check (`_mpCheckAllParams`)."""
-    values = pfc_parameters(calibrated)
-    group = material_of(calibrated.params).pfc_group
+    group functions, then FISHTank's own check (`_mpCheckAllParams`); for a 3D calibration
+    PFC3D's (`rockcal.dem3d.export.to_fish_3d`)."""
+    if in_3d(calibrated):
+        from rockcal.dem3d.export import to_fish_3d  # it builds on this module
+
+        return to_fish_3d(calibrated.params, calibrated.specimen, fishtank=_fishtank(calibrated),
+                          header=origin_lines(calibrated))
     out = [f"; {line}" for line in header_lines(calibrated)]
     for name, pebbles in clump_templates(calibrated).items():
         out += [*template_command(name, pebbles), ""]
+    return "\n".join(out + fish_groups(pfc_parameters(calibrated), material_of(calibrated.params).pfc_group))
+
+
+def fish_groups(values: dict, group: str) -> list[str]:
+    """FISHTank's parameter groups of `values` (PFC names, SI), one line each: the common and
+    packing group functions, the material group function `group`, FISHTank's own check
+    (`_mpCheckAllParams`), and a last empty line (shared by the PFC3D export, `rockcal.dem3d.export`)."""
     arrays = [name for name in SIZE_ARRAYS if name in values]
 
     def assign(name: str, target: str | None = None) -> str:
@@ -177,7 +204,7 @@ def to_fish(calibrated: Calibrated) -> str:
         return f"  {target or name} = {_fish_value(values[name])}{unit}"
 
     common = [name for name in values if name.startswith("cm_") and name not in arrays]
-    out += ["def mpSetCommonParams", *(assign(name) for name in common), "  cm_matNameSAV = cm_matName"]
+    out = ["def mpSetCommonParams", *(assign(name) for name in common), "  cm_matNameSAV = cm_matName"]
     out += [f"  {name} = array.create(cm_nSD)" for name in arrays]
     out += [assign(name, f"{name}(1)") for name in arrays]
     out += ["end", "@mpSetCommonParams", "", "def mpSetPackingParams",
@@ -185,13 +212,15 @@ def to_fish(calibrated: Calibrated) -> str:
             "end", "@mpSetPackingParams", "", f"def {group}",
             *(assign(name) for name in values if not name.startswith(("cm_", "pk_"))),
             "end", f"@{group}", "", "@_mpCheckAllParams", ""]
-    return "\n".join(out)
+    return out
 
 
 def to_python(calibrated: Calibrated) -> str:
     """A PFC Python script that creates the clump template of a clumped material
     (itasca.command) and sets the FISH parameters (itasca.fish.set); outside PFC it only
     defines them."""
+    if in_3d(calibrated):
+        raise InputError("--format", "a 3D calibration exports as pfc-fish (PFC3D's mpParams.p3dat) or json")
     values = pfc_parameters(calibrated)
     arrays = tuple(name for name in SIZE_ARRAYS if name in values)
     # a fixed first line: the coding declaration no later comment can set
@@ -248,7 +277,11 @@ def write_specimen(specimen, params, folder: Path) -> tuple[Path, Path]:
     """The specimen as balls.csv (id, x, y, radius; m) and bonds.csv (ball ids and the
     properties of each bonded pair at `params` (`Material.pair_properties`): a parallel bond's
     tensile strength and cohesion, Pa; a flat joint's type, initial gap, λ and strengths), ids
-    from 1 as in PFC."""
+    from 1 as in PFC; a 3D specimen's by `rockcal.dem3d.export.write_specimen_3d`."""
+    if specimen.pos.shape[1] == 3:
+        from rockcal.dem3d.export import write_specimen_3d  # it builds on this module
+
+        return write_specimen_3d(specimen, params, folder)
     bonds = np.asarray(specimen.bonds)
     columns = material_of(params).pair_properties(params, specimen)
     folder.mkdir(parents=True, exist_ok=True)

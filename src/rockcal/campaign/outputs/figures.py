@@ -14,6 +14,7 @@ import numpy as np
 
 from rockcal import plots
 from rockcal.campaign.runs.pool import specimen_of
+from rockcal.dem3d.specimen import Specimen3D, front_view
 from rockcal.campaign.procedure.result import CalibrationResult
 from rockcal.campaign.runs.store import RunStore, StoredRun
 from rockcal.errors import InputError
@@ -153,7 +154,8 @@ def _cracks(key: str, what: str, store: RunStore, path: Path, title: Callable | 
              "shear": run.cracks[run.cracks[:, 2] == BROKEN_SHEAR, :2]}
     heading, rig = (f"{what[0].upper()}{what[1:]} —\nbroken bonds (undeformed specimen)", ()) if title is None \
         else title(run, specimen)
-    plots.crack_pattern(specimen.pos, specimen.radius, modes, path, heading, rig)
+    pos = front_view(specimen.pos) if isinstance(specimen, Specimen3D) else specimen.pos  # as its cracks
+    plots.crack_pattern(pos, specimen.radius, modes, path, heading, rig)
     return None
 
 

@@ -28,6 +28,7 @@ from rockcal.campaign.procedure.steps import (STEPS, VERIFICATION, planning_stat
                                               verified_at_most)
 from rockcal.campaign.runs.spec import RunSpec
 from rockcal.dem.specimen import packing_name, stored_packing
+from rockcal.dem3d.specimen import expected_spheres
 from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 
@@ -40,6 +41,7 @@ REFERENCE_PROBE_MS = 0.66
 # run time ~ work^WORK_EXPONENT: a half-resolution UCS run (1/8 of the work) takes about 1/10 of
 # the full-size one at the same point on one thread (a small specimen stays in the caches)
 WORK_EXPONENT = 1.1
+STEP_COST_3D = 3.3  # a 3D step per sphere against a 2D step per disk (docs/concepts/pfc3d.md)
 LONE_RUN_SPEED_UP = 1.4  # a run alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
 # the main process's own work, on one core of a machine of the project's kind (numpy and
 # matplotlib, not the engine, so not scaled by the probe): one search on the surrogate for the
@@ -49,17 +51,20 @@ MAIN_PROCESS_S = 10.0
 
 
 def grain_count(width_mm: float, height_mm: float, s: SpecimenSettings) -> int:
-    """Grains of a genesis in a width x height vessel: the cloud's count (floaters are
-    enlarged, not added)."""
+    """Grains of a genesis in a width x height vessel (in 3D, width x width x height): the
+    cloud's count (floaters are enlarged, not added)."""
+    if s.dimensions == 3:
+        return int(round(expected_spheres(width_mm, height_mm, s.rmin_mm, s.radius_ratio, s.cloud_porosity)))
     rmin = s.rmin_mm
     mean_area = np.pi * rmin**2 * (1 + s.radius_ratio + s.radius_ratio**2) / 3
     return int(round((1 - s.cloud_porosity) * width_mm * height_mm / mean_area))
 
 
 def work(width_mm: float, height_mm: float, s: SpecimenSettings) -> float:
-    """Grains x rows of a specimen: what a test's run time is proportional to."""
+    """Grains x rows of a specimen: what a test's run time is proportional to (a sphere
+    counting STEP_COST_3D disks)."""
     rows = height_mm / (s.rmin_mm * (1 + s.radius_ratio))
-    return grain_count(width_mm, height_mm, s) * rows
+    return grain_count(width_mm, height_mm, s) * rows * (STEP_COST_3D if s.dimensions == 3 else 1.0)
 
 
 def specimen_size(test: str, s: SpecimenSettings) -> tuple[str, int, float]:

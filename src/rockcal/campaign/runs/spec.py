@@ -12,6 +12,7 @@ import numpy as np
 
 from rockcal import __version__
 from rockcal.dem.specimen import GENERATOR_VERSION
+from rockcal.dem3d.specimen import GENERATOR_VERSION_3D
 from rockcal.labtests.registry import lab_test
 from rockcal.materials import DEFAULT_MATERIAL, material
 
@@ -52,12 +53,16 @@ def run_spec(kind: str, specimen_settings, params: dict, model: str = DEFAULT_MA
     """The spec of a run of the lab test `kind`: its specimen settings (with `own`, settings
     of the test's own such as a confinement, over them), and `params` of the material `model`
     completed with the defaults so the key is total (the material is named among them unless
-    it is the default, so the runs stored before materials keep their keys)."""
+    it is the default, so the runs stored before materials keep their keys). A 3D run's
+    settings hold `dimensions` 3 and its engine the 3D generator's version; a 2D run's key is
+    the one it had before 3D (`kind.LATER_SETTINGS`)."""
     test = lab_test(kind)
-    specimen = tuple((test.key_settings(specimen_settings) | (own or {})).items())
+    settings = test.key_settings(specimen_settings) | (own or {})
     full = material(model).make(params).key() | ({} if model == DEFAULT_MATERIAL else {"model": model})
     engine = ENGINE if test.revision == 1 else f"{ENGINE}, {kind} test revision {test.revision}"
-    return RunSpec(kind, specimen, tuple(sorted(full.items())), engine)
+    if settings.get("dimensions") == 3:  # a 3D run (keyed by `dimensions` too) is of the 3D genesis
+        engine += f", 3D specimen generator {GENERATOR_VERSION_3D}"
+    return RunSpec(kind, tuple(settings.items()), tuple(sorted(full.items())), engine)
 
 
 def params_of(spec: RunSpec):

@@ -1,0 +1,189 @@
+"""The 3D Brazilian test (`rockcal.dem3d.brazilian`) against what must hold:
+
+- sigma_t = 2 P / (pi D t), with the disk's nominal D and t, at the curve's peak load;
+- an elastic bonded simple-cubic disk between the flat platens is in equilibrium: the two
+  platens bear the same load, and the load is linear in the closure (the lattice's contacts
+  are linear and no new one forms);
+- a bearing strip is a softer column in series with the platen's contact;
+- the split rule: a crack in the plane of the loaded diameter and the axis, across the disk's
+  thickness, is a split; a crush at the platens, a crack off the centre, a wedge's side
+  cracks, a crack through one layer of the thickness are not;
+- a small genesis disk loads, peaks and stops past the peak by the 2D test's rules, and the
+  same seed gives the same numbers bit for bit.
+"""
+
+import numpy as np
+import pytest
+
+from rockcal.dem3d.brazilian import (
+    CURVE_COLUMNS,
+    brazilian_disk_3d,
+    broken_through,
+    central_split,
+    simulate_brazilian_3d,
+    strip_modulus_pa,
+    tensile_strength_MPa,
+)
+from rockcal.dem3d.specimen import Specimen3D
+from rockcal.errors import InputError
+from rockcal.labtests.brazilian import DEFAULT_MAX_STRAIN, POST_PEAK_FRACTION
+from rockcal.labtests.loading import PAST_PEAK_FRACTION
+from rockcal.labtests.rig import BearingStrip
+from rockcal.materials.parallel_bond import make_params
+
+GRANITE = make_params({"E_c": 62, "kn_ks": 2.5, "sigma_c": 175, "tau_c": 175,
+                       "sigma_c_cv": 0.23, "tau_c_cv": 0.23, "mu": 0.5, "density": 2630})
+ELASTIC = make_params({"E_c": 20, "Ebar_c": 40, "kn_ks": 2.5, "sigma_c": 1e5, "tau_c": 1e5})
+LOAD, BOTTOM_LOAD, TOP_LOAD = (CURVE_COLUMNS.index(c) for c in ("load_kN", "bottom_load_kN", "top_load_kN"))
+
+
+@pytest.fixture(scope="module")
+def disk():
+    """A genesis disk D 12 x t 8 mm at R_min 0.6 mm (about 270 spheres)."""
+    return brazilian_disk_3d(12.0, 8.0, 0.6, seed=3, cache=False)
+
+
+def lattice_disk(across: int, layers: int, r: float) -> Specimen3D:
+    """Equal spheres of radius r on a simple-cubic lattice, those whose centres lie within
+    `across` / 2 spacings of the middle column (x, z) kept, `layers` deep along y; lattice
+    neighbours bonded. `across` odd: one column of spheres stands highest (and lowest), on the
+    loaded diameter."""
+    d = 2 * r
+    c = (across - 1) / 2
+    index = np.array([(i, j, k) for k in range(across) for j in range(layers) for i in range(across)
+                      if np.hypot(i - c, k - c) <= across / 2])
+    flat = {tuple(v): n for n, v in enumerate(index)}
+    bonds = [(flat[tuple(v)], flat[tuple(v + step)]) for v in index for step in np.eye(3, dtype=int)
+             if tuple(v + step) in flat]
+    return Specimen3D(index * d + r, np.full(len(index), r), np.array(bonds), "disk",
+                      (across * d, layers * d, across * d), "simple-cubic disk",
+                      np.full((len(bonds), 2), 0.5))
+
+
+def test_sigma_t_is_2P_over_pi_D_t():
+    assert tensile_strength_MPa(1000.0, 0.02, 0.01) == pytest.approx(2e3 / (np.pi * 2e-4) / 1e6, rel=1e-15)
+    assert tensile_strength_MPa(1000.0, 0.02, 0.01) == pytest.approx(3.183098861837907, rel=1e-12)
+
+
+def test_an_elastic_lattice_disk_is_loaded_alike_top_and_bottom_and_linearly():
+    disk = lattice_disk(9, 4, 1e-3)
+    result = simulate_brazilian_3d(ELASTIC, disk, max_strain=2e-3)
+    assert result.n_broken_tension + result.n_broken_shear == 0
+    closure, load = result.curve[:, 0], result.curve[:, LOAD]
+    assert closure[-1] >= 2e-3 * 18.0  # stopped at the largest closure: no peak, no fall
+    assert int(np.argmax(load)) == len(load) - 1
+    # sigma_t from the peak load and the nominal D x t
+    assert result.sigma_t_MPa == pytest.approx(2 * 1e3 * load.max() / (np.pi * 18e-3 * 8e-3) / 1e6, rel=1e-12)
+    assert (result.diameter_mm, result.thickness_mm) == pytest.approx((18.0, 8.0))
+    loaded = load > 0.2 * load[-1]
+    bottom, top = result.curve[loaded, BOTTOM_LOAD], result.curve[loaded, TOP_LOAD]
+    assert np.abs(bottom - top).max() < 1e-4 * load[-1]  # equilibrium: the same load on both
+    half = np.argmin(np.abs(closure - 0.5 * closure[-1]))
+    # linear: the same secant stiffness at half and at the full closure
+    assert load[half] / closure[half] == pytest.approx(load[-1] / closure[-1], rel=2e-3)
+
+
+def test_a_bearing_strip_is_a_softer_column_in_series_with_the_platen():
+    strip = BearingStrip(1.0, 0.2)
+    r, bare = 1e-3, 62e9
+    column = 1e9 * np.pi * r**2 / 0.2e-3
+    k = np.pi * strip_modulus_pa(strip, bare, r) * r
+    assert k == pytest.approx(1 / (1 / column + 1 / (np.pi * bare * r)), rel=1e-12)
+    disk = lattice_disk(9, 4, 1e-3)
+    flat, strips = (simulate_brazilian_3d(ELASTIC, disk, loading=loading, max_strain=2e-3)
+                    for loading in ("flat", "strips"))
+    slope = [run.curve[-1, LOAD] / run.curve[-1, 0] for run in (flat, strips)]
+    assert slope[1] < 0.5 * slope[0]
+
+
+# The split rule on synthetic cracks: a disk D 50 x t 25 mm of 1 mm grains centred at (25, 25) mm
+# in (x, z), its axis along y.
+D, T, GRAIN, CENTRE = 50e-3, 25e-3, 1e-3, (25e-3, 25e-3)
+
+
+def crack_plane(x: float, z_from: float, z_to: float, y_step: float = 1.0) -> np.ndarray:
+    """Breaks over the plane x = const, from z_from to z_to, across the disk's thickness, one
+    per mm of z and per `y_step` of y: a planar crack's bonds, one per grain face of this disk
+    at y_step 1 (mm in, m out)."""
+    z = np.arange(z_from, z_to, 1.0)
+    y = np.arange(0.5, 1e3 * T, y_step)
+    zz, yy = np.meshgrid(z, y)
+    return 1e-3 * np.column_stack([np.full(zz.size, x), yy.ravel(), zz.ravel()])
+
+
+def split(cracks) -> bool:
+    return central_split(cracks, CENTRE, D, T, GRAIN)
+
+
+def test_a_crack_in_the_loaded_plane_across_the_thickness_is_a_split():
+    cracks = crack_plane(25.3, 0.5, 50)
+    assert split(cracks) and broken_through(cracks, CENTRE, D, T, GRAIN)
+    assert split(crack_plane(25.3, 10, 40))  # the middle only, the ends crushed or not
+
+
+def test_a_crush_at_the_platens_is_no_split():
+    crushed = np.vstack([crack_plane(x, 0, 5) for x in (22, 25, 28)]
+                        + [crack_plane(x, 45, 50) for x in (22, 25, 28)])
+    assert not split(crushed)
+    assert not broken_through(crushed, CENTRE, D, T, GRAIN)
+
+
+def test_a_crack_off_the_centre_or_a_wedge_is_no_split():
+    assert not split(crack_plane(25 + 0.25 * 50, 5, 45))  # along a chord a quarter D off
+    wedge = np.vstack([crack_plane(25.3, 0, 50), crack_plane(25 - 0.3 * 50, 5, 45),
+                       crack_plane(25 + 0.3 * 50, 5, 45)])
+    assert not split(wedge)
+
+
+def test_a_crack_through_one_layer_of_a_thick_disk_is_no_split():
+    """The 2D rule counts grains along the slice; in 3D a crack crosses the thickness too."""
+    one_layer = crack_plane(25.3, 0, 50, y_step=1e3)  # one break per mm of z, at one y
+    assert not split(one_layer)
+    assert split(crack_plane(25.3, 0, 50, y_step=2.0))  # every other grain: a crack
+
+
+def test_bad_loadings_and_disks_are_refused(disk):
+    with pytest.raises(InputError, match="loading"):
+        simulate_brazilian_3d(GRANITE, disk, loading="isrm")
+    with pytest.raises(InputError, match="thickness_mm"):
+        brazilian_disk_3d(20.0, 6.0, 0.8)
+
+
+def test_a_small_disk_peaks_and_stops_past_the_peak_as_in_2D(disk):
+    result = simulate_brazilian_3d(GRANITE, disk)
+    closure, load, broken = result.curve[:, 0], result.curve[:, LOAD], result.curve[:, 2]
+    peak = int(np.argmax(load))
+    assert 0 < peak < len(load) - 1
+    # the flat platens' stop rule: the load fallen below POST_PEAK_FRACTION of the peak with the
+    # platens closed by one more mean radius since, or (a coarse disk: 0.77 mm against 12 mm) the
+    # largest closure, DEFAULT_MAX_STRAIN x D
+    assert load[-1] < POST_PEAK_FRACTION * load[peak]
+    assert closure[-1] > closure[peak] + 1e3 * disk.radius.mean() or closure[-1] >= DEFAULT_MAX_STRAIN * 12.0
+    assert np.all(np.diff(broken) >= 0) and broken[-1] == result.n_broken_tension + result.n_broken_shear
+    assert result.sigma_t_MPa == pytest.approx(tensile_strength_MPa(1e3 * load[peak], 12e-3, 8e-3), rel=1e-12)
+    before = (load > 0.2 * load[peak]) & (np.arange(len(load)) <= peak)
+    bottom, top = result.curve[before, BOTTOM_LOAD], result.curve[before, TOP_LOAD]
+    # quasi-static: the platens bear the same load, but for the moments a break shakes the disk
+    assert np.mean(np.abs(bottom - top)) < 0.01 * load[peak]
+    assert np.median(np.abs(bottom - top)) < 0.002 * load[peak]
+    # the cracks read for `split` are those broken by just after the peak
+    assert sum(len(v) for v in result.peak_cracks.values()) <= broken[-1]
+
+
+def test_strips_stop_at_the_first_fall_that_left_a_crack_across(disk):
+    result = simulate_brazilian_3d(GRANITE, disk, loading="strips")
+    load = result.curve[:, LOAD]
+    assert load[-1] < PAST_PEAK_FRACTION * load.max()
+    cracks = np.vstack(list(result.peak_cracks.values()))
+    pos, radius = disk.pos, disk.radius
+    centre = tuple(0.5 * ((pos[:, a] - radius).min() + (pos[:, a] + radius).max()) for a in (0, 2))
+    assert broken_through(cracks, centre, 12e-3, 8e-3, 2 * radius.mean())
+
+
+def test_the_same_seed_gives_the_same_numbers_bit_for_bit(disk):
+    again = brazilian_disk_3d(12.0, 8.0, 0.6, seed=3, cache=False)
+    for name in ("pos", "radius", "bonds", "bond_draws"):
+        assert np.array_equal(getattr(disk, name), getattr(again, name)), name
+    runs = [simulate_brazilian_3d(GRANITE, specimen) for specimen in (disk, again)]
+    assert np.array_equal(runs[0].curve, runs[1].curve)
+    assert runs[0].sigma_t_MPa == runs[1].sigma_t_MPa and runs[0].split == runs[1].split

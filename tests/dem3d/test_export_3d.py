@@ -1,0 +1,154 @@
+"""The PFC3D export (`rockcal.dem3d.export`): FISHTank's mpParams.p3dat and the ball/bond lists.
+
+- the parameter file read back gives the material's parameters in SI, under FISHTank's names,
+  with the cm_matType of the FISHTank asked for;
+- it sets every name FISHTank's own PFC3D parallel-bonded example sets;
+- its layout is the 2D export's, line for line;
+- the ball and bond lists read back give the specimen bit for bit, and each bond's strengths
+  are those the engine gives it, its gap the one it takes as its zero.
+"""
+
+import csv
+import re
+
+import numpy as np
+import pytest
+
+from rockcal.campaign.input.config import SpecimenSettings
+from rockcal.campaign.outputs.export import Calibrated, fish_groups, pfc_parameters
+from rockcal.dem3d.bonds import Bond
+from rockcal.dem3d.export import (
+    BALL_COLUMNS,
+    BOND_COLUMNS,
+    PARAMETER_FILE,
+    to_fish_3d,
+    write_p3dat,
+    write_specimen_3d,
+)
+from rockcal.dem3d.material import material_state
+from rockcal.dem3d.specimen import Specimen3D
+from rockcal.errors import InputError
+from rockcal.materials.fishtank import MATERIAL_TYPES
+from rockcal.materials.parallel_bond import make_params
+
+PARAMS = make_params({"E_c": 62, "Ebar_c": 55, "kn_ks": 2.5, "knbar_ksbar": 2.0, "sigma_c": 175,
+                      "tau_c": 160, "sigma_c_cv": 0.23, "tau_c_cv": 0.2, "phi_b": 12.5,
+                      "mu": 0.5, "lambda": 0.8, "mcf": 0.9, "density": 2630})
+SETTINGS = SpecimenSettings(rmin_mm=0.75, radius_ratio=1.65, install_gap=0.4, cloud_porosity=0.35,
+                            pressure_mpa=0.2)
+# FISHTank's PFC3D parallel-bonded example (siyuanxu/PFC-fishPKG,
+# ExampleProjects/MatGen-ParallelBonded/mpParams.p3dat): the names it sets
+FISHTANK_EXAMPLE = {"cm_matName", "cm_matType", "cm_localDampFac", "cm_densityCode", "cm_densityVal",
+                    "cm_nSD", "cm_typeSD", "cm_Dlo", "cm_Dup", "cm_Vfrac", "pk_Pm", "pk_procCode",
+                    "pk_nc", "pbm_emod", "pbm_krat", "pbm_fric", "pbm_igap", "pbm_rmul", "pbm_bemod",
+                    "pbm_bkrat", "pbm_mcf", "pbm_ten_m", "pbm_ten_sd", "pbm_coh_m", "pbm_coh_sd",
+                    "pbm_fa", "lnm_emod", "lnm_krat", "lnm_fric"}
+
+
+def read_fish(text: str) -> dict:
+    """The FISH assignments `name = value` (`name(1) = value` for an array) of a parameter file,
+    values as FISH reads them: a quoted string, an integer, a float."""
+    values = {}
+    for line in text.splitlines():
+        m = re.fullmatch(r"\s+(\w+)(?:\(1\))? = ('[^']*'|[-+.\w]+)(?:\s+;.*)?", line)
+        if not m or re.fullmatch(r"[A-Za-z_]\w*", m.group(2)):  # cm_matNameSAV = cm_matName
+            continue
+        name, value = m.groups()
+        if value.startswith("'"):
+            values[name] = value.strip("'")
+        elif re.fullmatch(r"[-+]?\d+", value):
+            values[name] = int(value)
+        else:
+            values[name] = float(value)
+    return values
+
+
+@pytest.mark.parametrize("fishtank", [5, 6, 7])
+def test_the_parameter_file_reads_back_as_the_material_in_SI(fishtank):
+    values = read_fish(to_fish_3d(PARAMS, SETTINGS, fishtank=fishtank))
+    assert values["cm_matType"] == MATERIAL_TYPES[fishtank]["parallel-bonded"] == 2
+    expected = {"pbm_emod": 62e9, "lnm_emod": 62e9, "pbm_bemod": 55e9, "pbm_krat": 2.5, "lnm_krat": 2.5,
+                "pbm_bkrat": 2.0, "pbm_fric": 0.5, "lnm_fric": 0.5, "pbm_rmul": 0.8, "pbm_mcf": 0.9,
+                "pbm_ten_m": 175e6, "pbm_ten_sd": 0.23 * 175e6, "pbm_coh_m": 160e6,
+                "pbm_coh_sd": 0.2 * 160e6, "pbm_fa": 12.5, "pbm_igap": 0.4 * 0.75e-3,
+                "cm_Dlo": 1.5e-3, "cm_Dup": 1.65 * 1.5e-3, "cm_densityVal": 2630.0,
+                "cm_localDampFac": 0.7, "pk_Pm": 0.2e6, "pk_nc": 0.35, "pk_procCode": 1,
+                "cm_densityCode": 0, "cm_Vfrac": 1.0, "cm_typeSD": 0, "cm_nSD": 1}
+    for name, value in expected.items():
+        assert values[name] == pytest.approx(value, rel=1e-14), name
+    assert values["cm_matName"] == "rockcal_parallel_bond"
+    written = pfc_parameters(Calibrated(PARAMS, SETTINGS, {}, fishtank))
+    assert values.keys() == written.keys()
+    for name, value in written.items():
+        assert values[name] == (pytest.approx(value, rel=1e-15) if isinstance(value, float) else value)
+
+
+def test_it_sets_every_name_of_fishtanks_own_pfc3d_example():
+    assert FISHTANK_EXAMPLE <= read_fish(to_fish_3d(PARAMS, SETTINGS)).keys() | {"cm_ctName"}
+
+
+def test_its_groups_are_the_2D_exports_line_for_line(tmp_path):
+    text = to_fish_3d(PARAMS, SETTINGS, fishtank=5, header=["a line\nthat breaks"])
+    comments = [line for line in text.split("\n") if line.startswith(";")]
+    body = [line for line in text.split("\n") if not line.startswith(";")]
+    assert body == fish_groups(pfc_parameters(Calibrated(PARAMS, SETTINGS, {}, 5)), "mpSetPBParams")
+    assert comments[0] == "; a line\\nthat breaks"  # no header text leaves its comment
+    assert any("PFC3D" in line for line in comments) and text.endswith("@_mpCheckAllParams\n")
+    path = write_p3dat(tmp_path, PARAMS, SETTINGS, fishtank=5, header=["a line\nthat breaks"])
+    assert path.name == PARAMETER_FILE and path.read_text() == text
+
+
+def test_bad_versions_and_materials_are_refused():
+    with pytest.raises(InputError, match="--fishtank"):
+        to_fish_3d(PARAMS, SETTINGS, fishtank=4)
+    with pytest.raises(InputError, match="grain_shape"):
+        to_fish_3d(PARAMS, SETTINGS.model_copy(update={"grain_shape": "two-pebble"}))
+
+
+def jittered_block() -> Specimen3D:
+    """4 x 4 x 4 spheres of unequal radii on a jittered simple-cubic lattice, lattice neighbours
+    bonded: some pairs overlap, some have a gap."""
+    rng = np.random.default_rng(5)
+    r = 1e-3
+    grid = np.array([(i, j, k) for k in range(4) for j in range(4) for i in range(4)], float)
+    pos = grid * 2 * r + rng.uniform(-0.05, 0.05, grid.shape) * r
+    radius = rng.uniform(0.95, 1.05, len(pos)) * r
+    flat = {tuple(v): n for n, v in enumerate(grid.astype(int))}
+    bonds = np.array([(flat[tuple(v)], flat[tuple(v + s)]) for v in grid.astype(int)
+                      for s in np.eye(3, dtype=int) if tuple(v + s) in flat])
+    return Specimen3D(pos, radius, bonds, "cuboid", (8e-3, 8e-3, 8e-3), "block",
+                      rng.random((len(bonds), 2)), rmin_mm=0.95)
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], np.array(rows[1:], float)
+
+
+def test_the_ball_and_bond_lists_read_back_as_the_specimen_and_its_engine_bonds(tmp_path):
+    block = jittered_block()
+    balls, bonds = write_specimen_3d(block, PARAMS, tmp_path)
+    header, table = read_csv(balls)
+    assert tuple(header) == BALL_COLUMNS
+    np.testing.assert_array_equal(table[:, 0], np.arange(1, block.n_spheres + 1))
+    np.testing.assert_array_equal(table[:, 1:4], block.pos)
+    np.testing.assert_array_equal(table[:, 4], block.radius)
+    header, table = read_csv(bonds)
+    assert tuple(header) == BOND_COLUMNS
+    np.testing.assert_array_equal(table[:, 0], np.arange(1, len(block.bonds) + 1))
+    np.testing.assert_array_equal(table[:, 1:3] - 1, block.bonds)
+    gap = table[:, BOND_COLUMNS.index("gap_m")]
+    assert (gap < 0).any() and (gap > 0).any()
+    np.testing.assert_array_equal(table[:, BOND_COLUMNS.index("rgap_m")], np.minimum(gap, 0))
+    ri, rj = block.radius[block.bonds].T
+    np.testing.assert_array_equal(table[:, BOND_COLUMNS.index("bond_radius_m")], 0.8 * np.minimum(ri, rj))
+    # what the engine's bonds hold, pair by pair
+    state = material_state(PARAMS, block)
+    nb = state.neighbours.n_bonds
+    engine = {(int(i), int(j)): p for p, (i, j) in enumerate(zip(state.neighbours.pi[:nb],
+                                                                 state.neighbours.pj[:nb]))}
+    p = np.array([engine[(int(i), int(j))] for i, j in block.bonds])
+    for column, row in (("tensile_strength_Pa", Bond.TEN), ("cohesion_Pa", Bond.COH)):
+        np.testing.assert_array_equal(table[:, BOND_COLUMNS.index(column)], state.bonds.table[row, p])
+    np.testing.assert_allclose(gap, -state.bonds.table[Bond.REF_OVERLAP, p], rtol=0, atol=1e-18)

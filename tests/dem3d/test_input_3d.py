@@ -1,0 +1,147 @@
+"""`[specimen] dimensions` and `rockcal simulate ucs --dimensions`: a value other than 2 or 3, a
+3D campaign with a test, material or setting the 3D engine does not have, and a cylinder too
+small for its spheres are refused before any run, in one line naming the key, exit 2. The
+settings whose default differs in 3D take the 3D default unless given.
+
+Every case fails while the input is checked (no genesis, no run): the file is quick."""
+
+import pytest
+
+from rockcal.campaign.input.config import DEFAULTS_3D, SpecimenSettings
+from rockcal.dem.grain_limit import DEFAULT_MAX_GRAINS, ENV
+from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D
+from rockcal.dem3d.specimen import MIN_SPHERES, expected_spheres
+from rockcal.errors import InputError
+from rockcal.labtests.registry import LAB_TESTS
+from rockcal.labtests.settings import specimen_settings
+from rockcal.labtests.ucs import TEST as UCS
+
+CAMPAIGN = """
+[targets.ucs]
+E_GPa = 30.0
+nu = 0.16
+ucs_MPa = 110.0
+{targets}
+[specimen]
+{specimen}
+[search]
+bounds = {{ E_c = [15, 25], sigma_c = [30, 50] }}
+"""
+SPECIMEN = {"dimensions": "3", "width_mm": "7", "height_mm": "14", "rmin_mm": "0.5"}
+
+
+def campaign(targets: str = "", **specimen: str) -> str:
+    """The tiny 3D campaign with more `targets` and its [specimen] keys set (TOML values)."""
+    keys = SPECIMEN | specimen
+    return CAMPAIGN.format(targets=targets, specimen="\n".join(f"{k} = {v}" for k, v in keys.items()))
+
+
+OTHER_TESTS = {  # a test with no 3D implementation, and a [targets] section of it
+    "brazilian": "[targets.brazilian]\nsigma_t_MPa = 10.0",
+    "bending": "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0",
+    "direct_tension": "[targets.direct_tension]\nsigma_t_direct_MPa = 8.0",
+    "biaxial": "[targets.biaxial]\nconfinement_mpa = [0, 5]\nphi_deg = 40.0",
+}
+TINY = ["--width-mm", "7", "--height-mm", "14", "--rmin-mm", "0.5"]
+
+
+def one_line(run, key: str, *words: str) -> None:
+    """Exit 2 and one line on stderr naming `key` (and holding each of `words`)."""
+    assert run.returncode == 2, run.stderr
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"rockcal: error: {key}: "), run.stderr
+    for word in words:
+        assert word in lines[0], lines[0]
+
+
+def calibrate(cli, tmp_path, text: str):
+    """`rockcal calibrate --dry-run` of the campaign `text`; nothing is written when it refuses."""
+    path = tmp_path / "rock.toml"
+    path.write_text(text)
+    run = cli("calibrate", path, "--dry-run", "--out", tmp_path / "out", cwd=tmp_path)
+    assert not (tmp_path / "out").exists()
+    return run
+
+
+def test_the_tiny_3d_campaign_is_accepted(cli, tmp_path):
+    run = calibrate(cli, tmp_path, campaign())
+    assert run.returncode == 0, run.stderr
+
+
+@pytest.mark.parametrize("value", ["4", "1", "0", "-3", "2.5", '"3D"'])
+def test_dimensions_other_than_2_or_3_are_refused(cli, tmp_path, value):
+    one_line(calibrate(cli, tmp_path, campaign(dimensions=value)), "specimen.dimensions")
+    one_line(cli("simulate", "ucs", *TINY, "--dimensions", value.strip('"')), "--dimensions")
+
+
+@pytest.mark.parametrize("test", sorted(OTHER_TESTS))
+def test_a_test_without_a_3d_implementation_is_refused(cli, tmp_path, test):
+    one_line(calibrate(cli, tmp_path, campaign(OTHER_TESTS[test])), f"targets.{test}", "no 3D implementation")
+    # a validation check only is run too: refused alike
+    checked = f"{OTHER_TESTS[test]}\n[validation]\ntests = [{test!r}]"
+    one_line(calibrate(cli, tmp_path, campaign(checked)), f"targets.{test}", "no 3D implementation")
+    # the same campaign in 2D is valid
+    assert calibrate(cli, tmp_path, campaign(OTHER_TESTS[test], dimensions="2")).returncode == 0
+
+
+def test_every_test_but_ucs_is_2d_only():
+    assert [name for name, test in LAB_TESTS.items() if "dimensions" in test.settings] == ["ucs"]
+
+
+def test_the_flat_jointed_material_is_refused_in_3d(cli, tmp_path):
+    flat = '[material]\nmodel = "flatjoint"'
+    box = ("E_c = [15, 25], sigma_c = [30, 50]", "fj_emod = [15, 25], fj_ten = [5, 15]")
+    one_line(calibrate(cli, tmp_path, campaign(flat).replace(*box)), "material.model", "flatjoint",
+             "parallel_bond")
+    assert calibrate(cli, tmp_path, campaign(flat, dimensions="2").replace(*box)).returncode == 0
+    one_line(cli("simulate", "ucs", *TINY, "--dimensions", "3", "--model", "flatjoint"), "--model")
+
+
+@pytest.mark.parametrize("key, value, flag", [
+    ("grain_shape", '"two-pebble"', "--grain-shape"),
+    ("contact_stiffness", '"pfc4"', "--contact-stiffness"),
+])
+def test_a_2d_only_setting_is_refused_in_3d(cli, tmp_path, key, value, flag):
+    one_line(calibrate(cli, tmp_path, campaign(**{key: value})), f"specimen.{key}", "dimensions = 3")
+    one_line(cli("simulate", "ucs", *TINY, "--dimensions", "3", flag, value.strip('"')), flag)
+    assert calibrate(cli, tmp_path, campaign(dimensions="2", **{key: value})).returncode == 0
+
+
+def test_the_hexagonal_lattice_is_refused_in_3d(cli):
+    one_line(cli("simulate", "ucs", *TINY, "--dimensions", "3", "--packing", "hexagonal"), "--packing")
+
+
+@pytest.mark.parametrize("key, value", [
+    ("width_mm", "6.5"),  # 8 R_max = 6.6 mm: fewer than 4 of the largest spheres across
+    ("height_mm", "6.5"),
+    ("cloud_porosity", "0.9"),  # a cloud of about 53 spheres
+])
+def test_a_cylinder_too_small_for_its_spheres_is_refused(cli, tmp_path, key, value):
+    one_line(calibrate(cli, tmp_path, campaign(**{key: value})), f"specimen.{key}")
+    flag = "--" + key.replace("_", "-")
+    one_line(cli("simulate", "ucs", *TINY, "--dimensions", "3", flag, value), flag)
+
+
+def test_the_grain_limit_counts_spheres(cli, monkeypatch):
+    """7 x 7 x 14 mm at R_min 0.5 mm is a cloud of about 345 spheres (a 2D packing of the same
+    sides: about 63 disks): a limit of 200 grains refuses it, naming R_min."""
+    monkeypatch.setenv(ENV, str(DEFAULT_MAX_GRAINS))  # put back after the test: --max-grains sets it
+    spheres = expected_spheres(7, 14, 0.5, 1.65, DEFAULT_GENESIS_3D.cloud_porosity)
+    assert 300 < spheres < 450
+    one_line(cli("--max-grains", "200", "simulate", "ucs", *TINY, "--dimensions", "3"), "--rmin-mm",
+             f"{spheres:,.0f} grains")
+    assert expected_spheres(7, 14, 0.5, 1.65, 0.9) < MIN_SPHERES
+
+
+def test_3d_defaults_apply_where_a_setting_is_not_given():
+    assert {k: getattr(SpecimenSettings(), k) for k in DEFAULTS_3D} == {"cloud_porosity": 0.09,
+                                                                       "contact_stiffness": "pfc4"}
+    in_3d = SpecimenSettings(dimensions=3)
+    assert in_3d.cloud_porosity == DEFAULT_GENESIS_3D.cloud_porosity == 0.35
+    assert in_3d.contact_stiffness == "pfc5"
+    assert SpecimenSettings(dimensions=3, cloud_porosity=0.3).cloud_porosity == 0.3
+    settings = specimen_settings(UCS, {"dimensions": 3, "width_mm": 7, "height_mm": 14, "rmin_mm": 0.5})
+    assert settings["dimensions"] == 3 and settings["cloud_porosity"] == 0.35
+    with pytest.raises(InputError, match="^contact_stiffness: "):
+        specimen_settings(UCS, {"dimensions": 3, "contact_stiffness": "pfc4", "width_mm": 7,
+                                "height_mm": 14, "rmin_mm": 0.5})
