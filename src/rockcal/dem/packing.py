@@ -29,7 +29,6 @@ SAMPLES_PER_SERVO = 8
 MAX_SERVO_ROUNDS = 60
 PACKING_MODULUS_GPA = 1.0  # frictionless contacts used only to make the packing
 JAMMING_FRACTION = 0.845  # solid fraction of frictionless 2D polydisperse disks at jamming
-MAX_SERVO_GAIN = 16.0  # of a growing servo gain (`Servo`)
 PRESSURE_TOLERANCE = 0.05  # relative; the servo stops once the wall stress is this close to P_m
 FLOATER_ROUNDS = 200  # at most this many rounds of enlarging floaters, servo step and cycling
 STEPS_PER_FLOATER_ROUND = 2000
@@ -44,7 +43,6 @@ class Balls:
 
     extent = 1.0  # a grain's reach from its centre, in sizes
     jamming_fraction = JAMMING_FRACTION
-    servo_growth = 1.0  # the servo's gain stays that of the contacts (`Servo`)
 
     def orientations(self, rng: np.random.Generator, n: int) -> np.ndarray:
         return np.zeros(n)  # a ball has none: no draw
@@ -105,8 +103,7 @@ def pack_grains(grains, width: float, height: float, rmin: float, radius_ratio: 
     servo_steps = min(STEPS_PER_SERVO, int(SERVO_STEPS_PER_ROW * rows))
     floater_steps = min(STEPS_PER_FLOATER_ROUND, int(FLOATER_STEPS_PER_ROW * rows))
     target = pressure_mpa * MPa
-    servo = Servo(target, grains.servo_growth)
-    stress = scale_to_pressure(state, grains, radius, servo, servo_steps)
+    stress = scale_to_pressure(state, grains, radius, target, servo_steps)
     overlap = target / (PACKING_MODULUS_GPA * GPa)  # ~ a contact's at P_m, / R
     for round_ in range(FLOATER_ROUNDS):
         grown = grains.enlarge_floaters(state, width, height, overlap)
@@ -114,7 +111,7 @@ def pack_grains(grains, width: float, height: float, rmin: float, radius_ratio: 
         log.debug("floater round %d: %d floaters, wall stress %.3g MPa", round_, enlarged, stress / MPa)
         if not enlarged and abs(stress - target) < PRESSURE_TOLERANCE * target:
             break
-        grains.resize(state, grown * servo.factor(stress))
+        grains.resize(state, grown * servo_factor(stress, target))
         rebuild_neighbours(state)
         stress = settled_stress(state, floater_steps)
     else:
@@ -131,28 +128,10 @@ def wall_stress(state, width: float, height: float) -> float:
     return 0.5 * ((f[LEFT] + f[RIGHT]) / height + (f[BOTTOM] + f[TOP]) / width) / THICKNESS_M
 
 
-def servo_factor(stress: float, target: float, gain: float = 1.0) -> float:
-    """The factor on all radii that moves the wall stress towards `target` (Pa): the packing's
-    contacts' (`gain` 1), or `gain` times theirs."""
-    return 1.0 + gain * 0.5 * (target - stress) / (PACKING_MODULUS_GPA * GPa)
-
-
-class Servo:
-    """`servo_factor` round after round towards the stress `target` (Pa), its gain multiplied
-    by `growth` after each round whose stress missed on the same side as the round before (up
-    to MAX_SERVO_GAIN), and back to 1 once it crosses. Balls keep gain 1 (`growth` 1). A packing of frictionless clumps
-    yields as its grains turn and slide into room, so its stress relaxes far below the one its
-    contacts would hold: a growing gain reaches the target in a few rounds all the same."""
-
-    def __init__(self, target: float, growth: float):
-        self.target, self.growth = target, growth
-        self.gain, self.below = 1.0, None
-
-    def factor(self, stress: float) -> float:
-        below = stress < self.target
-        self.gain = min(MAX_SERVO_GAIN, self.gain * self.growth) if below == self.below else 1.0
-        self.below = below
-        return servo_factor(stress, self.target, self.gain)
+def servo_factor(stress: float, target: float) -> float:
+    """The factor on all radii that moves the wall stress towards `target` (Pa) at the packing's
+    contacts' stiffness."""
+    return 1.0 + 0.5 * (target - stress) / (PACKING_MODULUS_GPA * GPa)
 
 
 def settled_stress(state, steps: int) -> float:
@@ -166,16 +145,16 @@ def settled_stress(state, steps: int) -> float:
     return float(np.mean(samples[SAMPLES_PER_SERVO // 2:]))
 
 
-def scale_to_pressure(state, grains, radius: np.ndarray, servo: Servo, steps: int) -> float:
-    """Scale all grains (`radius`: their sizes) by one factor until the mean wall stress is
-    within PRESSURE_TOLERANCE of the `servo`'s target (Pa), cycling `steps` steps between scalings;
-    returns the stress reached."""
+def scale_to_pressure(state, grains, radius: np.ndarray, target: float, steps: int) -> float:
+    """Scale all grains (`radius`: their sizes) by one factor (`servo_factor`) until the mean
+    wall stress is within PRESSURE_TOLERANCE of `target` (Pa), cycling `steps` steps between
+    scalings; returns the stress reached."""
     scale = 1.0
     for round_ in range(MAX_SERVO_ROUNDS):
         stress = settled_stress(state, steps)
         log.debug("servo round %d: wall stress %.3g MPa", round_, stress / MPa)
-        if abs(stress - servo.target) < PRESSURE_TOLERANCE * servo.target:
+        if abs(stress - target) < PRESSURE_TOLERANCE * target:
             break
-        scale *= servo.factor(stress)
+        scale *= servo_factor(stress, target)
         grains.resize(state, radius * scale)
     return stress

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from rockcal.materials.flat_joint import flatjoint_draws
-from rockcal.dem.clump_genesis import clump_bonds, floating_clumps, pack_clumps
+from rockcal.dem.clump_genesis import CLUMP_GENESIS_VERSION, clump_bonds, floating_clumps, pack_clumps
 from rockcal.dem.clump_templates import DEFAULT_SHAPE, template
 from rockcal.dem.clumps import clump_properties, members
 from rockcal.dem.genesis import CONTACT_GAP, Genesis, floaters, grain_contacts, install_bonds, pair_gaps
@@ -231,7 +231,7 @@ def packing_name(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio
     if grain_shape != DEFAULT_SHAPE:  # the template's pebbles too: a changed template, new packings
         shape = template(grain_shape)
         key |= dict(grain_shape=grain_shape, pebble_offsets=shape.offsets.ravel().tolist(),
-                    pebble_radii=shape.radii.tolist())
+                    pebble_radii=shape.radii.tolist(), clump_genesis=CLUMP_GENESIS_VERSION)
     return hashlib.sha1(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16] + ".npz"
 
 

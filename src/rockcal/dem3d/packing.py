@@ -20,7 +20,7 @@ from rockcal.dem.packing import (
     PRESSURE_TOLERANCE,
     SAMPLES_PER_SERVO,
     STEPS_PER_STAGE,
-    Servo,
+    servo_factor,
 )
 from rockcal.dem3d.genesis import cloud_radii, enlarge_floaters, floaters
 from rockcal.dem3d.laws import Laws
@@ -71,13 +71,12 @@ def pack_cuboid(size, rmin: float, radius_ratio: float, seed: int, cloud_porosit
     servo_steps = int(np.clip(SERVO_STEPS_PER_ROW * rows, MIN_ROUND_STEPS, MAX_SERVO_STEPS))
     floater_steps = int(np.clip(FLOATER_STEPS_PER_ROW * rows, MIN_ROUND_STEPS, MAX_FLOATER_STEPS))
     target = pressure_mpa * MPa
-    servo = Servo(target, 1.0)
     scale = 1.0
     for _ in range(MAX_SERVO_ROUNDS):
         stress = settled_stress(state, size, servo_steps)
         if abs(stress - target) < PRESSURE_TOLERANCE * target:
             break
-        scale *= servo.factor(stress)
+        scale *= servo_factor(stress, target)
         s.radius[:] = radius * scale
     overlap = target / (PACKING_MODULUS_GPA * GPa)
     for round_ in range(FLOATER_ROUNDS):
@@ -87,7 +86,7 @@ def pack_cuboid(size, rmin: float, radius_ratio: float, seed: int, cloud_porosit
                   stress / MPa)
         if not enlarged and abs(stress - target) < PRESSURE_TOLERANCE * target:
             break
-        s.radius[:] = grown * servo.factor(stress)
+        s.radius[:] = grown * servo_factor(stress, target)
         rebuild_neighbours(state)
         stress = settled_stress(state, size, floater_steps)
     left = int(np.count_nonzero(floaters(s.pos, s.radius, size)))
