@@ -142,18 +142,8 @@ def carve_cylinder(cuboid: Specimen3D) -> Specimen3D:
     cross-section is the one that carries the load (keeping whole spheres only would lose a
     shell about a radius thick: a quarter of a 10 mm cylinder's section at R_min 0.6 mm)."""
     x, _, z = cuboid.size_m
-    keep = np.hypot(cuboid.pos[:, 0] - x / 2, cuboid.pos[:, 1] - x / 2) <= x / 2
-    bi, bj = cuboid.bonds.T
-    for _ in range(2):
-        bonded = np.zeros(cuboid.n_spheres, bool)
-        bonded[cuboid.bonds[keep[bi] & keep[bj]].ravel()] = True
-        keep &= bonded
-    kept = keep[bi] & keep[bj]
-    index = np.full(cuboid.n_spheres, -1)
-    index[keep] = np.arange(np.count_nonzero(keep))
-    return replace(cuboid, pos=cuboid.pos[keep].copy(), radius=cuboid.radius[keep].copy(),
-                   bonds=index[cuboid.bonds[kept]], shape="cylinder", size_m=(x, x, z),
-                   bond_draws=cuboid.bond_draws[kept])
+    inside = np.hypot(cuboid.pos[:, 0] - x / 2, cuboid.pos[:, 1] - x / 2) <= x / 2
+    return _carved(cuboid, inside, "cylinder", (x, x, z))
 
 
 def random_cuboid(sides_mm, rmin_mm: float, radius_ratio: float = 1.65, seed: int = 1,
@@ -179,7 +169,14 @@ def carve_disk(cuboid: Specimen3D) -> Specimen3D:
     disk's faces are the cuboid's y faces), less those the cut leaves without a bond, with
     their bonds and draws; centres, not whole spheres, as `carve_cylinder`."""
     d, t, _ = cuboid.size_m
-    keep = np.hypot(cuboid.pos[:, 0] - d / 2, cuboid.pos[:, 2] - d / 2) <= d / 2
+    inside = np.hypot(cuboid.pos[:, 0] - d / 2, cuboid.pos[:, 2] - d / 2) <= d / 2
+    return _carved(cuboid, inside, "disk", (d, t, d))
+
+
+def _carved(cuboid: Specimen3D, inside: np.ndarray, shape: str, size_m) -> Specimen3D:
+    """The spheres of `cuboid` `inside` the cut, less those it leaves without a bond (twice:
+    a sphere may lose its last bond with the first ones), with their bonds and draws."""
+    keep = inside.copy()
     bi, bj = cuboid.bonds.T
     for _ in range(2):
         bonded = np.zeros(cuboid.n_spheres, bool)
@@ -189,7 +186,7 @@ def carve_disk(cuboid: Specimen3D) -> Specimen3D:
     index = np.full(cuboid.n_spheres, -1)
     index[keep] = np.arange(np.count_nonzero(keep))
     return replace(cuboid, pos=cuboid.pos[keep].copy(), radius=cuboid.radius[keep].copy(),
-                   bonds=index[cuboid.bonds[kept]], shape="disk", size_m=(d, t, d),
+                   bonds=index[cuboid.bonds[kept]], shape=shape, size_m=tuple(size_m),
                    bond_draws=cuboid.bond_draws[kept])
 
 
