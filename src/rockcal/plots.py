@@ -16,9 +16,11 @@ from rockcal.labtests.envelope import check_peaks, fit_hoek_brown, fit_mohr_coul
 from rockcal.output_files import save_figure  # noqa: E402
 
 
-def crack_pattern(positions, radius, cracks: dict, path: Path, title: str, rig=()) -> None:
+def crack_pattern(positions, radius, cracks: dict, path: Path, title: str, rig=(),
+                  axes: tuple[str, str] = ("x", "y")) -> None:
     """The specimen's disks in grey with broken bonds: tension red, shear blue; `rig`: circles
-    (x, y, radius; m) of the loading rig (a beam's pin and supports), drawn dark."""
+    (x, y, radius; m) of the loading rig (a beam's pin and supports), drawn dark; `axes`: the
+    coordinates drawn (a 3D specimen's front view: x and z)."""
     width_m = positions[:, 0].max() - positions[:, 0].min()
     height_m = positions[:, 1].max() - positions[:, 1].min()
     fig, ax = plt.subplots(figsize=_specimen_figsize(width_m, height_m))
@@ -34,8 +36,8 @@ def crack_pattern(positions, radius, cracks: dict, path: Path, title: str, rig=(
         ax.plot(xy[:, 0], xy[:, 1], "o", ms=2, color=colour, label=f"{mode} ({len(xy)})")
     ax.set_aspect("equal")
     ax.autoscale_view()
-    ax.set_xlabel("x (mm)")
-    ax.set_ylabel("y (mm)")
+    ax.set_xlabel(f"{axes[0]} (mm)")
+    ax.set_ylabel(f"{axes[1]} (mm)")
     ax.set_title(title)
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
     _save(fig, path)

@@ -253,7 +253,8 @@ def write_outputs(out: Path, test: LabTest, result, summary: dict, name: str) ->
     first = test.responses[0]
     broken = material(summary.get("model", DEFAULT_MATERIAL)).breaks_word
     plots.crack_pattern(result.positions, result.radius, result.cracks, out / f"{name}_cracks.png",
-                        f"{first.label or first.name} {getattr(result, first.name):.4g} {first.unit} — broken {broken}")
+                        f"{first.label or first.name} {getattr(result, first.name):.4g} {first.unit} — broken {broken}",
+                        axes=("x", "z") if summary.get("dimensions") == 3 else ("x", "y"))  # 3D: the front view
     if test.plot:
         getattr(plots, test.plot)(result.curve, out / f"{name}_curve.png", f"{test.title} test")
 

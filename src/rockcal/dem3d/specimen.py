@@ -74,8 +74,9 @@ class Specimen3D:
         return float(sphere_contacts(self.pos, self.radius).mean())
 
     def description(self) -> dict:
-        """What a PFC user reports of a specimen, under the 2D specimen's names."""
-        return {"n_particles": self.n_spheres, "porosity": self.porosity,
+        """What a PFC user reports of a specimen, under the 2D specimen's names, and that it
+        is of PFC3D's spheres."""
+        return {"dimensions": 3, "n_particles": self.n_spheres, "porosity": self.porosity,
                 "coordination": self.coordination(), "bonds_per_particle": self.bonds_per_sphere(),
                 "floaters": self.floaters}
 

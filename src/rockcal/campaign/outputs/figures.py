@@ -154,8 +154,10 @@ def _cracks(key: str, what: str, store: RunStore, path: Path, title: Callable | 
              "shear": run.cracks[run.cracks[:, 2] == BROKEN_SHEAR, :2]}
     heading, rig = (f"{what[0].upper()}{what[1:]} —\nbroken bonds (undeformed specimen)", ()) if title is None \
         else title(run, specimen)
-    pos = front_view(specimen.pos) if isinstance(specimen, Specimen3D) else specimen.pos  # as its cracks
-    plots.crack_pattern(pos, specimen.radius, modes, path, heading, rig)
+    if isinstance(specimen, Specimen3D):  # seen from the front, as its cracks are stored
+        plots.crack_pattern(front_view(specimen.pos), specimen.radius, modes, path, heading, rig, ("x", "z"))
+    else:
+        plots.crack_pattern(specimen.pos, specimen.radius, modes, path, heading, rig)
     return None
 
 
