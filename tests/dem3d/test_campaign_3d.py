@@ -202,3 +202,27 @@ def test_the_first_screen_counts_the_cylinders_spheres(cylinder_settings):
     planned = specimen_size("ucs", SpecimenSettings(**CYLINDER))[1]
     made = UCS.make(cylinder_settings).n_spheres
     assert planned == pytest.approx(made, rel=0.15)
+
+
+DISK = {"dimensions": 3, "disk_diameter_mm": 14.0, "rmin_mm": 0.5, "brazilian_loading": "strips"}
+
+
+@pytest.mark.slow  # a genesis and a small 3D Brazilian run: about 10 s
+def test_the_brazilian_kind_runs_the_3d_test_on_a_disk():
+    """The Brazilian kind in 3D is `simulate_brazilian_3d` on a disk D x D/2, read as the 2D
+    test's result: sigma_t and the split as they are, the load per metre of its thickness, the
+    spheres and cracks seen from the front; a 3D run is keyed by its dimensions."""
+    from rockcal.dem3d.brazilian import simulate_brazilian_3d
+    from rockcal.labtests.brazilian import TEST as BRAZILIAN
+
+    s = specimen_settings(BRAZILIAN, DISK)
+    disk = BRAZILIAN.make(s)
+    assert disk.shape == "disk" and disk.size_m[1] == pytest.approx(disk.size_m[0] / 2)
+    result = BRAZILIAN.run(as_params(PARAMS), disk, s, None)
+    alone = simulate_brazilian_3d(as_params(PARAMS), disk, loading="strips")
+    assert result.sigma_t_MPa == alone.sigma_t_MPa and result.split == alone.split
+    assert result.P_max_kN_per_m == pytest.approx(alone.P_max_kN / disk.size_m[1], rel=1e-12)
+    assert result.sigma_t_MPa == pytest.approx(2e-3 * result.P_max_kN_per_m / (np.pi * disk.size_m[0]), rel=1e-12)
+    assert result.positions.shape == (disk.n_spheres, 2)
+    assert sum(len(c) for c in result.cracks.values()) == result.n_broken_tension + result.n_broken_shear
+    assert dict(run_spec("brazilian", SpecimenSettings(**DISK), PARAMS).specimen)["dimensions"] == 3

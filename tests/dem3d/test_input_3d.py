@@ -1,6 +1,6 @@
 """`[specimen] dimensions` and `rockcal simulate ucs --dimensions`: a value other than 2 or 3, a
-3D campaign with a test, material or setting the 3D engine does not have, and a cylinder too
-small for its spheres are refused before any run, in one line naming the key, exit 2. The
+3D campaign with a test, material or setting the 3D engine does not have, and a cylinder or a
+Brazilian disk too small for its spheres are refused before any run, in one line naming the key, exit 2. The
 settings whose default differs in 3D take the 3D default unless given.
 
 Every case fails while the input is checked (no genesis, no run): the file is quick."""
@@ -36,8 +36,8 @@ def campaign(targets: str = "", **specimen: str) -> str:
     return CAMPAIGN.format(targets=targets, specimen="\n".join(f"{k} = {v}" for k, v in keys.items()))
 
 
+BRAZILIAN = "[targets.brazilian]\nsigma_t_MPa = 10.0"
 OTHER_TESTS = {  # a test with no 3D implementation, and a [targets] section of it
-    "brazilian": "[targets.brazilian]\nsigma_t_MPa = 10.0",
     "bending": "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0",
     "direct_tension": "[targets.direct_tension]\nsigma_t_direct_MPa = 8.0",
     "biaxial": "[targets.biaxial]\nconfinement_mpa = [0, 5]\nphi_deg = 40.0",
@@ -84,8 +84,20 @@ def test_a_test_without_a_3d_implementation_is_refused(cli, tmp_path, test):
     assert calibrate(cli, tmp_path, campaign(OTHER_TESTS[test], dimensions="2")).returncode == 0
 
 
-def test_every_test_but_ucs_is_2d_only():
-    assert [name for name, test in LAB_TESTS.items() if "dimensions" in test.settings] == ["ucs"]
+def test_the_ucs_and_brazilian_tests_alone_have_3d():
+    assert sorted(name for name, test in LAB_TESTS.items() if "dimensions" in test.settings) == \
+        ["brazilian", "ucs"]
+
+
+@pytest.mark.parametrize("key, value, flag, words", [
+    ("brazilian_loading", '"isrm"', "--loading", ("flat or strips",)),
+    ("disk_diameter_mm", "13", "--diameter-mm", ("D / 2 thick", "13.2 mm")),  # t 6.5 < 8 R_max
+])
+def test_a_3d_brazilian_test_it_cannot_run_is_refused(cli, tmp_path, key, value, flag, words):
+    one_line(calibrate(cli, tmp_path, campaign(BRAZILIAN, **{key: value})), f"specimen.{key}", *words)
+    one_line(cli("simulate", "brazilian", "--rmin-mm", "0.5", "--dimensions", "3", flag, value.strip('"')),
+             flag, *words)
+    assert calibrate(cli, tmp_path, campaign(BRAZILIAN, dimensions="2", **{key: value})).returncode == 0
 
 
 def test_the_flat_jointed_material_is_refused_in_3d(cli, tmp_path):

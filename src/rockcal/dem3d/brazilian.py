@@ -43,6 +43,7 @@ from rockcal.dem3d.material import wall_modulus_pa
 from rockcal.dem3d.platens import BOTTOM, TOP, Platens3D
 from rockcal.dem3d.simulate import advance
 from rockcal.dem3d.specimen import Specimen3D, carve_disk, random_cuboid
+from rockcal.dem3d.ucs import cracks_of
 from rockcal.errors import InputError
 from rockcal.labtests.brazilian import (
     CENTRAL_BAND,
@@ -89,6 +90,8 @@ class Brazilian3DResult:
     n_broken_shear: int
     steps: int
     wall_s: float
+    positions: np.ndarray = field(default=None, repr=False)  # the spheres' at the end, m
+    cracks: dict = field(default_factory=dict, repr=False)  # every bond broken by the end, by mode
 
 
 def tensile_strength_MPa(load_N: float, diameter_m: float, thickness_m: float) -> float:
@@ -261,4 +264,5 @@ def simulate_brazilian_3d(params, specimen: Specimen3D, *, loading: str = "flat"
         curve=curve, n_spheres=specimen.n_spheres, n_bonds=len(specimen.bonds),
         n_broken_tension=state.n_broken(BROKEN_TENSION),
         n_broken_shear=state.n_broken(BROKEN_SHEAR), steps=state.step,
-        wall_s=time.perf_counter() - started)
+        wall_s=time.perf_counter() - started,
+        positions=state.spheres.pos[:specimen.n_spheres].copy(), cracks=cracks_of(state.bonds))

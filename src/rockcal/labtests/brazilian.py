@@ -42,8 +42,10 @@ from rockcal.labtests.kind import (
     LabTest,
     Outline,
     Response,
+    check_3d_settings,
     check_grain_cloud,
     genesis_of,
+    in_3d,
     load_reading,
 )
 from rockcal.labtests.lab_values import LabValues
@@ -57,7 +59,7 @@ from rockcal.labtests.loading import (
 )
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.labtests.rig import BearingStrip, Jaws, Platens
-from rockcal.materials import BondedParams, as_params
+from rockcal.materials import BondedParams, as_params, material_of
 
 DEFAULT_MAX_STRAIN = 0.02  # platen closure / diameter at which the test stops at the latest
 # A platen first bears on one or two particles; when their bonds break the load drops and comes
@@ -241,19 +243,73 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Spec
 
 
 def _check(s: dict) -> None:
+    if in_3d(s):
+        return _check_3d(s)
     with fields_named({"diameter_mm": "disk_diameter_mm"}):
         check_disk(s["disk_diameter_mm"], s["rmin_mm"], s["radius_ratio"])
     check_grain_cloud(s["disk_diameter_mm"], s["disk_diameter_mm"], s)
 
 
-def _specimen(s: dict) -> Specimen:
+def _check_3d(s: dict) -> None:
+    """A 3D disk's settings (D x D/2, `dem3d.brazilian`): none of the 2D engine's alone, a
+    loading the 3D test has, and a disk its spheres fill."""
+    from rockcal.dem3d.brazilian import LOADINGS_3D, check_disk_3d
+
+    check_3d_settings(s)
+    if s["brazilian_loading"] not in LOADINGS_3D:
+        raise InputError("brazilian_loading", f"the 3D Brazilian test loads the disk by "
+                                              f"{' or '.join(LOADINGS_3D)}, got {s['brazilian_loading']!r}")
+    d, largest = s["disk_diameter_mm"], s["rmin_mm"] * s["radius_ratio"]
+    if np.isfinite(d) and d / 2 < 8 * largest:  # the thickness, 4 of the largest spheres
+        raise InputError("disk_diameter_mm", f"a 3D disk is D / 2 thick: {d:g} mm leaves {d / 2:g} mm for "
+                                             f"spheres of radius up to {largest:g} mm (need D of at least "
+                                             f"{16 * largest:g} mm)")
+    with fields_named({"diameter_mm": "disk_diameter_mm"}):
+        check_disk_3d(d, d / 2, s["rmin_mm"], s["radius_ratio"])
+
+
+def _specimen(s: dict):
+    if in_3d(s):  # a disk D thick D / 2 carved from a cached D x D/2 x D packing of spheres
+        from rockcal.dem3d.brazilian import brazilian_disk_3d
+
+        return brazilian_disk_3d(s["disk_diameter_mm"], None, s["rmin_mm"], s["radius_ratio"], s["seed"],
+                                 genesis_of(s))
     return brazilian_disk(s["disk_diameter_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s),
                           s.get("grain_shape", DEFAULT_SHAPE))
 
 
-def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> BrazilianResult:
+def _run(params: BondedParams, specimen, s: dict, progress) -> BrazilianResult:
+    if in_3d(s):
+        return _run_3d(params, specimen, s, progress)
     return simulate_brazilian(params, specimen, loading=s["brazilian_loading"],
                               contact_stiffness=s["contact_stiffness"], progress=progress)
+
+
+def _run_3d(params: BondedParams, specimen, s: dict, progress) -> BrazilianResult:
+    """The 3D test (`dem3d.brazilian.simulate_brazilian_3d`) read as the 2D test's result: the
+    load per metre of the disk's thickness, its spheres and cracks seen from the front (x, z)."""
+    from rockcal.dem3d.brazilian import simulate_brazilian_3d
+    from rockcal.dem3d.specimen import front_view
+
+    TEST.check_dimensions(3, material_of(params).name)  # before the engine reads its laws
+    per_m = 1.0 / specimen.size_m[1]  # the disk's thickness
+    r = simulate_brazilian_3d(params, specimen, loading=s["brazilian_loading"],
+                              progress=progress and (lambda mm, kN: progress(mm, kN * per_m)))
+    curve = np.column_stack([r.curve[:, 0], r.curve[:, 1] * per_m])
+    return BrazilianResult(sigma_t_MPa=r.sigma_t_MPa, P_max_kN_per_m=r.P_max_kN * per_m,
+                           displacement_at_peak_mm=r.displacement_at_peak_mm, diameter_mm=r.diameter_mm,
+                           split=r.split, peak_cracks={m: front_view(xyz) for m, xyz in r.peak_cracks.items()},
+                           curve=curve, n_particles=r.n_spheres, n_bonds=r.n_bonds,
+                           n_broken_tension=r.n_broken_tension, n_broken_shear=r.n_broken_shear,
+                           steps=r.steps, wall_s=r.wall_s, positions=front_view(r.positions),
+                           radius=specimen.radius, cracks={m: front_view(xyz) for m, xyz in r.cracks.items()})
+
+
+def _outline(s: dict) -> Outline:
+    d = s["disk_diameter_mm"]
+    if in_3d(s):  # the disk keeps pi/4 of its D x D/2 x D packing: pi/8 of a D x D x D one
+        return Outline(f"disk D {d:g} x t {d / 2:g} mm", d, d, share=np.pi / 8)
+    return Outline(f"disk D {d:g} mm", d, d, share=np.pi / 4)
 
 
 class BrazilianValues(LabValues):
@@ -274,10 +330,8 @@ TEST = LabTest(
                Response("split", "", target=False, label="split through the centre (1) or not (0)")),
     curve_columns=("displacement_mm", "load_kN_per_m"), plot="load_displacement",
     flags=(("disk_diameter_mm", "diameter_mm"), ("brazilian_loading", "loading")),
-    # brazilian_loading and grain_shape last: at their defaults ("flat", "ball": kind.LATER_SETTINGS)
-    # a run's key leaves them out
+    # brazilian_loading, grain_shape and dimensions last: at their defaults ("flat", "ball", 2:
+    # kind.LATER_SETTINGS) a run's key leaves them out
     settings=("disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "contact_stiffness",
-              "brazilian_loading", "grain_shape"),
-    check=_check, make=_specimen, run=_run, reading=load_reading,
-    outline=lambda s: Outline(f"disk D {s['disk_diameter_mm']:g} mm", s["disk_diameter_mm"],
-                              s["disk_diameter_mm"], share=np.pi / 4))
+              "brazilian_loading", "grain_shape", "dimensions"),
+    check=_check, make=_specimen, run=_run, reading=load_reading, outline=_outline)

@@ -23,6 +23,24 @@ LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02, "brazil
 # `dimensions` alone, on the parallel-bonded material: `rockcal.dem3d`).
 DIMENSIONS = (2, 3)
 MATERIALS_3D = ("parallel_bond",)
+PFC5_STIFFNESS = "pfc5"  # the 3D engine's contacts: PFC 5's deformability method (`rockcal.dem3d`)
+
+
+def in_3d(s: dict) -> bool:
+    """The settings `s` ask for a 3D specimen (PFC3D: `dimensions` 3)."""
+    return s.get("dimensions", 2) == 3
+
+
+def check_3d_settings(s: dict) -> None:
+    """None of the 2D engine's settings alone in a 3D test's settings `s`: clumped grains, PFC
+    4's contact stiffness; an InputError naming the setting."""
+    if s.get("grain_shape", DEFAULT_SHAPE) != DEFAULT_SHAPE:
+        raise InputError("grain_shape", f"the 3D engine's grains are balls (grain_shape = "
+                                        f"\"{DEFAULT_SHAPE}\"), got {s['grain_shape']!r} with dimensions = 3")
+    if s["contact_stiffness"] != PFC5_STIFFNESS:
+        raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
+                                              f"({PFC5_STIFFNESS!r}), got {s['contact_stiffness']!r} "
+                                              "with dimensions = 3")
 
 
 @dataclass(frozen=True)
@@ -156,7 +174,7 @@ class LabTest:
             return
         if "dimensions" not in self.settings:
             raise InputError(self.name, f"the {self.title} test has no 3D implementation: with "
-                                        "dimensions = 3 (PFC3D) a campaign runs the UCS test alone")
+                                        "dimensions = 3 (PFC3D) a campaign runs the UCS and Brazilian tests")
         if model not in MATERIALS_3D:
             raise InputError("model", f"the 3D engine has no {model} material; with dimensions = 3 "
                                       f"(PFC3D) the material is {' or '.join(MATERIALS_3D)}")

@@ -32,7 +32,8 @@ from rockcal.dem.specimen import Specimen, check_geometry, hexagonal, random_pac
 from rockcal.dem3d.specimen import Specimen3D, check_size, front_view, random_specimen
 from rockcal.errors import InputError
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
-from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, check_grain_cloud, genesis_of
+from rockcal.labtests.kind import (GENESIS, LabTest, Outline, Response, check_3d_settings, check_grain_cloud,
+                                   genesis_of, in_3d)
 from rockcal.labtests.lab_values import LabValues, read_curve
 from rockcal.labtests.loading import (
     DISTRIBUTED_DAMAGE,
@@ -57,7 +58,6 @@ DEFAULT_MAX_AXIAL_STRAIN = 0.02
 # are this much shorter, for the same equilibrium: on three full-size granite specimens halving
 # the speed moves E, nu and UCS by at most 1.0 %.
 DENSITY_SCALED_SPEED = 1.6
-PFC5_STIFFNESS = "pfc5"  # the 3D engine's contacts: PFC 5's deformability method (`rockcal.dem3d`)
 COMPRESSION_CURVE = ("axial_strain", "lateral_strain", "axial_stress_MPa", "broken_bonds")
 
 
@@ -136,21 +136,10 @@ def _check(s: dict) -> None:
     check_grain_cloud(s["width_mm"], s["height_mm"], s)
 
 
-def in_3d(s: dict) -> bool:
-    """The settings `s` ask for a 3D specimen (PFC3D: `dimensions` 3)."""
-    return s.get("dimensions", 2) == 3
-
-
 def _check_3d(s: dict) -> None:
-    """A 3D cylinder's settings: the size and grains `dem3d.specimen.check_size` asks for, and
-    none of the 2D engine's alone (clumped grains, PFC 4's contact stiffness)."""
-    if s.get("grain_shape", DEFAULT_SHAPE) != DEFAULT_SHAPE:
-        raise InputError("grain_shape", f"the 3D engine's grains are balls (grain_shape = "
-                                        f"\"{DEFAULT_SHAPE}\"), got {s['grain_shape']!r} with dimensions = 3")
-    if s["contact_stiffness"] != PFC5_STIFFNESS:
-        raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
-                                              f"({PFC5_STIFFNESS!r}), got {s['contact_stiffness']!r} "
-                                              "with dimensions = 3")
+    """A 3D cylinder's settings: none of the 2D engine's alone, and the size and grains
+    `dem3d.specimen.check_size` asks for."""
+    check_3d_settings(s)
     check_size(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["cloud_porosity"])
 
 
