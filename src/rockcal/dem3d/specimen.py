@@ -91,16 +91,10 @@ def random_specimen(shape: str, width_mm: float, height_mm: float, rmin_mm: floa
         raise InputError("shape", f"must be one of {', '.join(SHAPES)}, got {shape!r}")
     genesis = genesis or DEFAULT_GENESIS_3D
     check_size(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity)
-    vessel = np.array([width_mm, width_mm, height_mm]) * 1e-3
-    pos, radius, pressure, left = packing(vessel, rmin_mm * 1e-3, radius_ratio, seed, genesis,
-                                          cache)
-    bonds = install_bonds(pos, radius, genesis.install_gap * rmin_mm * 1e-3)
-    label = (f"{shape} {width_mm:g}x{height_mm:g} mm, Rmin {rmin_mm:g} mm x{radius_ratio:g}, "
-             f"gap {genesis.install_gap:g} Rmin, seed {seed}")
-    draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
-    specimen = Specimen3D(pos, radius, bonds, "cuboid", tuple(vessel), label, draws, pressure,
-                          left, rmin_mm, genesis.install_gap)
-    return carve_cylinder(specimen) if shape == "cylinder" else specimen
+    prism = random_cuboid((width_mm, width_mm, height_mm), rmin_mm, radius_ratio, seed, genesis, cache)
+    prism = replace(prism, label=f"{shape} {width_mm:g}x{height_mm:g} mm, Rmin {rmin_mm:g} mm "
+                                 f"x{radius_ratio:g}, gap {genesis.install_gap:g} Rmin, seed {seed}")
+    return carve_cylinder(prism) if shape == "cylinder" else prism
 
 
 # The fewest spheres a 3D packing's cloud may hold: 4 x 4 x 4, a specimen 4 spheres across

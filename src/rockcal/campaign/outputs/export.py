@@ -175,7 +175,7 @@ def _fish_value(value) -> str:
 
 def in_3d(calibrated: Calibrated) -> bool:
     """A calibration of PFC3D's spheres (`[specimen] dimensions = 3`)."""
-    return getattr(calibrated.specimen, "dimensions", 2) == 3
+    return calibrated.specimen.dimensions == 3
 
 
 def to_fish(calibrated: Calibrated) -> str:
