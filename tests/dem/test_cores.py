@@ -50,7 +50,7 @@ def threads_of_a_run(monkeypatch, free: int) -> int:
     """The threads `advance` runs a two-block specimen on, with `free` cores free."""
     seen = []
     monkeypatch.setattr(simulate._free_cores, "now", lambda: free)
-    monkeypatch.setattr(simulate, "_advance_all", lambda state, n: seen.append(numba.get_num_threads()))
+    monkeypatch.setattr(simulate, "_advance_all", lambda state, n, threads: seen.append(numba.get_num_threads()))
     simulate.advance(SimpleNamespace(neighbours=SimpleNamespace(block_starts=np.array([0, 2000, 4000]))), 1)
     assert numba.get_num_threads() == 2  # numba's threads as they were
     return seen[0]

@@ -8,8 +8,10 @@ import pytest
 
 from rockcal import hexagonal, simulate_ucs
 from rockcal.dem.neighbours import block_starts
-from rockcal.dem.simulate import use_threads
+from rockcal.dem.simulate import _advance_all, use_threads
 from rockcal.materials.flat_joint import make_flatjoint_params
+from rockcal.materials.parallel_bond import new_state
+from rockcal.params import make_params
 
 pytestmark = pytest.mark.slow  # DEM runs and specimens of minutes: deselect with -m "not slow"
 
@@ -42,3 +44,28 @@ def test_a_run_switching_between_one_and_two_threads_gives_the_same_numbers(para
     assert np.array_equal(one.curve, switched.curve)
     assert (one.ucs_MPa, one.E_GPa, one.nu, one.steps) == \
         (switched.ucs_MPa, switched.E_GPa, switched.nu, switched.steps)
+
+
+def test_steps_go_on_when_one_thread_does_every_task():
+    """Two workers' tasks run by one thread, the first worker's all steps before the second
+    starts (as when the system keeps a thread from running): the first does the second's
+    tasks once kept waiting, and the numbers are those of one worker."""
+    specimen = hexagonal(20, 40, 0.25)
+    cap = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        runs = []
+        for workers in (1, 2):
+            state = new_state(specimen.pos, specimen.radius, specimen.bonds, make_params(PARAMS),
+                              walls=(0, 0, specimen.pos[:, 1].min() - 0.25e-3,
+                                     specimen.pos[:, 1].max() + 0.25e-3),
+                              wall_active=(False, False, True, True))
+            state.walls.vel[2:] = (0.05, -0.05)
+            _advance_all(state, 300, workers)
+            runs.append(state)
+    finally:
+        numba.set_num_threads(cap)
+    one, two = runs
+    assert one.step == two.step == 300
+    assert np.array_equal(one.particles.disks, two.particles.disks)
+    assert np.array_equal(one.walls.pos, two.walls.pos)

@@ -21,6 +21,7 @@ specimen at least 4 grain diameters wide (`specimen.check_geometry`) holds its l
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -127,18 +128,24 @@ def _polygon(corners: int, spacing: float) -> np.ndarray:
     return circumradius * np.column_stack([np.cos(angles), np.sin(angles)])
 
 
-TEMPLATES = {
-    "ball": ClumpTemplate("ball", np.zeros((1, 2)), np.ones(1)),
-    "two-pebble": from_pebbles("two-pebble", _polygon(2, PEBBLE_SPACING), np.ones(2)),
-    "three-pebble": from_pebbles("three-pebble", _polygon(3, PEBBLE_SPACING), np.ones(3)),
-    "cloud": pebble_cloud(CLOUD_SEED),
+_MAKERS = {
+    "ball": lambda: ClumpTemplate("ball", np.zeros((1, 2)), np.ones(1)),
+    "two-pebble": lambda: from_pebbles("two-pebble", _polygon(2, PEBBLE_SPACING), np.ones(2)),
+    "three-pebble": lambda: from_pebbles("three-pebble", _polygon(3, PEBBLE_SPACING), np.ones(3)),
+    "cloud": lambda: pebble_cloud(CLOUD_SEED),
 }
-GRAIN_SHAPES = tuple(TEMPLATES)
+GRAIN_SHAPES = tuple(_MAKERS)
 
 
 def template(name: str, field: str = "grain_shape") -> ClumpTemplate:
     """The template of that name; InputError naming `field` for a name no template has."""
-    try:
-        return TEMPLATES[name]
-    except (KeyError, TypeError):
-        raise InputError(field, f"no grain shape named {name!r}; known: {', '.join(GRAIN_SHAPES)}") from None
+    if not isinstance(name, str) or name not in _MAKERS:
+        raise InputError(field, f"no grain shape named {name!r}; known: {', '.join(GRAIN_SHAPES)}")
+    return _made(name)
+
+
+@functools.cache
+def _made(name: str) -> ClumpTemplate:
+    """A template, made when first asked for: a union's area is compiled code, which a command
+    that runs no clump need not load."""
+    return _MAKERS[name]()

@@ -1,10 +1,9 @@
 """How many of this process's cores are free for the engine's threads.
 
-Each time step of the engine is two parallel regions, each ending in a barrier: a thread that
-reaches it waits for the other, and on cores that other processes keep busy the other is often
-descheduled, so the whole step waits for its turn. Beside two CPU-bound processes on 2 cores a
-run on two threads took 13 to 39 times as long as on one (`docs/validation/speed.md`). The engine
-therefore runs on no more threads than there are free cores: the cores it may run on
+Each time step of the engine is phases that end when every thread has done its part: a thread
+that is done waits for the other, and on cores that other processes keep busy the other is
+often descheduled, so the whole step waits for its turn (a waiting thread does the tasks nobody
+has started, but not the half-done task of a descheduled one). The engine therefore runs on no more threads than there are free cores: the cores it may run on
 (`os.sched_getaffinity`) less the processor time that the other processes took on them since
 the last look (`/proc/stat`, less this process's own time). Without `/proc/stat` (not Linux) it
 does not limit the threads.
