@@ -1,5 +1,5 @@
-"""Atomic operations for compiled code: how the engine's threads share out the tasks of a run
-of steps inside one parallel region (`simulate._advance`).
+"""Atomic operations for compiled code: what the engines' threads share the tasks of their steps
+by (`tasks`).
 
 numba offers no atomic operations on the CPU, so these are LLVM's own (`atomicrmw`, `cmpxchg`,
 `load atomic`), emitted through `numba.extending.intrinsic`, on an element of an int64 array.

@@ -33,7 +33,7 @@ import numpy as np
 from numba import njit, prange
 
 from rockcal.dem import clumps as clump_shapes
-from rockcal.dem import laws, neighbours, simulate
+from rockcal.dem import laws, neighbours, simulate, tasks
 from rockcal.dem.bonded import add_bonded_forces
 from rockcal.dem.laws import Disk, Load
 
@@ -100,8 +100,8 @@ class Clumps(NamedTuple):
         _place_clumps(0, self.n_clumps, self.first, self.pebbles, self.offsets, self.bodies,
                       particles.disks, np.zeros((particles.disks.shape[0], 2)))
 
-    def advance(self, state: simulate.State, n_steps: int) -> None:
-        """`simulate.advance`'s steps (threads set there) for a state of clumps."""
+    def advance(self, state: simulate.State, n_steps: int, threads: int) -> None:
+        """`simulate.advance`'s steps on `threads` threads (set there) for a state of clumps."""
         p, w = state.particles, state.walls
         chunks = len(state.neighbours.block_starts) - 1  # as many as blocks: as many threads
         clump_chunks = np.linspace(0, self.n_clumps, chunks + 1).astype(np.int64)
@@ -114,7 +114,7 @@ class Clumps(NamedTuple):
                 pairs.block_starts, pairs.bond_offsets, pairs.contact_offsets, w.pos, w.active,
                 w.vel, w.force, w.stiffness, pairs.pos_at_build, pairs.rebuild_distance_sq,
                 state.laws, state.damping, state.dt, self.first, self.pebbles, self.offsets,
-                self.bodies, self.applied, self.balls, clump_chunks, ball_chunks)
+                self.bodies, self.applied, self.balls, clump_chunks, ball_chunks, threads)
             done += done_now
             state.step += done_now
             if rebuild:
@@ -342,46 +342,73 @@ def _move_balls(first_ball, last_ball, balls, disks, loads, damping, dt, pos_at_
 def _advance_clumps(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets,
                     contact_offsets, walls, wall_active, wall_vel, wall_force, k_wall,
                     pos_at_build, half_skin_sq, law, damping, dt, first, pebbles, offsets,
-                    bodies, applied, balls, clump_chunks, ball_chunks):
+                    bodies, applied, balls, clump_chunks, ball_chunks, threads):
     """`simulate._advance` for a state of clumps: the same pair and wall forces on the pebbles,
-    then the clumps (`_move_clumps`) and balls (`_move_balls`) moved chunk by chunk in
-    parallel. Returns the steps done and whether the list must be rebuilt.
+    then the clumps (`_move_clumps`) and balls (`_move_balls`) moved chunk by chunk. Returns
+    the steps done and whether the list must be rebuilt.
 
-    Three parallel regions a step, one more than the ball engine's: a clump's pebbles may lie
-    in several blocks, so the bodies move once every pebble's load is complete; the walls' forces
-    stay a block loop of their own (called pebble by pebble from the bodies' loop they cost more
-    than that region's synchronisation)."""
+    Four phases a step (`tasks`), one more than the ball engine's: a clump's pebbles may lie in
+    several blocks, so the bodies move once every pebble's load is complete; the walls' forces
+    stay a phase of their own (called pebble by pebble from the bodies' loop they cost more
+    than a phase's wait)."""
     blocks = starts.shape[0] - 1
     chunks = clump_chunks.shape[0] - 1
-    moved = np.zeros(chunks)
-    for s in range(n_steps):  # no array expressions: each would be a parallel region
-        for b in prange(blocks):
-            for k in range(numba.uint64(starts[b]), numba.uint64(starts[b + 1])):
-                loads[k, Load.FORCE_X] = 0.0
-                loads[k, Load.FORCE_Y] = 0.0
-                loads[k, Load.MOMENT] = 0.0
-            add_bonded_forces(bond_offsets[b], bond_offsets[b + 1], disks, pi, pj,
-                              contact_shear, bonds, law, dt, loads)
-            laws.add_contact_forces(contact_offsets[b], contact_offsets[b + 1], disks, pi, pj,
-                                    contact_shear, law, dt, loads)
-        # then the pairs across block borders
+    phases = (0, blocks, blocks + 1, 2 * blocks + 1, 2 * blocks + 1 + chunks)
+    moved, shared = tasks.scratch(chunks, phases[-1])
+    workers = max(1, min(threads, blocks))
+    for w in prange(workers):
+        model = (disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets,
+                 contact_offsets, walls, wall_active, wall_vel, wall_force, k_wall, pos_at_build,
+                 law, damping, dt, first, pebbles, offsets, bodies, applied, balls, clump_chunks,
+                 ball_chunks)
+        for s in range(n_steps):
+            if not _step(phases, s, w, workers, shared, model, moved, half_skin_sq):
+                break
+    done = tasks.steps_done(shared, n_steps)
+    if done > 0:
+        simulate._move_walls(walls, wall_vel, dt)  # the last step's
+    return done, tasks.must_rebuild(moved, half_skin_sq)
+
+
+@njit(cache=True, error_model="numpy")
+def _task(r, s, shared, model, moved, half_skin_sq):
+    """Task r of step s: each block's pair forces, the walls' move of the step before and the
+    pairs across block borders, each block's wall forces, each chunk's bodies moved. False if
+    the run stops."""
+    (disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets, contact_offsets, walls,
+     wall_active, wall_vel, wall_force, k_wall, pos_at_build, law, damping, dt, first, pebbles,
+     offsets, bodies, applied, balls, clump_chunks, ball_chunks) = model
+    blocks = starts.shape[0] - 1
+    if r < blocks:
+        if tasks.stop_if_moved(s, shared, moved, half_skin_sq):
+            return False
+        for k in range(numba.uint64(starts[r]), numba.uint64(starts[r + 1])):
+            loads[k, Load.FORCE_X] = 0.0
+            loads[k, Load.FORCE_Y] = 0.0
+            loads[k, Load.MOMENT] = 0.0
+        add_bonded_forces(bond_offsets[r], bond_offsets[r + 1], disks, pi, pj, contact_shear,
+                          bonds, law, dt, loads)
+        laws.add_contact_forces(contact_offsets[r], contact_offsets[r + 1], disks, pi, pj,
+                                contact_shear, law, dt, loads)
+    elif r == blocks:
+        if s > 0:
+            simulate._move_walls(walls, wall_vel, dt)
         add_bonded_forces(bond_offsets[blocks], bond_offsets[blocks + 1], disks, pi, pj,
                           contact_shear, bonds, law, dt, loads)
         laws.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], disks, pi,
                                 pj, contact_shear, law, dt, loads)
-        for b in prange(blocks):
-            laws.add_wall_forces(starts[b], starts[b + 1], disks, walls, wall_active, k_wall,
-                                 loads, wall_force)
-        # every pebble's load is complete: move the bodies
-        for c in prange(chunks):
-            moved[c] = max(
-                _move_clumps(clump_chunks[c], clump_chunks[c + 1], first, pebbles, offsets,
-                             bodies, applied, disks, loads, damping, dt, pos_at_build),
-                _move_balls(ball_chunks[c], ball_chunks[c + 1], balls, disks, loads, damping,
-                            dt, pos_at_build))
-        for w in range(4):
-            walls[w] += wall_vel[w] * dt
-        for c in range(chunks):
-            if moved[c] > half_skin_sq:
-                return s + 1, True
-    return n_steps, False
+    elif r <= 2 * blocks:
+        b = r - blocks - 1
+        laws.add_wall_forces(starts[b], starts[b + 1], disks, walls, wall_active, k_wall, loads,
+                             wall_force)
+    else:  # every pebble's load is complete: move the bodies
+        c = r - 2 * blocks - 1
+        moved[c] = max(
+            _move_clumps(clump_chunks[c], clump_chunks[c + 1], first, pebbles, offsets, bodies,
+                         applied, disks, loads, damping, dt, pos_at_build),
+            _move_balls(ball_chunks[c], ball_chunks[c + 1], balls, disks, loads, damping, dt,
+                        pos_at_build))
+    return True
+
+
+_step = tasks.make_step(_task)

@@ -10,9 +10,8 @@ per-step cost is the arithmetic alone.
 Each step sums the pair forces block by block in parallel, then the pairs across block
 borders, then moves the particles block by block (`neighbours.block_layout`): the order of
 every sum is fixed by the specimen, so results do not depend on the number of threads. The
-threads share out these tasks inside one parallel region per call (`_advance`, with the atomic
-counters of `atomics`), not two per step: at a few thousand grains a step is some 100 µs, and
-starting a region and waiting for it took a sizeable part of that.
+threads share out these tasks inside one parallel region per call (`tasks`), not one region
+per phase.
 Everything is SI; disks have unit thickness (PFC2D convention).
 A state whose particles are pebbles of rigid clumps (`State.clumps`) runs the same steps in the
 clumps' own kernel (`clump_motion`); without clumps nothing here changes.
@@ -20,6 +19,7 @@ clumps' own kernel (`clump_motion`); without clumps nothing here changes.
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -27,7 +27,7 @@ import numpy as np
 import numba
 from numba import njit, prange
 
-from rockcal.dem import atomics, cores, laws, neighbours
+from rockcal.dem import cores, laws, neighbours, tasks
 from rockcal.dem.bonded import add_bonded_forces
 from rockcal.dem.laws import Disk, Load
 
@@ -281,15 +281,6 @@ def _move(first, last, disks, loads, damping, dt, pos_at_build):
     return moved
 
 
-# What the threads share inside `_advance` (`atomics`), each on a cache line of its own: the
-# tasks done, whether (and at which step) the run stops early, then each task's claim (the
-# number of steps whose task it was claimed for).
-DONE, STOPPED, STOP_STEP, CLAIMS = 0, 8, 16, 24
-# Polls of the tasks-done count before a waiting thread does the tasks of its phase that no
-# thread has claimed yet: those of a thread that the system keeps from running.
-HELP_AFTER_SPINS = 20_000
-
-
 # numba caches this kernel with the law kernels compiled into it, keyed by this file alone:
 # after editing laws.py or flatjoint.py in a checkout, clear the caches (__pycache__/*.nbi, *.nbc).
 @njit(parallel=True, cache=True, error_model="numpy")
@@ -299,83 +290,33 @@ def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts, bond_o
     """Run up to n_steps on up to `threads` threads (at most one per block); stop early when
     the list must be rebuilt. Returns the steps done and whether the list must be rebuilt. The
     bonded pairs' phase is the one of `bonds`' type (`bonded`): compiled, and cached, once per
-    material.
-
-    A step is three phases of tasks: each block's pair forces, the pairs across block borders,
-    each block's walls and motion. All steps run in one parallel region (one start per call,
-    not two per step): each thread does its own blocks' tasks (the border pairs: the first
-    thread), claiming each, and waits for the phase to be done before the next; a thread kept
-    waiting long does the tasks nobody has claimed yet, so that the steps go on whichever
-    threads run.
-    """
+    material. A step's tasks (`_task`) run in one parallel region per call (`tasks`)."""
     blocks = starts.shape[0] - 1
-    tasks_per_step = 2 * blocks + 1
-    moved, shared = _scratch(blocks, tasks_per_step)
+    phases = (0, blocks, blocks + 1, 2 * blocks + 1)
+    moved, shared = tasks.scratch(blocks, phases[-1])
     workers = max(1, min(threads, blocks))
     for w in prange(workers):
         model = (disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets,
                  contact_offsets, walls, wall_active, wall_vel, wall_force, k_wall, pos_at_build,
                  law, damping, dt)
         for s in range(n_steps):
-            if not (_phase(0, blocks, s, w, workers, shared, model, moved, half_skin_sq)
-                    and _phase(blocks, blocks + 1, s, w, workers, shared, model, moved,
-                               half_skin_sq)
-                    and _phase(blocks + 1, tasks_per_step, s, w, workers, shared, model, moved,
-                               half_skin_sq)):
+            if not _step(phases, s, w, workers, shared, model, moved, half_skin_sq):
                 break
-    done = shared[STOP_STEP] if shared[STOPPED] else n_steps
+    done = tasks.steps_done(shared, n_steps)
     if done > 0:
         _move_walls(walls, wall_vel, dt)  # the last step's
-    return done, _must_rebuild(moved, half_skin_sq)
-
-
-@njit(cache=True)
-def _scratch(blocks, tasks):
-    """Each block's largest squared displacement and the threads' shared counters, zeroed: made
-    here, as in a parallel function numpy's constructors would each be a parallel region."""
-    return np.zeros(blocks), np.zeros(CLAIMS + 8 * tasks, np.int64)
-
-
-@njit(cache=True, error_model="numpy")
-def _phase(first, last, s, w, workers, shared, model, moved, half_skin_sq):
-    """Thread w's part of tasks first..last-1 of step s, then the wait until all are done.
-    False when the run stops (the particles moved enough for a new list)."""
-    tasks_per_step = 2 * moved.shape[0] + 1
-    for r in range(first + w, last, workers):
-        if _claim(shared, r, s) and not _task(r, s, shared, model, moved, half_skin_sq):
-            return False
-    spins = 0
-    while atomics.load(shared, DONE) < s * tasks_per_step + last:
-        if atomics.load(shared, STOPPED):
-            return False
-        spins += 1
-        if spins == HELP_AFTER_SPINS:
-            for r in range(first, last):
-                if _claim(shared, r, s) and not _task(r, s, shared, model, moved, half_skin_sq):
-                    return False
-        elif spins > HELP_AFTER_SPINS:
-            atomics.yield_core()
-    return not atomics.load(shared, STOPPED)
-
-
-@njit(cache=True)
-def _claim(shared, r, s):
-    """Whether this thread is the one to do task r of step s."""
-    return atomics.compare_exchange(shared, CLAIMS + 8 * r, s, s + 1)
+    return done, tasks.must_rebuild(moved, half_skin_sq)
 
 
 @njit(cache=True, error_model="numpy")
 def _task(r, s, shared, model, moved, half_skin_sq):
-    """Task r of step s (its tasks: each block's pair forces, the border pairs, each block's
-    walls and motion), then counted done; False, and the run marked stopped, if a block's
-    pairs find that the particles moved enough for a new list."""
+    """Task r of step s: each block's pair forces, the walls' move of the step before and the
+    pairs across block borders, each block's walls and motion. False if the run stops."""
     (disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets, contact_offsets, walls,
      wall_active, wall_vel, wall_force, k_wall, pos_at_build, law, damping, dt) = model
     blocks = moved.shape[0]
-    if r < blocks:  # a block's pairs
-        if s > 0 and _must_rebuild(moved, half_skin_sq):
-            shared[STOP_STEP] = s
-            atomics.fetch_add(shared, STOPPED, 1)
+    if r < blocks:
+        if tasks.stop_if_moved(s, shared, moved, half_skin_sq):
             return False
         for k in range(numba.uint64(starts[r]), numba.uint64(starts[r + 1])):
             loads[k, Load.FORCE_X] = 0.0
@@ -385,34 +326,28 @@ def _task(r, s, shared, model, moved, half_skin_sq):
                           bonds, law, dt, loads)
         laws.add_contact_forces(contact_offsets[r], contact_offsets[r + 1], disks, pi, pj,
                                 contact_shear, law, dt, loads)
-    elif r == blocks:  # the walls' move of the step before, the pairs across block borders
+    elif r == blocks:
         if s > 0:
             _move_walls(walls, wall_vel, dt)
         add_bonded_forces(bond_offsets[blocks], bond_offsets[blocks + 1], disks, pi, pj,
                           contact_shear, bonds, law, dt, loads)
         laws.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], disks, pi,
                                 pj, contact_shear, law, dt, loads)
-    else:  # a block's walls and motion
+    else:
         b = r - blocks - 1
         laws.add_wall_forces(starts[b], starts[b + 1], disks, walls, wall_active, k_wall, loads,
                              wall_force)
         moved[b] = _move(starts[b], starts[b + 1], disks, loads, damping, dt, pos_at_build)
-    atomics.fetch_add(shared, DONE, 1)
     return True
+
+
+_step = tasks.make_step(_task)
 
 
 @njit(cache=True)
 def _move_walls(walls, wall_vel, dt):
     for w in range(4):
         walls[w] += wall_vel[w] * dt
-
-
-@njit(cache=True)
-def _must_rebuild(moved, half_skin_sq):
-    for b in range(moved.shape[0]):
-        if moved[b] > half_skin_sq:
-            return True
-    return False
 
 
 def use_threads(count: int | None) -> None:
@@ -429,30 +364,35 @@ _free_cores = cores.FreeCores()
 
 
 def advance(state: State, n_steps: int) -> None:
-    """Run n_steps time steps, rebuilding the neighbour list whenever particles moved enough.
+    """Run n_steps time steps, rebuilding the neighbour list whenever particles moved enough,
+    on `engine_threads`."""
+    with engine_threads(len(state.neighbours.block_starts) - 1) as threads:
+        _advance_all(state, n_steps, threads)
 
-    Runs on numba's threads (`numba.set_num_threads`), at most one per block: a small specimen
-    is one block, and a parallel loop over it would cost more in synchronisation than it
-    saves; and, unless `use_threads` fixed their number, at most one per free core.
-    """
+
+@contextlib.contextmanager
+def engine_threads(blocks: int):
+    """The threads a run of steps takes, numba's set to them while it runs: at most one per
+    block (a small specimen is one block, and a parallel loop over it would cost more in
+    waiting than it saves) and, unless `use_threads` fixed their number, one per free core."""
     cap = numba.get_num_threads()
-    threads = min(cap, len(state.neighbours.block_starts) - 1)
+    threads = min(cap, blocks)
     if threads > 1 and _follow_load:
         threads = min(threads, _free_cores.now() or threads)
     threads = max(1, threads)
     if threads == cap:  # setting the count costs as much as a few steps of a small specimen
-        _advance_all(state, n_steps, threads)
+        yield threads
         return
     numba.set_num_threads(threads)
     try:
-        _advance_all(state, n_steps, threads)
+        yield threads
     finally:
         numba.set_num_threads(cap)
 
 
 def _advance_all(state: State, n_steps: int, threads: int) -> None:
     if state.clumps is not None:  # pebbles of rigid clumps: the clumps' kernel
-        state.clumps.advance(state, n_steps)
+        state.clumps.advance(state, n_steps, threads)
         return
     p, w = state.particles, state.walls
     done = 0

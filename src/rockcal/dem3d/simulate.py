@@ -16,6 +16,8 @@ import numba
 import numpy as np
 from numba import njit, prange
 
+from rockcal.dem import tasks
+from rockcal.dem.simulate import engine_threads
 from rockcal.dem3d import forces, neighbours
 from rockcal.dem3d import walls as planes
 from rockcal.dem3d.bonds import Bonds, new_bonds, set_radii
@@ -163,50 +165,89 @@ def _move(first, last, bodies, loads, damping, dt, pos_at_build):
 @njit(parallel=True, cache=True, error_model="numpy")
 def _advance(n_steps, bodies, loads, pi, pj, shear, table, bond_state, break_xyz, starts,
              bond_offsets, contact_offsets, pos_at_build, half_skin_sq, laws, damping, dt,
-             walls, wall_force):
-    """Run up to n_steps; stop early when the list must be rebuilt. Returns the steps done and
-    whether the list must be rebuilt. The walls push the spheres of each block, their
-    reactions summed block by block into `wall_force`, and move after the spheres."""
+             walls, wall_force, threads):
+    """Run up to n_steps on up to `threads` threads (at most one per block); stop early when
+    the list must be rebuilt. Returns the steps done and whether the list must be rebuilt. The
+    walls push the spheres of each block, their reactions summed block by block into
+    `wall_force`, and move after the spheres. A step's tasks (`_task`) run in one parallel
+    region per call (`rockcal.dem.tasks`)."""
     blocks = starts.shape[0] - 1
-    moved = np.zeros(blocks)
-    wall_parts = np.zeros((blocks, walls.shape[0], 3))
-    for s in range(n_steps):
-        for b in prange(blocks):
-            for k in range(numba.uint64(starts[b]), numba.uint64(starts[b + 1])):
-                for c in range(6):
-                    loads[k, c] = 0.0
-            forces.add_bond_forces(bond_offsets[b], bond_offsets[b + 1], bodies, loads, pi, pj,
-                                   table, bond_state, break_xyz, laws, dt)
-            forces.add_contact_forces(contact_offsets[b], contact_offsets[b + 1], bodies, loads,
-                                      pi, pj, shear, laws, dt)
+    phases = (0, blocks, blocks + 1, 2 * blocks + 1)
+    moved, shared = tasks.scratch(blocks, phases[-1])
+    wall_parts = _wall_parts(blocks, walls.shape[0])
+    workers = max(1, min(threads, blocks))
+    for w in prange(workers):
+        model = (bodies, loads, pi, pj, shear, table, bond_state, break_xyz, starts,
+                 bond_offsets, contact_offsets, pos_at_build, laws, damping, dt, walls,
+                 wall_force, wall_parts)
+        for s in range(n_steps):
+            if not _step(phases, s, w, workers, shared, model, moved, half_skin_sq):
+                break
+    if tasks.steps_done(shared, n_steps) > 0:
+        _walls_after_step(walls, wall_force, wall_parts, dt)  # the last step's
+    return tasks.steps_done(shared, n_steps), tasks.must_rebuild(moved, half_skin_sq)
+
+
+@njit(cache=True, error_model="numpy")
+def _task(r, s, shared, model, moved, half_skin_sq):
+    """Task r of step s: each block's pair forces, the walls of the step before (their forces
+    summed, their move) and the pairs across block borders, each block's wall forces and
+    motion. False if the run stops."""
+    (bodies, loads, pi, pj, shear, table, bond_state, break_xyz, starts, bond_offsets,
+     contact_offsets, pos_at_build, laws, damping, dt, walls, wall_force, wall_parts) = model
+    blocks = moved.shape[0]
+    if r < blocks:
+        if tasks.stop_if_moved(s, shared, moved, half_skin_sq):
+            return False
+        for k in range(numba.uint64(starts[r]), numba.uint64(starts[r + 1])):
+            for c in range(6):
+                loads[k, c] = 0.0
+        forces.add_bond_forces(bond_offsets[r], bond_offsets[r + 1], bodies, loads, pi, pj,
+                               table, bond_state, break_xyz, laws, dt)
+        forces.add_contact_forces(contact_offsets[r], contact_offsets[r + 1], bodies, loads, pi,
+                                  pj, shear, laws, dt)
+    elif r == blocks:
+        if s > 0:
+            _walls_after_step(walls, wall_force, wall_parts, dt)
         forces.add_bond_forces(bond_offsets[blocks], bond_offsets[blocks + 1], bodies, loads, pi,
                                pj, table, bond_state, break_xyz, laws, dt)
         forces.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], bodies,
                                   loads, pi, pj, shear, laws, dt)
-        for b in prange(blocks):
-            part = wall_parts[b]
-            part[:] = 0.0
-            planes.add_wall_forces(starts[b], starts[b + 1], bodies, loads, walls, part)
-            moved[b] = _move(starts[b], starts[b + 1], bodies, loads, damping, dt, pos_at_build)
-        for w in range(walls.shape[0]):
-            for a in range(3):
-                total = 0.0
-                for b in range(blocks):
-                    total += wall_parts[b, w, a]
-                wall_force[w, a] = total
-        planes.move_walls(walls, dt)
-        for b in range(blocks):
-            if moved[b] > half_skin_sq:
-                return s + 1, True
-    return n_steps, False
+    else:
+        b = r - blocks - 1
+        part = wall_parts[b]
+        part[:] = 0.0
+        planes.add_wall_forces(starts[b], starts[b + 1], bodies, loads, walls, part)
+        moved[b] = _move(starts[b], starts[b + 1], bodies, loads, damping, dt, pos_at_build)
+    return True
+
+
+_step = tasks.make_step(_task)
+
+
+@njit(cache=True)
+def _wall_parts(blocks, n_walls):
+    """Each block's share of each wall's force, zeroed (`tasks.scratch` says why here)."""
+    return np.zeros((blocks, n_walls, 3))
+
+
+@njit(cache=True)
+def _walls_after_step(walls, wall_force, wall_parts, dt):
+    """The walls' forces summed over the blocks, block by block; then the walls moved."""
+    for w in range(walls.shape[0]):
+        for a in range(3):
+            total = 0.0
+            for b in range(wall_parts.shape[0]):
+                total += wall_parts[b, w, a]
+            wall_force[w, a] = total
+    planes.move_walls(walls, dt)
 
 
 def advance(state: State, n_steps: int) -> None:
     """Run n_steps time steps, rebuilding the neighbour list whenever spheres moved enough; on
-    numba's threads, at most one per block."""
-    cap = numba.get_num_threads()
-    numba.set_num_threads(max(1, min(cap, len(state.neighbours.block_starts) - 1)))
-    try:
+    numba's threads as the 2D engine (`rockcal.dem.simulate.advance`): at most one per block and,
+    by default, one per free core."""
+    with engine_threads(len(state.neighbours.block_starts) - 1) as threads:
         done = 0
         s, b = state.spheres, state.bonds
         while done < n_steps:
@@ -215,10 +256,9 @@ def advance(state: State, n_steps: int) -> None:
                 n_steps - done, s.bodies, s.loads, pairs.pi, pairs.pj, pairs.shear, b.table,
                 b.state, b.break_xyz, pairs.block_starts, pairs.bond_offsets,
                 pairs.contact_offsets, pairs.pos_at_build, pairs.rebuild_distance_sq,
-                state.laws, state.damping, state.dt, state.walls.table, state.walls.force)
+                state.laws, state.damping, state.dt, state.walls.table, state.walls.force,
+                threads)
             done += done_now
             state.step += done_now
             if rebuild:
                 state.neighbours = neighbours.update(pairs, s.pos, s.radius)
-    finally:
-        numba.set_num_threads(cap)
