@@ -118,7 +118,7 @@ def test_the_loadings_are_the_settings_choices():
 def test_a_run_at_the_default_loading_keeps_the_key_it_had_before_the_setting(tmp_path):
     """A Brazilian run's key is made of its settings before `brazilian_loading` existed (those
     that keyed it then, with the later settings left out at their old values): the stored runs
-    are found again. A stored run's settings without it run at the default, flat platens."""
+    are found again (within a revision of the test). A stored run's settings without it run at the default, flat platens."""
     settings = SpecimenSettings()
     before = ("disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS,
               "contact_stiffness")  # the test's settings before the loading
@@ -127,7 +127,8 @@ def test_a_run_at_the_default_loading_keeps_the_key_it_had_before_the_setting(tm
                if not (name in old_later and getattr(settings, name) == old_later[name])}
     spec = run_spec("brazilian", settings, {})
     assert dict(spec.specimen) == old_key
-    assert spec.key == RunSpec("brazilian", tuple(old_key.items()), spec.params, ENGINE).key
+    assert spec.key == RunSpec("brazilian", tuple(old_key.items()), spec.params,
+                               f"{ENGINE}, brazilian test revision {TEST.revision}").key
     assert all_settings(dict(spec.specimen))["brazilian_loading"] == "flat"
     assert TEST.settings_of(settings)["brazilian_loading"] == "flat"
     # settings made before the loading existed (without it as an attribute) run between flat platens
@@ -352,6 +353,16 @@ def test_a_wedge_driven_by_a_crushed_contact_is_no_split():
     assert broken_through(wedge, (0, 0), 1.0, GRAIN)
     assert not central_split(wedge, (0, 0), 1.0, GRAIN)
     assert not central_split(wedge * (-1, 1), (0, 0), 1.0, GRAIN)  # its mirror image
+
+
+def test_short_side_cracks_beside_a_split_leave_it_a_split():
+    """Beside a split, short cracks open 0.3 D off the diameter on either side, each across a
+    fifth of the middle, together across all of it (a large disk between bearing strips): still
+    a split. Joined into one long crack they are a wedge's side."""
+    side = [_line(x, y, x, y + 0.12) for x, y in ((-0.3, -0.3), (0.3, -0.1), (-0.3, 0.1), (0.3, 0.25))]
+    crack = _line(0.0, -0.5, 0.0, 0.5)
+    assert central_split(np.vstack([crack, *side]), (0, 0), 1.0, GRAIN)
+    assert not central_split(np.vstack([crack, _line(-0.3, -0.3, -0.3, 0.3)]), (0, 0), 1.0, GRAIN)
 
 
 def test_two_cracks_about_the_centre_are_a_split():

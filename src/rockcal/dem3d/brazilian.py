@@ -54,6 +54,7 @@ from rockcal.labtests.brazilian import (
     SPLIT_SHARE,
     STRIP_MODULUS_GPA,
     STRIP_THICKNESS_PER_DIAMETER,
+    separate_cracks,
 )
 from rockcal.labtests.loading import (
     LOCALISED_DAMAGE,
@@ -163,8 +164,8 @@ def central_split(crack_xyz: np.ndarray, centre, diameter: float, thickness: flo
     """Whether the bonds broken at `crack_xyz` split the disk through its centre, the 2D rule
     (`rockcal.labtests.brazilian.central_split`) with the band a slab about the plane of the
     loaded diameter and the axis (x = the centre's x): a crack within CENTRAL_BAND x D plus a
-    grain of it crosses SPLIT_SHARE of the middle or more, and none crosses it beyond twice
-    that (the side of a wedge a crushed contact drives)."""
+    grain of it crosses SPLIT_SHARE of the middle or more, and no crack crosses it with its
+    part beyond twice that (the side of a wedge a crushed contact drives)."""
     crack_xyz = np.asarray(crack_xyz, float).reshape(-1, 3)
     band = CENTRAL_BAND * diameter + grain_m
     off = np.abs(crack_xyz[:, 0] - centre[0])
@@ -172,7 +173,10 @@ def central_split(crack_xyz: np.ndarray, centre, diameter: float, thickness: flo
     def share(where):
         return crack_share(crack_xyz[where], centre, diameter, thickness, grain_m)
 
-    return bool(share(off < band) >= SPLIT_SHARE and share(off >= 2 * band) < SPLIT_SHARE)
+    return bool(share(off < band) >= SPLIT_SHARE
+                and all(crack_share(crack[np.abs(crack[:, 0] - centre[0]) >= 2 * band], centre,
+                                    diameter, thickness, grain_m) < SPLIT_SHARE
+                        for crack in separate_cracks(crack_xyz, grain_m)))
 
 
 def broken_through(crack_xyz: np.ndarray, centre, diameter: float, thickness: float,
