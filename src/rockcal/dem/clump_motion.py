@@ -34,7 +34,6 @@ from numba import njit, prange
 
 from rockcal.dem import clumps as clump_shapes
 from rockcal.dem import laws, neighbours, simulate, tasks
-from rockcal.dem.bonded import add_bonded_forces
 from rockcal.dem.laws import Disk, Load
 
 
@@ -379,25 +378,9 @@ def _task(r, s, shared, model, moved, half_skin_sq):
      wall_active, wall_vel, wall_force, k_wall, pos_at_build, law, damping, dt, first, pebbles,
      offsets, bodies, applied, balls, clump_chunks, ball_chunks) = model
     blocks = starts.shape[0] - 1
-    if r < blocks:
-        if tasks.stop_if_moved(s, shared, moved, half_skin_sq):
-            return False
-        for k in range(numba.uint64(starts[r]), numba.uint64(starts[r + 1])):
-            loads[k, Load.FORCE_X] = 0.0
-            loads[k, Load.FORCE_Y] = 0.0
-            loads[k, Load.MOMENT] = 0.0
-        add_bonded_forces(bond_offsets[r], bond_offsets[r + 1], disks, pi, pj, contact_shear,
-                          bonds, law, dt, loads)
-        laws.add_contact_forces(contact_offsets[r], contact_offsets[r + 1], disks, pi, pj,
-                                contact_shear, law, dt, loads)
-    elif r == blocks:
-        if s > 0:
-            simulate._move_walls(walls, wall_vel, dt)
-        add_bonded_forces(bond_offsets[blocks], bond_offsets[blocks + 1], disks, pi, pj,
-                          contact_shear, bonds, law, dt, loads)
-        laws.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], disks, pi,
-                                pj, contact_shear, law, dt, loads)
-    elif r <= 2 * blocks:
+    if r <= blocks:
+        return simulate.pair_task(r, s, shared, model, moved, half_skin_sq)
+    if r <= 2 * blocks:
         b = r - blocks - 1
         laws.add_wall_forces(starts[b], starts[b + 1], disks, walls, wall_active, k_wall, loads,
                              wall_force)

@@ -311,10 +311,28 @@ def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts, bond_o
 @njit(cache=True, error_model="numpy")
 def _task(r, s, shared, model, moved, half_skin_sq):
     """Task r of step s: each block's pair forces, the walls' move of the step before and the
-    pairs across block borders, each block's walls and motion. False if the run stops."""
+    pairs across block borders (`pair_task`), each block's walls and motion. False if the run
+    stops."""
+    blocks = moved.shape[0]
+    if r <= blocks:
+        return pair_task(r, s, shared, model, moved, half_skin_sq)
     (disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets, contact_offsets, walls,
      wall_active, wall_vel, wall_force, k_wall, pos_at_build, law, damping, dt) = model
-    blocks = moved.shape[0]
+    b = r - blocks - 1
+    laws.add_wall_forces(starts[b], starts[b + 1], disks, walls, wall_active, k_wall, loads,
+                         wall_force)
+    moved[b] = _move(starts[b], starts[b + 1], disks, loads, damping, dt, pos_at_build)
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def pair_task(r, s, shared, model, moved, half_skin_sq):
+    """Task r <= blocks of step s of an engine of disks (`model` begins with `_advance`'s
+    arrays): block r's pair forces, or (r = blocks) the walls' move of the step before and the
+    pairs across block borders. False if the run stops."""
+    (disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets, contact_offsets, walls,
+     wall_active, wall_vel, wall_force, k_wall, pos_at_build, law, damping, dt) = model[:18]
+    blocks = starts.shape[0] - 1
     if r < blocks:
         if tasks.stop_if_moved(s, shared, moved, half_skin_sq):
             return False
@@ -322,22 +340,12 @@ def _task(r, s, shared, model, moved, half_skin_sq):
             loads[k, Load.FORCE_X] = 0.0
             loads[k, Load.FORCE_Y] = 0.0
             loads[k, Load.MOMENT] = 0.0
-        add_bonded_forces(bond_offsets[r], bond_offsets[r + 1], disks, pi, pj, contact_shear,
-                          bonds, law, dt, loads)
-        laws.add_contact_forces(contact_offsets[r], contact_offsets[r + 1], disks, pi, pj,
-                                contact_shear, law, dt, loads)
-    elif r == blocks:
-        if s > 0:
-            _move_walls(walls, wall_vel, dt)
-        add_bonded_forces(bond_offsets[blocks], bond_offsets[blocks + 1], disks, pi, pj,
-                          contact_shear, bonds, law, dt, loads)
-        laws.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], disks, pi,
-                                pj, contact_shear, law, dt, loads)
-    else:
-        b = r - blocks - 1
-        laws.add_wall_forces(starts[b], starts[b + 1], disks, walls, wall_active, k_wall, loads,
-                             wall_force)
-        moved[b] = _move(starts[b], starts[b + 1], disks, loads, damping, dt, pos_at_build)
+    elif s > 0:
+        _move_walls(walls, wall_vel, dt)
+    add_bonded_forces(bond_offsets[r], bond_offsets[r + 1], disks, pi, pj, contact_shear, bonds,
+                      law, dt, loads)
+    laws.add_contact_forces(contact_offsets[r], contact_offsets[r + 1], disks, pi, pj,
+                            contact_shear, law, dt, loads)
     return True
 
 
