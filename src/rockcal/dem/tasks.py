@@ -15,11 +15,12 @@ atomic operations of `atomics`):
   whichever threads run, also when the threading layer runs the threads' parts one after the
   other on one thread.
 
-The tasks run in the same order on any number of threads, so the numbers do not depend on it.
-An engine's `task(r, s, shared, model, moved, half_skin_sq)` does task r of step s (its steps
-run by `make_step(task)`): `model` is a tuple of its arrays, `moved` each block's largest squared displacement since the neighbour
-list was built; a task of the first phase stops the run (`stop_if_moved`) once a particle has
-moved half the skin.
+The tasks of a phase write separate particles, and each sums in a fixed order whichever thread
+does it, so the numbers do not depend on the threads. An engine's
+`task(r, s, shared, model, moved, half_skin_sq)` does task r of step s (its steps run by
+`make_step(task)`): `model` is a tuple of its arrays, `moved` each moving part's largest
+squared displacement since the neighbour list was built; a task of the first phase stops the
+run (`stop_if_moved`) once one has moved half the skin.
 """
 
 from __future__ import annotations
