@@ -9,8 +9,8 @@ Run by hand, on a machine with nothing else running (about a minute on 2 cores):
 
     python benchmarks/threads_under_load.py [--rmin-mm 0.5] [--env OMP_WAIT_POLICY=passive] [--all]
 
-`--all` also times two fixed threads on the busy cores: minutes, as each step waits for both
-threads to be scheduled.
+`--all` also times two fixed threads on the busy cores (several times one thread's time: a
+task half done on a descheduled thread holds the step).
 
 `--env NAME=VALUE` (repeatable) sets a variable in every timed run, e.g. numba's threading
 layer (NUMBA_THREADING_LAYER=workqueue) or OpenMP's wait policy. The specimen is made (or
