@@ -46,7 +46,6 @@ from rockcal.dem3d.specimen import Specimen3D, carve_disk, random_cuboid
 from rockcal.dem3d.ucs import cracks_of
 from rockcal.errors import InputError
 from rockcal.labtests.brazilian import (
-    CENTRAL_BAND,
     DEFAULT_MAX_STRAIN,
     END_SLICES,
     POST_PEAK_FRACTION,
@@ -54,13 +53,14 @@ from rockcal.labtests.brazilian import (
     SPLIT_SHARE,
     STRIP_MODULUS_GPA,
     STRIP_THICKNESS_PER_DIAMETER,
-    separate_cracks,
+    split_through_centre,
 )
 from rockcal.labtests.loading import (
     LOCALISED_DAMAGE,
     PAST_PEAK_FRACTION,
     RAMP_STEPS_PER_ROW,
     Loading,
+    check_max_strain,
 )
 from rockcal.labtests.rig import BearingStrip
 from rockcal.materials import as_params
@@ -162,21 +162,13 @@ def crack_share(crack_xyz: np.ndarray, centre, diameter: float, thickness: float
 def central_split(crack_xyz: np.ndarray, centre, diameter: float, thickness: float,
                   grain_m: float) -> bool:
     """Whether the bonds broken at `crack_xyz` split the disk through its centre, the 2D rule
-    (`rockcal.labtests.brazilian.central_split`) with the band a slab about the plane of the
+    (`rockcal.labtests.brazilian.split_through_centre`) with the band a slab about the plane of the
     loaded diameter and the axis (x = the centre's x): a crack within CENTRAL_BAND x D plus a
     grain of it crosses SPLIT_SHARE of the middle or more, and no crack crosses it with its
     part beyond twice that (the side of a wedge a crushed contact drives)."""
-    crack_xyz = np.asarray(crack_xyz, float).reshape(-1, 3)
-    band = CENTRAL_BAND * diameter + grain_m
-    off = np.abs(crack_xyz[:, 0] - centre[0])
-
-    def share(where):
-        return crack_share(crack_xyz[where], centre, diameter, thickness, grain_m)
-
-    return bool(share(off < band) >= SPLIT_SHARE
-                and all(crack_share(crack[np.abs(crack[:, 0] - centre[0]) >= 2 * band], centre,
-                                    diameter, thickness, grain_m) < SPLIT_SHARE
-                        for crack in separate_cracks(crack_xyz, grain_m)))
+    return split_through_centre(
+        np.asarray(crack_xyz, float).reshape(-1, 3), centre[0], diameter, grain_m,
+        lambda where: crack_share(where, centre, diameter, thickness, grain_m))
 
 
 def broken_through(crack_xyz: np.ndarray, centre, diameter: float, thickness: float,
@@ -205,8 +197,7 @@ def simulate_brazilian_3d(params, specimen: Specimen3D, *, loading: str = "flat"
     params = as_params(params)
     if loading not in LOADINGS_3D:
         raise InputError("loading", f"must be one of {', '.join(LOADINGS_3D)} in 3D, got {loading!r}")
-    if not 0 < max_strain <= 0.5:
-        raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
+    check_max_strain(max_strain)
     if specimen.shape != "disk":
         raise InputError("specimen", f"the Brazilian test needs a disk, got a {specimen.shape}")
     diameter, thickness, _ = specimen.size_m

@@ -183,9 +183,10 @@ def _advance(n_steps, bodies, loads, pi, pj, shear, table, bond_state, break_xyz
         for s in range(n_steps):
             if not _step(phases, s, w, workers, shared, model, moved, half_skin_sq):
                 break
-    if tasks.steps_done(shared, n_steps) > 0:
+    done = tasks.steps_done(shared, n_steps)
+    if done > 0:
         _walls_after_step(walls, wall_force, wall_parts, dt)  # the last step's
-    return tasks.steps_done(shared, n_steps), tasks.must_rebuild(moved, half_skin_sq)
+    return done, tasks.must_rebuild(moved, half_skin_sq)
 
 
 @njit(cache=True, error_model="numpy")

@@ -58,6 +58,7 @@ from rockcal.labtests.loading import (
     RAMP_STEPS_PER_ROW,
     Loading,
     Reading,
+    check_max_strain,
     load_to_failure,
 )
 from rockcal.labtests.result import LabResult, run_fields
@@ -156,16 +157,23 @@ def crack_share(crack_xy: np.ndarray, centre, diameter: float, grain_m: float) -
 
 
 def central_split(crack_xy: np.ndarray, centre, diameter: float, grain_m: float) -> bool:
-    """Whether the bonds broken at `crack_xy` split the disk through its centre: a crack within
-    CENTRAL_BAND x D plus a grain (its path is known to a grain) of the loaded diameter crosses
-    SPLIT_SHARE of its middle or more, and no crack (`separate_cracks`) crosses it with its part
-    beyond twice that (the side of a wedge a crushed contact drives). Short side cracks that
-    open beside a split, each across less of the middle, leave it a split."""
+    """Whether the bonds broken at `crack_xy` split the disk through its centre
+    (`split_through_centre`, each crack's share of the middle by `crack_share`)."""
+    return split_through_centre(crack_xy, centre[0], diameter, grain_m,
+                                lambda where: crack_share(where, centre, diameter, grain_m))
+
+
+def split_through_centre(crack_xy: np.ndarray, centre_x: float, diameter: float, grain_m: float,
+                         share: Callable[[np.ndarray], float]) -> bool:
+    """The rule, in 2D and 3D: a crack within CENTRAL_BAND x D plus a grain (its path is known
+    to a grain) of the loaded diameter (at x = `centre_x`) crosses SPLIT_SHARE of its middle or
+    more, and no crack (`separate_cracks`) crosses it with its part beyond twice that (the side
+    of a wedge a crushed contact drives); `share(broken bonds)` is the share they cross. Short
+    side cracks that open beside a split, each across less of the middle, leave it a split."""
     band = CENTRAL_BAND * diameter + grain_m
-    off = np.abs(crack_xy[:, 0] - centre[0])
-    return bool(crack_share(crack_xy[off < band], centre, diameter, grain_m) >= SPLIT_SHARE
-                and all(crack_share(crack[np.abs(crack[:, 0] - centre[0]) >= 2 * band], centre,
-                                    diameter, grain_m) < SPLIT_SHARE
+    off = np.abs(crack_xy[:, 0] - centre_x)
+    return bool(share(crack_xy[off < band]) >= SPLIT_SHARE
+                and all(share(crack[np.abs(crack[:, 0] - centre_x) >= 2 * band]) < SPLIT_SHARE
                         for crack in separate_cracks(crack_xy, grain_m)))
 
 
@@ -204,8 +212,7 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Spec
     params = as_params(params)
     if loading not in LOADINGS:
         raise InputError("loading", f"must be one of {', '.join(LOADINGS)}, got {loading!r}")
-    if not 0 < max_strain <= 0.5:
-        raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
+    check_max_strain(max_strain)
     specimen = specimen or brazilian_disk()
     diameter = (specimen.pos[:, 1] + specimen.radius).max() - (specimen.pos[:, 1] - specimen.radius).min()
     strip, squeeze = None, 0.0  # the strips, and how far they may close the platens at most

@@ -31,7 +31,7 @@ from rockcal.errors import InputError
 from rockcal.labtests import ucs
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, Setting
 from rockcal.labtests.loading import (LOCALISED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
-                                      load_to_failure)
+                                      check_max_strain, load_to_failure)
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.labtests.rig import Grips
 from rockcal.materials import BondedParams, as_params
@@ -84,8 +84,7 @@ def simulate_direct_tension(params: BondedParams | dict | None = None,
     started = time.perf_counter()
     params = as_params(params)
     check_grip(grip_fraction)
-    if not 0 < max_strain <= 0.5:
-        raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
+    check_max_strain(max_strain)
     specimen = specimen or random_packing(50.0, 100.0)
     check_grip_rows(grip_fraction, 1e3 * specimen.height_m, 2e3 * float(specimen.radius.mean()))
     grips = Grips(specimen, params, grip_fraction, ucs.DENSITY_SCALED_SPEED * rate_factor,

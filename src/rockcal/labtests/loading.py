@@ -135,6 +135,13 @@ def check_stop_fraction(stop_fraction: float) -> None:
         raise InputError("stop_fraction", f"must be in (0, 1), got {stop_fraction}")
 
 
+def check_max_strain(max_strain: float) -> None:
+    """A test stops at this strain (the loading's travel over the specimen's size) at the
+    latest: it must be in (0, 0.5]."""
+    if not 0 < max_strain <= 0.5:
+        raise InputError("max_strain", f"must be in (0, 0.5], got {max_strain}")
+
+
 class Reading(NamedTuple):
     """What a test reads after a chunk of steps."""
 
