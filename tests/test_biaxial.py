@@ -135,3 +135,13 @@ def test_a_series_on_the_command_line_writes_the_envelope_and_the_curves(tmp_pat
     assert one.exit_code == 0, one.output
     assert not (tmp_path / "one" / "biaxial_strength_envelope.png").exists()
     assert (tmp_path / "one" / "biaxial_confined_compression_curves.png").exists()
+
+
+def test_a_clumped_specimen_seats_and_confinement_raises_its_peak():
+    """Seating reads equilibrium on the bodies (a clump's pebbles bear forces its rigid body
+    balances): a specimen of two-pebble clumps settles at sigma3 and peaks above its UCS."""
+    clumped = random_packing(8, 16, 0.4, 1.65, seed=1, grain_shape="two-pebble")
+    params = make_params({})
+    confined = simulate_biaxial(params, clumped, 5.0)
+    assert confined.curve[0, 4] == pytest.approx(5.0, rel=SEATING_TOLERANCE)
+    assert confined.sigma1_MPa > simulate_ucs(params, clumped).ucs_MPa

@@ -29,6 +29,7 @@ from rockcal.labtests.brazilian import (
     simulate_brazilian,
 )
 from rockcal.labtests.kind import GENESIS, all_settings
+from rockcal.labtests.settings import specimen_settings
 from rockcal.labtests.rig import BearingStrip, Platens
 from rockcal.labtests.rig.jaws import JAW_HALF_ARC_DEG, JAW_RADIUS_PER_DISK_RADIUS, Jaws
 
@@ -266,6 +267,33 @@ def test_a_strip_without_a_finite_positive_modulus_or_thickness_names_it(modulus
     with pytest.raises(InputError) as error:
         BearingStrip(modulus, thickness)
     assert error.value.field == field
+
+
+def test_the_strip_modulus_reaches_the_strips_and_keys_only_another_strip():
+    """`strip_modulus_gpa` is the strips' modulus as the run reads it: a softer strip is a
+    softer wall contact (the same column formula); at its default a run keeps its key."""
+    settings = SpecimenSettings(brazilian_loading="strips")
+    plywood = run_spec("brazilian", settings, {})
+    assert "strip_modulus_gpa" not in dict(plywood.specimen)
+    softer = run_spec("brazilian", settings, {}, own={"strip_modulus_gpa": 0.5})
+    assert dict(softer.specimen)["strip_modulus_gpa"] == 0.5 and softer.key != plywood.key
+    disk = brazilian_disk(10.0, 0.5, 1.65, seed=1)
+    stiffness = {e: Platens(disk, make_params({}), 1.0, strip=BearingStrip(e, 0.1)).state.walls.stiffness
+                 for e in (0.5, 1.0)}
+    column = 1e9 * 2 * disk.radius.mean() / 0.1e-3  # per GPa
+    bare = 2 * make_params({}).E_c * 1e9
+    for e, k in stiffness.items():
+        assert k == pytest.approx(1 / (1 / (e * column) + 1 / bare), rel=1e-12)
+
+
+@pytest.mark.parametrize("settings, message", [
+    ({"strip_modulus_gpa": 0.5}, "acts only with brazilian_loading"),
+    ({"brazilian_loading": "strips", "strip_modulus_gpa": 0.0}, "must be a number in (0"),
+    ({"brazilian_loading": "strips", "strip_modulus_gpa": 1e3}, "must be a number in (0")])
+def test_a_strip_modulus_without_strips_or_out_of_range_names_it(settings, message):
+    with pytest.raises(InputError, match=message.replace("(", r"\(")) as error:
+        specimen_settings(TEST, {"disk_diameter_mm": 10.0, "rmin_mm": 0.5} | settings)
+    assert error.value.field == "strip_modulus_gpa"
 
 
 def test_an_unknown_loading_names_the_setting(small_disk):

@@ -24,6 +24,7 @@ from rockcal.dem.simulate import (
     advance,
     scale_density,
     stable_time_step,
+    unbalanced_forces,
     use_threads,
 )
 from rockcal.materials import new_state as material_state
@@ -141,6 +142,16 @@ def test_a_clump_has_the_mass_and_inertia_of_its_pebbles_union():
     ball = DENSITY * np.pi * (0.7 * R) ** 2 * T
     assert 1 / cl.inv_mass[1] == ball and 1 / cl.inv_inertia[1] == 0.5 * ball * (0.7 * R) ** 2
     np.testing.assert_array_equal(state.particles.inv_mass, cl.inv_mass[[0, 0, 1]])
+
+
+def test_a_clumps_unbalanced_force_is_the_sum_over_its_pebbles():
+    """Equal and opposite forces on a clump's two pebbles leave its body balanced; a ball's
+    is its own; a driven ball has none to balance."""
+    d = 1.1 * R
+    state, cl = bonded_state([[0, 0], [d, 0], [5 * R, 0], [9 * R, 0]], [R] * 4, [], [0, 0, -1, -1],
+                             driven=np.array([False, False, False, True]))
+    state.particles.force[:] = [[3.0, -1.0], [-3.0, 1.0], [0.5, 2.0], [7.0, 7.0]]
+    np.testing.assert_array_equal(unbalanced_forces(state), [[0.0, 0.0], [0.5, 2.0]])
 
 
 def test_pebbles_of_a_clump_are_never_paired_nor_bonded():

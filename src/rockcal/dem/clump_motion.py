@@ -149,6 +149,15 @@ class Clumps(NamedTuple):
         self._label_pebbles(state.particles)
         return float(np.sum(1.0 / inv_mass[free]) / true_mass)
 
+    def unbalanced_forces(self, particles) -> np.ndarray:
+        """Each free body's resultant force (N per m; the clumps', then the free balls'): the sum
+        of its pebbles' forces, what its motion answers to (a pebble's own force is balanced
+        within its rigid clump)."""
+        force = np.zeros((self.n_clumps, 2))
+        np.add.at(force, self.clump_of[self.pebbles], particles.force[self.pebbles])
+        force = np.concatenate([force, particles.force[self.balls]])
+        return force[self._body_inverses(particles)[0] > 0]
+
     def _body_inverses(self, particles) -> tuple[np.ndarray, np.ndarray]:
         """Inverse masses and inertias of the bodies: the clumps', then the balls'."""
         return (np.concatenate([self.bodies[:, Body.INV_MASS], particles.inv_mass[self.balls]]),

@@ -202,6 +202,14 @@ def stable_time_step(state: State) -> float:
     return TIME_STEP_SAFETY * float(min(dt_t.min(), dt_r.min()))
 
 
+def unbalanced_forces(state: State) -> np.ndarray:
+    """Each free body's resultant force (n, 2), N per m: a ball's, or with clumps each clump's
+    and ball's (`clump_motion.Clumps.unbalanced_forces`)."""
+    if state.clumps is not None:
+        return state.clumps.unbalanced_forces(state.particles)
+    return state.particles.force[state.particles.inv_mass > 0]
+
+
 def scale_density(state: State) -> float:
     """Density scaling for quasi-static tests, as PFC's timestep scaling (`model mechanical
     timestep scale`) scales the inertial masses: each free particle's mass and moment of

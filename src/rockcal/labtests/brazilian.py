@@ -45,6 +45,7 @@ from rockcal.labtests.kind import (
     LabTest,
     Outline,
     Response,
+    Setting,
     check_3d_settings,
     check_grain_cloud,
     genesis_of,
@@ -102,6 +103,7 @@ DEFAULT_LOADING = "flat"
 # 2 t E_c (43.3), 17 times softer than a grain-grain contact (t E_c, PFC 3.x/4.0's).
 STRIP_MODULUS_GPA = 1.0
 STRIP_THICKNESS_PER_DIAMETER = 0.01
+MAX_STRIP_MODULUS_GPA = 100.0  # stiffer than any cushion: a strip of steel is the bare platen
 
 
 @dataclass
@@ -267,7 +269,24 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Spec
         peak_cracks=cracks, curve=curve, **run_fields(state, specimen, started))
 
 
+def check_strip_modulus(modulus_gpa) -> None:
+    """A bearing strip's modulus through its thickness: a number in (0, MAX_STRIP_MODULUS_GPA] GPa."""
+    if not (isinstance(modulus_gpa, (int, float)) and not isinstance(modulus_gpa, bool)
+            and 0 < modulus_gpa <= MAX_STRIP_MODULUS_GPA):
+        raise InputError("strip_modulus_gpa", f"must be a number in (0, {MAX_STRIP_MODULUS_GPA:g}] GPa, "
+                                              f"got {modulus_gpa!r}")
+
+
+STRIP = Setting("strip_modulus_gpa", STRIP_MODULUS_GPA, "GPa", check_strip_modulus,
+                "the bearing strips' modulus through their thickness, GPa (brazilian_loading strips: "
+                f"{STRIP_MODULUS_GPA:g}, plywood; a softer cushion spreads the load over more rim grains)")
+
+
 def _check(s: dict) -> None:
+    if s["strip_modulus_gpa"] != STRIP_MODULUS_GPA and s["brazilian_loading"] != "strips":
+        raise InputError("strip_modulus_gpa", f"{s['strip_modulus_gpa']:g} GPa is a bearing strip's: it acts "
+                                              f"only with brazilian_loading = \"strips\", got "
+                                              f"{s['brazilian_loading']!r}")
     if in_3d(s):
         return _check_3d(s)
     with fields_named({"diameter_mm": "disk_diameter_mm"}):
@@ -307,6 +326,7 @@ def _run(params: BondedParams, specimen, s: dict, progress) -> BrazilianResult:
     if in_3d(s):
         return _run_3d(params, specimen, s, progress)
     return simulate_brazilian(params, specimen, loading=s["brazilian_loading"],
+                              strip_modulus_GPa=s["strip_modulus_gpa"],
                               contact_stiffness=s["contact_stiffness"], progress=progress)
 
 
@@ -319,6 +339,7 @@ def _run_3d(params: BondedParams, specimen, s: dict, progress) -> BrazilianResul
     TEST.check_dimensions(3, material_of(params).name)  # before the engine reads its laws
     per_m = 1.0 / specimen.size_m[1]  # the disk's thickness
     r = simulate_brazilian_3d(params, specimen, loading=s["brazilian_loading"],
+                              strip_modulus_GPa=s["strip_modulus_gpa"],
                               progress=progress and (lambda mm, kN: progress(mm, kN * per_m)))
     curve = np.column_stack([r.curve[:, 0], r.curve[:, 1] * per_m])
     return BrazilianResult(sigma_t_MPa=r.sigma_t_MPa, P_max_kN_per_m=r.P_max_kN * per_m,
@@ -355,9 +376,10 @@ TEST = LabTest(
                Response("split", "", target=False, label="split through the centre (1) or not (0)")),
     curve_columns=("displacement_mm", "load_kN_per_m"), plot="load_displacement",
     flags=(("disk_diameter_mm", "diameter_mm"), ("brazilian_loading", "loading")),
-    # brazilian_loading, grain_shape and dimensions last: at their defaults ("flat", "ball", 2:
-    # kind.LATER_SETTINGS) a run's key leaves them out
+    # brazilian_loading, grain_shape, dimensions and strip_modulus_gpa last: at their defaults
+    # ("flat", "ball", 2, 1: kind.LATER_SETTINGS) a run's key leaves them out
     settings=("disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "contact_stiffness",
-              "brazilian_loading", "grain_shape", "dimensions"),
+              "brazilian_loading", "grain_shape", "dimensions", "strip_modulus_gpa"),
+    own_settings=(STRIP,),
     check=_check, make=_specimen, run=_run, reading=load_reading, outline=_outline,
     revision=2)  # part of every stored Brazilian run's key: raise it when the test's numbers change

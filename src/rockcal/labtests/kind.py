@@ -18,7 +18,7 @@ GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_m
 # Settings added after runs were stored, with the value the engine had before them: a run's
 # key names one only where it differs from that, so the runs stored before keep their keys.
 LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02, "brazilian_loading": "flat",
-                  "grain_shape": DEFAULT_SHAPE, "dimensions": 2}
+                  "grain_shape": DEFAULT_SHAPE, "dimensions": 2, "strip_modulus_gpa": 1.0}
 # A specimen's dimensions: 2, PFC2D's disks, or 3, PFC3D's spheres (the tests with the setting
 # `dimensions` alone, on the parallel-bonded material: `rockcal.dem3d`).
 DIMENSIONS = (2, 3)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, THICKNESS_M, TOP, advance
+from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, THICKNESS_M, TOP, advance, unbalanced_forces
 from rockcal.dem.specimen import Specimen
 from rockcal.labtests.result import RunFailed
 from rockcal.labtests.rig.platens import Platens
@@ -43,14 +43,13 @@ class SideWalls:
         state = self.state
         servo = WallServo(state, (LEFT, RIGHT, BOTTOM, TOP), self.servo.target, self.limit)
         scale = servo.target * self.grain_diameter * THICKNESS_M
-        free = state.particles.inv_mass > 0
         start = state.step
         for _ in range(SEATING_ROUNDS):
             servo.update()
             advance(state, servo.steps)
             off = np.abs(servo.stresses() / servo.target - 1.0)
             if off.max() < SEATING_TOLERANCE:
-                unbalanced = np.hypot(*state.particles.force[free].T).mean()
+                unbalanced = np.hypot(*unbalanced_forces(state).T).mean()
                 if unbalanced < EQUILIBRIUM_RATIO * scale:
                     servo.hold()
                     return state.step - start

@@ -1,0 +1,221 @@
+"""What moves a bonded-particle granite's strength ratios: the grain shape, the material and the
+flat joint's settings, each at the granite's E and UCS.
+
+For each variant (a material, a grain shape and settings over the granite's calibrated point)
+the study
+
+1. brings the variant to the granite's E (41.5 GPa) and UCS (138.8 MPa) by scaling: every
+   stiffness (E_c, Ebar_c; fj_emod, lnm_emod) by E_target / E and every strength (sigma_c,
+   tau_c; fj_ten, fj_coh, fj_cohres, and absolute spreads) by UCS_target / UCS, from a UCS run
+   on packing 1, repeated until both are within SCALE_TOLERANCE. A bonded-particle model with
+   no gap that closes under load is exact under this scaling (displacements scale by the ratio
+   of strength to stiffness; forces, slip and breakage follow), so the dimensionless ratios
+   below are the variant's own, not those of where it started;
+2. runs, on packings 1-3: the UCS test, confined compression at 5, 10 and 20 MPa, the
+   Brazilian test between bearing strips (`--strip-modulus-gpa`) and, on balls, direct tension;
+3. reads per packing m_i and the Mohr-Coulomb phi and c through the four peaks (sigma3 0, 5,
+   10, 20 MPa), UCS / Brazilian, UCS / direct and CD / UCS, and gives their mean and sd.
+
+Every run goes through the run store in OUT: a stopped study resumes, a run done is never run
+again. Writes OUT/material_study.md (the table), OUT/material_study.json and
+OUT/material_study.png (m_i against UCS / Brazilian, each variant's mean and sd).
+
+Run by hand: `python benchmarks/material_study.py [--out runs/material-study] [--rmin-mm 0.5]
+[--variants pb-ball,pb-two-pebble,...] [--packings 3]` (`--list` names the variants).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from rockcal.campaign.input.config import SpecimenSettings, load_campaign
+from rockcal.campaign.runs.pool import Executor
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.store import RunStore
+from rockcal.labtests.envelope import envelope_responses
+
+E_TARGET_GPA, UCS_TARGET_MPA = 41.5, 138.8  # the source's granite
+SCALE_TOLERANCE = 0.02
+MAX_SCALINGS = 4
+CONFINEMENTS_MPA = (5.0, 10.0, 20.0)
+STIFFNESSES = ("E_c", "Ebar_c", "fj_emod", "lnm_emod")
+STRENGTHS = ("sigma_c", "tau_c", "sigma_c_sd", "tau_c_sd", "fj_ten", "fj_coh", "fj_ten_sd", "fj_coh_sd",
+             "fj_cohres")
+# the granite's calibrated points: the parallel bond (the embedded campaign's) and the flat
+# joint (docs/campaigns/granite-flatjoint.toml's: N_r 2, 30 % slit, phi 0)
+PARALLEL_BOND = {"E_c": 21.65, "kn_ks": 1.985, "sigma_c": 35.61}
+FLAT_JOINT = {"fj_emod": 38.03, "fj_kratio": 1.922, "fj_ten": 48.4, "fj_coh": 90, "fj_fric": 0.5, "fj_fa": 0,
+              "fj_nr": 2, "fjm_B_frac": 0.7, "fj_ten_cv": 0.23, "fj_coh_cv": 0.23, "density": 2622}
+SHAPES = ("ball", "two-pebble", "three-pebble", "cloud")
+
+
+def variants() -> dict[str, tuple[str, dict, dict]]:
+    """Each variant by name: (material, parameters, specimen settings)."""
+    granite, _ = load_campaign(None)
+    pb = granite.fixed_params() | PARALLEL_BOND
+    found = {}
+    for shape in SHAPES:
+        found[f"pb-{shape}"] = ("parallel_bond", pb, {"grain_shape": shape})
+        found[f"fj-{shape}"] = ("flatjoint", FLAT_JOINT, {"grain_shape": shape})
+    flat = {  # the flat joint's own settings, on balls
+        "fj-no-slit": {"fjm_B_frac": 1.0},
+        "fj-slit-60": {"fjm_B_frac": 0.4},
+        "fj-fa-30": {"fj_fa": 30.0},
+        "fj-nr-1": {"fj_nr": 1},
+        "fj-nr-4": {"fj_nr": 4},
+        "fj-residual": {"fj_resmode": 1, "fj_cohres": 45.0},
+        "fj-gapped-30": {"fjm_B_frac": 0.7, "fjm_G_frac": 0.3, "fjm_G_m": 0.0025},
+    }
+    found |= {name: ("flatjoint", FLAT_JOINT | extra, {}) for name, extra in flat.items()}
+    found["fj-igap-0.3"] = ("flatjoint", FLAT_JOINT, {"install_gap": 0.3})
+    found["pb-igap-0.3"] = ("parallel_bond", pb, {"install_gap": 0.3})
+    return found
+
+
+def scaled(params: dict, stiffness: float, strength: float) -> dict:
+    """The parameters with every stiffness times `stiffness` and every strength times `strength`."""
+    factor = {k: stiffness for k in STIFFNESSES} | {k: strength for k in STRENGTHS}
+    return {k: v * factor[k] if k in factor and v is not None else v for k, v in params.items()}
+
+
+class Study:
+    def __init__(self, out: Path, specimen: SpecimenSettings, strip_modulus_gpa: float, packings: int):
+        self.executor = Executor(RunStore(out), workers=1, threads=1)
+        self.specimen, self.strip, self.packings = specimen, strip_modulus_gpa, packings
+
+    def run(self, specs: dict) -> dict:
+        results = self.executor.run(list(specs.values()))
+        failed = [(name, r.message) for name, r in zip(specs, results) if r.status != "ok"]
+        if failed:
+            raise SystemExit(f"runs failed: {failed}")
+        return {name: r.responses for name, r in zip(specs, results)}
+
+    def at_granite(self, model: str, params: dict, settings: dict) -> tuple[dict, list]:
+        """The variant's parameters scaled to the granite's E and UCS on packing 1, and the
+        (E, UCS) of each scaling step."""
+        specimen = self.specimen.model_copy(update=settings | {"seed": 1})
+        steps = []
+        for _ in range(MAX_SCALINGS):
+            r = self.run({"ucs": run_spec("ucs", specimen, params, model)})["ucs"]
+            steps.append((r["E_GPa"], r["ucs_MPa"]))
+            if (abs(r["E_GPa"] / E_TARGET_GPA - 1) <= SCALE_TOLERANCE
+                    and abs(r["ucs_MPa"] / UCS_TARGET_MPA - 1) <= SCALE_TOLERANCE):
+                break
+            params = scaled(params, E_TARGET_GPA / r["E_GPa"], UCS_TARGET_MPA / r["ucs_MPa"])
+        return params, steps
+
+    def lab_sheet(self, model: str, params: dict, settings: dict) -> list[dict]:
+        """Per packing: the rock lab's values at `params`."""
+        sheets = []
+        for seed in range(1, self.packings + 1):
+            specimen = self.specimen.model_copy(update=settings | {"seed": seed})
+            strips = specimen.model_copy(update={"brazilian_loading": "strips"})
+            specs = {"ucs": run_spec("ucs", specimen, params, model),
+                     "brazilian": run_spec("brazilian", strips, params, model,
+                                           own={"strip_modulus_gpa": self.strip})}
+            specs |= {s3: run_spec("biaxial", specimen, params, model, own={"confinement_mpa": s3})
+                      for s3 in CONFINEMENTS_MPA}
+            if specimen.grain_shape == "ball":  # the direct-tension test takes balls only
+                specs["direct"] = run_spec("direct_tension", specimen, params, model)
+            r = self.run(specs)
+            ucs = r["ucs"]
+            sigma1 = [ucs["ucs_MPa"]] + [r[s3]["sigma1_MPa"] for s3 in CONFINEMENTS_MPA]
+            fit = envelope_responses([0.0, *CONFINEMENTS_MPA], sigma1)
+            bts = r["brazilian"]["sigma_t_MPa"]
+            direct = r["direct"]["sigma_t_direct_MPa"] if "direct" in r else math.nan
+            sheets.append({"E_GPa": ucs["E_GPa"], "nu": ucs["nu"], "ucs_MPa": ucs["ucs_MPa"],
+                           "phi_deg": fit["phi_deg"], "c_MPa": fit["c_MPa"], "m_i": fit["m_i"],
+                           "hb_r2": fit["hb_r2"], "sigma1_MPa": sigma1, "brazilian_MPa": bts,
+                           "split": r["brazilian"]["split"], "direct_MPa": direct,
+                           "ucs_bts": ucs["ucs_MPa"] / bts, "ucs_dts": ucs["ucs_MPa"] / direct,
+                           "cd_ucs": ucs["cd_ratio"]})
+        return sheets
+
+
+COLUMNS = (("E_GPa", "E (GPa)", 1), ("nu", "ν", 3), ("ucs_MPa", "UCS (MPa)", 1), ("phi_deg", "φ (°)", 1),
+           ("c_MPa", "c (MPa)", 1), ("m_i", "m_i", 1), ("brazilian_MPa", "σ_t Braz. (MPa)", 2),
+           ("ucs_bts", "UCS / σ_t Braz.", 1), ("direct_MPa", "σ_t direct (MPa)", 2), ("ucs_dts", "UCS / σ_t direct", 1),
+           ("cd_ucs", "CD / UCS", 2))
+
+
+def mean_sd(sheets: list[dict], key: str) -> tuple[float, float]:
+    values = np.array([s[key] for s in sheets], float)
+    return float(values.mean()), float(values.std(ddof=1)) if len(values) > 1 else 0.0
+
+
+def markdown(rows: dict) -> str:
+    head = "| variant | " + " | ".join(title for _, title, _ in COLUMNS) + " | splits |"
+    lines = [head, "|" + "---|" * (len(COLUMNS) + 2)]
+    for name, row in rows.items():
+        cells = []
+        for key, _, digits in COLUMNS:
+            mean, sd = mean_sd(row["sheets"], key)
+            cells.append("—" if math.isnan(mean) else f"{mean:.{digits}f} ± {sd:.{digits}f}")
+        splits = sum(s["split"] for s in row["sheets"])
+        lines.append(f"| {name} | " + " | ".join(cells) + f" | {splits:g}/{len(row['sheets'])} |")
+    return "\n".join(lines) + "\n"
+
+
+def figure(rows: dict, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for name, row in rows.items():
+        (x, dx), (y, dy) = mean_sd(row["sheets"], "ucs_bts"), mean_sd(row["sheets"], "m_i")
+        marker = "o" if name.startswith("pb") else "s"
+        ax.errorbar(x, y, xerr=dx, yerr=dy, fmt=marker, capsize=3, label=name)
+    ax.axhspan(29, 35, color="0.9", zorder=0, label="granite m_i 32 ± 3")
+    ax.axvline(23, color="0.5", ls="--", lw=1, label="Lac du Bonnet UCS / σ_t 23")
+    ax.set_xlabel("UCS / Brazilian σ_t")
+    ax.set_ylabel("Hoek–Brown m_i (σ3 0–20 MPa)")
+    ax.legend(fontsize=7, ncol=2)
+    ax.set_title("At the granite's E and UCS: mean ± sd over packings")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--out", type=Path, default=Path("runs/material-study"))
+    parser.add_argument("--rmin-mm", type=float, default=0.5, help="the full size's is 0.25")
+    parser.add_argument("--variants", default=",".join(f"pb-{s}" for s in SHAPES))
+    parser.add_argument("--packings", type=int, default=3)
+    parser.add_argument("--strip-modulus-gpa", type=float, default=0.5)
+    parser.add_argument("--list", action="store_true", help="name the variants and stop")
+    args = parser.parse_args()
+    known = variants()
+    if args.list:
+        print("\n".join(known))
+        return
+    granite, _ = load_campaign(None)
+    specimen = granite.specimen.model_copy(update={"rmin_mm": args.rmin_mm})
+    args.out.mkdir(parents=True, exist_ok=True)
+    study = Study(args.out, specimen, args.strip_modulus_gpa, args.packings)
+    results_path = args.out / "material_study.json"
+    rows = json.loads(results_path.read_text()) if results_path.exists() else {}
+    for name in args.variants.split(","):
+        model, params, settings = known[name]
+        started = time.perf_counter()
+        point, steps = study.at_granite(model, params, settings)
+        sheets = study.lab_sheet(model, point, settings)
+        rows[name] = {"model": model, "settings": settings, "params": point, "scaling": steps,
+                      "sheets": sheets, "wall_s_now": round(time.perf_counter() - started, 1)}
+        results_path.write_text(json.dumps(rows, indent=2))
+        (args.out / "material_study.md").write_text(markdown(rows))
+        print(f"{name}: done in {rows[name]['wall_s_now']} s", flush=True)
+    figure(rows, args.out / "material_study.png")
+    print(markdown(rows))
+
+
+if __name__ == "__main__":
+    main()
