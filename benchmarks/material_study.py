@@ -202,12 +202,14 @@ def main() -> None:
     args.out.mkdir(parents=True, exist_ok=True)
     study = Study(args.out, specimen, args.strip_modulus_gpa, args.packings)
     results_path = args.out / "material_study.json"
-    rows = json.loads(results_path.read_text()) if results_path.exists() else {}
+    rows = {}
     for name in args.variants.split(","):
         model, params, settings = known[name]
         started = time.perf_counter()
         point, steps = study.at_granite(model, params, settings)
         sheets = study.lab_sheet(model, point, settings)
+        # read again: another study may share OUT (its store and its table)
+        rows = json.loads(results_path.read_text()) if results_path.exists() else {}
         rows[name] = {"model": model, "settings": settings, "params": point, "scaling": steps,
                       "sheets": sheets, "wall_s_now": round(time.perf_counter() - started, 1)}
         results_path.write_text(json.dumps(rows, indent=2))
