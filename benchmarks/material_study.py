@@ -115,10 +115,9 @@ class Study:
         sheets = []
         for seed in range(1, self.packings + 1):
             specimen = self.specimen.model_copy(update=settings | {"seed": seed})
-            strips = specimen.model_copy(update={"brazilian_loading": "strips"})
+            strips = specimen.model_copy(update={"brazilian_loading": "strips", "strip_modulus_gpa": self.strip})
             specs = {"ucs": run_spec("ucs", specimen, params, model),
-                     "brazilian": run_spec("brazilian", strips, params, model,
-                                           own={"strip_modulus_gpa": self.strip})}
+                     "brazilian": run_spec("brazilian", strips, params, model)}
             specs |= {s3: run_spec("biaxial", specimen, params, model, own={"confinement_mpa": s3})
                       for s3 in CONFINEMENTS_MPA}
             if specimen.grain_shape == "ball":  # the direct-tension test takes balls only

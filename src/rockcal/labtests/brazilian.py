@@ -45,7 +45,6 @@ from rockcal.labtests.kind import (
     LabTest,
     Outline,
     Response,
-    Setting,
     check_3d_settings,
     check_grain_cloud,
     genesis_of,
@@ -103,7 +102,6 @@ DEFAULT_LOADING = "flat"
 # 2 t E_c (43.3), 17 times softer than a grain-grain contact (t E_c, PFC 3.x/4.0's).
 STRIP_MODULUS_GPA = 1.0
 STRIP_THICKNESS_PER_DIAMETER = 0.01
-MAX_STRIP_MODULUS_GPA = 100.0  # stiffer than any cushion: a strip of steel is the bare platen
 
 
 @dataclass
@@ -269,19 +267,6 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Spec
         peak_cracks=cracks, curve=curve, **run_fields(state, specimen, started))
 
 
-def check_strip_modulus(modulus_gpa) -> None:
-    """A bearing strip's modulus through its thickness: a number in (0, MAX_STRIP_MODULUS_GPA] GPa."""
-    if not (isinstance(modulus_gpa, (int, float)) and not isinstance(modulus_gpa, bool)
-            and 0 < modulus_gpa <= MAX_STRIP_MODULUS_GPA):
-        raise InputError("strip_modulus_gpa", f"must be a number in (0, {MAX_STRIP_MODULUS_GPA:g}] GPa, "
-                                              f"got {modulus_gpa!r}")
-
-
-STRIP = Setting("strip_modulus_gpa", STRIP_MODULUS_GPA, "GPa", check_strip_modulus,
-                "the bearing strips' modulus through their thickness, GPa (brazilian_loading strips: "
-                f"{STRIP_MODULUS_GPA:g}, plywood; a softer cushion spreads the load over more rim grains)")
-
-
 def _check(s: dict) -> None:
     if s["strip_modulus_gpa"] != STRIP_MODULUS_GPA and s["brazilian_loading"] != "strips":
         raise InputError("strip_modulus_gpa", f"{s['strip_modulus_gpa']:g} GPa is a bearing strip's: it acts "
@@ -380,6 +365,5 @@ TEST = LabTest(
     # ("flat", "ball", 2, 1: kind.LATER_SETTINGS) a run's key leaves them out
     settings=("disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "contact_stiffness",
               "brazilian_loading", "grain_shape", "dimensions", "strip_modulus_gpa"),
-    own_settings=(STRIP,),
     check=_check, make=_specimen, run=_run, reading=load_reading, outline=_outline,
     revision=2)  # part of every stored Brazilian run's key: raise it when the test's numbers change

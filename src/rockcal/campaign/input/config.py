@@ -35,6 +35,7 @@ from rockcal.labtests.kind import DIMENSIONS
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
 from rockcal.labtests.ucs import DEFAULT_MAX_AXIAL_STRAIN, DEFAULT_STRAIN, POST_PEAK_FRACTION
+from rockcal.labtests.brazilian import STRIP_MODULUS_GPA
 
 RESPONSES = lab_test(PRIMARY_TEST).targets  # what the primary (UCS) test gives and the calibration can fit
 # Upper bounds on the numbers that decide work or memory. A surrogate solves a dense system of
@@ -104,6 +105,10 @@ class SpecimenSettings(Genesis):
         description="Brazilian test: the disk between flat frictionless platens (flat, FISHTank's), ISRM's curved "
                     "jaws of radius 1.5 x the disk's radius (isrm) or the flat platens with a bearing strip on each, "
                     "plywood 0.01 D thick (strips, ASTM D3967's cushion).")
+    strip_modulus_gpa: float = Field(
+        STRIP_MODULUS_GPA, gt=0, le=100, exclude_if=lambda v: v == STRIP_MODULUS_GPA,
+        description="Brazilian test between strips: the strips' modulus through their thickness, GPa (plywood's, "
+                    "1; a softer cushion spreads the load over more rim grains).")
     grain_shape: Literal[GRAIN_SHAPES] = Field(
         DEFAULT_SHAPE, exclude_if=lambda v: v == DEFAULT_SHAPE,
         description="The grains: balls (ball) or rigid clumps of overlapping pebbles, randomly oriented "
