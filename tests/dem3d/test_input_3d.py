@@ -1,6 +1,6 @@
 """`[specimen] dimensions` and `rockcal simulate ucs --dimensions`: a value other than 2 or 3, a
-3D campaign with a test, material or setting the 3D engine does not have, and a cylinder or a
-Brazilian disk too small for its spheres are refused before any run, in one line naming the key, exit 2. The
+3D campaign with a test (bending, direct tension), material or setting the 3D engine does not
+have, and a cylinder or a Brazilian disk too small for its spheres are refused before any run, in one line naming the key, exit 2. The
 settings whose default differs in 3D take the 3D default unless given.
 
 Every case fails while the input is checked (no genesis, no run): the file is quick."""
@@ -40,7 +40,6 @@ BRAZILIAN = "[targets.brazilian]\nsigma_t_MPa = 10.0"
 OTHER_TESTS = {  # a test with no 3D implementation, and a [targets] section of it
     "bending": "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0",
     "direct_tension": "[targets.direct_tension]\nsigma_t_direct_MPa = 8.0",
-    "biaxial": "[targets.biaxial]\nconfinement_mpa = [0, 5]\nphi_deg = 40.0",
 }
 TINY = ["--width-mm", "7", "--height-mm", "14", "--rmin-mm", "0.5"]
 
@@ -84,9 +83,9 @@ def test_a_test_without_a_3d_implementation_is_refused(cli, tmp_path, test):
     assert calibrate(cli, tmp_path, campaign(OTHER_TESTS[test], dimensions="2")).returncode == 0
 
 
-def test_the_ucs_and_brazilian_tests_alone_have_3d():
+def test_the_ucs_brazilian_and_confined_tests_alone_have_3d():
     assert sorted(name for name, test in LAB_TESTS.items() if "dimensions" in test.settings) == \
-        ["brazilian", "ucs"]
+        ["biaxial", "brazilian", "ucs"]
 
 
 @pytest.mark.parametrize("key, value, flag, words", [

@@ -13,21 +13,33 @@ from rockcal.dem3d.walls import new_walls
 from rockcal.labtests.rig.platens import STRAIN_PER_STEP_PER_ROW
 
 BOTTOM, TOP = 0, 1
+SIDES = (2, 3, 4, 5)  # with side walls: -x, +x, -y, +y, after the platens
 
 
 class Platens3D:
     """A specimen between a bottom and a top platen (walls normal to z) that touch it: the
     engine `state`, the platens' starting heights (m), the `rows` of spheres between them, the
     `chunk` of steps between readings and the loaded `area_m2` (the nominal cross-section).
-    `modulus_pa`: the platens' contact modulus, if not the material's (`wall_modulus_pa`)."""
+    `modulus_pa`: the platens' contact modulus, if not the material's (`wall_modulus_pa`).
+    With `side_walls`, the state has four more walls of that modulus at rest (SIDES: -x, +x,
+    -y, +y) touching the specimen's outermost spheres (a confining vessel, `dem3d.sides`)."""
 
-    def __init__(self, specimen, params, rate_factor: float, modulus_pa: float | None = None):
+    def __init__(self, specimen, params, rate_factor: float, modulus_pa: float | None = None,
+                 side_walls: bool = False):
         pos, radius = specimen.pos, specimen.radius
         self.bottom, self.top = (pos[:, 2] - radius).min(), (pos[:, 2] + radius).max()
         centre = pos.mean(axis=0)
-        walls = new_walls([(centre[0], centre[1], self.bottom), (centre[0], centre[1], self.top)],
-                          [(0, 0, 1), (0, 0, -1)],
-                          wall_modulus_pa(params) if modulus_pa is None else modulus_pa)
+        points, normals = [(centre[0], centre[1], self.bottom), (centre[0], centre[1], self.top)], \
+            [(0, 0, 1), (0, 0, -1)]
+        if side_walls:
+            low, high = (pos - radius[:, None]).min(axis=0), (pos + radius[:, None]).max(axis=0)
+            for a in (0, 1):
+                for at, facing in ((low, 1.0), (high, -1.0)):
+                    point = centre.copy()
+                    point[a] = at[a]
+                    points.append(tuple(point))
+                    normals.append(tuple(facing * np.eye(3)[a]))
+        walls = new_walls(points, normals, wall_modulus_pa(params) if modulus_pa is None else modulus_pa)
         self.state = material_state(params, specimen, walls)
         height = self.top - self.bottom
         self.rows = height / (2 * radius.mean())
@@ -43,7 +55,7 @@ class Platens3D:
 
     def load(self) -> float:
         """The force on the platens (mean of the two), N."""
-        return float(self.state.walls.normal_force().mean())
+        return float(self.state.walls.normal_force()[[BOTTOM, TOP]].mean())
 
     def strain(self) -> float:
         """The axial strain from the platens' separation, shortening positive."""
@@ -54,3 +66,8 @@ class Platens3D:
         """How far the platens have closed in since the start (both together), m."""
         z = self.state.walls.point[:, 2]
         return float((z[BOTTOM] - self.bottom) + (self.top - z[TOP]))
+
+    def zero(self) -> None:
+        """Read strain and closure from the platens' present heights on (after a seating)."""
+        z = self.state.walls.point[:, 2]
+        self.bottom, self.top = float(z[BOTTOM]), float(z[TOP])

@@ -125,3 +125,18 @@ def move_walls(walls, dt):
     for w in range(walls.shape[0]):
         for a in range(3):
             walls[w, Wall.PX + a] += walls[w, Wall.VX + a] * dt
+
+
+@njit(cache=True, error_model="numpy")
+def touching_counts(walls, bodies):
+    """How many spheres (rows of `bodies`) overlap each wall: a servo's N_c."""
+    counts = np.zeros(walls.shape[0], np.int64)
+    for k in range(bodies.shape[0]):
+        r = bodies[k, Sphere.RADIUS]
+        for w in range(walls.shape[0]):
+            gap = -r
+            for a in range(3):
+                gap += (bodies[k, Sphere.X + a] - walls[w, Wall.PX + a]) * walls[w, Wall.NX + a]
+            if gap < 0.0:
+                counts[w] += 1
+    return counts

@@ -10,12 +10,16 @@ the deviatoric stress q = sigma1 - sigma3 (sigma1: the platens' force on the spe
 original width; sigma3: the side walls' mean stress), E and nu secant at half the peak q, the
 peak sigma1, CI and CD (`rockcal.labtests.damage`, in q). At sigma3 = 0 there is nothing to seat
 and the side walls never touch: the test is the UCS test, to the last bit.
+
+With the setting `dimensions` 3 (PFC3D) the test's kind runs the 3D test (`rockcal.dem3d.triaxial`)
+on a square prism of the width's side between platens and four servo-controlled side walls,
+and reads it as this test's result.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -28,14 +32,15 @@ from rockcal.errors import InputError
 from rockcal.labtests import ucs
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
 from rockcal.labtests.envelope import envelope_responses
-from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, SeriesFigure, Setting, series_name
+from rockcal.labtests.kind import (GENESIS, LabTest, Outline, Response, SeriesFigure, Setting, genesis_of, in_3d,
+                                   series_name)
 from rockcal.labtests.lab_values import LabValues
 from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       check_stop_fraction, load_to_failure)
 from rockcal.labtests.result import LabResult, run_fields
 from rockcal.labtests.rig import Gauge, Platens, SideWalls
 from rockcal.labtests.rig.gauge import check_gauges
-from rockcal.materials import BondedParams, as_params
+from rockcal.materials import BondedParams, as_params, material_of
 from rockcal.params import MPa
 
 MAX_CONFINEMENT_MPA = 1000.0
@@ -124,18 +129,7 @@ def simulate_biaxial(params: BondedParams | dict | None = None, specimen: Specim
     seating_steps = 0 if sides is None else sides.seat()
     gauge = Gauge(specimen, state)
     platens.zero()
-    broken = [0]  # bonds broken and sigma3 (MPa) at each reading, from the start of loading
-    confining = [0.0 if sides is None else sides.stress_Pa() / MPa]
-
-    def read() -> Reading:
-        broken.append(state.n_broken())
-        gauge_axial, lateral = gauge.strains()
-        axial = platens.strain() if strain == "platen" else gauge_axial
-        s3 = 0.0 if sides is None else sides.stress_Pa()
-        confining.append(s3 / MPa)
-        q = platens.load() / platens.area_m2 - s3
-        return Reading(q, axial, (axial, lateral, q / 1e6))
-
+    read = ConfinedReadings(platens, gauge, sides, strain)
     loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / ucs.DENSITY_SCALED_SPEED,
                       DISTRIBUTED_DAMAGE)
     state.step, seated_at = 0, state.step  # the loading counts its own steps (its ramp)
@@ -145,25 +139,90 @@ def simulate_biaxial(params: BondedParams | dict | None = None, specimen: Specim
                             control=None if sides is None else sides.update,
                             control_steps=1 if sides is None else sides.steps)
     state.step += seated_at
-    curve = np.column_stack([curve, broken, confining])
-    E_MPa, nu, k = measure.secant_at_half_peak(curve[:, 0], curve[:, 1], curve[:, 2])
-    return BiaxialResult(
-        confinement_MPa=float(confinement_mpa), sigma1_MPa=float(curve[k, 2] + curve[k, 4]),
-        q_MPa=float(curve[k, 2]), E_GPa=E_MPa / 1e3, nu=nu, peak_axial_strain=float(curve[k, 0]),
-        sigma3_MPa=float(curve[1:k + 1, 4].mean()) if k else float(confinement_mpa),
-        seating_steps=seating_steps, curve=curve,
-        **crack_stresses(*curve[:, :4].T).responses, **run_fields(state, specimen, started))
+    curve = read.curve(curve)
+    return BiaxialResult(**confined_readings(curve, confinement_mpa), seating_steps=seating_steps,
+                         curve=curve, **run_fields(state, specimen, started))
 
 
-def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> BiaxialResult:
+class ConfinedReadings:
+    """A confined test's reading after each chunk of its loading (2D or 3D rig alike): q =
+    the `platens`' load over their original area less sigma3, the `sides`' mean stress (None:
+    unconfined, sigma3 = 0), against the axial strain from the `gauge` or the platens
+    (`strain`); and the bonds broken and sigma3 at each reading, from the start of loading."""
+
+    def __init__(self, platens, gauge, sides, strain: str):
+        self.platens, self.gauge, self.sides, self.strain = platens, gauge, sides, strain
+        self.broken = [0]
+        self.confining = [0.0 if sides is None else sides.stress_Pa() / MPa]
+
+    def __call__(self) -> Reading:
+        platens = self.platens
+        self.broken.append(platens.state.n_broken())
+        gauge_axial, lateral = self.gauge.strains()
+        axial = platens.strain() if self.strain == "platen" else gauge_axial
+        s3 = 0.0 if self.sides is None else self.sides.stress_Pa()
+        self.confining.append(s3 / MPa)
+        q = platens.load() / platens.area_m2 - s3
+        return Reading(q, axial, (axial, lateral, q / 1e6))
+
+    def curve(self, samples: np.ndarray) -> np.ndarray:
+        """The test's curve (CURVE_COLUMNS) from `load_to_failure`'s samples."""
+        return np.column_stack([samples, self.broken, self.confining])
+
+
+def confined_readings(curve: np.ndarray, confinement_mpa: float, lateral_strains: int = 1) -> dict:
+    """The responses of a confined test's `curve` (CURVE_COLUMNS) at `confinement_mpa`: E and
+    nu secant at half the peak q, the peak q and sigma1 = q + sigma3 there, the side walls'
+    mean sigma3 up to the peak, CI and CD in q from the volumetric strain axial -
+    `lateral_strains` x lateral (1: 2D's areal strain; 2: a 3D prism's, two lateral strains)."""
+    axial, lateral, q, broken, sigma3 = curve.T
+    E_MPa, nu, k = measure.secant_at_half_peak(axial, lateral, q)
+    return dict(confinement_MPa=float(confinement_mpa), sigma1_MPa=float(q[k] + sigma3[k]),
+                q_MPa=float(q[k]), E_GPa=E_MPa / 1e3, nu=nu, peak_axial_strain=float(axial[k]),
+                sigma3_MPa=float(sigma3[1:k + 1].mean()) if k else float(confinement_mpa),
+                **crack_stresses(axial, lateral_strains * lateral, q, broken).responses)
+
+
+def _run(params: BondedParams, specimen, s: dict, progress) -> BiaxialResult:
+    if in_3d(s):
+        return _run_3d(params, specimen, s, progress)
     return simulate_biaxial(params, specimen, s["confinement_mpa"], strain=s["strain"],
                             stop_fraction=s["stop_fraction"],
                             contact_stiffness=s["contact_stiffness"], progress=progress)
 
 
+def _run_3d(params: BondedParams, specimen, s: dict, progress) -> BiaxialResult:
+    """The 3D test on a square prism (`dem3d.triaxial`), its spheres and cracks seen from the
+    front (x, z) as a 2D run's."""
+    # the 3D engine's kernels: only for a 3D run
+    from rockcal.dem3d.specimen import front_view
+    from rockcal.dem3d.triaxial import simulate_triaxial_3d
+
+    TEST.check_dimensions(3, material_of(params).name)  # before the engine reads its laws
+    r = simulate_triaxial_3d(params, specimen, s["confinement_mpa"], strain=s["strain"],
+                             stop_fraction=s["stop_fraction"], progress=progress)
+    return replace(r, positions=front_view(r.positions),
+                   cracks={mode: front_view(xyz) for mode, xyz in r.cracks.items()})
+
+
 def _check(s: dict) -> None:
-    ucs.TEST.check(s)
+    ucs.TEST.check(s)  # in 3D: the prism's sides and spheres as the UCS cylinder's
     check_confinement(s["confinement_mpa"])
+
+
+def _specimen(s: dict):
+    if in_3d(s):  # a square prism: the cached cuboid packing the UCS cylinder is carved from
+        from rockcal.dem3d.specimen import random_specimen
+
+        return random_specimen("cuboid", s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"],
+                               s["seed"], genesis_of(s))
+    return ucs.TEST.make(s)
+
+
+def _outline(s: dict) -> Outline:
+    shape = "prism {0:g} x {0:g} x {1:g} mm" if in_3d(s) else "{0:g} x {1:g} mm"
+    return Outline(f"biaxial {shape.format(s['width_mm'], s['height_mm'])}, sigma3 {s['confinement_mpa']:g} MPa",
+                   s["width_mm"], s["height_mm"])
 
 
 def envelope(runs: list[dict]) -> dict:
@@ -248,12 +307,12 @@ TEST = LabTest(
                Response("peak_axial_strain", "", target=False),
                Response("sigma3_MPa", "MPa", target=False, label="sigma3 the walls held at peak"),
                *CRACK_RESPONSES),
+    # grain_shape and dimensions last: at their defaults (kind.LATER_SETTINGS) a run's key leaves them out
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
-              "stop_fraction", "contact_stiffness", "confinement_mpa", "grain_shape"),  # last: kind.LATER_SETTINGS
-    check=_check, make=ucs.TEST.make, run=_run,
+              "stop_fraction", "contact_stiffness", "confinement_mpa", "grain_shape", "dimensions"),
+    check=_check, make=_specimen, run=_run,
     reading=lambda strain, q_MPa: f"strain {100 * strain:.3f} %, q {q_MPa:.1f} MPa",
-    outline=lambda s: Outline(f"biaxial {s['width_mm']:g} x {s['height_mm']:g} mm, "
-                              f"sigma3 {s['confinement_mpa']:g} MPa", s["width_mm"], s["height_mm"]),
+    outline=_outline,
     # the full-size granite's confined runs at sigma3 0, 5, 10, 20 MPa took 1.0, 1.8, 1.7 and
     # 2.2 x its UCS run (the seating, and a higher peak further on)
     slower_than_work=1.7,

@@ -174,7 +174,8 @@ class LabTest:
             return
         if "dimensions" not in self.settings:
             raise InputError(self.name, f"the {self.title} test has no 3D implementation: with "
-                                        "dimensions = 3 (PFC3D) a campaign runs the UCS and Brazilian tests")
+                                        "dimensions = 3 (PFC3D) a campaign runs the UCS, Brazilian and "
+                                        "confined (biaxial) tests")
         if model not in MATERIALS_3D:
             raise InputError("model", f"the 3D engine has no {model} material; with dimensions = 3 "
                                       f"(PFC3D) the material is {' or '.join(MATERIALS_3D)}")

@@ -155,7 +155,8 @@ def load_to_failure(loader: Loader, loading: Loading, read: Callable[[], Reading
                     full_speed_past_peak: bool = False,
                     progress: Callable[[float, float], None] | None = None,
                     control: Callable[[], None] | None = None,
-                    control_steps: int = 1) -> np.ndarray:
+                    control_steps: int = 1,
+                    advance_steps: Callable[[object, int], None] = advance) -> np.ndarray:
     """Load the specimen quasi-statically until the test may stop; its curve.
 
     The test configures what differs: its `loader` (the platens, the pin, the grips) moves at
@@ -166,18 +167,19 @@ def load_to_failure(loader: Loader, loading: Loading, read: Callable[[], Reading
     PAST_PEAK_FRACTION of it with bonds broken. progress(first, last value of the sample) is
     called after each chunk. `control()`, a boundary the test servo-controls, is called every
     `control_steps` steps within each chunk (splitting a chunk changes no number). The curve is
-    the samples after a first row of zeros, the specimen unloaded.
+    the samples after a first row of zeros, the specimen unloaded. `advance_steps(state, n)` is
+    the engine's stepping (the 2D engine's, or `rockcal.dem3d.simulate.advance`).
     """
     state, chunk = loader.state, loader.chunk
     samples = []
     while True:
         loader.move(loading.speed(state.step, state.n_broken(), chunk, loading.peak_known))
         if control is None:
-            advance(state, chunk)
+            advance_steps(state, chunk)
         else:
             for done in range(0, chunk, control_steps):
                 control()
-                advance(state, min(control_steps, chunk - done))
+                advance_steps(state, min(control_steps, chunk - done))
         reading = read()
         samples.append(reading.sample)
         loading.update(state.step, reading.load, reading.travel)

@@ -36,6 +36,20 @@ SPEED_LIMIT = 20.0  # x the loading speed (FISHTank's ct_vLimit default)
 OUTWARD = {LEFT: -1.0, RIGHT: 1.0, BOTTOM: -1.0, TOP: 1.0}  # a wall's outward direction
 
 
+def servo_gain(alpha: float, area_m2: float, contacts_N_per_m: float, steps: int, dt: float) -> float:
+    """G = alpha A / (k_n N_c dt_servo), (m/s)/Pa: `contacts_N_per_m` is k_n N_c, the wall's
+    contacts' normal stiffness summed, dt_servo the `steps` time steps `dt` between updates."""
+    return alpha * area_m2 / (contacts_N_per_m * steps * dt)
+
+
+def servo_speed(push: float, integral: float, beta: float, limit: float) -> tuple[float, float]:
+    """A servo wall's outward speed from its proportional term `push` = G (sigma - target)
+    and its `integral` term (m/s), and the integral updated: I += beta push, each capped at
+    `limit`."""
+    integral = float(min(max(integral + beta * push, -limit), limit))  # np.clip's value, cheaper
+    return float(min(max(push + integral, -limit), limit)), integral
+
+
 class WallServo:
     """Some of the four walls of `state` servo-controlled to `target_Pa` (compression
     positive), their speeds updated every `steps` time steps and capped at `limit` (m/s)."""
@@ -61,12 +75,9 @@ class WallServo:
         for w in self.walls:
             length = (at[TOP] - at[BOTTOM]) if w in (LEFT, RIGHT) else (at[RIGHT] - at[LEFT])
             touching = max(1, int(np.count_nonzero(walls.force[:, w])))
-            gain = self.alpha * length * THICKNESS_M / (
-                walls.stiffness * touching * self.steps * self.state.dt)
-            push = gain * (stress[w] - self.target)
-            self.integral[w] = float(np.clip(self.integral[w] + self.beta * push, -self.limit,
-                                             self.limit))
-            speed = float(np.clip(push + self.integral[w], -self.limit, self.limit))
+            push = servo_gain(self.alpha, length * THICKNESS_M, walls.stiffness * touching, self.steps,
+                              self.state.dt) * (stress[w] - self.target)
+            speed, self.integral[w] = servo_speed(push, self.integral[w], self.beta, self.limit)
             walls.vel[w] = OUTWARD[w] * speed
 
     def hold(self) -> None:

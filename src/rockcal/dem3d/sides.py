@@ -1,0 +1,123 @@
+"""Four side walls confining a 3D prism between its platens at a stress sigma3 (a polyaxial
+vessel with sigma2 = sigma3, FISHTank's compression test with a confining pressure in PFC3D):
+the 2D rig's side walls (`rockcal.labtests.rig.sides`) on the four lateral faces.
+
+The servo is the 2D rig's law (`rockcal.labtests.rig.servo`: velocity G (sigma - sigma3) plus
+an integral term, G = alpha A / (k_n N_c dt_servo), updated every STEPS steps, capped at
+SPEED_LIMIT x the platens' speed) with a wall's stress its normal force over its current face:
+a side wall's face is the other pair of side walls' span times the platens' span, a platen's
+the two spans of the side walls, so a face shrinks or grows as the other walls move. k_n is a
+wall contact's pi E R at the mean radius and N_c the spheres touching the wall now.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rockcal.dem3d.platens import BOTTOM, SIDES, TOP, Platens3D
+from rockcal.dem3d.simulate import advance
+from rockcal.dem3d.walls import Wall, touching_counts
+from rockcal.labtests.result import RunFailed
+from rockcal.labtests.rig.servo import (
+    ALPHA,
+    BETA,
+    SPEED_LIMIT,
+    STEPS,
+    servo_gain,
+    servo_speed,
+)
+from rockcal.labtests.rig.sides import (
+    EQUILIBRIUM_RATIO,
+    SEATING_ROUNDS,
+    SEATING_TOLERANCE,
+)
+from rockcal.params import MPa
+
+
+class WallServo3D:
+    """Some walls of `state` servo-controlled to `target_Pa` (compression positive), their
+    speeds along their normals updated every `steps` time steps and capped at `limit` (m/s)."""
+
+    def __init__(self, state, walls: tuple[int, ...], target_Pa: float, limit: float,
+                 steps: int = STEPS):
+        self.state, self.walls, self.target, self.limit, self.steps = state, walls, target_Pa, limit, steps
+        self.integral = {w: 0.0 for w in walls}
+        self.kn = np.pi * state.walls.table[0, Wall.MODULUS] * float(state.spheres.radius.mean())
+
+    def faces(self) -> np.ndarray:
+        """Each wall's present face (bottom, top, -x, +x, -y, +y), m²: the product of the
+        vessel's two spans across its normal, between the other walls."""
+        at = self.state.walls.point
+        x, y = float(at[SIDES[1], 0] - at[SIDES[0], 0]), float(at[SIDES[3], 1] - at[SIDES[2], 1])
+        z = float(at[TOP, 2] - at[BOTTOM, 2])
+        return np.array([x * y, x * y, y * z, y * z, x * z, x * z])
+
+    def stresses(self) -> np.ndarray:
+        """Each wall's normal stress (bottom, top, -x, +x, -y, +y), Pa: its normal force over
+        its present face."""
+        return self.state.walls.normal_force() / self.faces()
+
+    def update(self) -> None:
+        """Set the servo walls' speeds from the stresses they bear now."""
+        walls, faces = self.state.walls, self.faces()
+        stress = walls.normal_force() / faces
+        touching = touching_counts(walls.table, self.state.spheres.bodies)
+        for w in self.walls:
+            push = servo_gain(ALPHA, float(faces[w]), self.kn * max(1, int(touching[w])), self.steps,
+                              self.state.dt) * (float(stress[w]) - self.target)
+            speed, self.integral[w] = servo_speed(push, self.integral[w], BETA, self.limit)
+            walls.vel[w] = -speed * walls.normal[w]  # outward: against the normal, which faces in
+
+    def hold(self) -> None:
+        """Stop the servo walls."""
+        for w in self.walls:
+            self.state.walls.vel[w] = 0.0
+            self.integral[w] = 0.0
+
+
+class SideWalls3D:
+    """The four side walls of `platens` (built with `side_walls`), servo-controlled to
+    `target_Pa` at speeds up to SPEED_LIMIT x the platens' full speed; `steps` time steps
+    between the servo's updates."""
+
+    def __init__(self, platens: Platens3D, specimen, target_Pa: float):
+        self.state = platens.state
+        self.limit = SPEED_LIMIT * platens.speed
+        self.grain_diameter = 2 * float(specimen.radius.mean())
+        self.servo = WallServo3D(self.state, SIDES, target_Pa, self.limit)
+        self.steps = self.servo.steps
+
+    def seat(self) -> int:
+        """Servo all six walls to sigma3 until equilibrium (each wall within SEATING_TOLERANCE
+        of it, the mean unbalanced force below EQUILIBRIUM_RATIO x sigma3 x the mean sphere
+        diameter squared) and stop them; the steps it took."""
+        state = self.state
+        servo = WallServo3D(state, (BOTTOM, TOP, *SIDES), self.servo.target, self.limit)
+        scale = servo.target * self.grain_diameter**2
+        free = state.spheres.inv_mass > 0
+        start = state.step
+        for _ in range(SEATING_ROUNDS):
+            servo.update()
+            advance(state, servo.steps)
+            off = np.abs(servo.stresses() / servo.target - 1.0)
+            if off.max() < SEATING_TOLERANCE:
+                unbalanced = np.linalg.norm(state.spheres.force[free], axis=1).mean()
+                if unbalanced < EQUILIBRIUM_RATIO * scale:
+                    servo.hold()
+                    return state.step - start
+        raise RunFailed(f"the prism did not settle at the confinement of {servo.target / MPa:g} MPa in "
+                        f"{state.step - start} steps (the servo-controlled walls could not bring it to "
+                        "equilibrium): a confinement near the spheres' stiffness or the bonds' strength "
+                        "crushes the specimen; try another confinement, or a larger specimen")
+
+    def update(self) -> None:
+        """Set the side walls' speeds from the stresses they bear now."""
+        self.servo.update()
+
+    def stresses_Pa(self) -> np.ndarray:
+        """Each side wall's normal stress (-x, +x, -y, +y), Pa."""
+        return self.servo.stresses()[list(SIDES)]
+
+    def stress_Pa(self) -> float:
+        """sigma3: the side walls' mean normal stress, Pa."""
+        return float(self.stresses_Pa().mean())
