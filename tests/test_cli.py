@@ -95,6 +95,15 @@ def test_simulate_ucs_with_the_flat_jointed_material(rockcal):
     assert summary["ucs_MPa"] > 0 and summary["n_broken_tension"] > 0
 
 
+def test_simulate_direct_tension_with_two_pebble_grains(rockcal):
+    run = rockcal("simulate", "direct-tension", "--grain-shape", "two-pebble", "--width-mm", "10",
+                  "--height-mm", "20", "--rmin-mm", "0.5", "--radius-ratio", "1.25", "--json")
+    assert run.returncode == 0, run.stderr
+    summary = json.loads(run.stdout)
+    assert summary["n_particles"] == 2 * summary["n_grains"]
+    assert "two-pebble clumps" in summary["specimen"] and summary["sigma_t_direct_MPa"] > 0
+
+
 @pytest.mark.parametrize("test, args, flag", [
     ("bending", ["--length-mm", "2"], "--length-mm"),  # too short for its particles
     ("bending", ["--span-mm", "300"], "--span-mm"),

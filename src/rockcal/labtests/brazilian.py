@@ -268,10 +268,10 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Spec
 
 
 def _check(s: dict) -> None:
-    if s["strip_modulus_gpa"] != STRIP_MODULUS_GPA and s["brazilian_loading"] != "strips":
-        raise InputError("strip_modulus_gpa", f"{s['strip_modulus_gpa']:g} GPa is a bearing strip's: it acts "
-                                              f"only with brazilian_loading = \"strips\", got "
-                                              f"{s['brazilian_loading']!r}")
+    strip, loading = s.get("strip_modulus_gpa", STRIP_MODULUS_GPA), s.get("brazilian_loading", DEFAULT_LOADING)
+    if strip != STRIP_MODULUS_GPA and loading != "strips":
+        raise InputError("strip_modulus_gpa", f"{strip:g} GPa is a bearing strip's: it acts only with "
+                                              f"brazilian_loading = \"strips\", got {loading!r}")
     if in_3d(s):
         return _check_3d(s)
     with fields_named({"diameter_mm": "disk_diameter_mm"}):

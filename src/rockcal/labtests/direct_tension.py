@@ -1,6 +1,8 @@
 """Virtual direct tension of a prism held by rigid grips, as FISHTank's direct-tension test
 (`tt.fis`): the grains whose centres lie within a grip length of either end are the grips
-(`rockcal.labtests.rig.grips`), pulled apart at a quasi-static speed.
+(`rockcal.labtests.rig.grips`), pulled apart at a quasi-static speed. Its grains are balls or
+rigid clumps (`grain_shape`, the UCS test's specimen): a clump whose centroid lies in a grip
+is gripped whole and translates with it, as FISHTank's test grips a clumped material.
 
 Gripped ends rather than a dog-bone: the lab's direct tension test glues end caps to a plain
 cylinder or prism (ISRM 1978 suggested method), which the rigid grips are; a dog-bone must be
@@ -25,6 +27,7 @@ from typing import Callable
 
 import numpy as np
 
+from rockcal.dem.carving import grains
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
@@ -79,14 +82,15 @@ def simulate_direct_tension(params: BondedParams | dict | None = None,
                             contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
                             progress: Callable[[float, float], None] | None = None
                             ) -> DirectTensionResult:
-    """Pull the prism apart; defaults: granite parameters on the UCS test's 50 x 100 mm prism.
-    progress(axial strain, stress MPa) is called as the test goes."""
+    """Pull the prism apart; defaults: granite parameters on the UCS test's 50 x 100 mm prism
+    of balls (a clumped specimen's clumps are gripped whole, `rig.grips`). progress(axial
+    strain, stress MPa) is called as the test goes."""
     started = time.perf_counter()
     params = as_params(params)
     check_grip(grip_fraction)
     check_max_strain(max_strain)
     specimen = specimen or random_packing(50.0, 100.0)
-    check_grip_rows(grip_fraction, 1e3 * specimen.height_m, 2e3 * float(specimen.radius.mean()))
+    check_grip_rows(grip_fraction, 1e3 * specimen.height_m, 2e3 * float(grains(specimen)[1].mean()))
     grips = Grips(specimen, params, grip_fraction, ucs.DENSITY_SCALED_SPEED * rate_factor,
                   contact_stiffness)
     state = grips.state
@@ -132,7 +136,8 @@ TEST = LabTest(
                Response("P_max_kN_per_m", "kN/m", target=False, label="peak load"),
                Response("peak_axial_strain", "", target=False, label="axial strain at peak")),
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS,
-              "grip_fraction", "contact_stiffness"),
+              "grip_fraction", "contact_stiffness",
+              "grain_shape"),  # grain_shape last: at its default (kind.LATER_SETTINGS) out of a run's key
     check=_check, make=ucs.TEST.make, run=_run,
     reading=lambda strain, stress_MPa: f"strain {100 * strain:.4f} %, {stress_MPa:.2f} MPa",
     outline=lambda s: Outline(f"direct tension {s['width_mm']:g} x {s['height_mm']:g} mm",

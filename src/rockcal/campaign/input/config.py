@@ -113,8 +113,8 @@ class SpecimenSettings(Genesis):
         DEFAULT_SHAPE, exclude_if=lambda v: v == DEFAULT_SHAPE,
         description="The grains: balls (ball) or rigid clumps of overlapping pebbles, randomly oriented "
                     "(two-pebble, three-pebble, cloud: four pebbles of random sizes; FISHTank's clumped materials, "
-                    "PFC's clump templates), sized by the radius of a disk of their area. UCS, confined "
-                    "compression, Brazilian and bending tests (the direct tension test is on balls).")
+                    "PFC's clump templates), sized by the radius of a disk of their area; every 2D test "
+                    "takes them (the direct tension test's grips hold a clump whole by its centroid).")
     dimensions: int = Field(
         2, exclude_if=lambda v: v == 2,
         description="2: PFC2D's disks; 3: PFC3D's spheres, the UCS test on a cylinder of width_mm as diameter "

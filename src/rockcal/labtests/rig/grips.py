@@ -2,12 +2,21 @@
 whose centres lie within a grip length of either end are the grips (their velocities prescribed,
 their spin held at zero, as PFC's `ball fix velocity spin`). They open at the platens' strain
 rate (`rockcal.labtests.rig.platens`) over the free length between them.
+
+Of a clumped specimen the grains are the clumps, judged at their centroids (as `dem.carving`
+judges them): a clump is gripped whole when its centroid lies in a grip, and then moves with
+the grip as a gripped ball does, translating without turning (a driven clump of
+`dem.clump_motion`, its body's velocity prescribed, its spin zero). The centroid, not any
+pebble: the grip then holds the same share of the prism as for balls of the same equivalent
+sizes, and a clump that only reaches into the grip with a pebble is left free, as a ball whose
+centre lies outside it is.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from rockcal.dem.carving import grains, of_particles
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M
 from rockcal.dem.specimen import Specimen
 from rockcal.labtests.rig.platens import STRAIN_PER_STEP_PER_ROW
@@ -15,25 +24,37 @@ from rockcal.materials import new_state
 
 
 def grip_grains(specimen: Specimen, grip_fraction: float) -> tuple[np.ndarray, np.ndarray]:
-    """The grains of the bottom and top grips: centres within grip_fraction x height of the
-    prism's ends."""
-    y = specimen.pos[:, 1]
+    """The grains (balls, or clumps in their order) of the bottom and top grips: centres (a
+    clump's centroid) within grip_fraction x height of the prism's ends."""
+    y = grains(specimen)[0][:, 1]
     grip = grip_fraction * specimen.height_m
     return np.flatnonzero(y < y.min() + grip), np.flatnonzero(y > y.max() - grip)
 
 
+def particles_of(specimen: Specimen, grain_indices: np.ndarray) -> np.ndarray:
+    """The particles of some grains, in increasing order: the balls, or every pebble of the
+    clumps."""
+    mask = np.zeros(specimen.n_grains, bool)
+    mask[grain_indices] = True
+    return np.flatnonzero(of_particles(specimen, mask))
+
+
 class Grips:
     """The grips of `grip_fraction` x the height at each end of `specimen`: the engine `state`,
-    the grains of the `bottom` and `top` grips, the `free_length_m` and `rows` of grains between
-    them, the `chunk` of steps between readings and the prism's loaded `area_m2` (width x
-    thickness)."""
+    the grains of the `bottom` and `top` grips (`grip_grains`), their particles
+    (`bottom_particles`, `top_particles`: a clump's pebbles), the `free_length_m` and `rows` of
+    grains between them, the `chunk` of steps between readings and the prism's loaded `area_m2`
+    (width x thickness)."""
 
     def __init__(self, specimen: Specimen, params, grip_fraction: float, rate_factor: float,
                  contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS):
         self.bottom, self.top = grip_grains(specimen, grip_fraction)
-        self.state = new_state(params, specimen, driven=np.concatenate([self.bottom, self.top]),
+        self.bottom_particles = particles_of(specimen, self.bottom)
+        self.top_particles = particles_of(specimen, self.top)
+        self.state = new_state(params, specimen,
+                               driven=np.concatenate([self.bottom_particles, self.top_particles]),
                                contact_stiffness=contact_stiffness)
-        y = self.state.particles.pos[:, 1]
+        y = self._grain_centres()[:, 1]
         self.free_length_m = free_length = (y[self.top].min() - y[self.bottom].max())
         self.rows = free_length / (2 * specimen.radius.mean())
         self.speed = (0.5 * rate_factor * STRAIN_PER_STEP_PER_ROW / self.rows * free_length
@@ -42,22 +63,32 @@ class Grips:
         self.area_m2 = specimen.width_m * THICKNESS_M
         self.opening0 = self._opening()
 
+    def _grain_centres(self) -> np.ndarray:
+        """Each grain's centre now, m: a ball's, a clump's centroid (its body's)."""
+        clumps = self.state.clumps
+        return self.state.particles.pos if clumps is None else clumps.pos
+
     def _opening(self) -> float:
         """The height between the first grain of each grip, m."""
-        y = self.state.particles.pos[:, 1]
+        y = self._grain_centres()[:, 1]
         return y[self.top[0]] - y[self.bottom[0]]
 
     def move(self, factor: float) -> None:
-        """Pull the grips apart at `factor` x the full speed."""
-        vel = self.state.particles.vel
+        """Pull the grips apart at `factor` x the full speed: a gripped clump's body and then
+        its pebbles (`Clumps.carry_pebbles`), as a gripped ball."""
+        clumps = self.state.clumps
+        vel = self.state.particles.vel if clumps is None else clumps.vel
         vel[self.bottom, 1] = -self.speed * factor
         vel[self.top, 1] = self.speed * factor
+        if clumps is not None:
+            clumps.carry_pebbles(self.state.particles)
 
     def load(self) -> float:
         """The force the prism pulls each grip back with (mean of the two), N per m of thickness,
-        tension positive."""
+        tension positive: summed over the grips' particles (the forces between a grip's own
+        grains cancel in the sum; pebbles of one clump bear none on each other)."""
         force = self.state.particles.force
-        return 0.5 * (force[self.bottom, 1].sum() - force[self.top, 1].sum())
+        return 0.5 * (force[self.bottom_particles, 1].sum() - force[self.top_particles, 1].sum())
 
     def strain(self) -> float:
         """The grips' opening over the free length between them."""
