@@ -12,7 +12,7 @@ the study
    of strength to stiffness; forces, slip and breakage follow), so the dimensionless ratios
    below are the variant's own, not those of where it started;
 2. runs, on packings 1-3: the UCS test, confined compression at 5, 10 and 20 MPa, the
-   Brazilian test between bearing strips (`--strip-modulus-gpa`) and, on balls, direct tension;
+   Brazilian test between bearing strips (`--strip-modulus-gpa`) and direct tension;
 3. reads per packing m_i and the Mohr-Coulomb phi and c through the four peaks (sigma3 0, 5,
    10, 20 MPa), UCS / Brazilian, UCS / direct and CD / UCS, and gives their mean and sd.
 
@@ -120,14 +120,13 @@ class Study:
                      "brazilian": run_spec("brazilian", strips, params, model)}
             specs |= {s3: run_spec("biaxial", specimen, params, model, own={"confinement_mpa": s3})
                       for s3 in CONFINEMENTS_MPA}
-            if specimen.grain_shape == "ball":  # the direct-tension test takes balls only
-                specs["direct"] = run_spec("direct_tension", specimen, params, model)
+            specs["direct"] = run_spec("direct_tension", specimen, params, model)
             r = self.run(specs)
             ucs = r["ucs"]
             sigma1 = [ucs["ucs_MPa"]] + [r[s3]["sigma1_MPa"] for s3 in CONFINEMENTS_MPA]
             fit = envelope_responses([0.0, *CONFINEMENTS_MPA], sigma1)
             bts = r["brazilian"]["sigma_t_MPa"]
-            direct = r["direct"]["sigma_t_direct_MPa"] if "direct" in r else math.nan
+            direct = r["direct"]["sigma_t_direct_MPa"]
             sheets.append({"E_GPa": ucs["E_GPa"], "nu": ucs["nu"], "ucs_MPa": ucs["ucs_MPa"],
                            "phi_deg": fit["phi_deg"], "c_MPa": fit["c_MPa"], "m_i": fit["m_i"],
                            "hb_r2": fit["hb_r2"], "sigma1_MPa": sigma1, "brazilian_MPa": bts,
