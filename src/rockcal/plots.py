@@ -20,7 +20,11 @@ def crack_pattern(positions, radius, cracks: dict, path: Path, title: str, rig=(
                   axes: tuple[str, str] = ("x", "y")) -> None:
     """The specimen's disks in grey with broken bonds: tension red, shear blue; `rig`: circles
     (x, y, radius; m) of the loading rig (a beam's pin and supports), drawn dark; `axes`: the
-    coordinates drawn (a 3D specimen's front view: x and z)."""
+    coordinates drawn (a 3D specimen's front view: x and z). 3D positions, (n, 3), are drawn
+    from the front (x, z); `crack_planes` draws them on three planes."""
+    if np.shape(positions)[1] == 3:
+        positions, cracks, axes = plane_view(positions, "xz"), {
+            mode: plane_view(xyz, "xz") for mode, xyz in cracks.items()}, ("x", "z")
     width_m = positions[:, 0].max() - positions[:, 0].min()
     height_m = positions[:, 1].max() - positions[:, 1].min()
     fig, ax = plt.subplots(figsize=_specimen_figsize(width_m, height_m))
@@ -31,7 +35,7 @@ def crack_pattern(positions, radius, cracks: dict, path: Path, title: str, rig=(
     ax.add_collection(disks)
     for x, y, r in rig:
         ax.add_patch(plt.Circle((1e3 * x, 1e3 * y), 1e3 * r, facecolor="0.35", edgecolor="0.1"))
-    for mode, colour in (("tension", "tab:red"), ("shear", "tab:blue")):
+    for mode, colour in CRACK_COLOURS:
         xy = cracks[mode] * 1e3
         ax.plot(xy[:, 0], xy[:, 1], "o", ms=2, color=colour, label=f"{mode} ({len(xy)})")
     ax.set_aspect("equal")
@@ -41,6 +45,77 @@ def crack_pattern(positions, radius, cracks: dict, path: Path, title: str, rig=(
     ax.set_title(title)
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
     _save(fig, path)
+
+
+CRACK_COLOURS = (("tension", "tab:red"), ("shear", "tab:blue"))
+AXIS = {"x": 0, "y": 1, "z": 2}
+# A 3D specimen's views as in a third-angle drawing: the top above the front, the side to its
+# right; each (name, plane: the coordinate across, the one up, its place in a 2 x 2 grid)
+VIEWS = (("front", "xz", (1, 0)), ("side", "yz", (1, 1)), ("top", "xy", (0, 0)))
+ROUND_IN = {"cylinder": "xy", "disk": "xz"}  # the plane each round shape is a circle in
+# Seen through the specimen's depth the cracks crowd: the many tension cracks small and
+# see-through, so that where they gather shows, the few shear cracks opaque over them
+PLANE_MARKERS = {"tension": dict(ms=1.5, alpha=0.5), "shear": dict(ms=2)}
+
+
+def plane_view(xyz, plane: str) -> np.ndarray:
+    """3D positions (n, 3) projected on `plane` ("xz", "yz" or "xy"): (n, 2), the first
+    coordinate named across, the second up."""
+    return np.asarray(xyz, float)[:, [AXIS[plane[0]], AXIS[plane[1]]]]
+
+
+def outline(shape: str, size_m, plane: str):
+    """A 3D specimen's outline on `plane` in mm (`dem3d.specimen.Specimen3D`: its `shape` fills
+    the box [0, size] in x, y and z): a circle where the shape is round, else a rectangle."""
+    across, up = (1e3 * size_m[AXIS[c]] for c in plane)
+    style = dict(fill=False, edgecolor="0.3", linewidth=1.0)
+    if ROUND_IN.get(shape) == plane:
+        return plt.Circle((across / 2, up / 2), across / 2, **style)
+    return plt.Rectangle((0, 0), across, up, **style)
+
+
+def crack_planes(cracks: dict, shape: str, size_m, path: Path, title: str) -> None:
+    """A 3D specimen's broken bonds, (n, 3) m by mode, projected on the front (x-z), side (y-z)
+    and top (x-y) planes, tension red, shear blue, within the specimen's outline on each
+    (`crack_planes_figure`)."""
+    _save(crack_planes_figure(cracks, shape, size_m, title), path)
+
+
+def crack_planes_figure(cracks: dict, shape: str, size_m, title: str):
+    """`crack_planes`' figure: three panels at one scale in mm, the top above the front and the
+    side to its right, the legend in the fourth corner. The spheres are not drawn: seen through
+    the specimen they fill its outline evenly and hide the cracks."""
+    sx, sy, sz = (1e3 * s for s in size_m)
+    margin = 0.06 * max(sx, sy, sz)
+    across, up = sx + sy + 4 * margin, sy + sz + 4 * margin
+    inch_per_mm = min(7.0 / across, 7.5 / up)
+    fig = plt.figure(figsize=(inch_per_mm * across + 1.6, inch_per_mm * up + 1.6))
+    grid = fig.add_gridspec(2, 2, width_ratios=(sx + 2 * margin, sy + 2 * margin),
+                            height_ratios=(sy + 2 * margin, sz + 2 * margin))
+    for name, plane, (row, column) in VIEWS:
+        ax = fig.add_subplot(grid[row, column])
+        _crack_view(ax, cracks, shape, size_m, plane, margin)
+        ax.set_title(f"{name} ({plane[0]}–{plane[1]})", fontsize=9)
+    legend = fig.add_subplot(grid[0, 1])
+    legend.axis("off")
+    legend.legend(*fig.axes[0].get_legend_handles_labels(), loc="center", fontsize=8, frameon=False,
+                  markerscale=3)
+    fig.suptitle(title)
+    return fig
+
+
+def _crack_view(ax, cracks: dict, shape: str, size_m, plane: str, margin_mm: float) -> None:
+    """One panel of `crack_planes_figure`: the cracks on `plane`, the outline, axes in mm."""
+    ax.add_patch(outline(shape, size_m, plane))
+    for mode, colour in CRACK_COLOURS:
+        xy = plane_view(cracks[mode], plane) * 1e3
+        ax.plot(xy[:, 0], xy[:, 1], "o", color=colour, label=f"{mode} ({len(xy)})", **PLANE_MARKERS[mode])
+    across, up = (1e3 * size_m[AXIS[c]] for c in plane)
+    ax.set_xlim(-margin_mm, across + margin_mm)
+    ax.set_ylim(-margin_mm, up + margin_mm)
+    ax.set_aspect("equal")
+    ax.set_xlabel(f"{plane[0]} (mm)")
+    ax.set_ylabel(f"{plane[1]} (mm)")
 
 
 def _specimen_figsize(width_m: float, height_m: float) -> tuple[float, float]:

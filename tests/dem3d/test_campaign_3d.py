@@ -16,7 +16,7 @@ from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.pool import Executor, execute
 from rockcal.campaign.runs.spec import ENGINE, RunSpec, run_spec
 from rockcal.campaign.runs.store import RunStore
-from rockcal.dem3d.specimen import Specimen3D, front_view
+from rockcal.dem3d.specimen import Specimen3D
 from rockcal.dem3d.ucs import simulate_ucs_3d
 from rockcal.labtests.kind import LATER_SETTINGS, all_settings
 from rockcal.labtests.settings import specimen_settings
@@ -95,11 +95,11 @@ def test_the_ucs_kind_runs_the_3d_test_on_a_cylinder(cylinder_settings):
     direct = simulate_ucs_3d(PARAMS, specimen)
     assert (result.E_GPa, result.nu, result.ucs_MPa) == (direct.E_GPa, direct.nu, direct.ucs_MPa)
     assert result.n_particles == specimen.n_spheres
-    # spheres and cracks seen from the front, as a 2D run's
-    assert np.array_equal(result.positions, front_view(direct.positions))
-    broken = {mode: len(xy) for mode, xy in result.cracks.items()}
+    # spheres and cracks in 3D, as the engine gave them
+    assert np.array_equal(result.positions, direct.positions)
+    broken = {mode: len(xyz) for mode, xyz in result.cracks.items()}
     assert broken == {"tension": result.n_broken_tension, "shear": result.n_broken_shear}
-    assert all(xy.shape[1] == 2 for xy in result.cracks.values())
+    assert all(xyz.shape[1] == 3 for xyz in result.cracks.values())
     # CD at the reversal of the cylinder's volumetric strain, axial - 2 lateral, before the peak
     axial, lateral, stress, _ = result.curve.T
     peak = int(np.argmax(stress))
@@ -107,8 +107,18 @@ def test_the_ucs_kind_runs_the_3d_test_on_a_cylinder(cylinder_settings):
     assert result.cd_MPa == stress[int(np.argmax(volumetric))]
 
 
+def drawn_by(monkeypatch, name: str) -> list:
+    """The calls (arguments) of `rockcal.plots.<name>` from now on, each still drawn."""
+    from rockcal import plots
+
+    calls, draw = [], getattr(plots, name)
+    monkeypatch.setattr(plots, name, lambda *args, **kwargs: calls.append(args) or draw(*args, **kwargs))
+    return calls
+
+
 @pytest.mark.slow  # a genesis (cached) and one run through the command
-def test_simulate_ucs_in_3d_runs_the_cylinder(cli, tmp_path, cylinder_settings):
+def test_simulate_ucs_in_3d_runs_the_cylinder(cli, tmp_path, cylinder_settings, monkeypatch):
+    planes = drawn_by(monkeypatch, "crack_planes")
     run = cli("simulate", "ucs", "--dimensions", "3", "--width-mm", "7", "--height-mm", "14",
               "--rmin-mm", "0.5", *[f"--set={k}={v}" for k, v in PARAMS.items()], "--json",
               "--out", tmp_path)
@@ -119,6 +129,11 @@ def test_simulate_ucs_in_3d_runs_the_cylinder(cli, tmp_path, cylinder_settings):
     assert summary["contact_stiffness"] == "pfc5" and summary["specimen"].startswith("cylinder 7x14 mm")
     assert summary["ucs_MPa"] == pytest.approx(simulate_ucs_3d(PARAMS, specimen).ucs_MPa, rel=1e-12)
     assert (tmp_path / "ucs_cracks.png").stat().st_size > 0
+    # its crack picture: the cylinder's cracks in 3D on three planes
+    (cracks, shape, size_m, path, _), = planes
+    assert (shape, path.name) == ("cylinder", "ucs_cracks.png") and size_m == specimen.size_m
+    assert sum(len(xyz) for xyz in cracks.values()) == summary["n_broken_tension"] + summary["n_broken_shear"]
+    assert all(xyz.shape[1] == 3 for xyz in cracks.values())
 
 
 @pytest.mark.slow  # a campaign of 14 small 3D runs: about 10 s
@@ -164,16 +179,23 @@ def test_a_3d_twin_recovers_its_modulus_stiffness_ratio_and_strength(tmp_path):
 
 
 @pytest.mark.slow  # a command-line campaign of 14 small 3D runs and its exports: about 20 s
-def test_a_3d_calibration_exports_pfc3ds_parameter_file_and_its_spheres(cli, tmp_path):
+def test_a_3d_calibration_exports_pfc3ds_parameter_file_and_its_spheres(cli, tmp_path, monkeypatch):
     """`rockcal export` of a 3D calibration writes PFC3D's mpParams.p3dat (the identified
     parameters read back), a PFC Python script is refused in one line, and `export-specimen`
-    lists the cylinder's spheres with their z and its bonds."""
+    lists the cylinder's spheres with their z and its bonds. Its report shows the UCS run's
+    cracks at the identified point on three planes."""
+    planes = drawn_by(monkeypatch, "crack_planes")
     text = CAMPAIGN.format(E_GPa=30.0, nu=0.16, ucs_MPa=110.0, sensitivity=SENSITIVITY, samples=8,
                            checks=1, tolerance=0.05, budget=14) + "[uncertainty]\ndraws = 10\n"
     (tmp_path / "rock.toml").write_text(text)
     done = cli("calibrate", tmp_path / "rock.toml", "--out", tmp_path / "out", "--workers", "1", "--json")
     assert done.returncode == 0, done.stderr
     identified = json.loads(done.stdout)["identified"]
+    (cracks, shape, _, path, _), = planes
+    assert shape == "cylinder" and path == tmp_path / "out" / "cracks_ucs.png"
+    assert all(xyz.shape[1] == 3 for xyz in cracks.values())
+    report = (tmp_path / "out" / "report.html").read_text()
+    assert "<h2>Crack pattern, UCS</h2><figure><img" in report
 
     fish = cli("export", tmp_path / "out")
     assert fish.returncode == 0, fish.stderr
@@ -211,7 +233,7 @@ DISK = {"dimensions": 3, "disk_diameter_mm": 14.0, "rmin_mm": 0.5, "brazilian_lo
 def test_the_brazilian_kind_runs_the_3d_test_on_a_disk():
     """The Brazilian kind in 3D is `simulate_brazilian_3d` on a disk D x D/2, read as the 2D
     test's result: sigma_t and the split as they are, the load per metre of its thickness, the
-    spheres and cracks seen from the front; a 3D run is keyed by its dimensions."""
+    spheres and cracks in 3D; a 3D run is keyed by its dimensions."""
     from rockcal.dem3d.brazilian import simulate_brazilian_3d
     from rockcal.labtests.brazilian import TEST as BRAZILIAN
 
@@ -223,6 +245,6 @@ def test_the_brazilian_kind_runs_the_3d_test_on_a_disk():
     assert result.sigma_t_MPa == alone.sigma_t_MPa and result.split == alone.split
     assert result.P_max_kN_per_m == pytest.approx(alone.P_max_kN / disk.size_m[1], rel=1e-12)
     assert result.sigma_t_MPa == pytest.approx(2e-3 * result.P_max_kN_per_m / (np.pi * disk.size_m[0]), rel=1e-12)
-    assert result.positions.shape == (disk.n_spheres, 2)
+    assert result.positions.shape == (disk.n_spheres, 3)
     assert sum(len(c) for c in result.cracks.values()) == result.n_broken_tension + result.n_broken_shear
     assert dict(run_spec("brazilian", SpecimenSettings(**DISK), PARAMS).specimen)["dimensions"] == 3

@@ -184,7 +184,8 @@ def _on_packings(test, params, settings, packing, seeds, run, as_json, out, name
         per_seed.append(result.summary() | specimen.description() | _clumps(specimen) | run
                         | {"specimen": specimen.label, "seed": seed})
         if out is not None:
-            write_outputs(out, test, result, per_seed[-1], name if seeds == 1 else f"{name}_seed{seed}")
+            write_outputs(out, test, result, specimen, per_seed[-1],
+                          name if seeds == 1 else f"{name}_seed{seed}")
     summary = per_seed[0] if seeds == 1 else _over_seeds(per_seed, settings["seed"], run)
     if out is not None and seeds > 1:
         _write_text(out / f"{name}_summary.json", json_text(summary, indent=2))
@@ -236,9 +237,10 @@ def _over_seeds(per_seed: list[dict], seed: int, run: dict) -> dict:
         "specimen": specimen, "seeds": seed_list(seed, count), "per_seed": per_seed}
 
 
-def write_outputs(out: Path, test: LabTest, result, summary: dict, name: str) -> None:
-    """A run's curve (CSV), summary (JSON), crack pattern and curve (PNG), named `name`, each
-    written whole (`rockcal.output_files`: a link at its name is replaced, not followed)."""
+def write_outputs(out: Path, test: LabTest, result, specimen, summary: dict, name: str) -> None:
+    """A run's curve (CSV), summary (JSON), crack pattern (on three planes in 3D) and curve
+    (PNG), named `name`, each written whole (`rockcal.output_files`: a link at its name is
+    replaced, not followed)."""
     from rockcal import plots
     from rockcal.output_files import atomic_path
 
@@ -252,9 +254,11 @@ def write_outputs(out: Path, test: LabTest, result, summary: dict, name: str) ->
     _write_text(out / f"{name}_summary.json", json_text(summary, indent=2))
     first = test.responses[0]
     broken = material(summary.get("model", DEFAULT_MATERIAL)).breaks_word
-    plots.crack_pattern(result.positions, result.radius, result.cracks, out / f"{name}_cracks.png",
-                        f"{first.label or first.name} {getattr(result, first.name):.4g} {first.unit} — broken {broken}",
-                        axes=("x", "z") if summary.get("dimensions") == 3 else ("x", "y"))  # 3D: the front view
+    heading = f"{first.label or first.name} {getattr(result, first.name):.4g} {first.unit} — broken {broken}"
+    if summary.get("dimensions") == 3:
+        plots.crack_planes(result.cracks, specimen.shape, specimen.size_m, out / f"{name}_cracks.png", heading)
+    else:
+        plots.crack_pattern(result.positions, result.radius, result.cracks, out / f"{name}_cracks.png", heading)
     if test.plot:
         getattr(plots, test.plot)(result.curve, out / f"{name}_curve.png", f"{test.title} test")
 

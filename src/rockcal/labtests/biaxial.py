@@ -19,7 +19,7 @@ and reads it as this test's result.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -192,17 +192,13 @@ def _run(params: BondedParams, specimen, s: dict, progress) -> BiaxialResult:
 
 
 def _run_3d(params: BondedParams, specimen, s: dict, progress) -> BiaxialResult:
-    """The 3D test on a square prism (`dem3d.triaxial`), its spheres and cracks seen from the
-    front (x, z) as a 2D run's."""
-    # the 3D engine's kernels: only for a 3D run
-    from rockcal.dem3d.specimen import front_view
-    from rockcal.dem3d.triaxial import simulate_triaxial_3d
+    """The 3D test on a square prism (`dem3d.triaxial`), the 2D test's result with its spheres'
+    centres and cracks in 3D, (n, 3) (m)."""
+    from rockcal.dem3d.triaxial import simulate_triaxial_3d  # the 3D engine's kernels: only for a 3D run
 
     TEST.check_dimensions(3, material_of(params).name)  # before the engine reads its laws
-    r = simulate_triaxial_3d(params, specimen, s["confinement_mpa"], strain=s["strain"],
-                             stop_fraction=s["stop_fraction"], progress=progress)
-    return replace(r, positions=front_view(r.positions),
-                   cracks={mode: front_view(xyz) for mode, xyz in r.cracks.items()})
+    return simulate_triaxial_3d(params, specimen, s["confinement_mpa"], strain=s["strain"],
+                                stop_fraction=s["stop_fraction"], progress=progress)
 
 
 def _check(s: dict) -> None:

@@ -317,9 +317,8 @@ def _run(params: BondedParams, specimen, s: dict, progress) -> BrazilianResult:
 
 def _run_3d(params: BondedParams, specimen, s: dict, progress) -> BrazilianResult:
     """The 3D test (`dem3d.brazilian.simulate_brazilian_3d`) read as the 2D test's result: the
-    load per metre of the disk's thickness, its spheres and cracks seen from the front (x, z)."""
+    load per metre of the disk's thickness, its spheres' centres and cracks in 3D, (n, 3) (m)."""
     from rockcal.dem3d.brazilian import simulate_brazilian_3d
-    from rockcal.dem3d.specimen import front_view
 
     TEST.check_dimensions(3, material_of(params).name)  # before the engine reads its laws
     per_m = 1.0 / specimen.size_m[1]  # the disk's thickness
@@ -329,11 +328,11 @@ def _run_3d(params: BondedParams, specimen, s: dict, progress) -> BrazilianResul
     curve = np.column_stack([r.curve[:, 0], r.curve[:, 1] * per_m])
     return BrazilianResult(sigma_t_MPa=r.sigma_t_MPa, P_max_kN_per_m=r.P_max_kN * per_m,
                            displacement_at_peak_mm=r.displacement_at_peak_mm, diameter_mm=r.diameter_mm,
-                           split=r.split, peak_cracks={m: front_view(xyz) for m, xyz in r.peak_cracks.items()},
+                           split=r.split, peak_cracks=r.peak_cracks,
                            curve=curve, n_particles=r.n_spheres, n_bonds=r.n_bonds,
                            n_broken_tension=r.n_broken_tension, n_broken_shear=r.n_broken_shear,
-                           steps=r.steps, wall_s=r.wall_s, positions=front_view(r.positions),
-                           radius=specimen.radius, cracks={m: front_view(xyz) for m, xyz in r.cracks.items()})
+                           steps=r.steps, wall_s=r.wall_s, positions=r.positions,
+                           radius=specimen.radius, cracks=r.cracks)
 
 
 def _outline(s: dict) -> Outline:

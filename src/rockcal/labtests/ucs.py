@@ -29,7 +29,7 @@ from rockcal.dem.clump_templates import DEFAULT_SHAPE
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.dem.specimen import Specimen, check_geometry, hexagonal, random_packing
-from rockcal.dem3d.specimen import Specimen3D, check_size, front_view, random_specimen
+from rockcal.dem3d.specimen import Specimen3D, check_size, random_specimen
 from rockcal.errors import InputError
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
 from rockcal.labtests.kind import (GENESIS, LabTest, Outline, Response, check_3d_settings, check_grain_cloud,
@@ -171,8 +171,8 @@ def _run(params: BondedParams, specimen: Specimen | Specimen3D, s: dict, progres
 
 
 def _run_3d(params: BondedParams, specimen: Specimen3D, s: dict, progress) -> UCSResult:
-    """The 3D test (`dem3d.ucs.simulate_ucs_3d`) read as the 2D test's result, its spheres and
-    cracks seen from the front (`front_view`) as a 2D run's disks and cracks."""
+    """The 3D test (`dem3d.ucs.simulate_ucs_3d`) read as the 2D test's result, its spheres'
+    centres and cracks in 3D, (n, 3) (m): the figures project them (`plots.crack_planes`)."""
     from rockcal.dem3d.ucs import simulate_ucs_3d  # the 3D engine's kernels: only for a 3D run
 
     TEST.check_dimensions(3, material_of(params).name)  # before the engine reads its laws
@@ -186,8 +186,7 @@ def _run_3d(params: BondedParams, specimen: Specimen3D, s: dict, progress) -> UC
                      peak_axial_strain=r.peak_axial_strain, curve=r.curve, **damage,
                      n_particles=r.n_spheres, n_bonds=r.n_bonds, n_broken_tension=r.n_broken_tension,
                      n_broken_shear=r.n_broken_shear, steps=r.steps, wall_s=r.wall_s,
-                     positions=front_view(r.positions), radius=specimen.radius,
-                     cracks={mode: front_view(xyz) for mode, xyz in r.cracks.items()})
+                     positions=r.positions, radius=specimen.radius, cracks=r.cracks)
 
 
 def _hexagonal(s: dict) -> Specimen:

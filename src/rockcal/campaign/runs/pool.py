@@ -111,7 +111,7 @@ def _take_share_of_cores() -> None:
 
 
 def crack_rows(cracks: dict[str, np.ndarray]) -> np.ndarray:
-    """Broken bonds as rows (x m, y m, mode): 1 tension, 2 shear."""
+    """Broken bonds as rows (x m, y m, mode) in 2D, (x m, y m, z m, mode) in 3D: 1 tension, 2 shear."""
     return np.vstack([np.column_stack([cracks[mode], np.full(len(cracks[mode]), code)])
                       for code, mode in ((BROKEN_TENSION, "tension"), (BROKEN_SHEAR, "shear"))])
 

@@ -46,7 +46,9 @@ class RunResult:
     curve: np.ndarray | None
     wall_s: float
     message: str = ""
-    cracks: np.ndarray | None = None  # rows (x m, y m, mode 1 tension / 2 shear) of broken bonds
+    # rows (x m, y m, mode 1 tension / 2 shear) of broken bonds; a 3D run's (x, y, z m, mode), one
+    # stored before 3D runs kept their y (x, z m, mode)
+    cracks: np.ndarray | None = None
 
 
 
