@@ -26,11 +26,7 @@ from rockcal.labtests.rig.servo import (
     servo_gain,
     servo_speed,
 )
-from rockcal.labtests.rig.sides import (
-    EQUILIBRIUM_RATIO,
-    SEATING_ROUNDS,
-    SEATING_TOLERANCE,
-)
+from rockcal.labtests.rig.sides import SEATING_ROUNDS, settle
 from rockcal.params import MPa
 
 
@@ -88,27 +84,20 @@ class SideWalls3D:
         self.steps = self.servo.steps
 
     def seat(self) -> int:
-        """Servo all six walls to sigma3 until equilibrium (each wall within SEATING_TOLERANCE
-        of it, the mean unbalanced force below EQUILIBRIUM_RATIO x sigma3 x the mean sphere
-        diameter squared) and stop them; the steps it took."""
+        """Servo all six walls to sigma3 until equilibrium (`rig.sides.settle`, the unbalanced
+        force's scale sigma3 x the mean sphere diameter squared) and stop them; the steps it took."""
         state = self.state
         servo = WallServo3D(state, (BOTTOM, TOP, *SIDES), self.servo.target, self.limit)
-        scale = servo.target * self.grain_diameter**2
         free = state.spheres.inv_mass > 0
-        start = state.step
-        for _ in range(SEATING_ROUNDS):
-            servo.update()
-            advance(state, servo.steps)
-            off = np.abs(servo.stresses() / servo.target - 1.0)
-            if off.max() < SEATING_TOLERANCE:
-                unbalanced = np.linalg.norm(state.spheres.force[free], axis=1).mean()
-                if unbalanced < EQUILIBRIUM_RATIO * scale:
-                    servo.hold()
-                    return state.step - start
-        raise RunFailed(f"the prism did not settle at the confinement of {servo.target / MPa:g} MPa in "
-                        f"{state.step - start} steps (the servo-controlled walls could not bring it to "
-                        "equilibrium): a confinement near the spheres' stiffness or the bonds' strength "
-                        "crushes the specimen; try another confinement, or a larger specimen")
+        steps = settle(servo, lambda n: advance(state, n),
+                       lambda: np.linalg.norm(state.spheres.force[free], axis=1),
+                       servo.target * self.grain_diameter**2)
+        if steps is None:
+            raise RunFailed(f"the prism did not settle at the confinement of {servo.target / MPa:g} MPa in "
+                            f"{SEATING_ROUNDS * servo.steps} steps (the servo-controlled walls could not bring "
+                            "it to equilibrium): a confinement near the spheres' stiffness or the bonds' "
+                            "strength crushes the specimen; try another confinement, or a larger specimen")
+        return steps
 
     def update(self) -> None:
         """Set the side walls' speeds from the stresses they bear now."""

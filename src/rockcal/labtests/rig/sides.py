@@ -37,27 +37,19 @@ class SideWalls:
         self.steps = self.servo.steps
 
     def seat(self) -> int:
-        """Servo all four walls to sigma3 until equilibrium (each wall within SEATING_TOLERANCE
-        of it, the mean unbalanced force below EQUILIBRIUM_RATIO x sigma3 x mean grain diameter
-        x t) and stop them; the steps it took."""
+        """Servo all four walls to sigma3 until equilibrium (`settle`, the unbalanced force's
+        scale sigma3 x mean grain diameter x t) and stop them; the steps it took."""
         state = self.state
         servo = WallServo(state, (LEFT, RIGHT, BOTTOM, TOP), self.servo.target, self.limit)
-        scale = servo.target * self.grain_diameter * THICKNESS_M
-        start = state.step
-        for _ in range(SEATING_ROUNDS):
-            servo.update()
-            advance(state, servo.steps)
-            off = np.abs(servo.stresses() / servo.target - 1.0)
-            if off.max() < SEATING_TOLERANCE:
-                unbalanced = np.hypot(*unbalanced_forces(state).T).mean()
-                if unbalanced < EQUILIBRIUM_RATIO * scale:
-                    servo.hold()
-                    return state.step - start
-        raise RunFailed(f"the specimen did not settle at the confinement of {servo.target / MPa:g} MPa "
-                        f"in {state.step - start} steps (the servo-controlled walls could not bring it "
-                        "to equilibrium): a confinement near 0 is below what the servo resolves, one "
-                        "near the grains' stiffness or the bonds' strength crushes the specimen; try "
-                        "another confinement, or a larger specimen")
+        steps = settle(servo, lambda n: advance(state, n), lambda: np.hypot(*unbalanced_forces(state).T),
+                       servo.target * self.grain_diameter * THICKNESS_M)
+        if steps is None:
+            raise RunFailed(f"the specimen did not settle at the confinement of {servo.target / MPa:g} MPa "
+                            f"in {SEATING_ROUNDS * servo.steps} steps (the servo-controlled walls could not "
+                            "bring it to equilibrium): a confinement near 0 is below what the servo resolves, "
+                            "one near the grains' stiffness or the bonds' strength crushes the specimen; try "
+                            "another confinement, or a larger specimen")
+        return steps
 
     def update(self) -> None:
         """Set the side walls' speeds from the stresses they bear now."""
@@ -66,3 +58,18 @@ class SideWalls:
     def stress_Pa(self) -> float:
         """sigma3: the side walls' mean normal stress, Pa."""
         return float(self.servo.stresses()[[LEFT, RIGHT]].mean())
+
+
+def settle(servo, advance_steps, unbalanced_N, scale_N: float) -> int | None:
+    """Update `servo` and step (`advance_steps(n)`) until every one of its walls is within
+    SEATING_TOLERANCE of its target and the bodies' mean unbalanced force (`unbalanced_N()`,
+    one magnitude per free body) is below EQUILIBRIUM_RATIO x `scale_N`, then stop the walls;
+    the steps it took, or None after SEATING_ROUNDS updates."""
+    for round_ in range(1, SEATING_ROUNDS + 1):
+        servo.update()
+        advance_steps(servo.steps)
+        off = np.abs(servo.stresses() / servo.target - 1.0)
+        if off.max() < SEATING_TOLERANCE and unbalanced_N().mean() < EQUILIBRIUM_RATIO * scale_N:
+            servo.hold()
+            return round_ * servo.steps
+    return None
