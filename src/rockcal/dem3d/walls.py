@@ -102,6 +102,15 @@ def wall_springs(walls: Walls, pos: np.ndarray, radius: np.ndarray, reach: float
     return np.pi * radius * (near * walls.table[:, Wall.MODULUS][None]).sum(axis=1)
 
 
+@njit(inline="always", error_model="numpy")
+def sphere_gap(bodies, k, walls, w):
+    """Sphere k's gap to wall w along the wall's normal (negative: overlapping), m."""
+    gap = -bodies[k, Sphere.RADIUS]
+    for a in range(3):
+        gap += (bodies[k, Sphere.X + a] - walls[w, Wall.PX + a]) * walls[w, Wall.NX + a]
+    return gap
+
+
 @njit(cache=True, error_model="numpy")
 def add_wall_forces(first, last, bodies, loads, walls, wall_force):
     """The walls' pushes on spheres first..last-1, added to their loads; each wall's reaction
@@ -109,9 +118,7 @@ def add_wall_forces(first, last, bodies, loads, walls, wall_force):
     for k in range(uint64(first), uint64(last)):
         r = bodies[k, Sphere.RADIUS]
         for w in range(walls.shape[0]):
-            gap = -r
-            for a in range(3):
-                gap += (bodies[k, Sphere.X + a] - walls[w, Wall.PX + a]) * walls[w, Wall.NX + a]
+            gap = sphere_gap(bodies, k, walls, w)
             if gap < 0.0:
                 push = -np.pi * walls[w, Wall.MODULUS] * r * gap
                 for a in range(3):
@@ -132,11 +139,7 @@ def touching_counts(walls, bodies):
     """How many spheres (rows of `bodies`) overlap each wall: a servo's N_c."""
     counts = np.zeros(walls.shape[0], np.int64)
     for k in range(bodies.shape[0]):
-        r = bodies[k, Sphere.RADIUS]
         for w in range(walls.shape[0]):
-            gap = -r
-            for a in range(3):
-                gap += (bodies[k, Sphere.X + a] - walls[w, Wall.PX + a]) * walls[w, Wall.NX + a]
-            if gap < 0.0:
+            if sphere_gap(bodies, k, walls, w) < 0.0:
                 counts[w] += 1
     return counts
