@@ -4,10 +4,14 @@ the engine at known E_c, kn/ks, sigma_c and tau_c, all four recovered by `rockca
 With tau_c 1.5 x sigma_c the two tests see the two bond strengths differently, though on this
 202-disk specimen sigma_c only faintly (UCS revision 3): a 10 % change of sigma_c moves the UCS
 by -1.7 % / +3.8 % and sigma_t by -1.6 % / +0.8 %, one of tau_c moves the UCS by -3.8 % / +7.7 %
-(and sigma_t by -6 % / +8 %: the disk crushes under the platens). So targets met within the
-0.5 % tolerance pin E_c, kn/ks and tau_c down within 5 % but sigma_c only within about 10 %
-(a point with sigma_c 8 % low and tau_c 2 % high matches all four). Nearer tau_c = sigma_c
-both tests follow tau_c alike and sigma_c is barely seen at all.
+(and sigma_t by -6 % / +8 %: the disk crushes under the platens). The 290-disk
+sigma_t is rough near the truth: verified points within 4 % of it in every parameter gave
+sigma_t 0.5-0.7 % off, so a tolerance below 1 % is met by luck, after a number of rounds that
+depends on the search's path (which follows the BLAS kernel's round-off:
+docs/concepts/reproducibility.md). By the sensitivities above, targets met within 1 % pin E_c,
+kn/ks and tau_c down within 5 %, sigma_c only within about 15 % (a point with sigma_c 8 % low
+and tau_c 2 % high matches all four within 0.5 %). Nearer tau_c = sigma_c both tests follow tau_c alike and sigma_c is barely
+seen at all.
 """
 
 import json
@@ -23,7 +27,7 @@ from rockcal.labtests.brazilian import brazilian_disk, simulate_brazilian
 pytestmark = pytest.mark.slow  # DEM runs and specimens of minutes: deselect with -m "not slow"
 
 TRUE = {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 30.0, "tau_c": 45.0}
-RECOVERED_WITHIN = {"E_c": 0.05, "kn_ks": 0.05, "sigma_c": 0.10, "tau_c": 0.05}  # see above
+RECOVERED_WITHIN = {"E_c": 0.05, "kn_ks": 0.05, "sigma_c": 0.15, "tau_c": 0.05}  # see above
 FIXED = {"mu": 0.5}
 # the UCS specimen of tests/campaign/test_calibrate.py (202 disks) and a 20 mm disk (290 disks)
 SPECIMEN = {"rmin_mm": 0.4, "width_mm": 10.0, "height_mm": 20.0, "seed": 2, "disk_diameter_mm": 20.0}
@@ -49,7 +53,7 @@ checks = 2
 [optimizer]
 iterations = 60
 [acceptance]
-tolerance = 0.005
+tolerance = 0.01
 max_dem_runs = 40
 """
 

@@ -48,6 +48,7 @@ by CLUMP_GENESIS_VERSION: a packing of clumps made under an earlier one is anoth
 from __future__ import annotations
 
 import logging
+import math
 
 import numpy as np
 
@@ -71,7 +72,7 @@ from rockcal.materials.units import GPa, MPa
 log = logging.getLogger(__name__)
 
 # 2: clumps packed from above jamming, pressure and floaters in one loop, PFC's contact count
-CLUMP_GENESIS_VERSION = 2
+CLUMP_GENESIS_VERSION = 3
 CLUMP_JAMMING_FRACTION = 0.90  # the cloud of clumps starts above jamming
 SERVO_GAIN = 0.75  # of a full step to the pressure at the contacts' stiffness estimate
 INTEGRAL_GAIN = 0.1
@@ -128,11 +129,12 @@ def sizes_to_reach(centroid, offset, radius, pos, reach_radius, overlap) -> np.n
     smallest s >= 0 at which it overlaps each disk (`pos`, `reach_radius`) by `overlap` (m):
     the root of |a + s u| = s ρ + L (a = centroid - pos, L = reach_radius - overlap), a
     quadratic in s; inf where no size reaches, 0 where it overlaps already at s = 0."""
+    # products written out: a BLAS dot product (numpy's @) rounds by the processor's kernel
     a = centroid - pos
     far = reach_radius - overlap
-    A = offset @ offset - radius * radius
-    B = 2.0 * (a @ offset - radius * far)
-    C = np.einsum("ij,ij->i", a, a) - far * far
+    A = offset[0] * offset[0] + offset[1] * offset[1] - radius * radius
+    B = 2.0 * (a[:, 0] * offset[0] + a[:, 1] * offset[1] - radius * far)
+    C = a[:, 0] * a[:, 0] + a[:, 1] * a[:, 1] - far * far
     with np.errstate(invalid="ignore", divide="ignore"):
         if A == 0.0:  # a linear equation
             root = np.where(B < 0.0, -C / B, np.inf)
@@ -166,7 +168,9 @@ class ClumpedGrains:
         vessel's engine state (`Balls.new_state`'s), at rest."""
         t = self.template
         k = t.n_pebbles
-        c, s = np.cos(angle)[:, None], np.sin(angle)[:, None]
+        # the C library's cos and sin: numpy's vectorised ones round by the processor (AVX-512)
+        c = np.array([math.cos(a) for a in angle])[:, None]
+        s = np.array([math.sin(a) for a in angle])[:, None]
         ox, oy = t.offsets[:, 0], t.offsets[:, 1]  # turned counter-clockwise, per clump
         self.unit_offsets = np.stack([c * ox - s * oy, s * ox + c * oy], axis=-1).reshape(-1, 2)
         self.unit_radii = np.tile(t.radii, len(size))
@@ -330,7 +334,7 @@ def _pack(grains: ClumpedGrains, width: float, height: float, rmin: float, radiu
             if not floating.any() and abs(stress - target) < packing.PRESSURE_TOLERANCE * target:
                 break
             found += floating
-            overlaps = overlap * 2.0 ** np.minimum(np.maximum(found - 1, 0), MAX_FLOATER_DOUBLINGS)
+            overlaps = overlap * np.ldexp(1.0, np.minimum(np.maximum(found - 1, 0), MAX_FLOATER_DOUBLINGS))
             sizes = grains.wedge_floaters(state, floating, width, height, overlaps)
             integral += INTEGRAL_GAIN * (target - stress) / stiffness
             floater_rounds += 1
@@ -339,7 +343,7 @@ def _pack(grains: ClumpedGrains, width: float, height: float, rmin: float, radiu
             integral = 0.0
         near = near or in_band
         boost = min(MAX_SERVO_BOOST, 2.0 * boost) if stress * PRESSURE_BAND < target else 1.0
-        grains.resize(state, sizes * np.exp(integral + boost * SERVO_GAIN * (target - stress) / stiffness))
+        grains.resize(state, sizes * math.exp(integral + boost * SERVO_GAIN * (target - stress) / stiffness))
         rebuild_neighbours(state)
         stress = packing.settled_stress(state, floater_steps if near else servo_steps)
     else:

@@ -65,7 +65,8 @@ class ClumpTemplate:
         """The offsets (m) and radii (m) of a clump of equivalent radius `size_m` turned by
         `angle_rad` counter-clockwise."""
         c, s = math.cos(angle_rad), math.sin(angle_rad)
-        turned = self.offsets @ np.array([[c, s], [-s, c]])
+        x, y = self.offsets[:, 0], self.offsets[:, 1]
+        turned = np.stack([c * x - s * y, s * x + c * y], axis=-1)  # not BLAS's @: see sizes_to_reach
         return size_m * turned, size_m * self.radii
 
 
@@ -124,8 +125,8 @@ def _polygon(corners: int, spacing: float) -> np.ndarray:
     if corners == 1:
         return np.zeros((1, 2))
     circumradius = spacing / (2.0 * math.sin(math.pi / corners))
-    angles = 2.0 * math.pi * np.arange(corners) / corners
-    return circumradius * np.column_stack([np.cos(angles), np.sin(angles)])
+    angles = [2.0 * math.pi * k / corners for k in range(corners)]  # the C library's cos, sin
+    return circumradius * np.array([[math.cos(a), math.sin(a)] for a in angles])
 
 
 _MAKERS = {

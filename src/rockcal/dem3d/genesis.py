@@ -10,6 +10,7 @@ import numpy as np
 
 from rockcal.dem.genesis import CONTACT_GAP, MIN_CONTACTS, Genesis
 from rockcal.dem3d.neighbours import near_pairs
+from rockcal.dem3d.vectors import cubes, norms
 
 # The 2D default cloud porosity (0.09) would fill a 3D vessel far beyond the spheres' random
 # close packing (a solid fraction of about 0.64): FISHTank's 3D examples take pk_nc 0.30-0.35.
@@ -24,14 +25,14 @@ def cloud_radii(rng: np.random.Generator, volume: float, rmin: float, radius_rat
     mean_cube = (hi**4 - lo**4) / (4 * (hi - lo)) if hi > lo else lo**3
     target = (1.0 - cloud_porosity) * volume
     radius = rng.uniform(lo, hi, int(1.2 * target / (4 / 3 * np.pi * mean_cube)) + 16)
-    count = int(np.searchsorted(np.cumsum(4 / 3 * np.pi * radius**3), target)) + 1
+    count = int(np.searchsorted(np.cumsum(4 / 3 * np.pi * cubes(radius)), target)) + 1
     return radius[:count]
 
 
 def pair_gaps(pos: np.ndarray, radius: np.ndarray, reach: float):
     """Pairs (i, j), i < j, with a surface gap below `reach` (m), and their gaps."""
     pi, pj = near_pairs(pos, radius, reach)
-    gap = np.linalg.norm(pos[pj] - pos[pi], axis=1) - radius[pi] - radius[pj]
+    gap = norms(pos[pj] - pos[pi]) - radius[pi] - radius[pj]
     return pi, pj, gap
 
 
@@ -66,7 +67,7 @@ def enlarge_floaters(pos: np.ndarray, radius: np.ndarray, size, overlap: float) 
     grown = radius.copy()
     walls = wall_gaps(pos, radius, size)
     for k in np.flatnonzero(floaters(pos, radius, size)):
-        gaps = np.linalg.norm(pos - pos[k], axis=1) - radius - radius[k]
+        gaps = norms(pos - pos[k]) - radius - radius[k]
         gaps[k] = np.inf
         nearest = np.partition(np.concatenate([gaps, walls[k]]), MIN_CONTACTS - 1)
         grown[k] += max(0.0, nearest[MIN_CONTACTS - 1]) + overlap * radius[k]

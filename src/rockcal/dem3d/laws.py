@@ -63,7 +63,7 @@ def bond_springs(rmin, length, laws: Laws):
     rb = laws.lam * rmin
     kbn = laws.Ebar_c / length
     kbs = kbn * laws.ksbar_per_knbar
-    area, inertia = np.pi * rb**2, np.pi * rb**4 / 4
+    area, inertia = np.pi * rb**2, np.pi * (rb * rb) * (rb * rb) / 4
     return kbn * area, kbs * area, kbs * 2 * inertia, kbn * inertia
 
 

@@ -26,6 +26,7 @@ from rockcal.dem3d.genesis import cloud_radii, enlarge_floaters, floaters
 from rockcal.dem3d.laws import Laws
 from rockcal.dem3d.neighbours import spatial_order
 from rockcal.dem3d.simulate import advance, assemble_state, rebuild_neighbours
+from rockcal.dem3d.vectors import cubes
 from rockcal.dem3d.walls import box_walls
 from rockcal.materials.units import GPa, MPa
 
@@ -50,8 +51,8 @@ def pack_cuboid(size, rmin: float, radius_ratio: float, seed: int, cloud_porosit
     rng = np.random.default_rng(seed)
     radius = cloud_radii(rng, float(np.prod(size)), rmin, radius_ratio, cloud_porosity)
     n = len(radius)
-    fraction = 4 / 3 * np.pi * (radius**3).sum() / np.prod(size)
-    radius *= min(1.0, (JAMMING_FRACTION / fraction) ** (1 / 3))
+    fraction = float(4 / 3 * np.pi * cubes(radius).sum() / np.prod(size))
+    radius *= min(1.0, (JAMMING_FRACTION / fraction) ** (1 / 3))  # a float's: the C library's pow
     rmax = radius.max()
     pos = rng.uniform(rmax, size - rmax, (n, 3))
     order = spatial_order(pos, 4 * rmax)

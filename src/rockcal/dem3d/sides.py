@@ -16,6 +16,7 @@ import numpy as np
 
 from rockcal.dem3d.platens import BOTTOM, SIDES, TOP, Platens3D
 from rockcal.dem3d.simulate import advance
+from rockcal.dem3d.vectors import norms
 from rockcal.dem3d.walls import Wall, touching_counts
 from rockcal.labtests.result import RunFailed
 from rockcal.labtests.rig.servo import (
@@ -90,7 +91,7 @@ class SideWalls3D:
         servo = WallServo3D(state, (BOTTOM, TOP, *SIDES), self.servo.target, self.limit)
         free = state.spheres.inv_mass > 0
         steps = settle(servo, lambda n: advance(state, n),
-                       lambda: np.linalg.norm(state.spheres.force[free], axis=1),
+                       lambda: norms(state.spheres.force[free]),
                        servo.target * self.grain_diameter**2)
         if steps is None:
             raise RunFailed(f"the prism did not settle at the confinement of {servo.target / MPa:g} MPa in "

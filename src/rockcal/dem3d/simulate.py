@@ -23,6 +23,7 @@ from rockcal.dem3d import walls as planes
 from rockcal.dem3d.bonds import Bonds, new_bonds, set_radii
 from rockcal.dem3d.laws import INTACT, Laws, bond_springs, contact_springs
 from rockcal.dem3d.state import Load, Sphere, Spheres, new_spheres
+from rockcal.dem3d.vectors import norms
 
 TIME_STEP_SAFETY = 0.8
 
@@ -65,7 +66,7 @@ def assemble_state(pos, radius, pairs, density: float, laws: Laws, *, damping=0.
     nlist, order = neighbours.allocate(pos, radius, pairs,
                                        skin if skin is not None else 0.5 * radius.min())
     pi, pj = nlist.pi[:nlist.n_bonds], nlist.pj[:nlist.n_bonds]
-    overlap = radius[pi] + radius[pj] - np.linalg.norm(pos[pj] - pos[pi], axis=1)
+    overlap = radius[pi] + radius[pj] - norms(pos[pj] - pos[pi])
     ten, coh = (np.broadcast_to(np.asarray(v, float), len(pairs))[order] for v in (ten, coh))
     state = State(spheres=new_spheres(pos, radius, density, driven),
                   bonds=new_bonds(overlap, ten, coh, radius[pi], radius[pj]),

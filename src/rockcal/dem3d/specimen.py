@@ -17,15 +17,16 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from rockcal.dem.genesis import Genesis
-from rockcal.dem.specimen import STRENGTH_STREAM, _one_maker, cache_dir
 from rockcal.dem.grain_limit import check_grains
+from rockcal.dem.specimen import STRENGTH_STREAM, _one_maker, cache_dir
 from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D, floaters, install_bonds, sphere_contacts
 from rockcal.dem3d.neighbours import spatial_order
 from rockcal.dem3d.packing import pack_cuboid
+from rockcal.dem3d.vectors import cubes
 from rockcal.errors import InputError
 from rockcal.output_files import atomic_path
 
-GENERATOR_VERSION_3D = 1
+GENERATOR_VERSION_3D = 2
 SHAPES = ("cylinder", "cuboid")
 
 
@@ -64,7 +65,7 @@ class Specimen3D:
 
     @property
     def porosity(self) -> float:
-        return 1.0 - float(4 / 3 * np.pi * (self.radius**3).sum()) / self.volume_m3
+        return 1.0 - float(4 / 3 * np.pi * cubes(self.radius).sum()) / self.volume_m3
 
     def bonds_per_sphere(self) -> float:
         return 2.0 * len(self.bonds) / self.n_spheres

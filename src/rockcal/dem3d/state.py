@@ -6,6 +6,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from rockcal.dem3d.vectors import cubes
+
 
 class Sphere(IntEnum):
     """Columns of a sphere's row in `bodies` (16 floats, two cache lines)."""
@@ -59,7 +61,7 @@ class Spheres(NamedTuple):
 def solid_sphere(radius, density: float):
     """Mass m = ρ 4/3 π R³ (kg) and moment of inertia I = 2/5 m R² (kg m²) of solid spheres."""
     radius = np.asarray(radius, float)
-    mass = density * 4.0 / 3.0 * np.pi * radius**3
+    mass = density * 4.0 / 3.0 * np.pi * cubes(radius)
     return mass, 0.4 * mass * radius**2
 
 

@@ -266,7 +266,8 @@ def faces_overlap(pos, radius, pairs, rmul) -> np.ndarray:
         alpha = np.arctan2(rbar[cs], np.hypot(*v.T))
         for a in range(len(cs)):
             for c in range(a + 1, len(cs)):
-                beta = np.arctan2(abs(v[a, 0] * v[c, 1] - v[a, 1] * v[c, 0]), v[a] @ v[c])
+                beta = np.arctan2(abs(v[a, 0] * v[c, 1] - v[a, 1] * v[c, 0]),
+                                  v[a, 0] * v[c, 0] + v[a, 1] * v[c, 1])
                 out[b] |= alpha[a] + alpha[c] - beta > 1e-12
     return out
 
