@@ -129,7 +129,24 @@ def block_layout(pi: np.ndarray, pj: np.ndarray, starts: np.ndarray):
 
 @njit(cache=True)
 def near_pairs(pos, radius, skin):
-    """All pairs i < j with gap < skin, found through a cell grid (cell = largest diameter + skin)."""
+    """All pairs i < j with gap < skin, found through a cell grid (cell = largest diameter + skin),
+    in the order of i, then j."""
+    n = pos.shape[0]
+    cap, width = 8 * n + 16, 32
+    while True:  # room for the pairs, and for the j of one i; more if they did not fit
+        pi = np.empty(cap, np.int64)
+        pj = np.empty(cap, np.int64)
+        m = _fill_pairs(pos, radius, skin, pi, pj, np.empty(width, np.int64))
+        if m >= 0:
+            return pi[:m], pj[:m]
+        cap, width = 2 * cap, 2 * width
+
+
+@njit(cache=True)
+def _fill_pairs(pos, radius, skin, pi, pj, found):
+    """`near_pairs` written into pi, pj; their count, or -1 if pi or `found` (the j of one i,
+    kept sorted as they come) is too short. (Arrays grown inside the loop would be counted
+    references at every access: 3 x the time.)"""
     n = pos.shape[0]
     cell = 2.0 * radius.max() + skin
     x0 = pos[:, 0].min() - cell
@@ -150,11 +167,9 @@ def near_pairs(pos, radius, skin):
         c = cy[k] * nx + cx[k]
         members[fill[c]] = k
         fill[c] += 1
-    cap = 8 * n + 16
-    pi = np.empty(cap, np.int64)
-    pj = np.empty(cap, np.int64)
     m = 0
     for i in range(n):
+        count = 0
         for dy in range(-1, 2):
             for dx in range(-1, 2):
                 c = (cy[i] + dy) * nx + cx[i] + dx
@@ -166,18 +181,21 @@ def near_pairs(pos, radius, skin):
                     ddy = pos[j, 1] - pos[i, 1]
                     reach = radius[i] + radius[j] + skin
                     if ddx * ddx + ddy * ddy < reach * reach:
-                        if m == cap:
-                            cap *= 2
-                            pi2 = np.empty(cap, np.int64)
-                            pj2 = np.empty(cap, np.int64)
-                            pi2[:m] = pi[:m]
-                            pj2[:m] = pj[:m]
-                            pi, pj = pi2, pj2
-                        pi[m] = i
-                        pj[m] = j
-                        m += 1
-    order = np.argsort(pi[:m] * n + pj[:m])
-    return pi[:m][order], pj[:m][order]
+                        if count == found.shape[0]:
+                            return -1
+                        at = count
+                        while at > 0 and found[at - 1] > j:
+                            found[at] = found[at - 1]
+                            at -= 1
+                        found[at] = j
+                        count += 1
+        if m + count > pi.shape[0]:
+            return -1
+        for a in range(count):
+            pi[m] = i
+            pj[m] = found[a]
+            m += 1
+    return m
 
 
 @njit(cache=True)
@@ -188,16 +206,19 @@ def contact_pairs(pos, radius, skin, bond_keys, old_keys, old_shear):
     in the old list, and starts at zero otherwise.
     """
     n = pos.shape[0]
-    ci, cj = near_pairs(pos, radius, skin)
+    ci, cj = near_pairs(pos, radius, skin)  # in key order: the sorted keys are walked along
     keep = np.ones(ci.shape[0], np.bool_)
     shear = np.zeros(ci.shape[0])
+    b = o = 0
     for p in range(ci.shape[0]):
         key = ci[p] * n + cj[p]
-        b = np.searchsorted(bond_keys, key)
+        while b < bond_keys.shape[0] and bond_keys[b] < key:
+            b += 1
         if b < bond_keys.shape[0] and bond_keys[b] == key:
             keep[p] = False
             continue
-        o = np.searchsorted(old_keys, key)
+        while o < old_keys.shape[0] and old_keys[o] < key:
+            o += 1
         if o < old_keys.shape[0] and old_keys[o] == key:
             shear[p] = old_shear[o]
     return ci[keep], cj[keep], shear[keep]
