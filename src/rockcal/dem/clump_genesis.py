@@ -72,6 +72,7 @@ from rockcal.materials.units import GPa, MPa
 log = logging.getLogger(__name__)
 
 # 2: clumps packed from above jamming, pressure and floaters in one loop, PFC's contact count
+# 3: no BLAS and none of numpy's vectorised cos, sin, exp or pow: the same on every processor
 CLUMP_GENESIS_VERSION = 3
 CLUMP_JAMMING_FRACTION = 0.90  # the cloud of clumps starts above jamming
 SERVO_GAIN = 0.75  # of a full step to the pressure at the contacts' stiffness estimate
