@@ -10,8 +10,8 @@ sigma_t 0.5-0.7 % off, so a tolerance below 1 % is met by luck, after a number o
 depends on the search's path (which follows the BLAS kernel's round-off:
 docs/concepts/reproducibility.md). By the sensitivities above, targets met within 1 % pin E_c,
 kn/ks and tau_c down within 5 %, sigma_c only within about 15 % (a point with sigma_c 8 % low
-and tau_c 2 % high matches all four within 0.5 %). Nearer tau_c = sigma_c both tests follow tau_c alike and sigma_c is barely
-seen at all.
+and tau_c 2 % high matches all four within 0.5 %). Nearer tau_c = sigma_c both tests follow
+tau_c alike and sigma_c is barely seen at all.
 """
 
 import json

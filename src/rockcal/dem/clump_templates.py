@@ -66,7 +66,7 @@ class ClumpTemplate:
         `angle_rad` counter-clockwise."""
         c, s = math.cos(angle_rad), math.sin(angle_rad)
         x, y = self.offsets[:, 0], self.offsets[:, 1]
-        turned = np.stack([c * x - s * y, s * x + c * y], axis=-1)  # not BLAS's @: see sizes_to_reach
+        turned = np.stack([c * x - s * y, s * x + c * y], axis=-1)  # not @: BLAS rounds by processor
         return size_m * turned, size_m * self.radii
 
 
