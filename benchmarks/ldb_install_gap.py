@@ -3,9 +3,10 @@ packings at one point of the `ldb` campaign, only the gap changed. Does a wider 
 joints, a higher coordination) lift UCS / Brazilian toward the lab's 23?
 
 Run by hand: `python benchmarks/ldb_install_gap.py --store runs/ldb-gap [--gaps 0.3 0.6 1.0 1.4]
-[--packings 3] [--workers 2] [--set fj_emod=61.17 ...]`. The point defaults to the closest
-verified point of `rockcal calibrate ldb` (its verdict); the specimens and fixed parameters are
-the campaign's. Every run goes through the run store (a stopped table resumes). Prints a
+[--packings 3] [--workers 2] [--set fj_emod=61.17 ...]`. The point defaults to one of the flat
+joint without residual strength (`fj_resmode` 0, `fj_fa` 0), the disk between bare flat
+platens (`BARE_PLATENS`); the specimens and the other fixed parameters are the `ldb`
+campaign's. Every run goes through the run store (a stopped table resumes). Prints a
 Markdown table: per gap, the means over the packings and UCS / Brazilian of those means.
 About 4 min on 2 cores once the specimens are made.
 """
@@ -19,8 +20,11 @@ from rockcal.campaign.input.config import load_campaign
 from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.campaign.runs.store import RunStore
+from rockcal.labtests.brazilian import STRIP_MODULUS_GPA
 
-VERDICT_POINT = {"fj_emod": 61.17, "fj_kratio": 1.313, "fj_ten": 52.69, "fj_coh": 133.7, "fjm_B_frac": 0.5024}
+POINT = {"fj_emod": 61.17, "fj_kratio": 1.313, "fj_ten": 52.69, "fj_coh": 133.7, "fjm_B_frac": 0.5024,
+         "fj_fa": 0.0, "fj_resmode": 0}
+BARE_PLATENS = {"brazilian_loading": "flat", "strip_modulus_gpa": STRIP_MODULUS_GPA}  # the default strip: none
 TESTS = {"ucs": ("E_GPa", "ucs_MPa"), "brazilian": ("sigma_t_MPa",)}
 
 
@@ -34,11 +38,11 @@ def main() -> None:
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     args = parser.parse_args()
     campaign, _ = load_campaign("ldb")
-    point = VERDICT_POINT | {k: float(v) for k, v in (item.split("=", 1) for item in args.set)}
+    point = POINT | {k: float(v) for k, v in (item.split("=", 1) for item in args.set)}
     params = campaign.fixed_params() | point
     seeds = range(campaign.specimen.seed, campaign.specimen.seed + args.packings)
     cases = [(gap, seed, test) for gap in args.gaps for seed in seeds for test in TESTS]
-    specs = [run_spec(test, campaign.specimen.model_copy(update={"install_gap": gap, "seed": seed}),
+    specs = [run_spec(test, campaign.specimen.model_copy(update={"install_gap": gap, "seed": seed} | BARE_PLATENS),
                       params, campaign.material.model) for gap, seed, test in cases]
     args.store.mkdir(parents=True, exist_ok=True)
     executor = Executor(RunStore(args.store), workers=args.workers)

@@ -61,3 +61,17 @@ def test_targets_that_conflict_only_together_are_named_by_those_that_bind():
     assert verdict.conflicts == [] and verdict.unreachable == {} and verdict.least_error_all > 0.05
     assert set(verdict.binding) == {"a", "b", "e"}
     assert "conflict as a whole" in verdict.text and "held back by" in verdict.text
+
+
+def test_a_verified_point_closer_than_the_surrogate_sets_how_close_the_targets_come():
+    # the surrogate's a and b conflict (at best both within 1/3); a DEM-verified point met them
+    # within 0.2 and 0.04: the verdict's least errors are the verified point's
+    targets = {"a": 1.0, "b": 2.0}
+    closer = {"a": 0.2, "b": -0.15}
+    verdict = verdict_of(targets, 0.05, BOX, _predict, seen=[], best_errors=closer,
+                         verified=[None, {"a": 0.5}, closer])
+    assert verdict.conflicts[0].least_error == pytest.approx(0.2)
+    assert verdict.least_error_all == pytest.approx(0.2)
+    within = verdict_of(targets, 0.05, BOX, _predict, seen=[], best_errors=closer,
+                        verified=[{"a": 0.04, "b": -0.03}])
+    assert within.conflicts == [] and within.least_error_all == pytest.approx(0.04)

@@ -65,6 +65,9 @@ class Material:
     pairs_word: str = "bonds"  # its bonded pairs, in words
     breaks_word: str = "bonds"  # what breaks, each a crack
     check_rock: Callable[[BondedParams], None] | None = None
+    # a UCS run's time over the parallel-bonded material's on the same specimen (the first
+    # screen's estimate, before the store holds a run)
+    slower_than_parallel_bond: float = 1.0
 
 
 

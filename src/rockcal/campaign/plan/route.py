@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from rockcal.labtests.registry import PRIMARY_TEST, lab_test
+from rockcal.labtests.registry import PRIMARY_TEST
 
 DEAR = 2.0  # UCS runs' time: a parameter set or a verified point this dear changes the defaults
 COARSE_PER_PARAMETER = 5  # multi-fidelity: coarse samples per searched parameter
@@ -51,10 +51,10 @@ def point_cost(campaign, tests: list[str] | None = None) -> float:
 
 def relative_time(campaign, test: str) -> float:
     """One run of `test` over one UCS run, on the campaign's specimen (`plan.screen`'s model)."""
-    from rockcal.campaign.plan.screen import WORK_EXPONENT, specimen_size
+    from rockcal.campaign.plan.screen import WORK_EXPONENT, specimen_size, time_factor
 
     work = specimen_size(test, campaign.specimen)[2] / specimen_size(PRIMARY_TEST, campaign.specimen)[2]
-    return work ** WORK_EXPONENT * lab_test(test).slower_than_work
+    return work ** WORK_EXPONENT * time_factor(test, campaign.specimen)
 
 
 def with_route(campaign, coarse_possible: bool = True):

@@ -5,7 +5,9 @@ without any, it is scaled from a full-size granite UCS run on a reference machin
 machine's speed against the reference machine's (`engine_speed`: a one-second probe). Work per
 step grows with the grains, and the steps of a test with its rows of grains (the loading speed
 is set per row), so a run's time goes about as (grains x rows)^1.1 (measured on idle cores); a
-full-size bending run about 2.7 times slower than that (its steps grow with span² / height).
+full-size bending run about 2.7 times slower than that (its steps grow with span² / height), a
+Brazilian disk between bearing strips about six times, and a flat-jointed material's runs about
+twice a parallel-bonded one's (`Material.slower_than_parallel_bond`).
 A stage runs in rounds of one run per worker; the runs of a last, short round share the
 cores (a run alone on two cores goes LONE_RUN_SPEED_UP times faster than one of two at once).
 Beside other work (the cores it asks for during the probe) the runs get their share of the
@@ -31,6 +33,7 @@ from rockcal.dem.specimen import packing_name, stored_packing
 from rockcal.dem3d.specimen import expected_spheres
 from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
+from rockcal.materials import material
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
 # the embedded granite campaign's mean full-size UCS run, one thread, two at a time on idle
@@ -145,11 +148,18 @@ def run_times(campaign: Campaign, store, sizes: dict) -> tuple[dict[str, float],
     measured = {test: stored_runs_s(store, test, s) for test in sizes}
     ucs_work = sizes[PRIMARY_TEST][2]
     ucs_s = float(np.mean(measured[PRIMARY_TEST])) if measured[PRIMARY_TEST] else \
-        reference_run_s() * (ucs_work / REFERENCE_WORK) ** WORK_EXPONENT
+        reference_run_s() * (ucs_work / REFERENCE_WORK) ** WORK_EXPONENT * \
+        material(campaign.material.model).slower_than_parallel_bond
     times = {test: float(np.mean(measured[test])) if measured[test] else
-             ucs_s * (size[2] / ucs_work) ** WORK_EXPONENT * lab_test(test).slower_than_work
+             ucs_s * (size[2] / ucs_work) ** WORK_EXPONENT * time_factor(test, s)
              for test, size in sizes.items()}
     return times, bool(measured[PRIMARY_TEST])
+
+
+def time_factor(test: str, s: SpecimenSettings) -> float:
+    """A run of `test` on specimen settings `s` over a UCS run's of the same work."""
+    kind = lab_test(test)
+    return kind.time_factor(kind.settings_of(s))
 
 
 def machine_speed() -> float:

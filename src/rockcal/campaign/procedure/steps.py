@@ -582,10 +582,12 @@ def result_of(state: CampaignState) -> CalibrationResult:
 
 
 def _verdict(state: CampaignState):
-    """Which targets conflict, read on the surrogate of every run and on the runs seen."""
+    """Which targets conflict, read on the surrogate of every run, the verified points and the
+    runs seen."""
     surrogate = _judged(state)
     return verdict_of(state.goals.targets, state.campaign.acceptance.tolerance, state.box,
-                      surrogate.predict, state.train_y, state.iterations[state.best()].errors)
+                      surrogate.predict, state.train_y, state.iterations[state.best()].errors,
+                      [it.errors for it in state.iterations])
 
 
 # -- shared pieces -------------------------------------------------------------------------------

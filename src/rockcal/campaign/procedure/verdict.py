@@ -2,10 +2,11 @@
 cannot meet in the search box, alone or together, and the trade-off between the two that
 conflict most.
 
-On the surrogate, over a dense Latin hypercube of the box, each target's least relative error
-alone and each pair's least larger error together: a target whose least error alone exceeds
-the tolerance is out of reach; two targets each within reach alone whose least larger error
-exceeds it conflict. The trade-off is read on the DEM runs seen (every full-resolution run of
+On the surrogate, over a dense Latin hypercube of the box, and at the verified points (their DEM
+errors: where the surrogate is rough a verified point may come closer than any it predicts),
+each target's least relative error alone and each pair's least larger error together: a target
+whose least error alone exceeds the tolerance is out of reach; two targets each within reach
+alone whose least larger error exceeds it conflict. The trade-off is read on the DEM runs seen (every full-resolution run of
 the search): their errors in the two responses and the points no other beats in both (the
 Pareto front). The best compromise stays the verified point with the smallest largest error.
 """
@@ -27,13 +28,16 @@ BINDING = 0.9  # a target within this fraction of the largest error there is one
 
 def verdict_of(targets: dict[str, float], tolerance: float, box: np.ndarray,
                predict: Callable[[np.ndarray], dict], seen: list[dict],
-               best_errors: dict[str, float]) -> Verdict:
+               best_errors: dict[str, float], verified: list[dict] = ()) -> Verdict:
     """The verdict for `targets` (response: value) and `tolerance` (relative), from the
-    surrogate `predict` over `box` ((d, 2) bounds), the responses of the DEM runs `seen` and
-    the best compromise's errors."""
+    surrogate `predict` over `box` ((d, 2) bounds), the responses of the DEM runs `seen`, the
+    best compromise's errors and every verified point's (relative errors by target; a point
+    that did not measure every target is left out)."""
     probes = latin_hypercube(box, PROBES, seed=PROBE_SEED, optimization="none")
     predicted = predict(probes)
-    error = {r: np.abs(np.asarray(predicted[r]) / t - 1.0) for r, t in targets.items()}
+    measured = [e for e in verified if e and all(r in e for r in targets)]
+    error = {r: np.abs(np.concatenate([np.asarray(predicted[r]) / t - 1.0, [e[r] for e in measured]]))
+             for r, t in targets.items()}
     alone = {r: float(e.min()) for r, e in error.items()}
     unreachable = {r: e for r, e in alone.items() if e > tolerance}
     pairs = [Conflict(targets=[r, s], least_error=float(np.maximum(error[r], error[s]).min()))

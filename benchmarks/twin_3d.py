@@ -1,0 +1,69 @@
+"""A 3D twin at the 3D granite's size: UCS targets made by the 3D engine at known E_c, kn/ks and
+σ_c on the cylinder of `docs/campaigns/granite-3d.toml` (25 x 50 mm, R_min 0.8 mm, about 3 150
+spheres), then that campaign, its box and fixed parameters unchanged, run on them; how close
+it comes to the parameters that made them.
+
+The test suite's twin (`tests/dem3d/test_campaign_3d.py`) does the same on an 8 x 16 mm
+cylinder of about 450 spheres, whose UCS is too rough to hold σ_c within 5 %; this one has
+seven times the spheres.
+
+Run by hand: `python benchmarks/twin_3d.py [--out runs/twin-3d] [--workers 2]
+[--set E_c=28 --set kn_ks=3.2 --set sigma_c=45] [--tolerance 0.02]` (about 10 min on 2 cores;
+a second run reuses the folder's store).
+"""
+
+import argparse
+import re
+import time
+from pathlib import Path
+
+from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.procedure.steps import calibrate
+from rockcal.campaign.runs.pool import Executor, execute
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.store import RunStore
+
+CAMPAIGN = Path(__file__).resolve().parents[1] / "docs" / "campaigns" / "granite-3d.toml"
+TRUE = {"E_c": 28.0, "kn_ks": 3.2, "sigma_c": 45.0}
+TARGETS = ("E_GPa", "nu", "ucs_MPa")
+
+
+def with_targets(text: str, targets: dict, tolerance: float) -> str:
+    """The campaign file's text with its UCS targets and tolerance replaced."""
+    for name, value in targets.items():
+        text, count = re.subn(rf"^{name} = .*$", f"{name} = {value!r}", text, flags=re.MULTILINE)
+        assert count == 1, name
+    text, count = re.subn(r"^tolerance = .*$", f"tolerance = {tolerance!r}", text, flags=re.MULTILINE)
+    assert count == 1
+    return text
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--out", type=Path, default=Path("runs/twin-3d"))
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
+    parser.add_argument("--tolerance", type=float, default=0.02)
+    args = parser.parse_args()
+    true = TRUE | {k: float(v) for k, v in (item.split("=", 1) for item in args.set)}
+    text = CAMPAIGN.read_text()
+    started = time.perf_counter()
+    stand_in = parse_campaign(text, CAMPAIGN.parent)
+    lab = execute(run_spec("ucs", stand_in.specimen, stand_in.fixed_params() | true))
+    assert lab.status == "ok", lab.message
+    targets = {name: float(lab.responses[name]) for name in TARGETS}
+    print("twin's lab values:", ", ".join(f"{k} {v:.4g}" for k, v in targets.items()),
+          f"({lab.responses['n_particles']:.0f} spheres)")
+    campaign = parse_campaign(with_targets(text, targets, args.tolerance), CAMPAIGN.parent)
+    record = calibrate(campaign, Executor(RunStore(args.out), workers=args.workers))
+    print(f"accepted {record.accepted}, {record.dem_runs} parameter sets, "
+          f"{(time.perf_counter() - started) / 60:.1f} min")
+    for name, value in true.items():
+        found = record.identified[name]
+        print(f"{name:8s} true {value:8.4g}  found {found:8.4g}  {100 * (found / value - 1):+6.2f} %")
+    print("errors at the identified point:",
+          ", ".join(f"{k} {100 * v:+.2f} %" for k, v in record.errors.items()))
+
+
+if __name__ == "__main__":
+    main()
