@@ -24,7 +24,9 @@ from rockcal.labtests.brazilian import STRIP_MODULUS_GPA
 
 POINT = {"fj_emod": 61.17, "fj_kratio": 1.313, "fj_ten": 52.69, "fj_coh": 133.7, "fjm_B_frac": 0.5024,
          "fj_fa": 0.0, "fj_resmode": 0}
-BARE_PLATENS = {"brazilian_loading": "flat", "strip_modulus_gpa": STRIP_MODULUS_GPA}  # the default strip: none
+# the campaign loads its disk between strips; this table is of bare platens (the default
+# strip modulus, which they do not use)
+BARE_PLATENS = {"brazilian_loading": "flat", "strip_modulus_gpa": STRIP_MODULUS_GPA}
 TESTS = {"ucs": ("E_GPa", "ucs_MPa"), "brazilian": ("sigma_t_MPa",)}
 
 

@@ -348,9 +348,9 @@ class BrazilianValues(LabValues):
     sigma_t_MPa: float = Field(gt=0, description="Brazilian tensile strength σ_t = 2P/(πDt), MPa.")
 
 
-# Between bearing strips the platens close several times further to the peak than bare ones
-# (the strips' squeeze), at the slowest loading from the first break: a disk's run took about
-# six times its work's UCS run time, on bare platens about its work's.
+# A disk's run time between bearing strips over a UCS run's of the same work: the platens close
+# several times further to the peak (the strips' squeeze), at the slowest loading from the first
+# break; between bare platens the disk takes about its work's time.
 STRIPS_SLOWER = 6.0
 
 

@@ -6,9 +6,9 @@ On the surrogate, over a dense Latin hypercube of the box, and at the verified p
 errors: where the surrogate is rough a verified point may come closer than any it predicts),
 each target's least relative error alone and each pair's least larger error together: a target
 whose least error alone exceeds the tolerance is out of reach; two targets each within reach
-alone whose least larger error exceeds it conflict. The trade-off is read on the DEM runs seen (every full-resolution run of
-the search): their errors in the two responses and the points no other beats in both (the
-Pareto front). The best compromise stays the verified point with the smallest largest error.
+alone whose least larger error exceeds it conflict. The trade-off is read on the DEM runs seen
+(every full-resolution run of the search): their errors in the two responses and the points no
+other beats in both (the Pareto front). The best compromise stays the verified point with the smallest largest error.
 """
 
 from __future__ import annotations
@@ -36,7 +36,8 @@ def verdict_of(targets: dict[str, float], tolerance: float, box: np.ndarray,
     probes = latin_hypercube(box, PROBES, seed=PROBE_SEED, optimization="none")
     predicted = predict(probes)
     measured = [e for e in verified if e and all(r in e for r in targets)]
-    error = {r: np.abs(np.concatenate([np.asarray(predicted[r]) / t - 1.0, [e[r] for e in measured]]))
+    error = {r: np.abs(np.concatenate([np.asarray(predicted[r]) / t - 1.0,
+                                       [e[r] for e in measured]]))
              for r, t in targets.items()}
     alone = {r: float(e.min()) for r, e in error.items()}
     unreachable = {r: e for r, e in alone.items() if e > tolerance}
