@@ -315,7 +315,7 @@ class BendingValues(LabValues):
 
 TEST = LabTest(
     lab_values=BendingValues,
-    slower_than_work=1.75,  # its steps grow with span² / height, not with its rows
+    time_factor=lambda s: 1.75,  # its steps grow with span² / height, not with its rows
     name="bending", title="bending",
     help="Three-point bending of a notched beam: peak load, load-displacement curve, K_IC.",
     responses=(Response("K_IC_MPa_sqrt_m", "MPa·m^0.5", label="K_IC"),

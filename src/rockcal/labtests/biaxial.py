@@ -311,7 +311,7 @@ TEST = LabTest(
     outline=_outline,
     # the full-size granite's confined runs at sigma3 0, 5, 10, 20 MPa took 1.0, 1.8, 1.7 and
     # 2.2 x its UCS run (the seating, and a higher peak further on)
-    slower_than_work=1.7,
+    time_factor=lambda s: 1.7,
     curve_columns=CURVE_COLUMNS, own_settings=(CONFINEMENT,), combine=envelope,
     plot="deviatoric_stress_strain", series_figures=SERIES_FIGURES,
     combined_responses=(

@@ -356,7 +356,7 @@ STRIPS_SLOWER = 6.0
 
 TEST = LabTest(
     lab_values=BrazilianValues,
-    slower_with=lambda s: STRIPS_SLOWER if s.get("brazilian_loading") == "strips" else 1.0,
+    time_factor=lambda s: STRIPS_SLOWER if s.get("brazilian_loading") == "strips" else 1.0,
     name="brazilian", title="Brazilian",
     help="Brazilian test of a disk between flat platens, flat platens with bearing strips or ISRM's "
          "curved jaws (--loading): "

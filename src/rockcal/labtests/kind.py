@@ -130,9 +130,8 @@ class LabTest:
     title: str  # the test's name in a sentence
     revision: int = 1
     lab_values: type | None = None  # its [targets.<name>] section (LabValues); None: made from `targets`
-    slower_than_work: float = 1.0  # its run time over a UCS run's of the same work (grains x rows)
-    # a further factor of its run time for these settings (a loading that takes more steps)
-    slower_with: Callable[[dict], float] | None = None
+    # its run time over a UCS run's of the same work (grains x rows), with these specimen settings
+    time_factor: Callable[[dict], float] = lambda settings: 1.0
     curve_columns: tuple[str, ...] = ()  # the columns of its result's curve, with units
     plot: str | None = None  # the `rockcal.plots` function of (curve, path, title) that draws it
     flags: tuple[tuple[str, str], ...] = ()  # (setting, its CLI flag's name) where they differ
@@ -147,10 +146,6 @@ class LabTest:
     def __post_init__(self):
         if self.lab_values is not None:
             self.lab_values.kind = self  # its section reads its targets here, not by name
-
-    def time_factor(self, settings: dict) -> float:
-        """Its run time over a UCS run's of the same work, with these specimen settings."""
-        return self.slower_than_work * (self.slower_with(settings) if self.slower_with else 1.0)
 
     @property
     def series(self) -> Setting | None:
