@@ -7,7 +7,12 @@ about 6.5, as a dense PFC3D rock). 2D: the full-size UCS specimen of `engine_pro
 (50 x 100 mm, R_min 0.25 mm, about 13 000 disks, coordination 5.4). Both with their particles
 moving slightly so that every law is exercised, and the same number of threads.
 
-Run by hand: `python benchmarks/step_3d.py [--steps 300] [--rounds 3] [--threads 1 2]`.
+A genesis packing has more bonds per sphere than the lattice: `--cylinder D H R_MIN` also
+times a cylinder carved from one (the 3D granite campaign's is 25 50 0.8: bonded coordination
+about 9.6), bonded as the campaign bonds it.
+
+Run by hand: `python benchmarks/step_3d.py [--steps 300] [--rounds 3] [--threads 1 2]
+[--cylinder 25 50 0.8]`.
 """
 
 import argparse
@@ -22,6 +27,7 @@ from rockcal.dem import simulate as simulate_2d
 from rockcal.dem3d import simulate as simulate_3d
 from rockcal.dem3d.laws import Laws
 from rockcal.dem3d.neighbours import near_pairs, spatial_order
+from rockcal.dem3d.specimen import random_specimen
 from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
 
@@ -44,13 +50,24 @@ def perturbed_fcc(cells: int, spacing: float, seed: int = 0):
     return pos, radius, np.column_stack([pi, pj])
 
 
-def state_3d(cells: int):
-    pos, radius, pairs = perturbed_fcc(cells, 1e-3)
-    laws = Laws(E_c=21.65e9, ks_per_kn=1 / 1.9, mu=0.5, Ebar_c=21.65e9, ksbar_per_knbar=1 / 1.9,
-                lam=1.0, tan_phi=0.0, mcf=1.0)
-    state = simulate_3d.assemble_state(pos, radius, pairs, 2650.0, laws, ten=36.55e6, coh=90e6)
+LAWS_3D = Laws(E_c=21.65e9, ks_per_kn=1 / 1.9, mu=0.5, Ebar_c=21.65e9, ksbar_per_knbar=1 / 1.9,
+               lam=1.0, tan_phi=0.0, mcf=1.0)
+
+
+def moving_state_3d(pos, radius, pairs):
+    """Spheres bonded at `pairs`, moving slightly."""
+    state = simulate_3d.assemble_state(pos, radius, pairs, 2650.0, LAWS_3D, ten=36.55e6, coh=90e6)
     state.spheres.vel[:] = np.random.default_rng(0).normal(0, 1e-4, pos.shape)
     return state
+
+
+def state_3d(cells: int):
+    return moving_state_3d(*perturbed_fcc(cells, 1e-3))
+
+
+def cylinder_state_3d(diameter_mm: float, height_mm: float, rmin_mm: float):
+    spec = random_specimen("cylinder", diameter_mm, height_mm, rmin_mm)
+    return moving_state_3d(spec.pos, spec.radius, spec.bonds)
 
 
 def state_2d():
@@ -70,34 +87,47 @@ def seconds_per_step(advance, state, steps: int) -> float:
     return (time.perf_counter() - started) / steps
 
 
+def describe(name: str, state, n: int, bonds: int) -> None:
+    pairs = state.neighbours
+    print(f"{name}: {n} particles, {bonds} bonds ({2 * bonds / n:.2f} bonded coordination), "
+          f"{len(pairs.pi) - bonds} unbonded near pairs, {len(pairs.block_starts) - 1} blocks")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--steps", type=int, default=300)
     parser.add_argument("--rounds", type=int, default=3,
                         help="the engines are timed in turn this many times; the fastest counts")
     parser.add_argument("--cells", type=int, default=14, help="FCC cells per side (4 cells³ spheres)")
+    parser.add_argument("--cylinder", type=float, nargs=3, metavar=("D_MM", "H_MM", "RMIN_MM"),
+                        help="also a genesis cylinder of this size")
     parser.add_argument("--threads", type=int, nargs="+", default=[1, numba.config.NUMBA_NUM_THREADS])
     args = parser.parse_args()
-    s3, s2 = state_3d(args.cells), state_2d()
-    n3, n2 = s3.n_spheres, s2.n_particles
-    nb3, nb2 = s3.neighbours.n_bonds, s2.neighbours.n_bonds
-    print(f"3D: {n3} spheres, {nb3} bonds ({2 * nb3 / n3:.2f} bonded coordination), "
-          f"{len(s3.neighbours.pi) - nb3} unbonded near pairs, {len(s3.neighbours.block_starts) - 1} blocks")
-    print(f"2D: {n2} disks, {nb2} bonds ({2 * nb2 / n2:.2f} bonded coordination), "
-          f"{len(s2.neighbours.pi) - nb2} unbonded near pairs, {len(s2.neighbours.block_starts) - 1} blocks")
+    states = {"3D lattice": state_3d(args.cells)}
+    if args.cylinder:
+        states["3D cylinder {:g} x {:g} mm, R_min {:g}".format(*args.cylinder)] = cylinder_state_3d(*args.cylinder)
+    s2 = state_2d()
+    n2, nb2 = s2.n_particles, s2.neighbours.n_bonds
+    for name, s3 in states.items():
+        describe(name, s3, s3.n_spheres, s3.neighbours.n_bonds)
+    describe("2D", s2, n2, nb2)
     simulate_2d.use_threads(None)
     cap = numba.get_num_threads()
     for threads in sorted(set(args.threads)):
         numba.set_num_threads(threads)
-        t3 = t2 = np.inf
+        t3 = dict.fromkeys(states, np.inf)
+        t2 = np.inf
         for _ in range(args.rounds):
-            t3 = min(t3, seconds_per_step(simulate_3d.advance, s3, args.steps))
+            for name, s3 in states.items():
+                t3[name] = min(t3[name], seconds_per_step(simulate_3d.advance, s3, args.steps))
             simulate_2d.use_threads(threads)
             t2 = min(t2, seconds_per_step(simulate_2d.advance, s2, args.steps))
-        print(f"{threads} thread(s): 3D {t3 / n3 * 1e9:.0f} ns per sphere-step "
-              f"({t3 / nb3 * 1e9:.0f} ns per bond-step), 2D {t2 / n2 * 1e9:.0f} ns per disk-step "
-              f"({t2 / nb2 * 1e9:.0f} ns per bond-step); ratio per particle "
-              f"{(t3 / n3) / (t2 / n2):.2f}, per bond {(t3 / nb3) / (t2 / nb2):.2f}")
+        print(f"{threads} thread(s): 2D {t2 / n2 * 1e9:.0f} ns per disk-step ({t2 / nb2 * 1e9:.0f} ns per bond-step)")
+        for name, s3 in states.items():
+            n3, nb3 = s3.n_spheres, s3.neighbours.n_bonds
+            print(f"  {name}: {t3[name] / n3 * 1e9:.0f} ns per sphere-step ({t3[name] / nb3 * 1e9:.0f} ns "
+                  f"per bond-step); ratio to 2D per particle {(t3[name] / n3) / (t2 / n2):.2f}, "
+                  f"per bond {(t3[name] / nb3) / (t2 / nb2):.2f}")
     numba.set_num_threads(cap)
     print("load average:", " ".join(f"{x:.2f}" for x in os.getloadavg()))
 
