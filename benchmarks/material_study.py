@@ -17,11 +17,14 @@ the study
    10, 20 MPa), UCS / Brazilian, UCS / direct and CD / UCS, and gives their mean and sd.
 
 Every run goes through the run store in OUT: a stopped study resumes, a run done is never run
-again. Writes OUT/material_study.md (the table), OUT/material_study.json and
+again. Each variant done is added to the table TABLE (JSON, default OUT/material_study.json;
+the full-size study's is `benchmarks/data/material_study_full.json`, so that variants measured
+on different days make one table); writes OUT/material_study.md (the table) and
 OUT/material_study.png (m_i against UCS / Brazilian, each variant's mean and sd).
 
 Run by hand: `python benchmarks/material_study.py [--out runs/material-study] [--rmin-mm 0.5]
-[--variants pb-ball,pb-two-pebble,...] [--packings 3]` (`--list` names the variants).
+[--variants pb-ball,pb-two-pebble,...] [--packings 3] [--table TABLE]` (`--list` names the
+variants).
 """
 
 from __future__ import annotations
@@ -189,6 +192,8 @@ def main() -> None:
     parser.add_argument("--variants", default=",".join(f"pb-{s}" for s in SHAPES))
     parser.add_argument("--packings", type=int, default=3)
     parser.add_argument("--strip-modulus-gpa", type=float, default=0.5)
+    parser.add_argument("--table", type=Path, help="the JSON table the variants are added to "
+                                                    "(default OUT/material_study.json)")
     parser.add_argument("--list", action="store_true", help="name the variants and stop")
     args = parser.parse_args()
     known = variants()
@@ -199,7 +204,7 @@ def main() -> None:
     specimen = granite.specimen.model_copy(update={"rmin_mm": args.rmin_mm})
     args.out.mkdir(parents=True, exist_ok=True)
     study = Study(args.out, specimen, args.strip_modulus_gpa, args.packings)
-    results_path = args.out / "material_study.json"
+    results_path = args.table or args.out / "material_study.json"
     rows = {}
     for name in args.variants.split(","):
         model, params, settings = known[name]
