@@ -17,10 +17,11 @@ the study
    10, 20 MPa), UCS / Brazilian, UCS / direct and CD / UCS, and gives their mean and sd.
 
 Every run goes through the run store in OUT: a stopped study resumes, a run done is never run
-again. Each variant done is added to the table TABLE (JSON, default OUT/material_study.json;
-the full-size study's is `benchmarks/data/material_study_full.json`, so that variants measured
-on different days make one table); writes OUT/material_study.md (the table) and
-OUT/material_study.png (m_i against UCS / Brazilian, each variant's mean and sd).
+again. Each packing done is kept in the table TABLE (JSON, default OUT/material_study.json; the
+full-size study's is `benchmarks/data/material_study_full.json`), so a study stopped goes on
+from its last packing, on another day and machine too; writes OUT/material_study.md (the
+variants done) and OUT/material_study.png (m_i against UCS / Brazilian, each variant's mean and
+sd).
 
 Run by hand: `python benchmarks/material_study.py [--out runs/material-study] [--rmin-mm 0.5]
 [--variants pb-ball,pb-two-pebble,...] [--packings 3] [--table TABLE]` (`--list` names the
@@ -33,6 +34,7 @@ import argparse
 import json
 import math
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -113,10 +115,11 @@ class Study:
             params = scaled(params, E_TARGET_GPA / r["E_GPa"], UCS_TARGET_MPA / r["ucs_MPa"])
         return params, steps
 
-    def lab_sheet(self, model: str, params: dict, settings: dict) -> list[dict]:
-        """Per packing: the rock lab's values at `params`."""
-        sheets = []
-        for seed in range(1, self.packings + 1):
+    def lab_sheet(self, model: str, params: dict, settings: dict, sheets: list[dict],
+                  keep: Callable[[list[dict]], None]) -> None:
+        """Per packing: the rock lab's values at `params`, appended to `sheets` (the packings
+        done so far) and kept (`keep(sheets)`) as each packing is done."""
+        for seed in range(len(sheets) + 1, self.packings + 1):
             specimen = self.specimen.model_copy(update=settings | {"seed": seed})
             strips = specimen.model_copy(update={"brazilian_loading": "strips", "strip_modulus_gpa": self.strip})
             specs = {"ucs": run_spec("ucs", specimen, params, model),
@@ -136,7 +139,7 @@ class Study:
                            "split": r["brazilian"]["split"], "direct_MPa": direct,
                            "ucs_bts": ucs["ucs_MPa"] / bts, "ucs_dts": ucs["ucs_MPa"] / direct,
                            "cd_ucs": ucs["cd_ratio"]})
-        return sheets
+            keep(sheets)
 
 
 COLUMNS = (("E_GPa", "E (GPa)", 1), ("nu", "ν", 3), ("ucs_MPa", "UCS (MPa)", 1), ("phi_deg", "φ (°)", 1),
@@ -154,6 +157,8 @@ def markdown(rows: dict) -> str:
     head = "| variant | " + " | ".join(title for _, title, _ in COLUMNS) + " | splits |"
     lines = [head, "|" + "---|" * (len(COLUMNS) + 2)]
     for name, row in rows.items():
+        if not row.get("complete", True):
+            continue
         cells = []
         for key, _, digits in COLUMNS:
             mean, sd = mean_sd(row["sheets"], key)
@@ -171,6 +176,8 @@ def figure(rows: dict, path: Path) -> None:
 
     fig, ax = plt.subplots(figsize=(7, 5))
     for name, row in rows.items():
+        if not row.get("complete", True):
+            continue
         (x, dx), (y, dy) = mean_sd(row["sheets"], "ucs_bts"), mean_sd(row["sheets"], "m_i")
         marker = "o" if name.startswith("pb") else "s"
         ax.errorbar(x, y, xerr=dx, yerr=dy, fmt=marker, capsize=3, label=name)
@@ -183,6 +190,57 @@ def figure(rows: dict, path: Path) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+class Table:
+    """The study's JSON table: a row per variant, kept as each packing is done (a stopped study
+    goes on from its last packing); read anew before each write, as another study may share it."""
+
+    def __init__(self, path: Path, rmin_mm: float, packings: int):
+        self.path, self.rmin_mm, self.packings = path, rmin_mm, packings
+
+    def rows(self) -> dict:
+        return json.loads(self.path.read_text()) if self.path.exists() else {}
+
+    def row(self, name: str) -> dict | None:
+        """The variant's row, if it has one; a row of another resolution or count of packings
+        stops the study."""
+        row = self.rows().get(name)
+        if row is not None and (row.get("rmin_mm", self.rmin_mm), row.get("packings", self.packings)) \
+                != (self.rmin_mm, self.packings):
+            raise SystemExit(f"{self.path} holds {name} at R_min {row['rmin_mm']} mm on {row['packings']} "
+                             f"packings: give another --table")
+        return row
+
+    def put(self, name: str, row: dict, markdown_path: Path) -> None:
+        rows = self.rows() | {name: row}
+        self.path.write_text(json.dumps(rows, indent=2))
+        markdown_path.write_text(markdown(rows))
+
+
+def measure(study: Study, table: Table, name: str, model: str, params: dict, settings: dict,
+            markdown_path: Path) -> None:
+    """A variant's row: scaled to the granite (unless its row has its point), then packing by
+    packing from the first its row lacks, each kept in the table as it is done."""
+    clock = time.perf_counter()
+    row = table.row(name)
+    if row is None:
+        point, steps = study.at_granite(model, params, settings)
+        row = {"model": model, "settings": settings, "rmin_mm": table.rmin_mm,
+               "packings": table.packings, "params": point, "scaling": steps, "sheets": [],
+               "complete": False, "wall_s": 0.0}
+
+    def keep(sheets: list[dict]) -> None:
+        nonlocal clock
+        now = time.perf_counter()
+        row.update(sheets=sheets, complete=len(sheets) == table.packings,
+                   wall_s=round(row["wall_s"] + now - clock, 1))
+        clock = now
+        table.put(name, row, markdown_path)
+
+    keep(row["sheets"])
+    study.lab_sheet(model, row["params"], settings, row["sheets"], keep)
+    print(f"{name}: done, {row['wall_s']} s in all", flush=True)
 
 
 def main() -> None:
@@ -204,20 +262,10 @@ def main() -> None:
     specimen = granite.specimen.model_copy(update={"rmin_mm": args.rmin_mm})
     args.out.mkdir(parents=True, exist_ok=True)
     study = Study(args.out, specimen, args.strip_modulus_gpa, args.packings)
-    results_path = args.table or args.out / "material_study.json"
-    rows = {}
+    table = Table(args.table or args.out / "material_study.json", args.rmin_mm, args.packings)
     for name in args.variants.split(","):
-        model, params, settings = known[name]
-        started = time.perf_counter()
-        point, steps = study.at_granite(model, params, settings)
-        sheets = study.lab_sheet(model, point, settings)
-        # read again: another study may share OUT (its store and its table)
-        rows = json.loads(results_path.read_text()) if results_path.exists() else {}
-        rows[name] = {"model": model, "settings": settings, "params": point, "scaling": steps,
-                      "sheets": sheets, "wall_s_now": round(time.perf_counter() - started, 1)}
-        results_path.write_text(json.dumps(rows, indent=2))
-        (args.out / "material_study.md").write_text(markdown(rows))
-        print(f"{name}: done in {rows[name]['wall_s_now']} s", flush=True)
+        measure(study, table, name, *known[name], args.out / "material_study.md")
+    rows = table.rows()
     figure(rows, args.out / "material_study.png")
     print(markdown(rows))
 
