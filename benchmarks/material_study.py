@@ -31,6 +31,7 @@ variants).
 from __future__ import annotations
 
 import argparse
+import fcntl
 import json
 import math
 import time
@@ -213,8 +214,10 @@ class Table:
         return row
 
     def put(self, name: str, row: dict, markdown_path: Path) -> None:
-        rows = self.rows() | {name: row}
-        self.path.write_text(json.dumps(rows, indent=2))
+        with open(self.path.with_suffix(".lock"), "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)  # another study's write waits: no row lost
+            rows = self.rows() | {name: row}
+            self.path.write_text(json.dumps(rows, indent=2))
         markdown_path.write_text(markdown(rows))
 
 
