@@ -253,7 +253,7 @@ def main() -> None:
     parser.add_argument("--variants", default=",".join(f"pb-{s}" for s in SHAPES))
     parser.add_argument("--packings", type=int, default=3)
     parser.add_argument("--strip-modulus-gpa", type=float, default=0.5)
-    parser.add_argument("--table", type=Path, help="the JSON table the variants are added to "
+    parser.add_argument("--table", type=Path, help="the JSON table kept packing by packing "
                                                     "(default OUT/material_study.json)")
     parser.add_argument("--list", action="store_true", help="name the variants and stop")
     args = parser.parse_args()

@@ -87,8 +87,9 @@ def seconds_per_step(advance, state, steps: int) -> float:
     return (time.perf_counter() - started) / steps
 
 
-def describe(name: str, state, n: int, bonds: int) -> None:
+def describe(name: str, state) -> None:
     pairs = state.neighbours
+    n, bonds = len(pairs.pos_at_build), pairs.n_bonds
     print(f"{name}: {n} particles, {bonds} bonds ({2 * bonds / n:.2f} bonded coordination), "
           f"{len(pairs.pi) - bonds} unbonded near pairs, {len(pairs.block_starts) - 1} blocks")
 
@@ -109,8 +110,8 @@ def main() -> None:
     s2 = state_2d()
     n2, nb2 = s2.n_particles, s2.neighbours.n_bonds
     for name, s3 in states.items():
-        describe(name, s3, s3.n_spheres, s3.neighbours.n_bonds)
-    describe("2D", s2, n2, nb2)
+        describe(name, s3)
+    describe("2D", s2)
     simulate_2d.use_threads(None)
     cap = numba.get_num_threads()
     for threads in sorted(set(args.threads)):
