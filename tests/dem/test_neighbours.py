@@ -5,7 +5,7 @@ contact and keeps the shear force of lasting contacts across rebuilds."""
 import numpy as np
 import pytest
 
-from rockcal.dem import neighbours
+from rockcal.dem import neighbours, simulate
 from rockcal.dem.neighbours import near_pairs
 from rockcal.dem.simulate import advance
 from rockcal.materials.parallel_bond import new_state
@@ -98,9 +98,9 @@ def test_neighbour_list_value_against_brute_force():
         nlist = neighbours.update(nlist, pos, radius)
 
 
-def gas(seed, n=36):
-    """Frictionless disks (history-free forces) in a walled box, fast enough to cross the
-    neighbour skin every few tens of steps."""
+def gas(seed, n=36, mu=0.0):
+    """Disks, frictionless unless `mu` (history-free forces), in a walled box, fast enough to
+    cross the neighbour skin every few tens of steps."""
     rng = np.random.default_rng(seed)
     box = 14e-3
     pos, radius = [], []
@@ -110,7 +110,7 @@ def gas(seed, n=36):
         if all(np.hypot(*(p - q)) > r + s for q, s in zip(pos, radius)):
             pos.append(p)
             radius.append(r)
-    params = make_params({"E_c": 5.0, "mu": 0.0, "damping": 0.0})
+    params = make_params({"E_c": 5.0, "mu": mu, "damping": 0.0})
     state = new_state(np.array(pos), np.array(radius), np.empty((0, 2), int), params,
                       walls=(0.0, box, 0.0, box), wall_active=(True,) * 4, contact_stiffness="pfc5")
     state.particles.vel[:] = rng.normal(0.0, 1.0, (n, 2)) * 0.03e-3 / state.dt  # ~0.03 mm per step
@@ -160,13 +160,15 @@ def test_no_contact_is_missed_during_a_long_run():
     assert np.abs(state.particles.pos - start).max() > 2 * rmin
 
 
-def test_shear_force_survives_neighbour_list_rebuilds():
-    """A lasting frictional contact keeps its shear force while a distant disk's travel
-    forces the neighbour list to be rebuilt many times."""
+def test_shear_force_survives_neighbour_list_rebuilds(monkeypatch):
+    """A lasting frictional contact keeps its shear force while two distant disks' travel
+    (side by side, so not flying free: `release_lone_movers`) forces the neighbour list to be
+    rebuilt many times."""
+    rebuilds = count_rebuilds(monkeypatch)
     r, overlap = 1e-3, 2e-6
-    pos = np.array([[0.0, 0.0], [2 * r - overlap, 0.0], [20e-3, 0.0]])
+    pos = np.array([[0.0, 0.0], [2 * r - overlap, 0.0], [20e-3, 0.0], [20e-3 + 2.1 * r, 0.0]])
     params = make_params({"E_c": 10.0, "kn_ks": 2.0, "mu": 0.5, "damping": 0.0})
-    state = new_state(pos, np.full(3, r), np.empty((0, 2), int), params, driven=np.array([0]))
+    state = new_state(pos, np.full(4, r), np.empty((0, 2), int), params, driven=np.array([0]))
     state.particles.inv_mass[:] = 0.0
     state.particles.inv_inertia[:] = 0.0
     kn = 2 * r * T * 10 * GPA / (2 * r)
@@ -178,9 +180,61 @@ def test_shear_force_survives_neighbour_list_rebuilds():
     advance(state, 1)
     before = state.particles.force[0].copy()
     assert before[1] == pytest.approx(20 * ks * (-omega * r) * state.dt, rel=overlap / r)
-    state.particles.vel[2] = (0.0, 0.05 * r / state.dt)  # 10 R in all: many skins
+    state.particles.vel[2:] = (0.0, 0.05 * r / state.dt)  # 10 R in all: many skins
     advance(state, 200)
-    state.particles.vel[2] = 0.0
+    state.particles.vel[2:] = 0.0
     advance(state, 1)
     assert state.particles.pos[2, 1] > 9 * r
+    assert len(rebuilds) > 10
     np.testing.assert_allclose(state.particles.force[0], before, rtol=1e-12)
+
+
+def count_rebuilds(monkeypatch) -> list:
+    """The steps at which `advance` rebuilds the neighbour list, from now on."""
+    steps = []
+    rebuild = simulate.rebuild_neighbours
+
+    def counted(state):
+        steps.append(state.step)
+        rebuild(state)
+    monkeypatch.setattr(simulate, "rebuild_neighbours", counted)
+    return steps
+
+
+def test_a_grain_flying_free_does_not_rebuild_the_list(monkeypatch):
+    """A disk flying away from the others (a grain spalled off a specimen) travels many skins
+    without a rebuild: its build position moves with it (`release_lone_movers`); once it
+    nears another disk, the list is rebuilt as before."""
+    rebuilds = count_rebuilds(monkeypatch)
+    r = 1e-3
+    pos = np.array([[0.0, 0.0], [2 * r, 0.0], [0.0, 3 * r], [30e-3, 0.0]])
+    params = make_params({"E_c": 10.0, "mu": 0.5, "damping": 0.0})
+    state = new_state(pos, np.full(4, r), np.empty((0, 2), int), params)
+    state.particles.vel[2] = (0.0, 0.05 * r / state.dt)  # away from the pair: 10 R
+    advance(state, 200)
+    assert state.particles.pos[2, 1] > 12 * r and rebuilds == []
+    state.particles.vel[2] = 0.0
+    state.particles.vel[3] = (-0.05 * r / state.dt, 0.0)  # towards the pair: 10 R
+    advance(state, 200)
+    assert state.particles.pos[3, 0] < 21e-3 and rebuilds == []
+    advance(state, 320)  # to touch disk 1
+    assert len(rebuilds) > 0
+
+
+def test_releasing_lone_movers_changes_no_number(monkeypatch):
+    """A frictional gas (disks colliding, many flying free between collisions) runs to the
+    same positions, velocities and forces, to the bit, with lone movers released and with
+    every half skin's travel rebuilding the list."""
+    states = []
+    for release in (True, False):
+        if not release:
+            monkeypatch.setattr(neighbours, "release_lone_movers", lambda *args: False)
+        rebuilds = count_rebuilds(monkeypatch)
+        state = gas(5, mu=0.5)
+        for steps in (300, 1, 700, 250, 750):
+            advance(state, steps)
+        states.append((state, len(rebuilds)))
+    (released, released_rebuilds), (rebuilt, all_rebuilds) = states
+    assert released_rebuilds < all_rebuilds
+    for name in ("pos", "vel", "spin", "force", "moment"):
+        np.testing.assert_array_equal(getattr(released.particles, name), getattr(rebuilt.particles, name))

@@ -22,6 +22,9 @@ import numpy as np
 from numba import njit
 
 PARTICLES_PER_BLOCK = 2000
+# More movers than this at once are the specimen deforming, not a few grains flying free: a
+# rebuild, without looking at each.
+LONE_MOVERS_AT_MOST = 8
 
 
 @dataclass(frozen=True)
@@ -91,6 +94,49 @@ def update(nlist: NeighbourList, pos: np.ndarray, radius: np.ndarray) -> Neighbo
         block_starts=nlist.block_starts, bond_offsets=nlist.bond_offsets,
         contact_offsets=nb + offsets, pos_at_build=pos.copy(), skin=nlist.skin,
         clump_of=nlist.clump_of)
+
+
+@njit(cache=True)
+def release_lone_movers(pos, radius, pos_at_build, skin) -> bool:
+    """Whether the list stays valid with the particles that moved more than skin / 2 since it
+    was built taken as built where they are now; if so their `pos_at_build` is set there (if
+    not, nothing changes and the list must be rebuilt). So a grain flying free of the specimen
+    does not rebuild the list at every half skin of its flight.
+
+    A mover k may be taken so if every other particle j is more than a skin from it with j's
+    own travel since the list was built taken off, gap(k, j) - |x_j - x_j,build| >= skin: until
+    either has moved another half skin (when the list is looked at again) their gap stays
+    positive. A particle with a listed pair fails this, so only the isolated are taken: the
+    list stays the one a rebuild would give for every touching pair, and the forces, summed in
+    the list's fixed order, stay the same to the bit.
+    """
+    n = pos.shape[0]
+    half_skin_sq = (0.5 * skin) ** 2
+    travel = np.empty(n)
+    movers = np.empty(n, np.int64)
+    count = 0
+    for k in range(n):
+        dx = pos[k, 0] - pos_at_build[k, 0]
+        dy = pos[k, 1] - pos_at_build[k, 1]
+        travel[k] = np.sqrt(dx * dx + dy * dy)
+        if dx * dx + dy * dy > half_skin_sq:
+            movers[count] = k
+            count += 1
+    if count > LONE_MOVERS_AT_MOST:
+        return False
+    for m in range(count):
+        k = movers[m]
+        for j in range(n):
+            if j == k:
+                continue
+            dx = pos[j, 0] - pos[k, 0]
+            dy = pos[j, 1] - pos[k, 1]
+            if np.sqrt(dx * dx + dy * dy) - radius[j] - radius[k] - travel[j] < skin:
+                return False
+    for m in range(count):
+        pos_at_build[movers[m], 0] = pos[movers[m], 0]
+        pos_at_build[movers[m], 1] = pos[movers[m], 1]
+    return True
 
 
 def needs_update(nlist: NeighbourList, pos: np.ndarray) -> bool:

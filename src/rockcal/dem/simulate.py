@@ -421,5 +421,6 @@ def _advance_all(state: State, n_steps: int, threads: int) -> None:
             state.laws, state.damping, state.dt, threads)
         done += done_now
         state.step += done_now
-        if rebuild:
+        if rebuild and not neighbours.release_lone_movers(p.pos, p.radius, pairs.pos_at_build,
+                                                          pairs.skin):
             rebuild_neighbours(state)
