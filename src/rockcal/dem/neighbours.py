@@ -106,9 +106,9 @@ def release_lone_movers(pos, radius, pos_at_build, skin) -> bool:
     A mover k may be taken so if every other particle j is more than a skin from it with j's
     own travel since the list was built taken off, gap(k, j) - |x_j - x_j,build| >= skin: until
     either has moved another half skin (when the list is looked at again) their gap stays
-    positive. A particle with a listed pair fails this, so only the isolated are taken: the
-    list stays the one a rebuild would give for every touching pair, and the forces, summed in
-    the list's fixed order, stay the same to the bit.
+    positive. A bonded or touching particle fails this, so only the isolated are taken: the
+    list holds every pair a rebuild would list that can touch (and perhaps pairs now apart,
+    which add zeros), and the forces, summed in the list's fixed order, stay the same to the bit.
     """
     n = pos.shape[0]
     half_skin_sq = (0.5 * skin) ** 2
