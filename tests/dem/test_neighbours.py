@@ -99,8 +99,8 @@ def test_neighbour_list_value_against_brute_force():
 
 
 def gas(seed, n=36, mu=0.0):
-    """Disks, frictionless unless `mu` (history-free forces), in a walled box, fast enough to
-    cross the neighbour skin every few tens of steps."""
+    """Disks in a walled box, fast enough to cross the neighbour skin every few tens of steps;
+    frictionless (history-free forces) unless `mu`."""
     rng = np.random.default_rng(seed)
     box = 14e-3
     pos, radius = [], []

@@ -118,8 +118,9 @@ def release_lone_movers(pos, radius, pos_at_build, skin) -> bool:
     for k in range(n):
         dx = pos[k, 0] - pos_at_build[k, 0]
         dy = pos[k, 1] - pos_at_build[k, 1]
-        travel[k] = np.sqrt(dx * dx + dy * dy)
-        if dx * dx + dy * dy > half_skin_sq:
+        travel_sq = dx * dx + dy * dy
+        travel[k] = np.sqrt(travel_sq)
+        if travel_sq > half_skin_sq:
             movers[count] = k
             count += 1
     if count > LONE_MOVERS_AT_MOST:
