@@ -128,12 +128,16 @@ class State:
 
 @njit(cache=True)
 def _column_sums(a):
-    """a.sum(axis=0) of a C-ordered 2D array, row after row as numpy adds them, compiled."""
-    out = np.zeros(a.shape[1])
+    """a.sum(axis=0) of the walls' (n, 4) forces, row after row as numpy adds them, compiled;
+    each column's sum in a register of its own (kept in memory, the four would wait on each
+    other's stores: a UCS test reads them after every few steps)."""
+    s0 = s1 = s2 = s3 = 0.0
     for k in range(a.shape[0]):
-        for c in range(a.shape[1]):
-            out[c] += a[k, c]
-    return out
+        s0 += a[k, 0]
+        s1 += a[k, 1]
+        s2 += a[k, 2]
+        s3 += a[k, 3]
+    return np.array([s0, s1, s2, s3])
 
 
 # How a contact's normal stiffness follows from E_c (`laws.Laws`): PFC 5's deformability

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.spatial.distance import pdist
-from scipy.stats import qmc
 
 from rockcal.errors import InputError
 from rockcal.inverse.bounds import check_bounds
@@ -25,6 +24,8 @@ def latin_hypercube(bounds, n: int, *, seed=None, optimization: str = "random-cd
         raise InputError("n", f"a Latin hypercube needs at least 2 points, got {n}")
     if optimization not in OPTIMIZATIONS:
         raise InputError("optimization", f"must be one of {', '.join(OPTIMIZATIONS)}, got {optimization!r}")
+    from scipy.stats import qmc  # here: scipy.stats takes 0.4 s to import, and every command would wait
+
     rng = np.random.default_rng(seed)
     d = len(lower)
     if optimization == "maximin":
