@@ -7,10 +7,11 @@ specimen's loading); the ratios are to the one-thread run of the same condition.
 
 Run by hand, on a machine with nothing else running (about a minute on 2 cores):
 
-    python benchmarks/threads_under_load.py [--rmin-mm 0.5] [--env OMP_WAIT_POLICY=passive] [--all]
+    python benchmarks/threads_under_load.py [--rmin-mm 0.5] [--env OMP_WAIT_POLICY=passive] [--all] [--rounds 1]
 
 `--all` also times two fixed threads on the busy cores (several times one thread's time: a
-task half done on a descheduled thread holds the step).
+task half done on a descheduled thread holds the step). `--rounds K` times the whole table K
+times in turn (a virtual machine's timings move by 10-20 % from run to run).
 
 `--env NAME=VALUE` (repeatable) sets a variable in every timed run, e.g. numba's threading
 layer (NUMBA_THREADING_LAYER=workqueue) or OpenMP's wait policy. The specimen is made (or
@@ -57,6 +58,7 @@ def main() -> None:
     parser.add_argument("--rmin-mm", default="0.5")
     parser.add_argument("--env", action="append", default=[], metavar="NAME=VALUE")
     parser.add_argument("--all", action="store_true", help="two fixed threads on busy cores too")
+    parser.add_argument("--rounds", type=int, default=1, help="the whole table this many times")
     args = parser.parse_args()
     env = dict(item.split("=", 1) for item in args.env)
     ucs = [sys.executable, "-m", "rockcal", "simulate", "ucs", "--rmin-mm", args.rmin_mm, "--json"]
@@ -66,16 +68,19 @@ def main() -> None:
           f"{cores} cores{'; ' + ' '.join(args.env) if args.env else ''}")
     print(f"{'condition':34s} {'threads':10s} {'command s':>9s} {'ratio':>6s} {'run s':>7s} {'ratio':>6s}")
     seen = set()
-    for condition, load in (("idle", 0), (f"beside {cores} CPU-bound processes", cores)):
-        runs = {name: extra for name, extra in RUNS.items()
-                if not load or args.all or name != FIXED_UNDER_LOAD}
-        with cpu_load(load):
-            times = {name: timed(ucs + extra, env) for name, extra in runs.items()}
-        one_s, one = times["1 thread"]
-        for name, (seconds, summary) in times.items():
-            seen.add((summary["ucs_MPa"], summary["steps"]))
-            print(f"{condition:34s} {name:10s} {seconds:9.2f} {seconds / one_s:6.2f} "
-                  f"{summary['wall_s']:7.2f} {summary['wall_s'] / one['wall_s']:6.2f}")
+    for round_ in range(1, args.rounds + 1):
+        if args.rounds > 1:
+            print(f"round {round_}")
+        for condition, load in (("idle", 0), (f"beside {cores} CPU-bound processes", cores)):
+            runs = {name: extra for name, extra in RUNS.items()
+                    if not load or args.all or name != FIXED_UNDER_LOAD}
+            with cpu_load(load):
+                times = {name: timed(ucs + extra, env) for name, extra in runs.items()}
+            one_s, one = times["1 thread"]
+            for name, (seconds, summary) in times.items():
+                seen.add((summary["ucs_MPa"], summary["steps"]))
+                print(f"{condition:34s} {name:10s} {seconds:9.2f} {seconds / one_s:6.2f} "
+                      f"{summary['wall_s']:7.2f} {summary['wall_s'] / one['wall_s']:6.2f}")
     print("same numbers in every run:", len(seen) == 1)
 
 
