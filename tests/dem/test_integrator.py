@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from rockcal.dem.laws import INTACT, BondRow
-from rockcal.dem.simulate import TIME_STEP_SAFETY, _column_sums, advance, scale_density, stable_time_step
+from rockcal.dem.simulate import TIME_STEP_SAFETY, _wall_totals, advance, scale_density, stable_time_step
 from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
 
@@ -258,4 +258,4 @@ def test_the_walls_total_force_is_numpys_sum_to_the_bit():
     """The compiled total adds row after row, as numpy's sum over the first axis does."""
     force = np.random.default_rng(3).lognormal(0.0, 3.0, (1001, 4))
     force[::3] = 0.0
-    assert _column_sums(force).tobytes() == force.sum(axis=0).tobytes()
+    assert _wall_totals(force).tobytes() == force.sum(axis=0).tobytes()

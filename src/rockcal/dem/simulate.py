@@ -87,7 +87,7 @@ class Walls(NamedTuple):
 
     def total_force(self) -> np.ndarray:
         """Force on each wall (left, right, bottom, top), compression positive, N per m."""
-        return _column_sums(self.force)
+        return _wall_totals(self.force)
 
 
 @dataclass
@@ -127,10 +127,10 @@ class State:
 
 
 @njit(cache=True)
-def _column_sums(a):
-    """a.sum(axis=0) of the walls' (n, 4) forces, row after row as numpy adds them, compiled;
-    each column's sum in a register of its own (kept in memory, the four would wait on each
-    other's stores: a UCS test reads them after every few steps)."""
+def _wall_totals(a):
+    """The walls' (n, 4) forces summed over the particles, row after row as numpy's
+    a.sum(axis=0) adds them; each wall's sum in a register of its own (kept in memory, the four
+    would wait on each other's stores: a test reads them after every few steps)."""
     s0 = s1 = s2 = s3 = 0.0
     for k in range(a.shape[0]):
         s0 += a[k, 0]
