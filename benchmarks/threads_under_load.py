@@ -1,7 +1,9 @@
 """The engine's threads on idle and on busy cores: `rockcal simulate ucs --rmin-mm 0.5` timed
 on one thread (`--threads 1`), on two (`--threads 2`) and by default (one thread per free
 core), first on idle cores, then beside as many CPU-bound processes as there are cores (this
-script starts them and stops them). Each is a whole command in a new process, one run after
+script starts them and stops them). On idle cores, two one-thread runs started together also
+show what the machine gives two processes at once (on a virtual machine, the second core's
+share moves with the host's other work, and two threads cannot gain more than it gives). Each is a whole command in a new process, one run after
 the other, timed whole and by its own clock (the run, without Python's start and the
 specimen's loading); the ratios are to the one-thread run of the same condition.
 
@@ -53,6 +55,20 @@ def timed(command: list[str], env: dict) -> tuple[float, dict]:
     return seconds, json.loads(run.stdout)
 
 
+def timed_together(command: list[str], env: dict, count: int) -> list[tuple[float, dict]]:
+    """`timed` for `count` copies of a command started together."""
+    started = time.perf_counter()
+    runs = [subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                             env=os.environ | env) for _ in range(count)]
+    results = []
+    for run in runs:
+        out, err = run.communicate()
+        if run.returncode != 0:
+            sys.exit(err)
+        results.append((time.perf_counter() - started, json.loads(out)))
+    return results
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--rmin-mm", default="0.5")
@@ -81,6 +97,16 @@ def main() -> None:
                 seen.add((summary["ucs_MPa"], summary["steps"]))
                 print(f"{condition:34s} {name:10s} {seconds:9.2f} {seconds / one_s:6.2f} "
                       f"{summary['wall_s']:7.2f} {summary['wall_s'] / one['wall_s']:6.2f}")
+            if not load and cores > 1:
+                together = timed_together(ucs + RUNS["1 thread"], env, cores)
+                for seconds, summary in together:
+                    seen.add((summary["ucs_MPa"], summary["steps"]))
+                    print(f"{f'idle, {cores} one-thread runs at once':34s} {'1 thread':10s} "
+                          f"{seconds:9.2f} {seconds / one_s:6.2f} {summary['wall_s']:7.2f} "
+                          f"{summary['wall_s'] / one['wall_s']:6.2f}")
+                mean_s = sum(summary["wall_s"] for _, summary in together) / cores
+                print(f"{'':34s} the machine gives {cores} processes {cores * one['wall_s'] / mean_s:.2f}x "
+                      f"one; 2 threads gave one run {one['wall_s'] / times['2 threads'][1]['wall_s']:.2f}x")
     print("same numbers in every run:", len(seen) == 1)
 
 
