@@ -2,12 +2,12 @@
 on one thread (`--threads 1`), on two (`--threads 2`) and by default (one thread per free
 core), first on idle cores, then beside as many CPU-bound processes as there are cores (this
 script starts them and stops them). On idle cores, two one-thread runs started together also
-show what the machine gives two processes at once (on a virtual machine, the second core's
-share moves with the host's other work, and two threads cannot gain more than it gives). Each is a whole command in a new process, one run after
-the other, timed whole and by its own clock (the run, without Python's start and the
-specimen's loading); the ratios are to the one-thread run of the same condition.
+show what the machine gives two processes at once (on a virtual machine it moves from round to
+round, and two threads cannot gain more than it gives). Each is a whole command in a new
+process, one run after the other, timed whole and by its own clock (the run, without Python's
+start and the specimen's loading); the ratios are to the one-thread run of the same condition.
 
-Run by hand, on a machine with nothing else running (about a minute on 2 cores):
+Run by hand, on a machine with nothing else running (about 1.5 min on 2 cores):
 
     python benchmarks/threads_under_load.py [--rmin-mm 0.5] [--env OMP_WAIT_POLICY=passive] [--all] [--rounds 1]
 
@@ -47,12 +47,7 @@ def cpu_load(processes: int):
 
 def timed(command: list[str], env: dict) -> tuple[float, dict]:
     """The wall time of a command printing one JSON object, and that object."""
-    started = time.perf_counter()
-    run = subprocess.run(command, capture_output=True, text=True, env=os.environ | env)
-    seconds = time.perf_counter() - started
-    if run.returncode != 0:
-        sys.exit(run.stderr)
-    return seconds, json.loads(run.stdout)
+    return timed_together(command, env, 1)[0]
 
 
 def timed_together(command: list[str], env: dict, count: int) -> list[tuple[float, dict]]:
@@ -93,20 +88,21 @@ def main() -> None:
             with cpu_load(load):
                 times = {name: timed(ucs + extra, env) for name, extra in runs.items()}
             one_s, one = times["1 thread"]
-            for name, (seconds, summary) in times.items():
+            together = (timed_together(ucs + RUNS["1 thread"], env, cores)
+                        if not load and cores > 1 else [])
+            rows = [(condition, name, *timing) for name, timing in times.items()]
+            rows += [(f"idle, {cores} one-thread runs at once", "1 thread", *timing)
+                     for timing in together]
+            for label, name, seconds, summary in rows:
                 seen.add((summary["ucs_MPa"], summary["steps"]))
-                print(f"{condition:34s} {name:10s} {seconds:9.2f} {seconds / one_s:6.2f} "
+                print(f"{label:34s} {name:10s} {seconds:9.2f} {seconds / one_s:6.2f} "
                       f"{summary['wall_s']:7.2f} {summary['wall_s'] / one['wall_s']:6.2f}")
-            if not load and cores > 1:
-                together = timed_together(ucs + RUNS["1 thread"], env, cores)
-                for seconds, summary in together:
-                    seen.add((summary["ucs_MPa"], summary["steps"]))
-                    print(f"{f'idle, {cores} one-thread runs at once':34s} {'1 thread':10s} "
-                          f"{seconds:9.2f} {seconds / one_s:6.2f} {summary['wall_s']:7.2f} "
-                          f"{summary['wall_s'] / one['wall_s']:6.2f}")
+            if together:
                 mean_s = sum(summary["wall_s"] for _, summary in together) / cores
-                print(f"{'':34s} the machine gives {cores} processes {cores * one['wall_s'] / mean_s:.2f}x "
-                      f"one; 2 threads gave one run {one['wall_s'] / times['2 threads'][1]['wall_s']:.2f}x")
+                two_threads_s = times["2 threads"][1]["wall_s"]
+                print(f"{'':34s} the machine gives {cores} processes "
+                      f"{cores * one['wall_s'] / mean_s:.2f}x one; 2 threads gave one run "
+                      f"{one['wall_s'] / two_threads_s:.2f}x")
     print("same numbers in every run:", len(seen) == 1)
 
 
