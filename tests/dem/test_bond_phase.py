@@ -8,7 +8,7 @@ import numpy as np
 from rockcal import hexagonal
 from rockcal.dem import laws
 from rockcal.dem.laws import BondRow
-from rockcal.dem.simulate import rebuild_neighbours
+from rockcal.dem.simulate import add_border_forces, border_rows, rebuild_neighbours
 from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
 
@@ -16,14 +16,20 @@ PARAMS = {"E_c": 20, "kn_ks": 2.0, "sigma_c": 10, "tau_c": 20, "sigma_c_cv": 0.3
           "tau_c_cv": 0.3, "phi_b": 20}
 
 
-def test_tiles_give_the_sums_of_adding_pairs_one_by_one():
+def moving_lattice():
+    """A bonded lattice of 12 x 12 mm, its disks moving and spinning at random; the generator."""
     specimen = hexagonal(12, 12, 0.25)
     state = new_state(specimen.pos, specimen.radius, specimen.bonds, make_params(PARAMS),
                       bond_draws=np.random.default_rng(1).random(2 * len(specimen.bonds)))
     rng = np.random.default_rng(0)
+    state.particles.vel[:] = rng.normal(0, 0.05, state.particles.vel.shape)
+    state.particles.spin[:] = rng.normal(0, 100.0, state.particles.spin.shape)
+    return state, rng
+
+
+def test_tiles_give_the_sums_of_adding_pairs_one_by_one():
+    state, rng = moving_lattice()
     p, nb = state.particles, state.neighbours.n_bonds
-    p.vel[:] = rng.normal(0, 0.05, p.vel.shape)
-    p.spin[:] = rng.normal(0, 100.0, p.spin.shape)
     # pairs in no particular order, some (j, i), runs of one first disk, several tiles
     order = rng.permutation(nb)
     pi, pj = state.neighbours.pi[:nb][order], state.neighbours.pj[:nb][order]
@@ -51,6 +57,40 @@ def test_tiles_give_the_sums_of_adding_pairs_one_by_one():
     one_by_one = run([(k, k + 1) for k in range(nb)])
     assert np.count_nonzero(tiled[3]) > 0  # bonds broke
     for a, b in zip(tiled, one_by_one):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_border_pairs_kept_in_rows_add_to_the_same_sums_as_pair_by_pair():
+    """The pairs across block borders write their forces into rows of their own, added to the
+    particles afterwards (`simulate.add_border_forces`): the loads must be those of adding the
+    pairs to them directly, bonds then contacts, to the last bit."""
+    state, rng = moving_lattice()
+    p, nb = state.particles, state.neighbours.n_bonds
+    p.pos[:] += rng.normal(0, 1e-6, p.pos.shape)  # the touching pairs press, as contacts too
+    # the bonds, then the same pairs as contacts: all of them the border's (one empty block)
+    pi = np.concatenate([state.neighbours.pi[:nb]] * 2)
+    pj = np.concatenate([state.neighbours.pj[:nb]] * 2)
+    bond_offsets, contact_offsets = np.array([0, 0, nb]), np.array([nb, nb, 2 * nb])
+    start = rng.normal(0, 1.0, p.loads.shape)  # the blocks' own pair forces
+    start_shear = rng.normal(0, 1e3, 2 * nb)
+
+    def run(into_rows):
+        bonds = state.bonds._replace(state=state.bonds.state.copy(),
+                                     break_xy=state.bonds.break_xy.copy(),
+                                     table=state.bonds.table.copy())
+        loads, shear = start.copy(), start_shear.copy()
+        rows = border_rows(bond_offsets, contact_offsets) if into_rows else loads
+        laws.add_bond_forces(0, nb, p.disks, pi, pj, shear, bonds, state.laws, state.dt, rows,
+                             0 if into_rows else -1)
+        laws.add_contact_forces(nb, 2 * nb, p.disks, pi, pj, shear, state.laws, state.dt, rows,
+                                0 if into_rows else -1)
+        if into_rows:
+            add_border_forces(0, len(p.pos), pi, pj, bond_offsets, contact_offsets, rows, loads)
+        return loads, shear, bonds.table
+
+    direct, through_rows = run(False), run(True)
+    assert np.count_nonzero(direct[1][nb:]) > 0  # contacts sheared
+    for a, b in zip(direct, through_rows):
         np.testing.assert_array_equal(a, b)
 
 

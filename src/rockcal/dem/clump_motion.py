@@ -355,20 +355,22 @@ def _advance_clumps(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts,
     then the clumps (`_move_clumps`) and balls (`_move_balls`) moved chunk by chunk. Returns
     the steps done and whether the list must be rebuilt.
 
-    Four phases a step (`tasks`), one more than the ball engine's: a clump's pebbles may lie in
+    Three phases a step (`tasks`), one more than the ball engine's: a clump's pebbles may lie in
     several blocks, so the bodies move once every pebble's load is complete; the walls' forces
     stay a phase of their own (called pebble by pebble from the bodies' loop they cost more
     than a phase's wait)."""
     blocks = starts.shape[0] - 1
     chunks = clump_chunks.shape[0] - 1
-    phases = (0, blocks, blocks + 1, 2 * blocks + 1, 2 * blocks + 1 + chunks)
+    border = simulate.BORDER_TASKS
+    phases = (0, blocks + border, 2 * blocks + border, 2 * blocks + border + chunks)
     moved, shared = tasks.scratch(chunks, phases[-1])
+    rows = simulate.border_rows(bond_offsets, contact_offsets)
     workers = max(1, min(threads, blocks))
     for w in prange(workers):
         model = (disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets,
                  contact_offsets, walls, wall_active, wall_vel, wall_force, k_wall, pos_at_build,
-                 law, damping, dt, first, pebbles, offsets, bodies, applied, balls, clump_chunks,
-                 ball_chunks)
+                 law, damping, dt, rows, first, pebbles, offsets, bodies, applied, balls,
+                 clump_chunks, ball_chunks)
         for s in range(n_steps):
             if not _step(phases, s, w, workers, shared, model, moved, half_skin_sq):
                 break
@@ -381,20 +383,23 @@ def _advance_clumps(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts,
 @njit(cache=True, error_model="numpy")
 def _task(r, s, shared, model, moved, half_skin_sq):
     """Task r of step s: each block's pair forces, the walls' move of the step before and the
-    pairs across block borders, each block's wall forces, each chunk's bodies moved. False if
-    the run stops."""
+    pairs across block borders in halves, each block's border and wall forces, each chunk's
+    bodies moved. False if the run stops."""
     (disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets, contact_offsets, walls,
-     wall_active, wall_vel, wall_force, k_wall, pos_at_build, law, damping, dt, first, pebbles,
-     offsets, bodies, applied, balls, clump_chunks, ball_chunks) = model
+     wall_active, wall_vel, wall_force, k_wall, pos_at_build, law, damping, dt, rows, first,
+     pebbles, offsets, bodies, applied, balls, clump_chunks, ball_chunks) = model
     blocks = starts.shape[0] - 1
-    if r <= blocks:
+    border = simulate.BORDER_TASKS
+    if r < blocks + border:
         return simulate.pair_task(r, s, shared, model, moved, half_skin_sq)
-    if r <= 2 * blocks:
-        b = r - blocks - 1
+    if r < 2 * blocks + border:
+        b = r - blocks - border
+        simulate.add_border_forces(starts[b], starts[b + 1], pi, pj, bond_offsets,
+                                   contact_offsets, rows, loads)
         laws.add_wall_forces(starts[b], starts[b + 1], disks, walls, wall_active, k_wall, loads,
                              wall_force)
     else:  # every pebble's load is complete: move the bodies
-        c = r - 2 * blocks - 1
+        c = r - 2 * blocks - border
         moved[c] = max(
             _move_clumps(clump_chunks[c], clump_chunks[c + 1], first, pebbles, offsets, bodies,
                          applied, disks, loads, damping, dt, pos_at_build),

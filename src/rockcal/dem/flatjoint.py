@@ -56,7 +56,7 @@ import numpy as np
 from numba import njit, uint64
 
 from rockcal.dem.bonded import bond_phase
-from rockcal.dem.laws import Disk, Load, contact_velocity, force_xy, pair_geometry
+from rockcal.dem.laws import Disk, Load, contact_velocity, force_xy, pair_geometry, pair_rows
 
 # PFC's fj_state codes (FISHTank counts an element with fj_state 3 as bonded)
 UNBONDED, BROKEN_TENSION, BROKEN_SHEAR, BONDED = 0, 1, 2, 3
@@ -261,13 +261,15 @@ def update_joint(p, rbar, dn, ds, dtheta, table, state, elements):
 
 @bond_phase(FlatJoints)
 @njit(cache=True, error_model="numpy")
-def add_flatjoint_forces(first, last, disks, pi, pj, contact_shear, joints, law, dt, loads):
+def add_flatjoint_forces(first, last, disks, pi, pj, contact_shear, joints, law, dt, loads,
+                         into_rows=-1):
     """Joints first..last-1 between grains pi[p] and pj[p] (rows of `disks`, columns
     `laws.Disk`): their relative motion over a step dt at the contact point (mid-gap, as for
     the parallel bond), the law (`update_joint`), where each newly broken element broke (its
     centroid) and their forces and moments added to the grains' `loads`, as `laws.py` adds a
-    bond's (the joint's force on i is taken from j). A bond phase (`bonded`): the contacts'
-    shear forces and the law constants are not a flat joint's."""
+    bond's (the joint's force on i is taken from j), or into rows of their own (`pair_rows`).
+    A bond phase (`bonded`): the contacts' shear forces and the law constants are not a flat
+    joint's."""
     table, state, elements, break_xy = joints
     nr = state.shape[1]
     for p in range(uint64(first), uint64(last)):
@@ -296,6 +298,7 @@ def add_flatjoint_forces(first, last, disks, pi, pj, contact_shear, joints, law,
         fs = table[FS, p]
         m = table[M, p]
         fx, fy = force_xy(table[FN, p], fs, nx, ny)
+        i, j = pair_rows(p, i, j, into_rows)
         loads[i, Load.FORCE_X] += fx
         loads[i, Load.FORCE_Y] += fy
         loads[j, Load.FORCE_X] -= fx

@@ -26,7 +26,7 @@ from enum import IntEnum
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, uint64
+from numba import int64, njit, uint64
 
 from rockcal.dem.bonded import bond_phase
 
@@ -241,10 +241,12 @@ def force_xy(fn, fs, nx, ny):
 
 @bond_phase(Bonds)
 @njit(cache=True, error_model="numpy")
-def add_bond_forces(first, last, disks, pi, pj, contact_shear, bonds, laws, dt, loads):
+def add_bond_forces(first, last, disks, pi, pj, contact_shear, bonds, laws, dt, loads,
+                    into_rows=-1):
     """Add the forces and moments of bonded pairs first..last-1 (pair p is bond p) to their
-    particles (a pair's force on i is taken from j); intact bonds that exceed a strength break,
-    broken ones act as contacts with their reference overlap. Thickness t = 1 m.
+    particles (a pair's force on i is taken from j), or into rows of their own (`pair_rows`);
+    intact bonds that exceed a strength break, broken ones act as contacts with their
+    reference overlap. Thickness t = 1 m.
 
     Tile by tile: the particles' data are gathered, the law runs without branches over the
     tile and the bonds' own data (so that it compiles to vector instructions), the bonds' new
@@ -256,7 +258,18 @@ def add_bond_forces(first, last, disks, pi, pj, contact_shear, bonds, laws, dt, 
         _gather(start, count, disks, pi, pj, tile)
         _bond_law(start, count, bonds.state, contact_shear, bonds.table, laws, dt, tile)
         _store(start, count, tile, contact_shear, bonds.table)
-        _scatter(start, count, disks, pi, pj, tile, bonds, loads)
+        _scatter(start, count, disks, pi, pj, tile, bonds, loads, into_rows)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def pair_rows(p, i, j, into_rows):
+    """The rows of `loads` a pair's forces go to: its particles i and j (into_rows < 0), or
+    (pairs across block borders, summed into the particles later in their order) rows
+    2 (p - into_rows) and the next, its own."""
+    if into_rows < 0:
+        return i, j
+    row = uint64(2 * (int64(p) - into_rows))
+    return row, row + uint64(1)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -337,14 +350,14 @@ def _store(start, count, tile, contact_shear, table):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _scatter(start, count, disks, pi, pj, tile, bonds, loads):
+def _scatter(start, count, disks, pi, pj, tile, bonds, loads, into_rows=-1):
     """Note the bonds the tile broke and add its forces to the particles, pair by pair. A pair
     apart and unbonded adds zeros, which change no sum (a force is never -0.0).
 
     The load on i is summed in registers while consecutive pairs share their i (pairs come
     sorted by i) and stored when i changes: no pair joins a disk to itself, so this is the
     same sum in the same order as adding pair by pair."""
-    i_run = uint64(pi[start])
+    i_run, _ = pair_rows(uint64(start), uint64(pi[start]), uint64(pj[start]), into_rows)
     fx_run = loads[i_run, Load.FORCE_X]
     fy_run = loads[i_run, Load.FORCE_Y]
     m_run = loads[i_run, Load.MOMENT]
@@ -355,6 +368,7 @@ def _scatter(start, count, disks, pi, pj, tile, bonds, loads):
         if tile[TileRow.MODE, q] != INTACT:
             bonds.state[p] = int(tile[TileRow.MODE, q])
             _record_break(p, i, j, disks, bonds.break_xy)
+        i, j = pair_rows(p, i, j, into_rows)
         if i != i_run:
             loads[i_run, Load.FORCE_X] = fx_run
             loads[i_run, Load.FORCE_Y] = fy_run
@@ -388,9 +402,9 @@ def _record_break(p, i, j, disks, break_xy):
 
 
 @njit(cache=True, error_model="numpy")
-def add_contact_forces(first, last, disks, pi, pj, contact_shear, laws, dt, loads):
-    """Add the forces and moments of unbonded pairs first..last-1 to their particles; most are
-    not touching and cost one squared distance."""
+def add_contact_forces(first, last, disks, pi, pj, contact_shear, laws, dt, loads, into_rows=-1):
+    """Add the forces and moments of unbonded pairs first..last-1 to their particles (or into
+    rows of their own, `pair_rows`); most are not touching and cost one squared distance."""
     for p in range(uint64(first), uint64(last)):
         i = uint64(pi[p])
         j = uint64(pj[p])
@@ -413,6 +427,7 @@ def add_contact_forces(first, last, disks, pi, pj, contact_shear, laws, dt, load
         kn = contact_kn(min(ri, rj), 1.0 / length, laws)
         fn, fs = contact_force(overlap, kn, contact_shear[p], vs, laws, dt)
         contact_shear[p] = fs
+        i, j = pair_rows(p, i, j, into_rows)
         _add_pair_force(i, j, nx, ny, fn, fs, arm_i * fs, arm_j * fs, loads)
 
 
