@@ -8,7 +8,8 @@ import numpy as np
 from rockcal import hexagonal
 from rockcal.dem import laws
 from rockcal.dem.laws import BondRow
-from rockcal.dem.simulate import add_border_forces, border_rows, rebuild_neighbours
+from rockcal.dem import border
+from rockcal.dem.simulate import rebuild_neighbours
 from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
 
@@ -62,7 +63,7 @@ def test_tiles_give_the_sums_of_adding_pairs_one_by_one():
 
 def test_border_pairs_kept_in_rows_add_to_the_same_sums_as_pair_by_pair():
     """The pairs across block borders write their forces into rows of their own, added to the
-    particles afterwards (`simulate.add_border_forces`): the loads must be those of adding the
+    particles afterwards (`border.add_forces`): the loads must be those of adding the
     pairs to them directly, bonds then contacts, to the last bit."""
     state, rng = moving_lattice()
     p, nb = state.particles, state.neighbours.n_bonds
@@ -79,13 +80,13 @@ def test_border_pairs_kept_in_rows_add_to_the_same_sums_as_pair_by_pair():
                                      break_xy=state.bonds.break_xy.copy(),
                                      table=state.bonds.table.copy())
         loads, shear = start.copy(), start_shear.copy()
-        rows = border_rows(bond_offsets, contact_offsets) if into_rows else loads
+        rows = border.rows(bond_offsets, contact_offsets, 3) if into_rows else loads
         laws.add_bond_forces(0, nb, p.disks, pi, pj, shear, bonds, state.laws, state.dt, rows,
                              0 if into_rows else -1)
         laws.add_contact_forces(nb, 2 * nb, p.disks, pi, pj, shear, state.laws, state.dt, rows,
                                 0 if into_rows else -1)
         if into_rows:
-            add_border_forces(0, len(p.pos), pi, pj, bond_offsets, contact_offsets, rows, loads)
+            border.add_forces(0, len(p.pos), pi, pj, bond_offsets, contact_offsets, rows, loads)
         return loads, shear, bonds.table
 
     direct, through_rows = run(False), run(True)

@@ -33,7 +33,7 @@ import numpy as np
 from numba import njit, prange
 
 from rockcal.dem import clumps as clump_shapes
-from rockcal.dem import laws, neighbours, simulate, tasks
+from rockcal.dem import border, laws, neighbours, simulate, tasks
 from rockcal.dem.laws import Disk, Load
 
 
@@ -361,10 +361,10 @@ def _advance_clumps(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts,
     than a phase's wait)."""
     blocks = starts.shape[0] - 1
     chunks = clump_chunks.shape[0] - 1
-    border = simulate.BORDER_TASKS
-    phases = (0, blocks + border, 2 * blocks + border, 2 * blocks + border + chunks)
+    phases = (0, blocks + border.TASKS, 2 * blocks + border.TASKS,
+              2 * blocks + border.TASKS + chunks)
     moved, shared = tasks.scratch(chunks, phases[-1])
-    rows = simulate.border_rows(bond_offsets, contact_offsets)
+    rows = border.rows(bond_offsets, contact_offsets, laws.LOAD_COMPONENTS)
     workers = max(1, min(threads, blocks))
     for w in prange(workers):
         model = (disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets,
@@ -389,17 +389,16 @@ def _task(r, s, shared, model, moved, half_skin_sq):
      wall_active, wall_vel, wall_force, k_wall, pos_at_build, law, damping, dt, rows, first,
      pebbles, offsets, bodies, applied, balls, clump_chunks, ball_chunks) = model
     blocks = starts.shape[0] - 1
-    border = simulate.BORDER_TASKS
-    if r < blocks + border:
+    if r < blocks + border.TASKS:
         return simulate.pair_task(r, s, shared, model, moved, half_skin_sq)
-    if r < 2 * blocks + border:
-        b = r - blocks - border
-        simulate.add_border_forces(starts[b], starts[b + 1], pi, pj, bond_offsets,
-                                   contact_offsets, rows, loads)
+    if r < 2 * blocks + border.TASKS:
+        b = r - blocks - border.TASKS
+        border.add_forces(starts[b], starts[b + 1], pi, pj, bond_offsets, contact_offsets, rows,
+                          loads)
         laws.add_wall_forces(starts[b], starts[b + 1], disks, walls, wall_active, k_wall, loads,
                              wall_force)
     else:  # every pebble's load is complete: move the bodies
-        c = r - 2 * blocks - border
+        c = r - 2 * blocks - border.TASKS
         moved[c] = max(
             _move_clumps(clump_chunks[c], clump_chunks[c + 1], first, pebbles, offsets, bodies,
                          applied, disks, loads, damping, dt, pos_at_build),

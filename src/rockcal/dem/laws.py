@@ -58,6 +58,9 @@ class Load(IntEnum):
     MOMENT = 2
 
 
+LOAD_COMPONENTS = len(Load)  # the columns of `loads` a sum fills (its row has room for one more)
+
+
 class BondRow(IntEnum):
     """Rows of the bonds' table (`Bonds.table`), one column per bond."""
 

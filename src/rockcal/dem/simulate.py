@@ -28,7 +28,7 @@ import numpy as np
 import numba
 from numba import njit, prange
 
-from rockcal.dem import cores, laws, neighbours, tasks
+from rockcal.dem import border, cores, laws, neighbours, tasks
 from rockcal.dem.bonded import add_bonded_forces
 from rockcal.dem.laws import Disk, Load
 
@@ -305,9 +305,9 @@ def _advance(n_steps, disks, loads, pi, pj, contact_shear, bonds, starts, bond_o
     bonded pairs' phase is the one of `bonds`' type (`bonded`): compiled, and cached, once per
     material. A step's tasks (`_task`) run in one parallel region per call (`tasks`)."""
     blocks = starts.shape[0] - 1
-    phases = (0, blocks + BORDER_TASKS, 2 * blocks + BORDER_TASKS)
+    phases = (0, blocks + border.TASKS, 2 * blocks + border.TASKS)
     moved, shared = tasks.scratch(blocks, phases[-1])
-    rows = border_rows(bond_offsets, contact_offsets)
+    rows = border.rows(bond_offsets, contact_offsets, laws.LOAD_COMPONENTS)
     workers = max(1, min(threads, blocks))
     for w in prange(workers):
         model = (disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets,
@@ -328,12 +328,12 @@ def _task(r, s, shared, model, moved, half_skin_sq):
     pairs across block borders in halves (`pair_task`), each block's border forces, walls and
     motion. False if the run stops."""
     blocks = moved.shape[0]
-    if r < blocks + BORDER_TASKS:
+    if r < blocks + border.TASKS:
         return pair_task(r, s, shared, model, moved, half_skin_sq)
     (disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets, contact_offsets, walls,
      wall_active, wall_vel, wall_force, k_wall, pos_at_build, law, damping, dt, rows) = model
-    b = r - blocks - BORDER_TASKS
-    add_border_forces(starts[b], starts[b + 1], pi, pj, bond_offsets, contact_offsets, rows,
+    b = r - blocks - border.TASKS
+    border.add_forces(starts[b], starts[b + 1], pi, pj, bond_offsets, contact_offsets, rows,
                       loads)
     laws.add_wall_forces(starts[b], starts[b + 1], disks, walls, wall_active, k_wall, loads,
                          wall_force)
@@ -341,17 +341,12 @@ def _task(r, s, shared, model, moved, half_skin_sq):
     return True
 
 
-# The pairs across block borders are two tasks of the pair forces' phase, one per thread of
-# two: each writes its pairs' forces into rows of their own (`border_rows`), which each
-# block's motion task adds to its particles in pair order, as one task adding them would.
-BORDER_TASKS = 2
-
-
 @njit(cache=True, error_model="numpy")
 def pair_task(r, s, shared, model, moved, half_skin_sq):
-    """Task r < blocks + BORDER_TASKS of step s of an engine of disks (`model` begins with
+    """Task r < blocks + border.TASKS of step s of an engine of disks (`model` begins with
     `_advance`'s arrays): block r's pair forces, or a half of the pairs across block borders
-    (the first half also moves the walls by the step before). False if the run stops."""
+    into their rows (`border`; the first half also moves the walls by the step before). False
+    if the run stops."""
     (disks, loads, pi, pj, contact_shear, bonds, starts, bond_offsets, contact_offsets, walls,
      wall_active, wall_vel, wall_force, k_wall, pos_at_build, law, damping, dt, rows) = model[:19]
     blocks = starts.shape[0] - 1
@@ -367,74 +362,19 @@ def pair_task(r, s, shared, model, moved, half_skin_sq):
         laws.add_contact_forces(contact_offsets[r], contact_offsets[r + 1], disks, pi, pj,
                                 contact_shear, law, dt, loads)
         return True
-    half = r - blocks
-    if half == 0 and s > 0:
+    task = r - blocks
+    if task == 0 and s > 0:
         _move_walls(walls, wall_vel, dt)
-    bond_rows, contact_rows = _border_row_starts(bond_offsets, contact_offsets)
-    first, last = _half(bond_offsets[blocks], bond_offsets[blocks + 1], half)
+    bond_rows, contact_rows = border.row_starts(bond_offsets, contact_offsets)
+    first, last = border.half(bond_offsets, task)
     rows[2 * (first - bond_rows):2 * (last - bond_rows)] = 0.0
     add_bonded_forces(first, last, disks, pi, pj, contact_shear, bonds, law, dt, rows,
                       bond_rows)
-    first, last = _half(contact_offsets[blocks], contact_offsets[blocks + 1], half)
+    first, last = border.half(contact_offsets, task)
     rows[2 * (first - contact_rows):2 * (last - contact_rows)] = 0.0
     laws.add_contact_forces(first, last, disks, pi, pj, contact_shear, law, dt, rows,
                             contact_rows)
     return True
-
-
-@njit(cache=True)
-def border_rows(bond_offsets, contact_offsets):
-    """Two rows of forces (on i, on j) for each pair across block borders: made here, as
-    `tasks.scratch`."""
-    blocks = bond_offsets.shape[0] - 2
-    pairs = (bond_offsets[blocks + 1] - bond_offsets[blocks]
-             + contact_offsets[blocks + 1] - contact_offsets[blocks])
-    return np.zeros((2 * pairs, 3))
-
-
-@njit(cache=True, inline="always")
-def _border_row_starts(bond_offsets, contact_offsets):
-    """`laws.pair_rows`' into_rows of the border bonds and of the border contacts (their rows
-    after the bonds')."""
-    blocks = bond_offsets.shape[0] - 2
-    border_bonds = bond_offsets[blocks + 1] - bond_offsets[blocks]
-    return bond_offsets[blocks], contact_offsets[blocks] - border_bonds
-
-
-@njit(cache=True, inline="always")
-def _half(first, last, half):
-    """The first (half 0) or second half of first..last-1."""
-    middle = first + (last - first) // 2
-    return (first, middle) if half == 0 else (middle, last)
-
-
-@njit(cache=True, error_model="numpy")
-def add_border_forces(first, last, pi, pj, bond_offsets, contact_offsets, rows, loads):
-    """Add the forces of the pairs across block borders (`rows`) to particles first..last-1,
-    in pair order: the border bonds, then the border contacts."""
-    blocks = bond_offsets.shape[0] - 2
-    bond_rows, contact_rows = _border_row_starts(bond_offsets, contact_offsets)
-    _add_rows(first, last, pi, pj, bond_offsets[blocks], bond_offsets[blocks + 1], bond_rows,
-              rows, loads)
-    _add_rows(first, last, pi, pj, contact_offsets[blocks], contact_offsets[blocks + 1],
-              contact_rows, rows, loads)
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _add_rows(first, last, pi, pj, first_pair, last_pair, into_rows, rows, loads):
-    for p in range(first_pair, last_pair):
-        row = 2 * (p - into_rows)
-        if first <= pi[p] < last:
-            _add_row(rows, row, loads, pi[p])
-        if first <= pj[p] < last:
-            _add_row(rows, row + 1, loads, pj[p])
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _add_row(rows, row, loads, k):
-    loads[k, Load.FORCE_X] += rows[row, Load.FORCE_X]
-    loads[k, Load.FORCE_Y] += rows[row, Load.FORCE_Y]
-    loads[k, Load.MOMENT] += rows[row, Load.MOMENT]
 
 
 _step = tasks.make_step(_task)

@@ -13,6 +13,7 @@ from enum import IntEnum
 import numpy as np
 from numba import njit, uint64
 
+from rockcal.dem.laws import pair_rows
 from rockcal.dem3d.bonds import Bond
 from rockcal.dem3d.laws import (
     BROKEN_SHEAR,
@@ -87,17 +88,18 @@ def _put3(a, r, q, v):
 
 @njit(cache=True, error_model="numpy")
 def add_bond_forces(first, last, bodies, loads, pi, pj, table, bond_state, break_xyz, laws,
-                    dt):
+                    dt, into_rows=-1):
     """Bonded pairs first..last-1 (pair p is bond p): the linear contact (with the bond's
     reference overlap) plus, while intact, the parallel bond; a bond that exceeds a strength
-    breaks this step, carries nothing from then on and leaves its contact."""
+    breaks this step, carries nothing from then on and leaves its contact. Their forces and
+    moments go to the spheres' `loads`, or into rows of their own (`pair_rows`)."""
     tile = np.empty((TILE_ROWS, TILE))
     for start in range(first, last, TILE):
         count = min(TILE, last - start)
         _gather(start, count, bodies, pi, pj, tile)
         _bond_law(start, count, table, bond_state, laws, dt, tile)
         _store(start, count, tile, table)
-        _scatter(start, count, bodies, pi, pj, tile, bond_state, break_xyz, loads)
+        _scatter(start, count, bodies, pi, pj, tile, bond_state, break_xyz, loads, into_rows)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -179,7 +181,7 @@ def _store(start, count, tile, table):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _scatter(start, count, bodies, pi, pj, tile, bond_state, break_xyz, loads):
+def _scatter(start, count, bodies, pi, pj, tile, bond_state, break_xyz, loads, into_rows):
     """Note the bonds the tile broke (where: their contact point) and add its forces and
     moments to the spheres, pair by pair."""
     for q in range(uint64(count)):
@@ -193,6 +195,7 @@ def _scatter(start, count, bodies, pi, pj, tile, bond_state, break_xyz, loads):
                                               bodies[j, Sphere.RADIUS])
             for a in range(3):
                 break_xyz[p, a] = bodies[i, Sphere.X + a] + arm_i * n[a]
+        i, j = pair_rows(p, i, j, into_rows)
         for a in range(3):
             f = tile[TileRow.FX + a, q]
             loads[i, Load.FX + a] += f
@@ -219,9 +222,9 @@ def _store3(a, k, c, v):
 
 
 @njit(cache=True, error_model="numpy")
-def add_contact_forces(first, last, bodies, loads, pi, pj, shear, laws, dt):
+def add_contact_forces(first, last, bodies, loads, pi, pj, shear, laws, dt, into_rows=-1):
     """Unbonded pairs first..last-1: linear contacts; most are apart and cost one squared
-    distance (their shear force is reset)."""
+    distance (their shear force is reset). Their forces and moments go as `add_bond_forces`'."""
     for p in range(uint64(first), uint64(last)):
         i = uint64(pi[p])
         j = uint64(pj[p])
@@ -249,6 +252,7 @@ def add_contact_forces(first, last, bodies, loads, pi, pj, shear, laws, dt):
         _store3(shear, p, 0, fs)
         n_fs = cross(n, fs)
         force = axpy(fn, n, fs)
+        i, j = pair_rows(p, i, j, into_rows)
         for a in range(3):
             loads[i, Load.FX + a] += force[a]
             loads[j, Load.FX + a] -= force[a]

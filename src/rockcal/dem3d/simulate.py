@@ -16,13 +16,13 @@ import numba
 import numpy as np
 from numba import njit, prange
 
-from rockcal.dem import tasks
+from rockcal.dem import border, tasks
 from rockcal.dem.simulate import engine_threads
 from rockcal.dem3d import forces, neighbours
 from rockcal.dem3d import walls as planes
 from rockcal.dem3d.bonds import Bonds, new_bonds, set_radii
 from rockcal.dem3d.laws import INTACT, Laws, bond_springs, contact_springs
-from rockcal.dem3d.state import Load, Sphere, Spheres, new_spheres
+from rockcal.dem3d.state import LOAD_COMPONENTS, Load, Sphere, Spheres, new_spheres
 from rockcal.dem3d.vectors import norms
 
 TIME_STEP_SAFETY = 0.8
@@ -173,14 +173,15 @@ def _advance(n_steps, bodies, loads, pi, pj, shear, table, bond_state, break_xyz
     `wall_force`, and move after the spheres. A step's tasks (`_task`) run in one parallel
     region per call (`rockcal.dem.tasks`)."""
     blocks = starts.shape[0] - 1
-    phases = (0, blocks, blocks + 1, 2 * blocks + 1)
+    phases = (0, blocks + border.TASKS, 2 * blocks + border.TASKS)
     moved, shared = tasks.scratch(blocks, phases[-1])
     wall_parts = _wall_parts(blocks, walls.shape[0])
+    rows = border.rows(bond_offsets, contact_offsets, LOAD_COMPONENTS)
     workers = max(1, min(threads, blocks))
     for w in prange(workers):
         model = (bodies, loads, pi, pj, shear, table, bond_state, break_xyz, starts,
                  bond_offsets, contact_offsets, pos_at_build, laws, damping, dt, walls,
-                 wall_force, wall_parts)
+                 wall_force, wall_parts, rows)
         for s in range(n_steps):
             if not _step(phases, s, w, workers, shared, model, moved, half_skin_sq):
                 break
@@ -192,15 +193,17 @@ def _advance(n_steps, bodies, loads, pi, pj, shear, table, bond_state, break_xyz
 
 @njit(cache=True, error_model="numpy")
 def _task(r, s, shared, model, moved, half_skin_sq):
-    """Task r of step s: each block's pair forces, the walls of the step before (their forces
-    summed, their move) and the pairs across block borders, each block's wall forces and
-    motion. False if the run stops."""
+    """Task r of step s: each block's pair forces, beside them the walls of the step before
+    (their forces summed, their move) and the pairs across block borders in halves, into their
+    rows (`rockcal.dem.border`); then each block's border and wall forces and motion. False if
+    the run stops."""
     (bodies, loads, pi, pj, shear, table, bond_state, break_xyz, starts, bond_offsets,
-     contact_offsets, pos_at_build, laws, damping, dt, walls, wall_force, wall_parts) = model
+     contact_offsets, pos_at_build, laws, damping, dt, walls, wall_force, wall_parts,
+     rows) = model
     blocks = moved.shape[0]
+    if r < blocks + border.TASKS and tasks.stop_if_moved(s, shared, moved, half_skin_sq):
+        return False
     if r < blocks:
-        if tasks.stop_if_moved(s, shared, moved, half_skin_sq):
-            return False
         for k in range(numba.uint64(starts[r]), numba.uint64(starts[r + 1])):
             for c in range(6):
                 loads[k, c] = 0.0
@@ -208,15 +211,23 @@ def _task(r, s, shared, model, moved, half_skin_sq):
                                table, bond_state, break_xyz, laws, dt)
         forces.add_contact_forces(contact_offsets[r], contact_offsets[r + 1], bodies, loads, pi,
                                   pj, shear, laws, dt)
-    elif r == blocks:
-        if s > 0:
+    elif r < blocks + border.TASKS:
+        task = r - blocks
+        if task == 0 and s > 0:
             _walls_after_step(walls, wall_force, wall_parts, dt)
-        forces.add_bond_forces(bond_offsets[blocks], bond_offsets[blocks + 1], bodies, loads, pi,
-                               pj, table, bond_state, break_xyz, laws, dt)
-        forces.add_contact_forces(contact_offsets[blocks], contact_offsets[blocks + 1], bodies,
-                                  loads, pi, pj, shear, laws, dt)
+        bond_rows, contact_rows = border.row_starts(bond_offsets, contact_offsets)
+        first, last = border.half(bond_offsets, task)
+        rows[2 * (first - bond_rows):2 * (last - bond_rows)] = 0.0
+        forces.add_bond_forces(first, last, bodies, rows, pi, pj, table, bond_state, break_xyz,
+                               laws, dt, bond_rows)
+        first, last = border.half(contact_offsets, task)
+        rows[2 * (first - contact_rows):2 * (last - contact_rows)] = 0.0
+        forces.add_contact_forces(first, last, bodies, rows, pi, pj, shear, laws, dt,
+                                  contact_rows)
     else:
-        b = r - blocks - 1
+        b = r - blocks - border.TASKS
+        border.add_forces(starts[b], starts[b + 1], pi, pj, bond_offsets, contact_offsets, rows,
+                          loads)
         part = wall_parts[b]
         part[:] = 0.0
         planes.add_wall_forces(starts[b], starts[b + 1], bodies, loads, walls, part)

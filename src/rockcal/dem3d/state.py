@@ -40,6 +40,7 @@ class Load(IntEnum):
     MZ = 5
 
 
+LOAD_COMPONENTS = len(Load)  # the columns of `loads` a sum fills
 LOAD_WIDTH = 8
 
 
