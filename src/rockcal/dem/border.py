@@ -29,7 +29,7 @@ def rows(bond_offsets, contact_offsets, width):
 
 
 @njit(cache=True, inline="always")
-def row_starts(bond_offsets, contact_offsets):
+def _row_starts(bond_offsets, contact_offsets):
     """The kernels' into_rows for the border bonds and for the border contacts (whose rows
     follow the bonds')."""
     blocks = bond_offsets.shape[0] - 2
@@ -37,9 +37,20 @@ def row_starts(bond_offsets, contact_offsets):
     return bond_offsets[blocks], contact_offsets[blocks] - border_bonds
 
 
+@njit(cache=True, error_model="numpy")
+def task_pairs(task, bond_offsets, contact_offsets, rows):
+    """Border task `task`'s bonds and contacts, each as (first, last, into_rows): the first or
+    second half of the border bonds and of the border contacts; their rows zeroed."""
+    bond_rows, contact_rows = _row_starts(bond_offsets, contact_offsets)
+    bonds = _half(bond_offsets, task) + (bond_rows,)
+    contacts = _half(contact_offsets, task) + (contact_rows,)
+    for first, last, into_rows in (bonds, contacts):
+        rows[2 * (first - into_rows):2 * (last - into_rows)] = 0.0
+    return bonds, contacts
+
+
 @njit(cache=True, inline="always")
-def half(offsets, task):
-    """Border task `task`'s pairs of a group with these offsets: the first or second half."""
+def _half(offsets, task):
     blocks = offsets.shape[0] - 2
     first, last = offsets[blocks], offsets[blocks + 1]
     middle = first + (last - first) // 2
@@ -51,7 +62,7 @@ def add_forces(first, last, pi, pj, bond_offsets, contact_offsets, rows, loads):
     """Add the border pairs' rows to particles first..last-1, in pair order: the border
     bonds', then the border contacts'."""
     blocks = bond_offsets.shape[0] - 2
-    bond_rows, contact_rows = row_starts(bond_offsets, contact_offsets)
+    bond_rows, contact_rows = _row_starts(bond_offsets, contact_offsets)
     _add_rows(first, last, pi, pj, bond_offsets[blocks], bond_offsets[blocks + 1], bond_rows,
               rows, loads)
     _add_rows(first, last, pi, pj, contact_offsets[blocks], contact_offsets[blocks + 1],

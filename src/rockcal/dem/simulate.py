@@ -365,15 +365,10 @@ def pair_task(r, s, shared, model, moved, half_skin_sq):
     task = r - blocks
     if task == 0 and s > 0:
         _move_walls(walls, wall_vel, dt)
-    bond_rows, contact_rows = border.row_starts(bond_offsets, contact_offsets)
-    first, last = border.half(bond_offsets, task)
-    rows[2 * (first - bond_rows):2 * (last - bond_rows)] = 0.0
-    add_bonded_forces(first, last, disks, pi, pj, contact_shear, bonds, law, dt, rows,
-                      bond_rows)
-    first, last = border.half(contact_offsets, task)
-    rows[2 * (first - contact_rows):2 * (last - contact_rows)] = 0.0
-    laws.add_contact_forces(first, last, disks, pi, pj, contact_shear, law, dt, rows,
-                            contact_rows)
+    (b0, b1, bond_rows), (c0, c1, contact_rows) = border.task_pairs(task, bond_offsets,
+                                                                    contact_offsets, rows)
+    add_bonded_forces(b0, b1, disks, pi, pj, contact_shear, bonds, law, dt, rows, bond_rows)
+    laws.add_contact_forces(c0, c1, disks, pi, pj, contact_shear, law, dt, rows, contact_rows)
     return True
 
 

@@ -215,15 +215,11 @@ def _task(r, s, shared, model, moved, half_skin_sq):
         task = r - blocks
         if task == 0 and s > 0:
             _walls_after_step(walls, wall_force, wall_parts, dt)
-        bond_rows, contact_rows = border.row_starts(bond_offsets, contact_offsets)
-        first, last = border.half(bond_offsets, task)
-        rows[2 * (first - bond_rows):2 * (last - bond_rows)] = 0.0
-        forces.add_bond_forces(first, last, bodies, rows, pi, pj, table, bond_state, break_xyz,
-                               laws, dt, bond_rows)
-        first, last = border.half(contact_offsets, task)
-        rows[2 * (first - contact_rows):2 * (last - contact_rows)] = 0.0
-        forces.add_contact_forces(first, last, bodies, rows, pi, pj, shear, laws, dt,
-                                  contact_rows)
+        (b0, b1, bond_rows), (c0, c1, contact_rows) = border.task_pairs(task, bond_offsets,
+                                                                        contact_offsets, rows)
+        forces.add_bond_forces(b0, b1, bodies, rows, pi, pj, table, bond_state, break_xyz, laws,
+                               dt, bond_rows)
+        forces.add_contact_forces(c0, c1, bodies, rows, pi, pj, shear, laws, dt, contact_rows)
     else:
         b = r - blocks - border.TASKS
         border.add_forces(starts[b], starts[b + 1], pi, pj, bond_offsets, contact_offsets, rows,
