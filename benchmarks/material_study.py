@@ -20,10 +20,9 @@ Every run goes through the run store in OUT: a stopped study resumes, a run done
 again. Each packing done is kept in the table TABLE (JSON, default OUT/material_study.json; the
 full-size study's is `benchmarks/data/material_study_full.json`, the half resolution's clumped
 flat joints of three pebbles and of clouds `benchmarks/data/material_study_half.json`), so a
-study stopped goes on
-from its last packing, on another day and machine too; writes OUT/material_study.md (the
-variants done) and OUT/material_study.png (m_i against UCS / Brazilian, each variant's mean and
-sd).
+study stopped goes on from its last packing, on another day and machine too; writes
+OUT/material_study.md (the variants done) and OUT/material_study.png (m_i against UCS /
+Brazilian, each variant's mean and sd).
 
 Run by hand: `python benchmarks/material_study.py [--out runs/material-study] [--rmin-mm 0.5]
 [--variants pb-ball,pb-two-pebble,...] [--packings 3] [--table TABLE]` (`--list` names the
