@@ -10,9 +10,8 @@ per-step cost is the arithmetic alone.
 Each step sums the pair forces block by block and the pairs across block borders in parallel,
 then adds the border pairs' forces and moves the particles block by block
 (`neighbours.block_layout`): the order of every sum is fixed by the specimen, so results do not
-depend on the number of threads. The
-threads share out these tasks inside one parallel region per call (`tasks`), not one region
-per phase.
+depend on the number of threads. The threads share out these tasks inside one parallel region
+per call (`tasks`), not one region per phase.
 Everything is SI; disks have unit thickness (PFC2D convention).
 A state whose particles are pebbles of rigid clumps (`State.clumps`) runs the same steps in the
 clumps' own kernel (`clump_motion`); without clumps nothing here changes.
