@@ -4,9 +4,8 @@ A step is phases of tasks (the ball engine's two: each block's pair forces and t
 block borders in halves, then each block's border forces, walls and motion); a phase starts
 once the one before is done. Starting a parallel region for each phase and waiting for it at
 its end cost a sizeable part of a step of a few thousand grains (some 100 µs), so an engine's
-compiled loop starts one region per call and
-its threads pass the phases among themselves through counters in a shared int64 array (the
-atomic operations of `atomics`):
+compiled loop starts one region per call and its threads pass the phases among themselves
+through counters in a shared int64 array (the atomic operations of `atomics`):
 
 - a task is claimed before it runs (`claim`), so each runs once, and counted when done;
 - each thread does the tasks it owns (task k of a phase: thread k mod threads), so a thread
