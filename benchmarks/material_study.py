@@ -17,10 +17,10 @@ the study
    10, 20 MPa), UCS / Brazilian, UCS / direct and CD / UCS, and gives their mean and sd.
 
 Every run goes through the run store in OUT: a stopped study resumes, a run done is never run
-again. Each packing done is kept in the table TABLE (JSON, default OUT/material_study.json; the
+again. Each run done is kept in the table TABLE (JSON, default OUT/material_study.json; the
 full-size study's is `benchmarks/data/material_study_full.json`, the half resolution's clumped
 flat joints of three pebbles and of clouds `benchmarks/data/material_study_half.json`), so a
-study stopped goes on from its last packing, on another day and machine too; writes
+study stopped goes on from its last run, on another day and machine too; writes
 OUT/material_study.md (the variants done) and OUT/material_study.png (m_i against UCS /
 Brazilian, each variant's mean and sd).
 
@@ -117,31 +117,43 @@ class Study:
             params = scaled(params, E_TARGET_GPA / r["E_GPa"], UCS_TARGET_MPA / r["ucs_MPa"])
         return params, steps
 
-    def lab_sheet(self, model: str, params: dict, settings: dict, sheets: list[dict],
-                  keep: Callable[[list[dict]], None]) -> None:
+    def lab_sheet(self, model: str, params: dict, settings: dict, sheets: list[dict], runs: dict,
+                  keep: Callable[[list[dict], dict], None]) -> None:
         """Per packing: the rock lab's values at `params`, appended to `sheets` (the packings
-        done so far) and kept (`keep(sheets)`) as each packing is done."""
+        done so far). Each run's responses are kept (`keep(sheets, runs)`) as it is done, in
+        `runs` (the packing under way's, by run; its "seed" says which packing), so a packing
+        too long for one sitting goes on from its last run."""
         for seed in range(len(sheets) + 1, self.packings + 1):
+            if runs.get("seed") != seed:
+                runs.clear()
+                runs["seed"] = seed
             specimen = self.specimen.model_copy(update=settings | {"seed": seed})
             strips = specimen.model_copy(update={"brazilian_loading": "strips", "strip_modulus_gpa": self.strip})
             specs = {"ucs": run_spec("ucs", specimen, params, model),
                      "brazilian": run_spec("brazilian", strips, params, model)}
-            specs |= {s3: run_spec("biaxial", specimen, params, model, own={"confinement_mpa": s3})
+            specs |= {str(s3): run_spec("biaxial", specimen, params, model, own={"confinement_mpa": s3})
                       for s3 in CONFINEMENTS_MPA}
             specs["direct"] = run_spec("direct_tension", specimen, params, model)
-            r = self.run(specs)
-            ucs = r["ucs"]
-            sigma1 = [ucs["ucs_MPa"]] + [r[s3]["sigma1_MPa"] for s3 in CONFINEMENTS_MPA]
-            fit = envelope_responses([0.0, *CONFINEMENTS_MPA], sigma1)
-            bts = r["brazilian"]["sigma_t_MPa"]
-            direct = r["direct"]["sigma_t_direct_MPa"]
-            sheets.append({"E_GPa": ucs["E_GPa"], "nu": ucs["nu"], "ucs_MPa": ucs["ucs_MPa"],
-                           "phi_deg": fit["phi_deg"], "c_MPa": fit["c_MPa"], "m_i": fit["m_i"],
-                           "hb_r2": fit["hb_r2"], "sigma1_MPa": sigma1, "brazilian_MPa": bts,
-                           "split": r["brazilian"]["split"], "direct_MPa": direct,
-                           "ucs_bts": ucs["ucs_MPa"] / bts, "ucs_dts": ucs["ucs_MPa"] / direct,
-                           "cd_ucs": ucs["cd_ratio"]})
-            keep(sheets)
+            for name, spec in specs.items():
+                if name not in runs:
+                    runs[name] = self.run({name: spec})[name]
+                    keep(sheets, runs)
+            sheets.append(sheet(runs))
+            runs.clear()
+            keep(sheets, runs)
+
+
+def sheet(runs: dict) -> dict:
+    """A packing's lab values from its runs' responses."""
+    ucs = runs["ucs"]
+    sigma1 = [ucs["ucs_MPa"]] + [runs[str(s3)]["sigma1_MPa"] for s3 in CONFINEMENTS_MPA]
+    fit = envelope_responses([0.0, *CONFINEMENTS_MPA], sigma1)
+    bts = runs["brazilian"]["sigma_t_MPa"]
+    direct = runs["direct"]["sigma_t_direct_MPa"]
+    return {"E_GPa": ucs["E_GPa"], "nu": ucs["nu"], "ucs_MPa": ucs["ucs_MPa"], "phi_deg": fit["phi_deg"],
+            "c_MPa": fit["c_MPa"], "m_i": fit["m_i"], "hb_r2": fit["hb_r2"], "sigma1_MPa": sigma1,
+            "brazilian_MPa": bts, "split": runs["brazilian"]["split"], "direct_MPa": direct,
+            "ucs_bts": ucs["ucs_MPa"] / bts, "ucs_dts": ucs["ucs_MPa"] / direct, "cd_ucs": ucs["cd_ratio"]}
 
 
 COLUMNS = (("E_GPa", "E (GPa)", 1), ("nu", "ν", 3), ("ucs_MPa", "UCS (MPa)", 1), ("phi_deg", "φ (°)", 1),
@@ -195,8 +207,8 @@ def figure(rows: dict, path: Path) -> None:
 
 
 class Table:
-    """The study's JSON table: a row per variant, kept as each packing is done (a stopped study
-    goes on from its last packing); read anew before each write, as another study may share it."""
+    """The study's JSON table: a row per variant, kept as each run is done (a stopped study goes
+    on from its last run); read anew before each write, as another study may share it."""
 
     def __init__(self, path: Path, rmin_mm: float, packings: int):
         self.path, self.rmin_mm, self.packings = path, rmin_mm, packings
@@ -225,7 +237,7 @@ class Table:
 def measure(study: Study, table: Table, name: str, model: str, params: dict, settings: dict,
             markdown_path: Path) -> None:
     """A variant's row: scaled to the granite (unless its row has its point), then packing by
-    packing from the first its row lacks, each kept in the table as it is done."""
+    packing from the first its row lacks, each run kept in the table as it is done."""
     clock = time.perf_counter()
     row = table.row(name)
     if row is None:
@@ -234,16 +246,16 @@ def measure(study: Study, table: Table, name: str, model: str, params: dict, set
                "packings": table.packings, "params": point, "scaling": steps, "sheets": [],
                "complete": False, "wall_s": 0.0}
 
-    def keep(sheets: list[dict]) -> None:
+    def keep(sheets: list[dict], runs: dict) -> None:
         nonlocal clock
         now = time.perf_counter()
-        row.update(sheets=sheets, complete=len(sheets) == table.packings,
+        row.update(sheets=sheets, runs=runs, complete=len(sheets) == table.packings,
                    wall_s=round(row["wall_s"] + now - clock, 1))
         clock = now
         table.put(name, row, markdown_path)
 
-    keep(row["sheets"])
-    study.lab_sheet(model, row["params"], settings, row["sheets"], keep)
+    keep(row["sheets"], row.get("runs", {}))
+    study.lab_sheet(model, row["params"], settings, row["sheets"], row["runs"], keep)
     print(f"{name}: done, {row['wall_s']} s in all", flush=True)
 
 
@@ -254,7 +266,7 @@ def main() -> None:
     parser.add_argument("--variants", default=",".join(f"pb-{s}" for s in SHAPES))
     parser.add_argument("--packings", type=int, default=3)
     parser.add_argument("--strip-modulus-gpa", type=float, default=0.5)
-    parser.add_argument("--table", type=Path, help="the JSON table kept packing by packing "
+    parser.add_argument("--table", type=Path, help="the JSON table kept run by run "
                                                     "(default OUT/material_study.json)")
     parser.add_argument("--list", action="store_true", help="name the variants and stop")
     args = parser.parse_args()
