@@ -59,6 +59,11 @@ STRENGTHS = ("sigma_c", "tau_c", "sigma_c_sd", "tau_c_sd", "fj_ten", "fj_coh", "
 PARALLEL_BOND = {"E_c": 21.65, "kn_ks": 1.985, "sigma_c": 35.61}
 FLAT_JOINT = {"fj_emod": 38.03, "fj_kratio": 1.922, "fj_ten": 48.4, "fj_coh": 90, "fj_fric": 0.5, "fj_fa": 0,
               "fj_nr": 2, "fjm_B_frac": 0.7, "fj_ten_cv": 0.23, "fj_coh_cv": 0.23, "density": 2622}
+# the Lac du Bonnet calibration's closest point (docs/validation/lac-du-bonnet.md): elements weak
+# in tension against their cohesion, and a residual cohesion
+LAC_DU_BONNET = {"fj_emod": 62.11, "fj_kratio": 1.277, "fj_ten": 20.94, "fj_coh": 132.3, "fj_fric": 0.6,
+                 "fj_fa": 0, "fj_nr": 2, "fjm_B_frac": 0.73, "fj_cohres": 46.3, "fj_resmode": 1,
+                 "density": 2630}
 SHAPES = ("ball", "two-pebble", "three-pebble", "cloud")
 
 
@@ -81,6 +86,8 @@ def variants() -> dict[str, tuple[str, dict, dict]]:
     }
     found |= {name: ("flatjoint", FLAT_JOINT | extra, {}) for name, extra in flat.items()}
     found["fj-igap-0.3"] = ("flatjoint", FLAT_JOINT, {"install_gap": 0.3})
+    for shape in ("ball", "two-pebble"):
+        found[f"fj-ldb-{shape}"] = ("flatjoint", LAC_DU_BONNET, {"grain_shape": shape})
     found["pb-igap-0.3"] = ("parallel_bond", pb, {"install_gap": 0.3})
     return found
 
