@@ -110,24 +110,26 @@ class Study:
             raise SystemExit(f"runs failed: {failed}")
         return {name: r.responses for name, r in zip(specs, results)}
 
-    def at_granite(self, model: str, params: dict, settings: dict) -> tuple[dict, list]:
-        """The variant's parameters scaled to the granite's E and UCS on packing 1, and the
-        (E, UCS) of each scaling step."""
+    def at_granite(self, model: str, params: dict, settings: dict, steps: list,
+                   keep: Callable[..., None]) -> dict:
+        """The variant's parameters scaled to the granite's E and UCS on packing 1, going on
+        from `params` after the scaling steps `steps` (the (E, UCS) of each UCS run so far);
+        each step kept (`keep(params=..., scaling=steps)`) as it is done."""
         specimen = self.specimen.model_copy(update=settings | {"seed": 1})
-        steps = []
-        for _ in range(MAX_SCALINGS):
+        while len(steps) < MAX_SCALINGS:
             r = self.run({"ucs": run_spec("ucs", specimen, params, model)})["ucs"]
             steps.append((r["E_GPa"], r["ucs_MPa"]))
             if (abs(r["E_GPa"] / E_TARGET_GPA - 1) <= SCALE_TOLERANCE
                     and abs(r["ucs_MPa"] / UCS_TARGET_MPA - 1) <= SCALE_TOLERANCE):
                 break
             params = scaled(params, E_TARGET_GPA / r["E_GPa"], UCS_TARGET_MPA / r["ucs_MPa"])
-        return params, steps
+            keep(params=params, scaling=steps)
+        return params
 
     def lab_sheet(self, model: str, params: dict, settings: dict, sheets: list[dict], runs: dict,
-                  keep: Callable[[list[dict], dict], None]) -> None:
+                  keep: Callable[..., None]) -> None:
         """Per packing: the rock lab's values at `params`, appended to `sheets` (the packings
-        done so far). Each run's responses are kept (`keep(sheets, runs)`) as it is done, in
+        done so far). Each run's responses are kept (`keep(runs=runs)`) as it is done, in
         `runs` (the packing under way's, by run; its "seed" says which packing), so a packing
         too long for one sitting goes on from its last run."""
         for seed in range(len(sheets) + 1, self.packings + 1):
@@ -144,10 +146,10 @@ class Study:
             for name, spec in specs.items():
                 if name not in runs:
                     runs[name] = self.run({name: spec})[name]
-                    keep(sheets, runs)
+                    keep(runs=runs)
             sheets.append(sheet(runs))
             runs.clear()
-            keep(sheets, runs)
+            keep(runs=runs)
 
 
 def sheet(runs: dict) -> dict:
@@ -246,22 +248,23 @@ def measure(study: Study, table: Table, name: str, model: str, params: dict, set
     """A variant's row: scaled to the granite (unless its row has its point), then packing by
     packing from the first its row lacks, each run kept in the table as it is done."""
     clock = time.perf_counter()
-    row = table.row(name)
-    if row is None:
-        point, steps = study.at_granite(model, params, settings)
-        row = {"model": model, "settings": settings, "rmin_mm": table.rmin_mm,
-               "packings": table.packings, "params": point, "scaling": steps, "sheets": [],
-               "complete": False, "wall_s": 0.0}
+    row = table.row(name) or {"model": model, "settings": settings, "rmin_mm": table.rmin_mm,
+                              "packings": table.packings, "params": params, "scaling": [],
+                              "scaled": False, "sheets": [], "runs": {}, "wall_s": 0.0}
 
-    def keep(sheets: list[dict], runs: dict) -> None:
+    def keep(**changes) -> None:
         nonlocal clock
         now = time.perf_counter()
-        row.update(sheets=sheets, runs=runs, complete=len(sheets) == table.packings,
+        row.update(changes)
+        row.update(complete=len(row["sheets"]) == table.packings,
                    wall_s=round(row["wall_s"] + now - clock, 1))
         clock = now
         table.put(name, row, markdown_path)
 
-    keep(row["sheets"], row.get("runs", {}))
+    if not row.get("scaled", True):
+        keep(params=study.at_granite(model, row["params"], settings, row["scaling"], keep), scaled=True)
+    row.setdefault("runs", {})
+    keep()
     study.lab_sheet(model, row["params"], settings, row["sheets"], row["runs"], keep)
     print(f"{name}: done, {row['wall_s']} s in all", flush=True)
 
