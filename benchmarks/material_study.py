@@ -245,8 +245,8 @@ class Table:
 
 def measure(study: Study, table: Table, name: str, model: str, params: dict, settings: dict,
             markdown_path: Path) -> None:
-    """A variant's row: scaled to the granite (unless its row has its point), then packing by
-    packing from the first its row lacks, each run kept in the table as it is done."""
+    """A variant's row: scaled to the granite (from its row's last scaling step, if any), then
+    packing by packing from the first its row lacks, each run kept in the table as it is done."""
     clock = time.perf_counter()
     row = table.row(name) or {"model": model, "settings": settings, "rmin_mm": table.rmin_mm,
                               "packings": table.packings, "params": params, "scaling": [],
