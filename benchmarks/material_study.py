@@ -19,10 +19,10 @@ the study
 Every run goes through the run store in OUT: a stopped study resumes, a run done is never run
 again. Each run done is kept in the table TABLE (JSON, default OUT/material_study.json; the
 full-size study's is `benchmarks/data/material_study_full.json`, the half resolution's clumped
-flat joints of three pebbles and of clouds `benchmarks/data/material_study_half.json`), so a
-study stopped goes on from its last run, on another day and machine too; writes
-OUT/material_study.md (the variants done) and OUT/material_study.png (m_i against UCS /
-Brazilian, each variant's mean and sd).
+flat joints of three pebbles and of clouds and the Lac du Bonnet point's variants
+`benchmarks/data/material_study_half.json`), so a study stopped goes on from its last run, on
+another day and machine too; writes OUT/material_study.md (the variants done) and
+OUT/material_study.png (m_i against UCS / Brazilian, each variant's mean and sd).
 
 Run by hand: `python benchmarks/material_study.py [--out runs/material-study] [--rmin-mm 0.5]
 [--variants pb-ball,pb-two-pebble,...] [--packings 3] [--table TABLE]` (`--list` names the
@@ -116,14 +116,12 @@ class Study:
         from `params` after the scaling steps `steps` (the (E, UCS) of each UCS run so far);
         each step kept (`keep(params=..., scaling=steps)`) as it is done."""
         specimen = self.specimen.model_copy(update=settings | {"seed": 1})
-        while len(steps) < MAX_SCALINGS:
+        while not scaling_done(steps):
             r = self.run({"ucs": run_spec("ucs", specimen, params, model)})["ucs"]
             steps.append((r["E_GPa"], r["ucs_MPa"]))
-            if (abs(r["E_GPa"] / E_TARGET_GPA - 1) <= SCALE_TOLERANCE
-                    and abs(r["ucs_MPa"] / UCS_TARGET_MPA - 1) <= SCALE_TOLERANCE):
-                break
-            params = scaled(params, E_TARGET_GPA / r["E_GPa"], UCS_TARGET_MPA / r["ucs_MPa"])
-            keep(params=params, scaling=steps)
+            if not near_granite(*steps[-1]):
+                params = scaled(params, E_TARGET_GPA / r["E_GPa"], UCS_TARGET_MPA / r["ucs_MPa"])
+                keep(params=params, scaling=steps)
         return params
 
     def lab_sheet(self, model: str, params: dict, settings: dict, sheets: list[dict], runs: dict,
@@ -150,6 +148,16 @@ class Study:
             sheets.append(sheet(runs))
             runs.clear()
             keep(runs=runs)
+
+
+def near_granite(E_GPa: float, ucs_MPa: float) -> bool:
+    return (abs(E_GPa / E_TARGET_GPA - 1) <= SCALE_TOLERANCE
+            and abs(ucs_MPa / UCS_TARGET_MPA - 1) <= SCALE_TOLERANCE)
+
+
+def scaling_done(steps: list) -> bool:
+    """Whether the scaling steps so far end it: the last at the granite, or as many as allowed."""
+    return len(steps) >= MAX_SCALINGS or bool(steps) and near_granite(*steps[-1])
 
 
 def sheet(runs: dict) -> dict:
@@ -250,7 +258,7 @@ def measure(study: Study, table: Table, name: str, model: str, params: dict, set
     clock = time.perf_counter()
     row = table.row(name) or {"model": model, "settings": settings, "rmin_mm": table.rmin_mm,
                               "packings": table.packings, "params": params, "scaling": [],
-                              "scaled": False, "sheets": [], "runs": {}, "wall_s": 0.0}
+                              "sheets": [], "runs": {}, "wall_s": 0.0}
 
     def keep(**changes) -> None:
         nonlocal clock
@@ -261,10 +269,8 @@ def measure(study: Study, table: Table, name: str, model: str, params: dict, set
         clock = now
         table.put(name, row, markdown_path)
 
-    if not row.get("scaled", True):
-        keep(params=study.at_granite(model, row["params"], settings, row["scaling"], keep), scaled=True)
-    row.setdefault("runs", {})
-    keep()
+    keep(params=study.at_granite(model, row["params"], settings, row["scaling"], keep),
+         runs=row.get("runs", {}))
     study.lab_sheet(model, row["params"], settings, row["sheets"], row["runs"], keep)
     print(f"{name}: done, {row['wall_s']} s in all", flush=True)
 
