@@ -66,11 +66,11 @@ def test_a_2d_run_keeps_the_key_it_had_before_3d():
     assert "dimensions" not in settings.model_dump()  # left out of a record at its default
 
 
-def test_a_3d_run_is_keyed_by_its_dimensions_and_generator():
+def test_a_3d_run_is_keyed_by_its_dimensions_engine_and_generator():
     in_3d = SpecimenSettings(**CYLINDER)
     spec = run_spec("ucs", in_3d, PARAMS)
     assert dict(spec.specimen)["dimensions"] == 3
-    assert "3D specimen generator" in spec.engine
+    assert "3D engine" in spec.engine and "3D specimen generator" in spec.engine
     # the same settings in 2D (the 3D defaults given) are another run
     same_in_2d = in_3d.model_copy(update={"dimensions": 2})
     assert run_spec("ucs", same_in_2d, PARAMS).key != spec.key

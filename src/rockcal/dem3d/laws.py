@@ -206,8 +206,11 @@ def bond_breaks(fn, fs, mb, mt, inv_rb, area, ten, coh, laws):
     """Whether a parallel bond breaks in tension, σ̄ = F̄n/Ā + β̄ |M̄b| R̄/Ī > σ̄c, else in
     shear, τ̄ = |F̄s|/Ā + β̄ |M̄t| R̄/J̄ > c̄ - (F̄n/Ā) tan φ̄ (PFC: tension positive, so
     compression raises the shear strength). Compared as forces (× Ā): R̄ Ā/Ī = 4/R̄ and
-    R̄ Ā/J̄ = 2/R̄."""
-    tension = fn + laws.mcf * 4.0 * inv_rb * np.sqrt(dot(mb, mb)) > ten * area
-    shear = ~tension & (np.sqrt(dot(fs, fs)) + laws.mcf * 2.0 * inv_rb * abs(mt)
-                        > coh * area - fn * laws.tan_phi)
+    R̄ Ā/J̄ = 2/R̄; each as |vector| > rest, that is rest < 0 or |vector|² > rest², without
+    a square root."""
+    bending = laws.mcf * 4.0 * inv_rb
+    rest = ten * area - fn
+    tension = (rest < 0.0) | (bending * bending * dot(mb, mb) > rest * rest)
+    rest = coh * area - fn * laws.tan_phi - laws.mcf * 2.0 * inv_rb * abs(mt)
+    shear = ~tension & ((rest < 0.0) | (dot(fs, fs) > rest * rest))
     return tension, shear

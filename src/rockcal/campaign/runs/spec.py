@@ -14,6 +14,7 @@ from rockcal import __version__
 from rockcal.dem.clump_genesis import CLUMP_GENESIS_VERSION
 from rockcal.dem.clump_templates import DEFAULT_SHAPE
 from rockcal.dem.specimen import GENERATOR_VERSION
+from rockcal.dem3d import ENGINE_VERSION_3D
 from rockcal.dem3d.specimen import GENERATOR_VERSION_3D
 from rockcal.labtests.registry import lab_test
 from rockcal.materials import DEFAULT_MATERIAL, material
@@ -58,15 +59,15 @@ def run_spec(kind: str, specimen_settings, params: dict, model: str = DEFAULT_MA
     of the test's own such as a confinement, over them), and `params` of the material `model`
     completed with the defaults so the key is total (the material is named among them unless
     it is the default, so the runs stored before materials keep their keys). A 3D run's
-    settings hold `dimensions` 3 and its engine the 3D generator's version, a clumped run's
-    engine the clumps' genesis version; a 2D run of balls keeps the key it had before 3D and
-    clumps (`kind.LATER_SETTINGS`)."""
+    settings hold `dimensions` 3 and its engine the 3D engine's and generator's versions, a
+    clumped run's engine the clumps' genesis version; a 2D run of balls keeps the key it had
+    before 3D and clumps (`kind.LATER_SETTINGS`)."""
     test = lab_test(kind)
     settings = test.key_settings(specimen_settings) | (own or {})
     full = material(model).make(params).key() | ({} if model == DEFAULT_MATERIAL else {"model": model})
     engine = ENGINE if test.revision == 1 else f"{ENGINE}, {kind} test revision {test.revision}"
-    if settings.get("dimensions") == 3:  # a 3D run (keyed by `dimensions` too) is of the 3D genesis
-        engine += f", 3D specimen generator {GENERATOR_VERSION_3D}"
+    if settings.get("dimensions") == 3:  # a 3D run (keyed by `dimensions` too): the 3D engine's
+        engine += f", 3D engine {ENGINE_VERSION_3D}, 3D specimen generator {GENERATOR_VERSION_3D}"
     if settings.get("grain_shape", DEFAULT_SHAPE) != DEFAULT_SHAPE:  # a clumped run: of the clumps' genesis
         engine += f", clump genesis {CLUMP_GENESIS_VERSION}"
     return RunSpec(kind, tuple(settings.items()), tuple(sorted(full.items())), engine)
