@@ -25,8 +25,10 @@ another day and machine too; writes OUT/material_study.md (the variants done) an
 OUT/material_study.png (m_i against UCS / Brazilian, each variant's mean and sd).
 
 Run by hand: `python benchmarks/material_study.py [--out runs/material-study] [--rmin-mm 0.5]
-[--variants pb-ball,pb-two-pebble,...] [--packings 3] [--table TABLE]` (`--list` names the
-variants).
+[--variants pb-ball,pb-two-pebble,...] [--packings 3] [--seeds 2,3] [--table TABLE]` (`--list`
+names the variants). `--seeds` runs only those packings: two studies on the same `--table`,
+each with its own `--out`, can share a variant's packings between two cores (start the second
+once the first has scaled the variant to the granite: each would scale it otherwise).
 """
 
 from __future__ import annotations
@@ -124,16 +126,18 @@ class Study:
                 keep(params=params, scaling=steps)
         return params
 
-    def lab_sheet(self, model: str, params: dict, settings: dict, sheets: list[dict], runs: dict,
-                  keep: Callable[..., None]) -> None:
-        """Per packing: the rock lab's values at `params`, appended to `sheets` (the packings
-        done so far). Each run's responses are kept (`keep(runs=runs)`) as it is done, in
-        `runs` (the packing under way's, by run; its "seed" says which packing), so a packing
-        too long for one sitting goes on from its last run."""
-        for seed in range(len(sheets) + 1, self.packings + 1):
-            if runs.get("seed") != seed:
-                runs.clear()
-                runs["seed"] = seed
+    def lab_sheet(self, model: str, params: dict, settings: dict, seeds: list[int],
+                  keep: Callable[..., dict]) -> None:
+        """Per packing of `seeds` that the variant's row (`keep()`) has no sheet of: the rock
+        lab's values at `params`. Each run's responses are kept (`keep(seed=..., runs=...)`) as
+        it is done, under its packing in the row's "runs", so a packing too long for one sitting
+        goes on from its last run; its sheet is kept (`keep(seed=..., sheet=...)`) once they
+        are all done."""
+        for seed in seeds:
+            row = keep()
+            if any(s["seed"] == seed for s in row["sheets"]):
+                continue
+            runs = dict(row["runs"].get(str(seed), {}))
             specimen = self.specimen.model_copy(update=settings | {"seed": seed})
             strips = specimen.model_copy(update={"brazilian_loading": "strips", "strip_modulus_gpa": self.strip})
             specs = {"ucs": run_spec("ucs", specimen, params, model),
@@ -144,10 +148,8 @@ class Study:
             for name, spec in specs.items():
                 if name not in runs:
                     runs[name] = self.run({name: spec})[name]
-                    keep(runs=runs)
-            sheets.append(sheet(runs))
-            runs.clear()
-            keep(runs=runs)
+                    keep(seed=seed, runs=runs)
+            keep(seed=seed, sheet=sheet(runs) | {"seed": seed})
 
 
 def near_granite(E_GPa: float, ucs_MPa: float) -> bool:
@@ -225,13 +227,16 @@ def figure(rows: dict, path: Path) -> None:
 
 class Table:
     """The study's JSON table: a row per variant, kept as each run is done (a stopped study goes
-    on from its last run); read anew before each write, as another study may share it."""
+    on from its last run). Each write re-reads the table under a lock and changes only what its
+    study did (`update`): other studies may share the table, on other variants or on other
+    packings of the same one."""
 
     def __init__(self, path: Path, rmin_mm: float, packings: int):
         self.path, self.rmin_mm, self.packings = path, rmin_mm, packings
 
     def rows(self) -> dict:
-        return json.loads(self.path.read_text()) if self.path.exists() else {}
+        rows = json.loads(self.path.read_text()) if self.path.exists() else {}
+        return {name: by_packing(row) for name, row in rows.items()}
 
     def row(self, name: str) -> dict | None:
         """The variant's row, if it has one; a row of another resolution or count of packings
@@ -243,35 +248,68 @@ class Table:
                              f"packings: give another --table")
         return row
 
-    def put(self, name: str, row: dict, markdown_path: Path) -> None:
+    def update(self, name: str, new_row: dict, change: Callable[[dict], None], markdown_path: Path) -> dict:
+        """The variant's row as the table holds it now (or `new_row`), changed by `change`,
+        written back; the row."""
         with open(self.path.with_suffix(".lock"), "w") as lock:
-            fcntl.flock(lock, fcntl.LOCK_EX)  # another study's write waits: no row lost
-            rows = self.rows() | {name: row}
+            fcntl.flock(lock, fcntl.LOCK_EX)  # another study's write waits: no run lost
+            rows = self.rows()
+            row = rows.get(name, new_row)
+            change(row)
+            rows[name] = row
             self.path.write_text(json.dumps(rows, indent=2))
         markdown_path.write_text(markdown(rows))
+        return row
+
+
+def by_packing(row: dict) -> dict:
+    """A row with its sheets and runs by packing: each sheet with its "seed", the runs of each
+    packing under way under its seed. (A row kept by one study at a time held the sheets in
+    packing order and the one packing under way's runs with a "seed" among them.)"""
+    for k, s in enumerate(row["sheets"]):
+        s.setdefault("seed", k + 1)
+    runs = row.get("runs", {})
+    if "seed" in runs:
+        seed = runs.pop("seed")
+        runs = {str(seed): runs} if runs else {}
+    row["runs"] = runs
+    return row
 
 
 def measure(study: Study, table: Table, name: str, model: str, params: dict, settings: dict,
-            markdown_path: Path) -> None:
+            seeds: list[int], markdown_path: Path) -> None:
     """A variant's row: scaled to the granite (from its row's last scaling step, if any), then
-    packing by packing from the first its row lacks, each run kept in the table as it is done."""
+    its packings of `seeds` that the row lacks, each run kept in the table as it is done.
+    Its wall_s adds up the time of every study that worked on it."""
     clock = time.perf_counter()
     row = table.row(name) or {"model": model, "settings": settings, "rmin_mm": table.rmin_mm,
                               "packings": table.packings, "params": params, "scaling": [],
                               "sheets": [], "runs": {}, "wall_s": 0.0}
 
-    def keep(**changes) -> None:
-        nonlocal clock
+    def keep(seed: int | None = None, runs: dict | None = None, sheet: dict | None = None,
+             **scaling) -> dict:
+        """Keep in the table what this study did: a scaling step (params, scaling), a packing's
+        runs so far, or its sheet; the row as the table then holds it."""
+        nonlocal clock, row
         now = time.perf_counter()
-        row.update(changes)
-        row.update(complete=len(row["sheets"]) == table.packings,
-                   wall_s=round(row["wall_s"] + now - clock, 1))
-        clock = now
-        table.put(name, row, markdown_path)
 
-    keep(params=study.at_granite(model, row["params"], settings, row["scaling"], keep),
-         runs=row.get("runs", {}))
-    study.lab_sheet(model, row["params"], settings, row["sheets"], row["runs"], keep)
+        def change(stored: dict) -> None:
+            stored.update(scaling)
+            if runs is not None:
+                stored["runs"][str(seed)] = runs
+            if sheet is not None:
+                stored["runs"].pop(str(seed), None)
+                stored["sheets"] = sorted([s for s in stored["sheets"] if s["seed"] != seed] + [sheet],
+                                          key=lambda s: s["seed"])
+            stored["complete"] = len(stored["sheets"]) == table.packings
+            stored["wall_s"] = round(stored["wall_s"] + now - clock, 1)
+
+        row = table.update(name, row, change, markdown_path)
+        clock = now
+        return row
+
+    keep(params=study.at_granite(model, row["params"], settings, row["scaling"], keep))
+    study.lab_sheet(model, row["params"], settings, seeds, keep)
     print(f"{name}: done, {row['wall_s']} s in all", flush=True)
 
 
@@ -281,6 +319,8 @@ def main() -> None:
     parser.add_argument("--rmin-mm", type=float, default=0.5, help="the full size's is 0.25")
     parser.add_argument("--variants", default=",".join(f"pb-{s}" for s in SHAPES))
     parser.add_argument("--packings", type=int, default=3)
+    parser.add_argument("--seeds", help="the packings this study runs, e.g. 3 or 2,3 (default: "
+                                        "all); the others are left to another study")
     parser.add_argument("--strip-modulus-gpa", type=float, default=0.5)
     parser.add_argument("--table", type=Path, help="the JSON table kept run by run "
                                                     "(default OUT/material_study.json)")
@@ -295,8 +335,11 @@ def main() -> None:
     args.out.mkdir(parents=True, exist_ok=True)
     study = Study(args.out, specimen, args.strip_modulus_gpa, args.packings)
     table = Table(args.table or args.out / "material_study.json", args.rmin_mm, args.packings)
+    seeds = [int(k) for k in args.seeds.split(",")] if args.seeds else list(range(1, args.packings + 1))
+    if not set(seeds) <= set(range(1, args.packings + 1)):
+        raise SystemExit(f"--seeds: packings are 1-{args.packings}")
     for name in args.variants.split(","):
-        measure(study, table, name, *known[name], args.out / "material_study.md")
+        measure(study, table, name, *known[name], seeds, args.out / "material_study.md")
     rows = table.rows()
     figure(rows, args.out / "material_study.png")
     print(markdown(rows))
