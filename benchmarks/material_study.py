@@ -208,6 +208,7 @@ def figure(rows: dict, path: Path) -> None:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7, 5))
+    ax.set_prop_cycle(color=plt.get_cmap("tab20").colors)  # a colour per variant, up to 20
     for name, row in rows.items():
         if not row.get("complete", True):
             continue
