@@ -25,10 +25,12 @@ another day and machine too; writes OUT/material_study.md (the variants done) an
 OUT/material_study.png (m_i against UCS / Brazilian, each variant's mean and sd).
 
 Run by hand: `python benchmarks/material_study.py [--out runs/material-study] [--rmin-mm 0.5]
-[--variants pb-ball,pb-two-pebble,...] [--packings 3] [--seeds 2,3] [--table TABLE]` (`--list`
-names the variants). `--seeds` runs only those packings: two studies on the same `--table`,
-each with its own `--out`, can share a variant's packings between two cores (start the second
-once the first has scaled the variant to the granite: each would scale it otherwise).
+[--variants pb-ball,pb-two-pebble,...] [--packings 3] [--seeds 2,3] [--tests 20.0,10.0]
+[--table TABLE]` (`--list` names the variants). `--seeds` runs only those packings and `--tests`
+only those runs of each, in that order: two studies on the same `--table`, each with its own
+`--out`, can share a variant's packings, or one packing's runs, between two cores (start the
+second once the first has scaled the variant to the granite, and made the packing, or each
+would do it).
 """
 
 from __future__ import annotations
@@ -53,6 +55,7 @@ E_TARGET_GPA, UCS_TARGET_MPA = 41.5, 138.8  # the source's granite
 SCALE_TOLERANCE = 0.02
 MAX_SCALINGS = 4
 CONFINEMENTS_MPA = (5.0, 10.0, 20.0)
+TESTS = ("ucs", "brazilian", *map(str, CONFINEMENTS_MPA), "direct")  # a packing's runs, by name
 STIFFNESSES = ("E_c", "Ebar_c", "fj_emod", "lnm_emod")
 STRENGTHS = ("sigma_c", "tau_c", "sigma_c_sd", "tau_c_sd", "fj_ten", "fj_coh", "fj_ten_sd", "fj_coh_sd",
              "fj_cohres")
@@ -101,9 +104,10 @@ def scaled(params: dict, stiffness: float, strength: float) -> dict:
 
 
 class Study:
-    def __init__(self, out: Path, specimen: SpecimenSettings, strip_modulus_gpa: float, packings: int):
+    def __init__(self, out: Path, specimen: SpecimenSettings, strip_modulus_gpa: float, packings: int,
+                 tests: tuple[str, ...] = TESTS):
         self.executor = Executor(RunStore(out), workers=1, threads=1)
-        self.specimen, self.strip, self.packings = specimen, strip_modulus_gpa, packings
+        self.specimen, self.strip, self.packings, self.tests = specimen, strip_modulus_gpa, packings, tests
 
     def run(self, specs: dict) -> dict:
         results = self.executor.run(list(specs.values()))
@@ -129,15 +133,15 @@ class Study:
     def lab_sheet(self, model: str, params: dict, settings: dict, seeds: list[int],
                   keep: Callable[..., dict]) -> None:
         """Per packing of `seeds` that the variant's row (`keep()`) has no sheet of: the rock
-        lab's values at `params`. Each run's responses are kept (`keep(seed=..., runs=...)`) as
-        it is done, under its packing in the row's "runs", so a packing too long for one sitting
-        goes on from its last run; its sheet is kept (`keep(seed=..., sheet=...)`) once they
-        are all done."""
+        lab's values at `params`, from the runs of this study's tests that the row lacks, in
+        their order. Each run's responses are kept (`keep(seed=..., runs=...)`) as it is done,
+        under its packing in the row's "runs", so a packing too long for one sitting goes on
+        from its last run and another study may do its other tests; the sheet is kept
+        (`keep(seed=..., sheet=...)`) by the study that finds all of them done."""
         for seed in seeds:
             row = keep()
             if any(s["seed"] == seed for s in row["sheets"]):
                 continue
-            runs = dict(row["runs"].get(str(seed), {}))
             specimen = self.specimen.model_copy(update=settings | {"seed": seed})
             strips = specimen.model_copy(update={"brazilian_loading": "strips", "strip_modulus_gpa": self.strip})
             specs = {"ucs": run_spec("ucs", specimen, params, model),
@@ -145,11 +149,12 @@ class Study:
             specs |= {str(s3): run_spec("biaxial", specimen, params, model, own={"confinement_mpa": s3})
                       for s3 in CONFINEMENTS_MPA}
             specs["direct"] = run_spec("direct_tension", specimen, params, model)
-            for name, spec in specs.items():
-                if name not in runs:
-                    runs[name] = self.run({name: spec})[name]
-                    keep(seed=seed, runs=runs)
-            keep(seed=seed, sheet=sheet(runs) | {"seed": seed})
+            for name in self.tests:
+                if name not in keep()["runs"].get(str(seed), {}):
+                    keep(seed=seed, runs=self.run({name: specs[name]}))
+            runs = keep()["runs"].get(str(seed), {})
+            if set(specs) <= set(runs):
+                keep(seed=seed, sheet=sheet(runs) | {"seed": seed})
 
 
 def near_granite(E_GPa: float, ucs_MPa: float) -> bool:
@@ -297,7 +302,7 @@ def measure(study: Study, table: Table, name: str, model: str, params: dict, set
         def change(stored: dict) -> None:
             stored.update(scaling)
             if runs is not None:
-                stored["runs"][str(seed)] = runs
+                stored["runs"].setdefault(str(seed), {}).update(runs)
             if sheet is not None:
                 stored["runs"].pop(str(seed), None)
                 stored["sheets"] = sorted([s for s in stored["sheets"] if s["seed"] != seed] + [sheet],
@@ -322,6 +327,9 @@ def main() -> None:
     parser.add_argument("--packings", type=int, default=3)
     parser.add_argument("--seeds", help="the packings this study runs, e.g. 3 or 2,3 (default: "
                                         "all); the others are left to another study")
+    parser.add_argument("--tests", default=",".join(TESTS),
+                        help="the runs this study makes on each packing, in this order; the others "
+                             "are left to another study")
     parser.add_argument("--strip-modulus-gpa", type=float, default=0.5)
     parser.add_argument("--table", type=Path, help="the JSON table kept run by run "
                                                     "(default OUT/material_study.json)")
@@ -334,7 +342,10 @@ def main() -> None:
     granite, _ = load_campaign(None)
     specimen = granite.specimen.model_copy(update={"rmin_mm": args.rmin_mm})
     args.out.mkdir(parents=True, exist_ok=True)
-    study = Study(args.out, specimen, args.strip_modulus_gpa, args.packings)
+    tests = tuple(args.tests.split(","))
+    if not set(tests) <= set(TESTS):
+        raise SystemExit(f"--tests: the tests are {','.join(TESTS)}")
+    study = Study(args.out, specimen, args.strip_modulus_gpa, args.packings, tests)
     table = Table(args.table or args.out / "material_study.json", args.rmin_mm, args.packings)
     seeds = [int(k) for k in args.seeds.split(",")] if args.seeds else list(range(1, args.packings + 1))
     if not set(seeds) <= set(range(1, args.packings + 1)):
