@@ -11,8 +11,12 @@ A genesis packing has more bonds per sphere than the lattice: `--cylinder D H R_
 times a cylinder carved from one (the 3D granite campaign's is 25 50 0.8: bonded coordination
 about 9.6), bonded as the campaign bonds it.
 
+`--install-gaps 0 0.6` bonds it at each gap (0: touching pairs only, as Potyondy & Cundall's
+PFC3D granite; the default is the 3D genesis's, 0.6 R_min): one packing, fewer bonds per sphere
+at the narrower gap.
+
 Run by hand: `python benchmarks/step_3d.py [--steps 300] [--rounds 3] [--threads 1 2]
-[--cylinder 25 50 0.8]`.
+[--cylinder 25 50 0.8] [--install-gaps 0 0.6]`.
 """
 
 import argparse
@@ -27,6 +31,7 @@ from rockcal.dem import simulate as simulate_2d
 from rockcal.dem3d import simulate as simulate_3d
 from rockcal.dem3d.laws import Laws
 from rockcal.dem3d.neighbours import near_pairs, spatial_order
+from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D
 from rockcal.dem3d.specimen import random_specimen
 from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
@@ -65,8 +70,9 @@ def state_3d(cells: int):
     return moving_state_3d(*perturbed_fcc(cells, 1e-3))
 
 
-def cylinder_state_3d(diameter_mm: float, height_mm: float, rmin_mm: float):
-    spec = random_specimen("cylinder", diameter_mm, height_mm, rmin_mm)
+def cylinder_state_3d(diameter_mm: float, height_mm: float, rmin_mm: float, install_gap: float):
+    genesis = DEFAULT_GENESIS_3D.model_copy(update={"install_gap": install_gap})
+    spec = random_specimen("cylinder", diameter_mm, height_mm, rmin_mm, genesis=genesis)
     return moving_state_3d(spec.pos, spec.radius, spec.bonds)
 
 
@@ -102,11 +108,15 @@ def main() -> None:
     parser.add_argument("--cells", type=int, default=14, help="FCC cells per side (4 cells³ spheres)")
     parser.add_argument("--cylinder", type=float, nargs=3, metavar=("D_MM", "H_MM", "RMIN_MM"),
                         help="also a genesis cylinder of this size")
+    parser.add_argument("--install-gaps", type=float, nargs="+", default=[DEFAULT_GENESIS_3D.install_gap],
+                        help="the cylinder bonded at each of these installation gaps (/ R_min; 0: "
+                             "touching pairs only)")
     parser.add_argument("--threads", type=int, nargs="+", default=[1, numba.config.NUMBA_NUM_THREADS])
     args = parser.parse_args()
     states = {"3D lattice": state_3d(args.cells)}
-    if args.cylinder:
-        states["3D cylinder {:g} x {:g} mm, R_min {:g}".format(*args.cylinder)] = cylinder_state_3d(*args.cylinder)
+    for gap in args.install_gaps if args.cylinder else ():
+        name = "3D cylinder {:g} x {:g} mm, R_min {:g}, gap {:g} R_min".format(*args.cylinder, gap)
+        states[name] = cylinder_state_3d(*args.cylinder, gap)
     s2 = state_2d()
     n2, nb2 = s2.n_particles, s2.neighbours.n_bonds
     for name, s3 in states.items():
