@@ -191,12 +191,21 @@ def mean_sd(sheets: list[dict], key: str) -> tuple[float, float]:
     return float(values.mean()), float(values.std(ddof=1)) if len(values) > 1 else 0.0
 
 
+def shown(rows: dict):
+    """The variants to draw, by label: each with all its packings, or with two or more of them
+    done (labelled with how many)."""
+    for name, row in rows.items():
+        done = len(row["sheets"])
+        if row.get("complete", True):
+            yield name, row
+        elif done >= 2:
+            yield f"{name} ({done} of {row['packings']} packings)", row
+
+
 def markdown(rows: dict) -> str:
     head = "| variant | " + " | ".join(title for _, title, _ in COLUMNS) + " | splits |"
     lines = [head, "|" + "---|" * (len(COLUMNS) + 2)]
-    for name, row in rows.items():
-        if not row.get("complete", True):
-            continue
+    for name, row in shown(rows):
         cells = []
         for key, _, digits in COLUMNS:
             mean, sd = mean_sd(row["sheets"], key)
@@ -214,9 +223,7 @@ def figure(rows: dict, path: Path) -> None:
 
     fig, ax = plt.subplots(figsize=(7, 5))
     ax.set_prop_cycle(color=plt.get_cmap("tab20").colors)  # a colour per variant, up to 20
-    for name, row in rows.items():
-        if not row.get("complete", True):
-            continue
+    for name, row in shown(rows):
         (x, dx), (y, dy) = mean_sd(row["sheets"], "ucs_bts"), mean_sd(row["sheets"], "m_i")
         marker = "o" if name.startswith("pb") else "s"
         ax.errorbar(x, y, xerr=dx, yerr=dy, fmt=marker, capsize=3, label=name)
