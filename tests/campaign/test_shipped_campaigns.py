@@ -121,3 +121,16 @@ def test_the_flat_jointed_granite_has_the_embedded_granites_rock_targets_and_spe
     same = {"rmin_mm", "radius_ratio", "seed", "width_mm", "height_mm", "install_gap", "cloud_porosity",
             "pressure_mpa", "strain", "stop_fraction", "disk_diameter_mm"}
     assert {k: getattr(flat.specimen, k) for k in same} == {k: getattr(granite.specimen, k) for k in same}
+
+
+def test_the_narrow_gap_3d_granite_differs_from_the_3d_granite_only_in_its_gap_and_box():
+    """Bonded at 0.125 R_min (the 3D examples' gap in Itasca's FISHTank files) in place of the
+    default 0.6: fewer bonds per sphere, so the box reaches to stiffer, stronger bonds."""
+    default, _ = load_campaign(str(DOCS / "granite-3d.toml"))
+    narrow, _ = load_campaign(str(DOCS / "granite-3d-narrow-gap.toml"))
+    assert default.specimen.install_gap == 0.6 and narrow.specimen.install_gap == 0.125
+    assert narrow.specimen.model_copy(update={"install_gap": 0.6}) == default.specimen
+    assert narrow.model_dump(exclude={"specimen", "search", "rock"}) == \
+        default.model_dump(exclude={"specimen", "search", "rock"})
+    assert narrow.search.fixed == default.search.fixed
+    assert all(narrow.search.bounds[k][1] >= default.search.bounds[k][1] for k in default.search.bounds)
