@@ -133,4 +133,5 @@ def test_the_narrow_gap_3d_granite_differs_from_the_3d_granite_only_in_its_gap_a
     assert narrow.model_dump(exclude={"specimen", "search", "rock"}) == \
         default.model_dump(exclude={"specimen", "search", "rock"})
     assert narrow.search.fixed == default.search.fixed
+    assert narrow.rock.model_copy(update={"name": default.rock.name}) == default.rock
     assert all(narrow.search.bounds[k][1] >= default.search.bounds[k][1] for k in default.search.bounds)
