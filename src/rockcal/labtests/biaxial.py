@@ -29,7 +29,7 @@ from rockcal.dem import measure
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.dem.specimen import Specimen, random_packing
 from rockcal.errors import InputError
-from rockcal.labtests import ucs
+from rockcal.labtests import snapshots, ucs
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
 from rockcal.labtests.envelope import envelope_responses
 from rockcal.labtests.kind import (GENESIS, LabTest, Outline, Response, SeriesFigure, Setting, genesis_of, in_3d,
@@ -121,23 +121,36 @@ def simulate_biaxial(params: BondedParams | dict | None = None, specimen: Specim
     check_stop_fraction(stop_fraction)
     specimen = specimen or random_packing(50.0, 100.0)
     check_gauges(specimen)
-    platens = Platens(specimen, params, ucs.DENSITY_SCALED_SPEED * rate_factor, contact_stiffness)
-    state = platens.state
-    scale_density(state)
-    sigma3 = confinement_mpa * MPa
-    sides = SideWalls(platens, specimen, sigma3) if sigma3 > 0 else None
-    seating_steps = 0 if sides is None else sides.seat()
-    gauge = Gauge(specimen, state)
-    platens.zero()
-    read = ConfinedReadings(platens, gauge, sides, strain)
-    loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / ucs.DENSITY_SCALED_SPEED,
-                      DISTRIBUTED_DAMAGE)
-    state.step, seated_at = 0, state.step  # the loading counts its own steps (its ramp)
+    snapshot = snapshots.current()
+    saved = snapshot and snapshot.load()
+    if saved:  # the run goes on from its snapshot
+        platens, sides, read, loading, seating_steps, seated_at, samples, run_s = saved
+        state = platens.state
+    else:
+        platens = Platens(specimen, params, ucs.DENSITY_SCALED_SPEED * rate_factor, contact_stiffness)
+        state = platens.state
+        scale_density(state)
+        sigma3 = confinement_mpa * MPa
+        sides = SideWalls(platens, specimen, sigma3) if sigma3 > 0 else None
+        seating_steps = 0 if sides is None else sides.seat()
+        platens.zero()
+        read = ConfinedReadings(platens, Gauge(specimen, state), sides, strain)
+        loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / ucs.DENSITY_SCALED_SPEED,
+                          DISTRIBUTED_DAMAGE)
+        state.step, seated_at = 0, state.step  # the loading counts its own steps (its ramp)
+        samples, run_s = [], 0.0
+    started -= run_s
+
+    def save() -> None:
+        snapshot.save((platens, sides, read, loading, seating_steps, seated_at, samples,
+                       time.perf_counter() - started))
+
     curve = load_to_failure(platens, loading, read,
                             lambda reading: loading.fallen_below(stop_fraction, reading.load),
                             max_axial_strain, progress=progress,
                             control=None if sides is None else sides.update,
-                            control_steps=1 if sides is None else sides.steps)
+                            control_steps=1 if sides is None else sides.steps,
+                            samples=samples, snapshot=save if snapshot else None)
     state.step += seated_at
     curve = read.curve(curve)
     return BiaxialResult(**confined_readings(curve, confinement_mpa), seating_steps=seating_steps,

@@ -156,7 +156,9 @@ def load_to_failure(loader: Loader, loading: Loading, read: Callable[[], Reading
                     progress: Callable[[float, float], None] | None = None,
                     control: Callable[[], None] | None = None,
                     control_steps: int = 1,
-                    advance_steps: Callable[[object, int], None] = advance) -> np.ndarray:
+                    advance_steps: Callable[[object, int], None] = advance,
+                    samples: list | None = None,
+                    snapshot: Callable[[], None] | None = None) -> np.ndarray:
     """Load the specimen quasi-statically until the test may stop; its curve.
 
     The test configures what differs: its `loader` (the platens, the pin, the grips) moves at
@@ -168,10 +170,13 @@ def load_to_failure(loader: Loader, loading: Loading, read: Callable[[], Reading
     called after each chunk. `control()`, a boundary the test servo-controls, is called every
     `control_steps` steps within each chunk (splitting a chunk changes no number). The curve is
     the samples after a first row of zeros, the specimen unloaded. `advance_steps(state, n)` is
-    the engine's stepping (the 2D engine's, or `rockcal.dem3d.simulate.advance`).
+    the engine's stepping (the 2D engine's, or `rockcal.dem3d.simulate.advance`). A test that
+    takes snapshots (`rockcal.labtests.snapshots`) passes its `samples` list (so far: a run
+    going on from a snapshot) and `snapshot()`, called after each reading the test goes on
+    from, which saves what the test needs to go on from there.
     """
     state, chunk = loader.state, loader.chunk
-    samples = []
+    samples = [] if samples is None else samples
     while True:
         loader.move(loading.speed(state.step, state.n_broken(), chunk, loading.peak_known))
         if control is None:
@@ -190,3 +195,5 @@ def load_to_failure(loader: Loader, loading: Loading, read: Callable[[], Reading
             progress(reading.sample[0], reading.sample[-1])
         if may_stop(reading) or reading.travel >= max_travel:
             return np.array([(0.0,) * len(reading.sample), *samples])
+        if snapshot is not None:
+            snapshot()

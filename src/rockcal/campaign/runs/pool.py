@@ -18,6 +18,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from functools import lru_cache
 from multiprocessing import get_context
+from pathlib import Path
 from typing import Callable, Iterable
 
 import numba
@@ -28,6 +29,7 @@ from rockcal.campaign.runs.spec import RunResult, RunSpec, params_of
 from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem.simulate import use_threads
+from rockcal.labtests import snapshots
 from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import lab_test
 
@@ -58,9 +60,11 @@ class RunTimedOut(Exception):
     """A forward run went past its wall-time limit."""
 
 
-def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
+def execute(spec: RunSpec, time_limit_s: float | None = None, snapshots_in: Path | None = None) -> RunResult:
     """Run one forward test; a run that raises is a failed result, not an exception, and a run
-    past `time_limit_s` is stopped and recorded as timed out."""
+    past `time_limit_s` is stopped and recorded as timed out. With `snapshots_in` (a store's
+    folder) a long test keeps snapshots there and goes on from its last one
+    (`rockcal.labtests.snapshots`)."""
     started = last = time.perf_counter()
     _count_running(+1)
     _take_share_of_cores()  # from the start (the specimen's genesis too), not the first reading
@@ -78,7 +82,8 @@ def execute(spec: RunSpec, time_limit_s: float | None = None) -> RunResult:
     try:
         test = lab_test(spec.kind)
         specimen = specimen_of(spec.kind, spec.specimen)
-        r = test.run(params_of(spec), specimen, all_settings(dict(spec.specimen)), watch)
+        with snapshots.kept_in(snapshots_in, spec.key):
+            r = test.run(params_of(spec), specimen, all_settings(dict(spec.specimen)), watch)
         responses = test.responses_of(r) | {
             "n_broken_tension": r.n_broken_tension, "n_broken_shear": r.n_broken_shear,
             "steps": r.steps} | specimen.description()
@@ -223,7 +228,7 @@ class Executor:
                     use_threads(self.threads)
                 _live = _Shown(self)
                 for spec in batch.todo:
-                    batch.finish(spec, execute(spec, self.time_limit_s))
+                    batch.finish(spec, execute(spec, self.time_limit_s, self.store.path.parent))
                     self._done(spec.key)
             else:
                 self._run_on_pool(batch)
@@ -237,7 +242,8 @@ class Executor:
         anew for the runs not yet done (after POOL_RESTARTS new pools they are recorded failed)."""
         todo = batch.todo
         for attempt in range(POOL_RESTARTS + 1):
-            futures = {self._get_pool().submit(execute, spec, self.time_limit_s): spec for spec in todo}
+            futures = {self._get_pool().submit(execute, spec, self.time_limit_s, self.store.path.parent): spec
+                       for spec in todo}
             pending = set(futures)
             while pending:
                 finished, pending = wait(pending, timeout=LIVE_INTERVAL_S, return_when=FIRST_COMPLETED)

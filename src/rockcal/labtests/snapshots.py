@@ -1,0 +1,110 @@
+"""Snapshots of a long run, so that a run stopped part way (the process killed, the machine
+off) goes on from its last snapshot when it is run again, to the same numbers to the bit as a
+run never stopped.
+
+A run of a store (`rockcal.campaign.runs`) keeps its snapshot beside the store,
+`<out>/snapshots/<run key>.pickle`: the test's rig, readings and loading as they stood after a
+reading, written at most every SNAPSHOT_EVERY_S of the run (to a new file, then renamed over
+the last, so a stop while writing keeps the one before) and removed once the run is done. The
+run's key holds its test, settings, parameters and the engine's version, and a snapshot holds
+the rockcal version that wrote it: a snapshot of another version, or one that cannot be read,
+is left aside and the run starts afresh. A run outside a store (`rockcal.simulate`) takes none.
+
+The UCS and confined compression tests in 2D take snapshots (the long runs of full-size
+clumped and flat-jointed specimens); the others run in one go.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import pickle
+import time
+from pathlib import Path
+
+import numpy as np
+
+import rockcal
+
+SNAPSHOT_EVERY_S = 300.0
+FOLDER = "snapshots"
+
+_current: Snapshot | None = None
+
+
+def _view(root: np.ndarray, offset: int, shape: tuple, strides: tuple, dtype) -> np.ndarray:
+    return np.ndarray(shape, dtype, buffer=root, offset=offset, strides=strides)
+
+
+class _SharingPickler(pickle.Pickler):
+    """Pickles a numpy view as a view of the array that holds its memory, that array pickled
+    once: the engine's arrays share memory (a particle's position is a view of its row), and
+    loaded they must share it still."""
+
+    def reducer_override(self, obj):
+        if not (isinstance(obj, np.ndarray) and isinstance(obj.base, np.ndarray)):
+            return NotImplemented
+        root = obj.base
+        while isinstance(root.base, np.ndarray):
+            root = root.base
+        offset = obj.__array_interface__["data"][0] - root.__array_interface__["data"][0]
+        return _view, (root, offset, obj.shape, obj.strides, obj.dtype)
+
+
+class Snapshot:
+    """The snapshot file of one run, `path`, written at most every `every_s` seconds."""
+
+    def __init__(self, path: Path, every_s: float = SNAPSHOT_EVERY_S):
+        self.path, self.every_s = Path(path), every_s
+        self._last_s = time.perf_counter()
+
+    def load(self):
+        """What the run saved last (`save`), or None: no snapshot, another version's, or one
+        that cannot be read."""
+        try:
+            with open(self.path, "rb") as file:
+                version, saved = pickle.load(file)
+        except FileNotFoundError:
+            return None
+        except Exception:  # cut short, or of classes since changed: start afresh
+            return None
+        return saved if version == rockcal.__version__ else None
+
+    def save(self, objects) -> None:
+        """Save `objects` (one pickle, so objects they share stay shared) if the last save is
+        `every_s` old."""
+        now = time.perf_counter()
+        if now - self._last_s < self.every_s:
+            return
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        part = self.path.with_suffix(".part")
+        with open(part, "wb") as file:
+            _SharingPickler(file, protocol=pickle.HIGHEST_PROTOCOL).dump((rockcal.__version__, objects))
+            file.flush()
+            os.fsync(file.fileno())
+        os.replace(part, self.path)
+        self._last_s = time.perf_counter()
+
+    def remove(self) -> None:
+        self.path.unlink(missing_ok=True)
+
+
+@contextlib.contextmanager
+def kept_in(folder: Path | None, key: str, every_s: float = SNAPSHOT_EVERY_S):
+    """While the block runs, a test's `current()` snapshot is the run `key`'s in `folder`
+    (None: no snapshots); removed when the block ends without an error."""
+    global _current
+    if folder is None:
+        yield
+        return
+    _current = Snapshot(Path(folder) / FOLDER / f"{key}.pickle", every_s)
+    try:
+        yield
+        _current.remove()
+    finally:
+        _current = None
+
+
+def current() -> Snapshot | None:
+    """The snapshot of the run under way, or None (a run outside a store)."""
+    return _current

@@ -1,0 +1,105 @@
+"""A long run stopped part way goes on from its last snapshot to the same numbers to the bit as
+a run never stopped (`rockcal.labtests.snapshots`): a confined test of clumped flat-jointed
+grains and a UCS test of balls, each stopped after a number of readings and run again."""
+
+import pickle
+import numpy as np
+import pytest
+
+import rockcal
+from rockcal.campaign.runs.pool import execute
+from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.input.config import SpecimenSettings
+from rockcal.labtests import snapshots
+from rockcal.labtests.biaxial import simulate_biaxial
+from rockcal.labtests.registry import lab_test
+from rockcal.labtests.settings import specimen_settings
+from rockcal.labtests.ucs import simulate_ucs
+from rockcal.materials import material, parameters
+
+FLAT_JOINT = {"fj_emod": 30.0, "fj_kratio": 2.0, "fj_ten": 20.0, "fj_ten_cv": 0.2, "fj_coh": 60.0,
+              "fj_coh_cv": 0.2}
+BALLS = {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 40.0, "tau_c": 60.0, "sigma_c_cv": 0.2, "tau_c_cv": 0.2}
+
+
+class Stopped(Exception):
+    """The process killed part way."""
+
+
+def _specimen(test: str, **settings):
+    kind = lab_test(test)
+    return kind.make(specimen_settings(kind, settings))
+
+
+def _confined(**options):
+    spec = _specimen("biaxial", width_mm=8, height_mm=16, rmin_mm=0.4, grain_shape="two-pebble")
+    return simulate_biaxial(parameters(material("flatjoint"), FLAT_JOINT), spec, 5.0, **options)
+
+
+def _ucs(**options):
+    spec = _specimen("ucs", width_mm=10, height_mm=20, rmin_mm=0.4)
+    return simulate_ucs(parameters(material("parallel_bond"), BALLS), spec, **options)
+
+
+def _counted(stop_at: int | None = None):
+    """A progress callback counting the readings; at reading `stop_at` it stops the run."""
+    def progress(strain, load):
+        progress.readings += 1
+        if progress.readings == stop_at:
+            raise Stopped
+
+    progress.readings = 0
+    return progress
+
+
+def _equal(a, b) -> bool:
+    if isinstance(a, dict):
+        return a.keys() == b.keys() and all(_equal(a[k], b[k]) for k in a)
+    if isinstance(a, np.ndarray):
+        return np.array_equal(a, b)
+    return a == b
+
+
+def _same(a, b) -> bool:
+    """Two results alike to the bit in everything but their wall time."""
+    a, b = vars(a) | {"wall_s": 0}, vars(b) | {"wall_s": 0}
+    return _equal(a, b)
+
+
+@pytest.mark.parametrize("run", [_confined, _ucs], ids=["confined clumped flat joints", "UCS of balls"])
+def test_a_run_stopped_part_way_goes_on_from_its_snapshot_to_the_same_numbers(tmp_path, run):
+    whole = _counted()
+    uninterrupted = run(progress=whole)
+    stop_at = whole.readings // 2
+    with pytest.raises(Stopped), snapshots.kept_in(tmp_path, "key", every_s=0.0):
+        run(progress=_counted(stop_at))
+    kept = tmp_path / snapshots.FOLDER / "key.pickle"
+    assert kept.exists()  # a stopped run keeps its snapshot
+    rest = _counted()
+    with snapshots.kept_in(tmp_path, "key", every_s=0.0):
+        resumed = run(progress=rest)
+    # it went on after the last reading saved: the one before the stop
+    assert rest.readings == whole.readings - (stop_at - 1)
+    assert _same(resumed, uninterrupted)
+    assert not kept.exists()  # a run done leaves no snapshot
+
+
+def test_a_snapshot_of_another_version_or_cut_short_is_left_aside(tmp_path):
+    uninterrupted = _ucs()
+    kept = tmp_path / snapshots.FOLDER / "key.pickle"
+    kept.parent.mkdir()
+    for written in (pickle.dumps(("0.0.0", ("anything",))), b"\x80\x05cut sh"):
+        kept.write_bytes(written)
+        whole = _counted()
+        with snapshots.kept_in(tmp_path, "key", every_s=0.0):
+            assert _same(_ucs(progress=whole), uninterrupted)
+        assert not kept.exists()
+
+
+def test_a_stored_run_takes_its_snapshot_in_the_stores_folder_and_leaves_none(tmp_path):
+    specimen = SpecimenSettings(width_mm=8, height_mm=16, rmin_mm=0.4)
+    spec = run_spec("ucs", specimen, BALLS)
+    result = execute(spec, snapshots_in=tmp_path)
+    assert result.status == "ok"
+    assert rockcal.__version__ in spec.engine
+    assert not (tmp_path / snapshots.FOLDER / f"{spec.key}.pickle").exists()
