@@ -1,6 +1,7 @@
 """A long run stopped part way goes on from its last snapshot to the same numbers to the bit as
 a run never stopped (`rockcal.labtests.snapshots`): a confined test of clumped flat-jointed
-grains and a UCS test of balls, each stopped after a number of readings and run again."""
+grains, a UCS test of balls, a UCS test of a cylinder of spheres and a confined test of a prism
+of them, each stopped after half its readings and run again."""
 
 import pickle
 import numpy as np
@@ -10,6 +11,8 @@ import rockcal
 from rockcal.campaign.runs.pool import execute
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.campaign.input.config import SpecimenSettings
+from rockcal.dem3d.triaxial import simulate_triaxial_3d
+from rockcal.dem3d.ucs import simulate_ucs_3d
 from rockcal.labtests import snapshots
 from rockcal.labtests.biaxial import simulate_biaxial
 from rockcal.labtests.registry import lab_test
@@ -41,6 +44,16 @@ def _ucs(**options):
     return simulate_ucs(parameters(material("parallel_bond"), BALLS), spec, **options)
 
 
+def _ucs_3d(**options):
+    spec = _specimen("ucs", width_mm=8, height_mm=16, rmin_mm=0.5, dimensions=3)
+    return simulate_ucs_3d(parameters(material("parallel_bond"), BALLS), spec, **options)
+
+
+def _confined_3d(**options):
+    spec = _specimen("biaxial", width_mm=8, height_mm=16, rmin_mm=0.5, dimensions=3)
+    return simulate_triaxial_3d(parameters(material("parallel_bond"), BALLS), spec, 5.0, **options)
+
+
 def _counted(stop_at: int | None = None):
     """A progress callback counting the readings; at reading `stop_at` it stops the run."""
     def progress(strain, load):
@@ -66,7 +79,8 @@ def _same(a, b) -> bool:
     return _equal(a, b)
 
 
-@pytest.mark.parametrize("run", [_confined, _ucs], ids=["confined clumped flat joints", "UCS of balls"])
+@pytest.mark.parametrize("run", [_confined, _ucs, _ucs_3d, _confined_3d],
+                         ids=["confined clumped flat joints", "UCS of balls", "UCS of spheres", "confined spheres"])
 def test_a_run_stopped_part_way_goes_on_from_its_snapshot_to_the_same_numbers(tmp_path, run):
     whole = _counted()
     uninterrupted = run(progress=whole)
@@ -88,7 +102,7 @@ def test_a_snapshot_of_another_version_or_cut_short_is_left_aside(tmp_path):
     uninterrupted = _ucs()
     kept = tmp_path / snapshots.FOLDER / "key.pickle"
     kept.parent.mkdir()
-    for written in (pickle.dumps(("0.0.0", ("anything",))), b"\x80\x05cut sh"):
+    for written in (pickle.dumps(("0.0.0", 1.0, ("anything",))), b"\x80\x05cut sh"):
         kept.write_bytes(written)
         whole = _counted()
         with snapshots.kept_in(tmp_path, "key", every_s=0.0):

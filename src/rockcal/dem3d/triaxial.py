@@ -25,6 +25,7 @@ from rockcal.dem3d.platens import Platens3D
 from rockcal.dem3d.sides import SideWalls3D
 from rockcal.dem3d.simulate import advance, scale_density
 from rockcal.dem3d.ucs import cracks_of
+from rockcal.labtests import snapshots
 from rockcal.labtests.biaxial import (
     BiaxialResult,
     ConfinedReadings,
@@ -58,22 +59,30 @@ def simulate_triaxial_3d(params, specimen, confinement_mpa: float = 10.0, *, rat
     params = as_params(params)
     check_confinement(confinement_mpa)
     check_reading(max_axial_strain, strain, stop_fraction)
-    sigma3 = confinement_mpa * MPa
-    platens = Platens3D(specimen, params, DENSITY_SCALED_SPEED * rate_factor, side_walls=sigma3 > 0)
+
+    def start() -> tuple:
+        sigma3 = confinement_mpa * MPa
+        platens = Platens3D(specimen, params, DENSITY_SCALED_SPEED * rate_factor, side_walls=sigma3 > 0)
+        state = platens.state
+        scale_density(state)
+        sides = SideWalls3D(platens, specimen, sigma3) if sigma3 > 0 else None
+        seating_steps = 0 if sides is None else sides.seat()
+        platens.zero()
+        read = ConfinedReadings(platens, Gauge3D(specimen, state.spheres.pos), sides, strain)
+        loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / DENSITY_SCALED_SPEED, DISTRIBUTED_DAMAGE)
+        state.step, seated_at = 0, state.step  # the loading counts its own steps (its ramp)
+        return platens, sides, read, loading, seating_steps, seated_at, []
+
+    objects = snapshots.resume(start)  # a run stopped part way goes on from its snapshot
+    platens, sides, read, loading, seating_steps, seated_at, samples = objects
     state = platens.state
-    scale_density(state)
-    sides = SideWalls3D(platens, specimen, sigma3) if sigma3 > 0 else None
-    seating_steps = 0 if sides is None else sides.seat()
-    platens.zero()
-    gauge = Gauge3D(specimen, state.spheres.pos)
-    read = ConfinedReadings(platens, gauge, sides, strain)
-    loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / DENSITY_SCALED_SPEED, DISTRIBUTED_DAMAGE)
-    state.step, seated_at = 0, state.step  # the loading counts its own steps (its ramp)
+    started -= snapshots.earlier_s()
     curve = load_to_failure(platens, loading, read,
                             lambda reading: loading.fallen_below(stop_fraction, reading.load),
                             max_axial_strain, progress=progress,
                             control=None if sides is None else sides.update,
-                            control_steps=1 if sides is None else sides.steps, advance_steps=advance)
+                            control_steps=1 if sides is None else sides.steps, advance_steps=advance,
+                            samples=samples, snapshot=snapshots.saver(objects))
     state.step += seated_at
     curve = read.curve(curve)
     return BiaxialResult(**confined_readings(curve, confinement_mpa, lateral_strains=2),

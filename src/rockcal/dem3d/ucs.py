@@ -21,6 +21,7 @@ from rockcal.dem3d.gauge import Gauge3D
 from rockcal.dem3d.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem3d.platens import Platens3D
 from rockcal.dem3d.simulate import advance, scale_density
+from rockcal.labtests import snapshots
 from rockcal.labtests.loading import (
     DISTRIBUTED_DAMAGE,
     RAMP_STEPS_PER_ROW,
@@ -69,12 +70,18 @@ def simulate_ucs_3d(params, specimen, *, rate_factor: float = 1.0,
     started = time.perf_counter()
     params = as_params(params)
     check_reading(max_axial_strain, strain, stop_fraction)
-    platens = Platens3D(specimen, params, DENSITY_SCALED_SPEED * rate_factor)
+
+    def start() -> tuple:
+        platens = Platens3D(specimen, params, DENSITY_SCALED_SPEED * rate_factor)
+        scale_density(platens.state)
+        loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / DENSITY_SCALED_SPEED, DISTRIBUTED_DAMAGE)
+        return platens, Gauge3D(specimen, platens.state.spheres.pos), loading, [(0.0, 0.0, 0.0, 0)]
+
+    objects = snapshots.resume(start)  # a run stopped part way goes on from its snapshot
+    platens, gauge, loading, rows = objects
     state = platens.state
-    scale_density(state)
-    gauge = Gauge3D(specimen, state.spheres.pos)
-    loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / DENSITY_SCALED_SPEED, DISTRIBUTED_DAMAGE)
-    rows = [(0.0, 0.0, 0.0, 0)]
+    started -= snapshots.earlier_s()
+    save = snapshots.saver(objects)
     while True:
         platens.move(loading.speed(state.step, state.n_broken(), platens.chunk))
         advance(state, platens.chunk)
@@ -87,6 +94,8 @@ def simulate_ucs_3d(params, specimen, *, rate_factor: float = 1.0,
             progress(axial, stress / 1e6)
         if loading.fallen_below(stop_fraction, stress) or axial >= max_axial_strain:
             break
+        if save is not None:
+            save()
     curve = np.array(rows, float)
     E_MPa, nu, k = secant_at_half_peak(curve[:, 0], curve[:, 1], curve[:, 2])
     return UCS3DResult(E_GPa=E_MPa / 1e3, nu=nu, ucs_MPa=float(curve[k, 2]),

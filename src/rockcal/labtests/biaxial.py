@@ -121,36 +121,30 @@ def simulate_biaxial(params: BondedParams | dict | None = None, specimen: Specim
     check_stop_fraction(stop_fraction)
     specimen = specimen or random_packing(50.0, 100.0)
     check_gauges(specimen)
-    snapshot = snapshots.current()
-    saved = snapshot and snapshot.load()
-    if saved:  # the run goes on from its snapshot
-        platens, sides, read, loading, seating_steps, seated_at, samples, run_s = saved
-        state = platens.state
-    else:
+
+    def start() -> tuple:
         platens = Platens(specimen, params, ucs.DENSITY_SCALED_SPEED * rate_factor, contact_stiffness)
         state = platens.state
         scale_density(state)
-        sigma3 = confinement_mpa * MPa
-        sides = SideWalls(platens, specimen, sigma3) if sigma3 > 0 else None
+        sides = SideWalls(platens, specimen, confinement_mpa * MPa) if confinement_mpa > 0 else None
         seating_steps = 0 if sides is None else sides.seat()
         platens.zero()
         read = ConfinedReadings(platens, Gauge(specimen, state), sides, strain)
         loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / ucs.DENSITY_SCALED_SPEED,
                           DISTRIBUTED_DAMAGE)
         state.step, seated_at = 0, state.step  # the loading counts its own steps (its ramp)
-        samples, run_s = [], 0.0
-    started -= run_s
+        return platens, sides, read, loading, seating_steps, seated_at, []
 
-    def save() -> None:
-        snapshot.save((platens, sides, read, loading, seating_steps, seated_at, samples,
-                       time.perf_counter() - started))
-
+    objects = snapshots.resume(start)  # a run stopped part way goes on from its snapshot
+    platens, sides, read, loading, seating_steps, seated_at, samples = objects
+    state = platens.state
+    started -= snapshots.earlier_s()
     curve = load_to_failure(platens, loading, read,
                             lambda reading: loading.fallen_below(stop_fraction, reading.load),
                             max_axial_strain, progress=progress,
                             control=None if sides is None else sides.update,
                             control_steps=1 if sides is None else sides.steps,
-                            samples=samples, snapshot=save if snapshot else None)
+                            samples=samples, snapshot=snapshots.saver(objects))
     state.step += seated_at
     curve = read.curve(curve)
     return BiaxialResult(**confined_readings(curve, confinement_mpa), seating_steps=seating_steps,

@@ -10,8 +10,10 @@ run's key holds its test, settings, parameters and the engine's version, and a s
 the rockcal version that wrote it: a snapshot of another version, or one that cannot be read,
 is left aside and the run starts afresh. A run outside a store (`rockcal.simulate`) takes none.
 
-The UCS and confined compression tests in 2D take snapshots (the long runs of full-size
-clumped and flat-jointed specimens); the others run in one go.
+The UCS and confined compression tests, in 2D and 3D, take snapshots (the long runs: full-size
+specimens of clumped or flat-jointed grains, or of spheres); the Brazilian, bending and direct
+tension tests run in one go. A test builds its rig in a `start()` that `resume` calls only for a
+run starting afresh, and saves what it returned (`saver`) after each reading it goes on from.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ import os
 import pickle
 import time
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -56,34 +59,37 @@ class Snapshot:
 
     def __init__(self, path: Path, every_s: float = SNAPSHOT_EVERY_S):
         self.path, self.every_s = Path(path), every_s
-        self._last_s = time.perf_counter()
+        self.earlier_s = 0.0  # the run's time before the snapshot it went on from
+        self._started_s = self._saved_s = time.perf_counter()
 
-    def load(self):
-        """What the run saved last (`save`), or None: no snapshot, another version's, or one
-        that cannot be read."""
+    def load(self) -> tuple | None:
+        """The objects the run saved last (`save`), or None: no snapshot, another version's,
+        or one that cannot be read."""
         try:
             with open(self.path, "rb") as file:
-                version, saved = pickle.load(file)
-        except FileNotFoundError:
+                version, earlier_s, objects = pickle.load(file)
+        except Exception:  # none, cut short, or of classes since changed: start afresh
             return None
-        except Exception:  # cut short, or of classes since changed: start afresh
+        if version != rockcal.__version__:
             return None
-        return saved if version == rockcal.__version__ else None
+        self.earlier_s = earlier_s
+        return objects
 
-    def save(self, objects) -> None:
+    def save(self, objects: tuple) -> None:
         """Save `objects` (one pickle, so objects they share stay shared) if the last save is
         `every_s` old."""
         now = time.perf_counter()
-        if now - self._last_s < self.every_s:
+        if now - self._saved_s < self.every_s:
             return
         self.path.parent.mkdir(parents=True, exist_ok=True)
         part = self.path.with_suffix(".part")
         with open(part, "wb") as file:
-            _SharingPickler(file, protocol=pickle.HIGHEST_PROTOCOL).dump((rockcal.__version__, objects))
+            run_s = self.earlier_s + now - self._started_s
+            _SharingPickler(file, protocol=pickle.HIGHEST_PROTOCOL).dump((rockcal.__version__, run_s, objects))
             file.flush()
             os.fsync(file.fileno())
         os.replace(part, self.path)
-        self._last_s = time.perf_counter()
+        self._saved_s = time.perf_counter()
 
     def remove(self) -> None:
         self.path.unlink(missing_ok=True)
@@ -91,8 +97,8 @@ class Snapshot:
 
 @contextlib.contextmanager
 def kept_in(folder: Path | None, key: str, every_s: float = SNAPSHOT_EVERY_S):
-    """While the block runs, a test's `current()` snapshot is the run `key`'s in `folder`
-    (None: no snapshots); removed when the block ends without an error."""
+    """While the block runs, the tests' snapshot is the run `key`'s in `folder` (None: no
+    snapshots); removed when the block ends without an error."""
     global _current
     if folder is None:
         yield
@@ -105,6 +111,20 @@ def kept_in(folder: Path | None, key: str, every_s: float = SNAPSHOT_EVERY_S):
         _current = None
 
 
-def current() -> Snapshot | None:
-    """The snapshot of the run under way, or None (a run outside a store)."""
-    return _current
+def resume(start: Callable[[], tuple]) -> tuple:
+    """The objects a test's loading goes on with: its run's snapshot's, or start()'s (a run
+    starting afresh, or outside a store)."""
+    saved = _current.load() if _current is not None else None
+    return start() if saved is None else saved
+
+
+def earlier_s() -> float:
+    """The run's time before the snapshot it went on from (0 for a run starting afresh)."""
+    return 0.0 if _current is None else _current.earlier_s
+
+
+def saver(objects: tuple) -> Callable[[], None] | None:
+    """What saves `objects` after a reading the test goes on from (`load_to_failure`'s
+    snapshot), or None outside a store."""
+    snapshot = _current
+    return None if snapshot is None else lambda: snapshot.save(objects)

@@ -106,19 +106,18 @@ def simulate_ucs(params: BondedParams | dict | None = None, specimen: Specimen |
     check_reading(max_axial_strain, strain, stop_fraction)
     specimen = specimen or random_packing(50.0, 100.0)
     check_gauges(specimen)
-    snapshot = snapshots.current()
-    saved = snapshot and snapshot.load()
-    if saved:  # the run goes on from its snapshot
-        platens, gauge, broken, loading, samples, run_s = saved
-    else:
+
+    def start() -> tuple:
         platens = Platens(specimen, params, DENSITY_SCALED_SPEED * rate_factor, contact_stiffness)
         scale_density(platens.state)
-        gauge = Gauge(specimen, platens.state)
-        broken = [0]  # bonds broken so far at each reading, after the unloaded first row
         loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / DENSITY_SCALED_SPEED, DISTRIBUTED_DAMAGE)
-        samples, run_s = [], 0.0
+        # bonds broken so far at each reading, after the unloaded first row
+        return platens, Gauge(specimen, platens.state), loading, [0], []
+
+    objects = snapshots.resume(start)  # a run stopped part way goes on from its snapshot
+    platens, gauge, loading, broken, samples = objects
     state = platens.state
-    started -= run_s
+    started -= snapshots.earlier_s()
 
     def read() -> Reading:
         broken.append(state.n_broken())
@@ -127,13 +126,10 @@ def simulate_ucs(params: BondedParams | dict | None = None, specimen: Specimen |
         stress = platens.load() / platens.area_m2
         return Reading(stress, axial, (axial, lateral, stress / 1e6))
 
-    def save() -> None:
-        snapshot.save((platens, gauge, broken, loading, samples, time.perf_counter() - started))
-
     curve = load_to_failure(platens, loading, read,
                             lambda reading: loading.fallen_below(stop_fraction, reading.load),
                             max_axial_strain, progress=progress, samples=samples,
-                            snapshot=save if snapshot else None)
+                            snapshot=snapshots.saver(objects))
     curve = np.column_stack([curve, broken])
     E_MPa, nu, k = measure.secant_at_half_peak(curve[:, 0], curve[:, 1], curve[:, 2])
     return UCSResult(E_GPa=E_MPa / 1e3, nu=nu, strain=strain, ucs_MPa=float(curve[k, 2]),
