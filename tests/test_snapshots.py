@@ -13,6 +13,7 @@ from rockcal.campaign.runs.spec import run_spec
 from rockcal.campaign.input.config import SpecimenSettings
 from rockcal.dem3d.triaxial import simulate_triaxial_3d
 from rockcal.dem3d.ucs import simulate_ucs_3d
+from rockcal.dem.specimen import cache_dir
 from rockcal.labtests import snapshots
 from rockcal.labtests.biaxial import simulate_biaxial
 from rockcal.labtests.registry import lab_test
@@ -102,7 +103,8 @@ def test_a_snapshot_of_another_version_or_cut_short_is_left_aside(tmp_path):
     uninterrupted = _ucs()
     kept = tmp_path / snapshots.FOLDER / "key.pickle"
     kept.parent.mkdir()
-    for written in (pickle.dumps(("0.0.0", 1.0, ("anything",))), b"\x80\x05cut sh"):
+    other_version = pickle.dumps(("0.0.0", 1.0, ("anything",)))
+    for written in (snapshots._signature(other_version) + other_version, b"\x80\x05cut sh"):
         kept.write_bytes(written)
         whole = _counted()
         with snapshots.kept_in(tmp_path, "key", every_s=0.0):
@@ -117,3 +119,27 @@ def test_a_stored_run_takes_its_snapshot_in_the_stores_folder_and_leaves_none(tm
     assert result.status == "ok"
     assert rockcal.__version__ in spec.engine
     assert not (tmp_path / snapshots.FOLDER / f"{spec.key}.pickle").exists()
+
+
+class _Planted:
+    """An object whose unpickling would write a file: what a hostile snapshot could do."""
+
+    def __init__(self, mark):
+        self.mark = mark
+
+    def __reduce__(self):
+        return (open, (str(self.mark), "w"))
+
+
+def test_a_snapshot_not_signed_with_the_users_key_is_never_unpickled(tmp_path):
+    uninterrupted = _ucs()
+    mark = tmp_path / "unpickled"
+    kept = tmp_path / snapshots.FOLDER / "key.pickle"
+    kept.parent.mkdir()
+    body = pickle.dumps((rockcal.__version__, 1.0, _Planted(mark)))
+    kept.write_bytes(bytes(32) + body)  # signed with another key
+    with snapshots.kept_in(tmp_path, "key", every_s=0.0):
+        assert _same(_ucs(), uninterrupted)
+    assert not mark.exists()
+    key = cache_dir() / snapshots.KEY_FILE
+    assert key.stat().st_mode & 0o777 == 0o600

@@ -10,6 +10,11 @@ run's key holds its test, settings, parameters and the engine's version, and a s
 the rockcal version that wrote it: a snapshot of another version, or one that cannot be read,
 is left aside and the run starts afresh. A run outside a store (`rockcal.simulate`) takes none.
 
+A snapshot is a pickle, and loading a pickle can run any code, so each is signed (HMAC-SHA256)
+with a key of this user's, made once in the specimen cache's folder (readable by the user
+alone): a snapshot that another user or machine wrote, or one altered since, is never unpickled
+but left aside, as one of another version.
+
 The UCS and confined compression tests, in 2D and 3D, take snapshots (the long runs: full-size
 specimens of clumped or flat-jointed grains, or of spheres); the Brazilian, bending and direct
 tension tests run in one go. A test builds its rig in a `start()` that `resume` calls only for a
@@ -19,6 +24,9 @@ run starting afresh, and saves what it returned (`saver`) after each reading it 
 from __future__ import annotations
 
 import contextlib
+import hashlib
+import hmac
+import io
 import os
 import pickle
 import time
@@ -28,11 +36,37 @@ from typing import Callable
 import numpy as np
 
 import rockcal
+from rockcal.dem.specimen import cache_dir
 
 SNAPSHOT_EVERY_S = 300.0
 FOLDER = "snapshots"
+KEY_FILE = "snapshot.key"
 
 _current: Snapshot | None = None
+
+
+_SIGNATURE_BYTES = hashlib.sha256().digest_size
+
+
+def _key() -> bytes:
+    """This user's snapshot key, made on first use (32 random bytes, the user's alone)."""
+    path = cache_dir() / KEY_FILE
+    if not path.exists():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        made = path.with_name(f"{KEY_FILE}.{os.getpid()}")
+        with open(os.open(made, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600), "wb") as file:
+            file.write(os.urandom(32))
+        try:
+            os.link(made, path)  # whole, or not at all
+        except FileExistsError:  # another process made it first
+            pass
+        finally:
+            made.unlink()
+    return path.read_bytes()
+
+
+def _signature(body: bytes) -> bytes:
+    return hmac.new(_key(), body, hashlib.sha256).digest()
 
 
 def _view(root: np.ndarray, offset: int, shape: tuple, strides: tuple, dtype) -> np.ndarray:
@@ -63,11 +97,14 @@ class Snapshot:
         self._started_s = self._saved_s = time.perf_counter()
 
     def load(self) -> tuple | None:
-        """The objects the run saved last (`save`), or None: no snapshot, another version's,
-        or one that cannot be read."""
+        """The objects the run saved last (`save`), or None: no snapshot, one not signed with
+        this user's key, another version's, or one that cannot be read."""
         try:
-            with open(self.path, "rb") as file:
-                version, earlier_s, objects = pickle.load(file)
+            written = self.path.read_bytes()
+            signature, body = written[:_SIGNATURE_BYTES], written[_SIGNATURE_BYTES:]
+            if not hmac.compare_digest(signature, _signature(body)):
+                return None
+            version, earlier_s, objects = pickle.loads(body)
         except Exception:  # none, cut short, or of classes since changed: start afresh
             return None
         if version != rockcal.__version__:
@@ -83,9 +120,12 @@ class Snapshot:
             return
         self.path.parent.mkdir(parents=True, exist_ok=True)
         part = self.path.with_suffix(".part")
+        body = io.BytesIO()
+        run_s = self.earlier_s + now - self._started_s
+        _SharingPickler(body, protocol=pickle.HIGHEST_PROTOCOL).dump((rockcal.__version__, run_s, objects))
         with open(part, "wb") as file:
-            run_s = self.earlier_s + now - self._started_s
-            _SharingPickler(file, protocol=pickle.HIGHEST_PROTOCOL).dump((rockcal.__version__, run_s, objects))
+            file.write(_signature(body.getvalue()))
+            file.write(body.getbuffer())
             file.flush()
             os.fsync(file.fileno())
         os.replace(part, self.path)
