@@ -41,11 +41,9 @@ from rockcal.dem.specimen import cache_dir
 SNAPSHOT_EVERY_S = 300.0
 FOLDER = "snapshots"
 KEY_FILE = "snapshot.key"
+_SIGNATURE_BYTES = hashlib.sha256().digest_size
 
 _current: Snapshot | None = None
-
-
-_SIGNATURE_BYTES = hashlib.sha256().digest_size
 
 
 def _key() -> bytes:
@@ -124,7 +122,7 @@ class Snapshot:
         run_s = self.earlier_s + now - self._started_s
         _SharingPickler(body, protocol=pickle.HIGHEST_PROTOCOL).dump((rockcal.__version__, run_s, objects))
         with open(part, "wb") as file:
-            file.write(_signature(body.getvalue()))
+            file.write(_signature(body.getbuffer()))
             file.write(body.getbuffer())
             file.flush()
             os.fsync(file.fileno())
