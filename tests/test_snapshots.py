@@ -112,13 +112,24 @@ def test_a_snapshot_of_another_version_or_cut_short_is_left_aside(tmp_path):
         assert not kept.exists()
 
 
-def test_a_stored_run_takes_its_snapshot_in_the_stores_folder_and_leaves_none(tmp_path):
+def test_a_stored_run_takes_its_snapshot_in_the_stores_folder_and_leaves_none(tmp_path, monkeypatch):
     specimen = SpecimenSettings(width_mm=8, height_mm=16, rmin_mm=0.4)
     spec = run_spec("ucs", specimen, BALLS)
+    kept = tmp_path / snapshots.FOLDER / f"{spec.key}.pickle"
+    written = []
+    save = snapshots.Snapshot.save
+
+    def saved(snapshot, objects):  # a snapshot after every reading, each on disk in the store's folder
+        save(snapshot, objects)
+        written.append(snapshot.path == kept and kept.exists())
+
+    monkeypatch.setattr(snapshots, "SNAPSHOT_EVERY_S", 0.0)
+    monkeypatch.setattr(snapshots.Snapshot, "save", saved)
     result = execute(spec, snapshots_in=tmp_path)
     assert result.status == "ok"
     assert rockcal.__version__ in spec.engine
-    assert not (tmp_path / snapshots.FOLDER / f"{spec.key}.pickle").exists()
+    assert written and all(written)
+    assert not kept.exists()
 
 
 class _Planted:

@@ -134,14 +134,16 @@ class Snapshot:
 
 
 @contextlib.contextmanager
-def kept_in(folder: Path | None, key: str, every_s: float = SNAPSHOT_EVERY_S):
+def kept_in(folder: Path | None, key: str, every_s: float | None = None):
     """While the block runs, the tests' snapshot is the run `key`'s in `folder` (None: no
-    snapshots); removed when the block ends without an error."""
+    snapshots), saved every `every_s` (None: SNAPSHOT_EVERY_S); removed when the block ends
+    without an error."""
     global _current
     if folder is None:
         yield
         return
-    _current = Snapshot(Path(folder) / FOLDER / f"{key}.pickle", every_s)
+    _current = Snapshot(Path(folder) / FOLDER / f"{key}.pickle",
+                        SNAPSHOT_EVERY_S if every_s is None else every_s)
     try:
         yield
         _current.remove()
