@@ -132,6 +132,15 @@ def test_a_stored_run_takes_its_snapshot_in_the_stores_folder_and_leaves_none(tm
     assert not kept.exists()
 
 
+def test_a_stored_run_gone_on_from_a_snapshot_counts_its_time_before(tmp_path, monkeypatch):
+    """Its stored time, and its wall-time limit, count the time before the snapshot."""
+    spec = run_spec("ucs", SpecimenSettings(width_mm=8, height_mm=16, rmin_mm=0.4), BALLS)
+    monkeypatch.setattr(snapshots, "earlier_s", lambda: 1e6)  # as if a day ran before the stop
+    assert execute(spec, snapshots_in=tmp_path).wall_s > 1e6
+    timed_out = execute(spec, time_limit_s=1e5, snapshots_in=tmp_path)
+    assert timed_out.status == "timed out" and timed_out.wall_s > 1e6
+
+
 class _Planted:
     """An object whose unpickling would write a file: what a hostile snapshot could do."""
 

@@ -64,39 +64,44 @@ def execute(spec: RunSpec, time_limit_s: float | None = None, snapshots_in: Path
     """Run one forward test; a run that raises is a failed result, not an exception, and a run
     past `time_limit_s` is stopped and recorded as timed out. With `snapshots_in` (a store's
     folder) a long test keeps snapshots there and goes on from its last one
-    (`rockcal.labtests.snapshots`)."""
+    (`rockcal.labtests.snapshots`); its time, and its limit, then count the time before."""
     started = last = time.perf_counter()
+    earlier_s = 0.0  # the run's time before the snapshot it went on from
     _count_running(+1)
     _take_share_of_cores()  # from the start (the specimen's genesis too), not the first reading
 
+    def run_s() -> float:
+        """The run's time so far, its stopped parts' included."""
+        return time.perf_counter() - started + earlier_s
+
     def watch(x: float, y: float):
-        nonlocal last
+        nonlocal last, earlier_s
         _take_share_of_cores()
+        earlier_s = snapshots.earlier_s()
         now = time.perf_counter()
-        if time_limit_s is not None and now - started > time_limit_s:
+        if time_limit_s is not None and run_s() > time_limit_s:
             raise RunTimedOut(f"stopped after the run's wall-time limit of {time_limit_s:g} s")
         if _live is not None and now - last >= LIVE_INTERVAL_S:
             last = now
-            _live.put((spec.key, spec.kind, float(x), float(y), now - started))
+            _live.put((spec.key, spec.kind, float(x), float(y), run_s()))
 
     try:
         test = lab_test(spec.kind)
         specimen = specimen_of(spec.kind, spec.specimen)
         with snapshots.kept_in(snapshots_in, spec.key):
             r = test.run(params_of(spec), specimen, all_settings(dict(spec.specimen)), watch)
+            earlier_s = snapshots.earlier_s()
         responses = test.responses_of(r) | {
             "n_broken_tension": r.n_broken_tension, "n_broken_shear": r.n_broken_shear,
             "steps": r.steps} | specimen.description()
         bad = [k for k, v in responses.items() if v != v]  # NaN: no usable reading
         if bad:
             raise ValueError(f"no reading of {bad[0]} (the specimen did not load up)")
-        return RunResult("ok", responses, r.curve, time.perf_counter() - started,
-                         cracks=crack_rows(r.cracks))
+        return RunResult("ok", responses, r.curve, run_s(), cracks=crack_rows(r.cracks))
     except RunTimedOut as exc:
-        return RunResult("timed out", {}, None, time.perf_counter() - started, str(exc))
+        return RunResult("timed out", {}, None, run_s(), str(exc))
     except Exception as exc:  # a run that raises is recorded as failed, the campaign goes on
-        return RunResult("failed", {}, None, time.perf_counter() - started,
-                         f"{type(exc).__name__}: {exc}")
+        return RunResult("failed", {}, None, run_s(), f"{type(exc).__name__}: {exc}")
     finally:
         _count_running(-1)
 
