@@ -5,6 +5,8 @@ from types import SimpleNamespace
 import numba
 import pytest
 
+import rockcal  # noqa: F401 (before any test compiles a function: it sets the vector width)
+
 
 @pytest.fixture(autouse=True, scope="session")
 def _specimen_cache(tmp_path_factory):

@@ -1,5 +1,9 @@
 """rockcal: identify bonded-particle DEM micro-parameters of rock from lab tests."""
 
+from rockcal.wide_vectors import prefer_512_bit_vectors
+
+prefer_512_bit_vectors()  # before numba loads
+
 from rockcal.api import Calibration, calibrate, simulate
 from rockcal.dem.specimen import Specimen, hexagonal, random_packing
 from rockcal.labtests.ucs import UCSResult, simulate_ucs

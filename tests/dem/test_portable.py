@@ -4,7 +4,8 @@ bonded specimen breaking amplifies a last-bit difference into a different UCS (o
 202 disks `rb**3`, computed by numpy's AVX-512 `pow`, moved it by up to 14 %; on two-pebble
 clumps a dot product by OpenBLAS's SkylakeX kernel moved the UCS of a twin's truth by 9 %).
 Balls, two-pebble clumps and spheres (3D) are each run in processes where numpy may use only
-its baseline code, or OpenBLAS only its kernels without fused multiply-add."""
+its baseline code, or OpenBLAS only its kernels without fused multiply-add, or numba's loops
+only LLVM's preferred 256-bit vectors where rockcal has it use 512 (`rockcal.wide_vectors`)."""
 
 import os
 import subprocess
@@ -12,6 +13,8 @@ import sys
 
 import numpy as np
 import pytest
+
+from rockcal.wide_vectors import NO_256_BIT_PREFERENCE
 
 RUN = """
 import hashlib
@@ -62,3 +65,13 @@ def test_the_numbers_do_not_depend_on_numpys_simd_code(tmp_path, as_dispatched):
 def test_the_numbers_do_not_depend_on_the_blas_kernel(tmp_path, as_dispatched):
     assert len(as_dispatched) == 3
     assert _run(tmp_path, "oldest-blas", OLDEST_BLAS) == as_dispatched
+
+
+@pytest.mark.slow
+def test_the_numbers_do_not_depend_on_the_vector_width(tmp_path, as_dispatched):
+    features = os.environ.get("NUMBA_CPU_FEATURES", "")
+    if not features.endswith(NO_256_BIT_PREFERENCE):
+        pytest.skip("rockcal compiles for 512-bit vectors only on a processor with AVX-512")
+    assert len(as_dispatched) == 3
+    llvm_choice = features.removesuffix("," + NO_256_BIT_PREFERENCE)  # compiles the engines anew
+    assert _run(tmp_path, "256-bit", {"NUMBA_CPU_FEATURES": llvm_choice}) == as_dispatched

@@ -1,0 +1,29 @@
+"""rockcal has numba compile for 512-bit vectors on a processor with AVX-512, and only where the
+user chose no processor of their own (`rockcal.wide_vectors`); that the numbers do not change
+with the width is `tests/dem/test_portable.py`'s."""
+
+import os
+
+from llvmlite import binding
+
+from rockcal.wide_vectors import NO_256_BIT_PREFERENCE, prefer_512_bit_vectors
+
+SETTINGS = ("NUMBA_CPU_NAME", "NUMBA_CPU_FEATURES")
+
+
+def test_the_processors_features_without_the_256_bit_preference_where_it_has_avx512(monkeypatch):
+    for name in SETTINGS:
+        monkeypatch.delenv(name, raising=False)
+    host = binding.get_host_cpu_features().flatten()
+    has_avx512 = "+avx512f" in host.split(",")
+    assert prefer_512_bit_vectors() == has_avx512
+    assert os.environ.get("NUMBA_CPU_FEATURES") == (f"{host},{NO_256_BIT_PREFERENCE}" if has_avx512 else None)
+
+
+def test_a_users_own_processor_setting_is_kept(monkeypatch):
+    for name, value in zip(SETTINGS, ("generic", None)):
+        monkeypatch.delenv(name, raising=False)
+        if value:
+            monkeypatch.setenv(name, value)
+    assert not prefer_512_bit_vectors()
+    assert "NUMBA_CPU_FEATURES" not in os.environ
