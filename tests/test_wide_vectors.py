@@ -4,9 +4,8 @@ with the width is `tests/dem/test_portable.py`'s."""
 
 import os
 
-from llvmlite import binding
-
 import pytest
+from llvmlite import binding
 
 from rockcal.wide_vectors import NO_256_BIT_PREFERENCE, USERS_OWN, prefer_512_bit_vectors
 
