@@ -26,8 +26,8 @@ params = {"E_c": 20, "kn_ks": 2.0, "sigma_c": 40, "tau_c": 200, "sigma_c_cv": 0.
 specimens = {"balls": {"width_mm": 10, "height_mm": 20, "rmin_mm": 0.4, "seed": 2},
              "clumps": {"width_mm": 8, "height_mm": 16, "rmin_mm": 0.4, "grain_shape": "two-pebble"},
              "spheres": {"width_mm": 8, "height_mm": 16, "rmin_mm": 0.5, "dimensions": 3}}
-for name in sys.argv[1:] or specimens:
-    result = rockcal.simulate("ucs", params, **specimens[name])
+for specimen in sys.argv[1:] or specimens:
+    result = rockcal.simulate("ucs", params, **specimens[specimen])
     cracks = result.cracks if isinstance(result.cracks, dict) else {"": result.cracks}  # 3D: by axis
     digest = hashlib.sha256(result.curve.tobytes())
     for name in sorted(cracks):
