@@ -6,7 +6,8 @@ Material: PFC3D-style granite values (E_c = Ē_c = 62 GPa, kn/ks 2.5, σ̄c = c�
 (`dem3d.genesis.DEFAULT_GENESIS_3D`). The packing is kept in rockcal's specimen cache, so a
 second run times the test alone.
 
-Run by hand: `python benchmarks/ucs_3d.py [--size 25 50 0.8] [--size 50 100 1.0] [--rates 1 0.5]`.
+Run by hand: `python benchmarks/ucs_3d.py [--size 25 50 0.8] [--size 50 100 1.0] [--rates 1 0.5]
+[--seed 1] [--set E_c=31.23 ...]` (`--set NAME=VALUE` replaces one of the values above).
 """
 
 import argparse
@@ -29,8 +30,9 @@ def main() -> None:
                         metavar=("DIAMETER_MM", "HEIGHT_MM", "RMIN_MM"))
     parser.add_argument("--rates", type=float, nargs="+", default=[1.0])
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     args = parser.parse_args()
-    params = make_params(GRANITE_3D)
+    params = make_params(GRANITE_3D | {k: float(v) for k, v in (item.split("=", 1) for item in args.set)})
     print(f"threads {numba.get_num_threads()}, load average {os.getloadavg()[0]:.2f} "
           f"on {os.cpu_count()} cores")
     for diameter, height, rmin in args.size or [(25.0, 50.0, 0.8)]:

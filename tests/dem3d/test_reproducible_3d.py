@@ -11,11 +11,12 @@ from rockcal.dem3d.simulate import advance, assemble_state
 
 
 def shaken_block():
-    """A bonded, jittered simple-cubic block of 16³ spheres (two blocks of particles), set moving
-    fast enough at random that bonds break and the neighbour list is rebuilt."""
+    """A bonded, jittered simple-cubic block of 13³ spheres (two blocks of particles: the engine
+    splits a specimen from 2 000 spheres on), set moving fast enough at random that bonds break
+    and the neighbour list is rebuilt."""
     rng = np.random.default_rng(7)
     r = 1e-3
-    grid = np.array([(i, j, k) for k in range(16) for j in range(16) for i in range(16)], float)
+    grid = np.array([(i, j, k) for k in range(13) for j in range(13) for i in range(13)], float)
     pos = grid * 2 * r + rng.uniform(-0.03, 0.03, grid.shape) * r
     pos = pos[spatial_order(pos, 2 * r)]
     radius = rng.uniform(0.98, 1.04, len(pos)) * r

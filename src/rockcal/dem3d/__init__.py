@@ -9,4 +9,4 @@ disks, cached). The tests: `material` (2D's micro-parameters mapped to the 3D la
 `gauge`, `ucs` and `brazilian`. `export`: PFC3D's FISHTank parameter file and sphere lists.
 """
 
-ENGINE_VERSION_3D = 2  # part of every stored 3D run's key: raise it when the 3D engine's numbers change
+ENGINE_VERSION_3D = 3  # part of every stored 3D run's key: raise it when the 3D engine's numbers change

@@ -15,6 +15,9 @@ from numba import njit
 from rockcal.dem.neighbours import block_layout
 
 PARTICLES_PER_BLOCK = 4000
+# From this many spheres on a specimen is split in blocks, as the 2D engine's from as many
+# disks: a sphere's step costs about three disks', so each block has work enough for a thread
+SPLIT_FROM = 2000
 
 
 @dataclass(frozen=True)
@@ -46,9 +49,9 @@ def spatial_order(pos: np.ndarray, slab: float) -> np.ndarray:
 
 
 def block_starts(n: int) -> np.ndarray:
-    """First sphere of each block, and n: an even number of blocks of about
-    PARTICLES_PER_BLOCK spheres (one block below that)."""
-    blocks = 1 if n < PARTICLES_PER_BLOCK else 2 * max(1, round(n / (2 * PARTICLES_PER_BLOCK)))
+    """First sphere of each block, and n: one block below SPLIT_FROM spheres, else an even
+    number (at least two) of blocks of about PARTICLES_PER_BLOCK spheres."""
+    blocks = 1 if n < SPLIT_FROM else 2 * max(1, round(n / (2 * PARTICLES_PER_BLOCK)))
     return np.linspace(0, n, blocks + 1).astype(np.int64)
 
 
