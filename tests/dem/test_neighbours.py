@@ -1,5 +1,5 @@
-"""Neighbour search: the cell-grid list of near pairs equals the brute-force one, and the
-Verlet list kept by `advance` (rebuilt when a disk has moved half the skin) never misses a
+"""Neighbour search: the cell-grid list of near pairs equals the brute-force one (disks and, in
+the 3D engine, spheres), and the Verlet list kept by `advance` (rebuilt when a disk has moved half the skin) never misses a
 contact and keeps the shear force of lasting contacts across rebuilds."""
 
 import numpy as np
@@ -7,6 +7,7 @@ import pytest
 
 from rockcal.dem import neighbours, simulate
 from rockcal.dem.neighbours import near_pairs
+from rockcal.dem3d.neighbours import near_pairs as near_pairs_3d
 from rockcal.dem.simulate import advance
 from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
@@ -27,16 +28,24 @@ def random_disks(rng, n, box, rmin=0.5e-3, ratio=1.65):
     return rng.uniform(0, box, (n, 2)), rng.uniform(rmin, ratio * rmin, n)
 
 
+# (near-pair search, particles, side of the box they lie in, m)
+SEARCHES = {"disks": (near_pairs, 300, 0.02), "spheres": (near_pairs_3d, 600, 0.012)}
+
+
+@pytest.mark.parametrize("particles", SEARCHES)
 @pytest.mark.parametrize("seed", [1, 2, 3])
 @pytest.mark.parametrize("skin_factor", [0.0, 0.25, 1.0, 3.0])
-def test_near_pairs_equal_brute_force(seed, skin_factor):
-    """For random polydisperse disks the grid search returns exactly the pairs with
+def test_near_pairs_equal_brute_force(particles, seed, skin_factor):
+    """For random polydisperse disks (spheres) the grid search returns exactly the pairs with
     gap < skin, each once as i < j, in (i, j) order; also after random moves of up to a radius."""
+    search, n, box = SEARCHES[particles]
     rng = np.random.default_rng(seed)
-    pos, radius = random_disks(rng, 300, 0.02)
+    pos, radius = random_disks(rng, n, box)
+    if particles == "spheres":
+        pos = np.column_stack([pos, rng.uniform(0, box, n)])
     skin = skin_factor * radius.min()
     for _ in range(3):
-        pi, pj = near_pairs(pos, radius, skin)
+        pi, pj = search(pos, radius, skin)
         bi, bj = brute_force_pairs(pos, radius, skin)
         np.testing.assert_array_equal(pi, bi)
         np.testing.assert_array_equal(pj, bj)
@@ -44,22 +53,26 @@ def test_near_pairs_equal_brute_force(seed, skin_factor):
         pos = pos + rng.uniform(-1, 1, pos.shape) * radius.max()
 
 
-def test_near_pairs_in_a_dense_pile_and_a_line():
-    """Degenerate layouts: 80 disks piled in one spot (every pair near: more pairs than the
-    search's first buffer), and disks on one horizontal line (a grid one cell high)."""
+@pytest.mark.parametrize("particles", SEARCHES)
+def test_near_pairs_in_a_dense_pile_and_a_line(particles):
+    """Degenerate layouts: 80 disks (spheres) piled in one spot (every pair near: more pairs
+    than the search's first buffer), and on one horizontal line (a grid one cell high)."""
+    search = SEARCHES[particles][0]
+    dims = 2 if particles == "disks" else 3
     rng = np.random.default_rng(7)
-    pos = rng.uniform(0, 0.2e-3, (80, 2))
+    pos = rng.uniform(0, 0.2e-3, (80, dims))
     radius = rng.uniform(0.5e-3, 0.8e-3, 80)
-    pi, pj = near_pairs(pos, radius, 0.1e-3)
+    pi, pj = search(pos, radius, 0.1e-3)
     assert len(pi) == 80 * 79 // 2
     np.testing.assert_array_equal(np.column_stack([pi, pj]),
                                   np.column_stack(brute_force_pairs(pos, radius, 0.1e-3)))
-    line = np.column_stack([np.arange(50) * 2.05e-3, np.zeros(50)])
+    line = np.zeros((50, dims))
+    line[:, 0] = np.arange(50) * 2.05e-3
     r = np.full(50, 1e-3)
-    pi, pj = near_pairs(line, r, 0.1e-3)
+    pi, pj = search(line, r, 0.1e-3)
     np.testing.assert_array_equal(pi, np.arange(49))
     np.testing.assert_array_equal(pj, np.arange(1, 50))
-    pi, pj = near_pairs(line[:1], r[:1], 0.1e-3)
+    pi, pj = search(line[:1], r[:1], 0.1e-3)
     assert len(pi) == 0
 
 

@@ -116,11 +116,19 @@ def near_pairs(pos, radius, skin):
     for k in range(n):
         members[fill[home[k]]] = k
         fill[home[k]] += 1
-    cap = 16 * n + 16
-    pi = np.empty(cap, np.int64)
-    pj = np.empty(cap, np.int64)
+    # at most as many pairs as spheres in each sphere's 27 cells: room enough, so that the lists
+    # are never grown (an array rebound in the loop would cost more than the search itself)
+    room = 0
+    for i in range(n):
+        for dz in range(-1, 2):
+            for dy in range(-1, 2):
+                c = home[i] + (dz * size[1] + dy) * size[0]
+                room += start[c + 2] - start[c - 1]
+    pi = np.empty(room, np.int64)
+    pj = np.empty(room, np.int64)
     m = 0
     for i in range(n):
+        first = m
         for dz in range(-1, 2):
             for dy in range(-1, 2):
                 for dx in range(-1, 2):
@@ -134,18 +142,14 @@ def near_pairs(pos, radius, skin):
                         ddz = pos[j, 2] - pos[i, 2]
                         reach = radius[i] + radius[j] + skin
                         if ddx * ddx + ddy * ddy + ddz * ddz < reach * reach:
-                            if m == cap:
-                                cap *= 2
-                                pi2 = np.empty(cap, np.int64)
-                                pj2 = np.empty(cap, np.int64)
-                                pi2[:m] = pi[:m]
-                                pj2[:m] = pj[:m]
-                                pi, pj = pi2, pj2
+                            r = m  # i's partners kept in increasing order
+                            while r > first and pj[r - 1] > j:
+                                pj[r] = pj[r - 1]
+                                r -= 1
+                            pj[r] = j
                             pi[m] = i
-                            pj[m] = j
                             m += 1
-    order = np.argsort(pi[:m] * n + pj[:m])
-    return pi[:m][order], pj[:m][order]
+    return pi[:m].copy(), pj[:m].copy()
 
 
 @njit(cache=True)
