@@ -1,14 +1,15 @@
 """Neighbour search: the cell-grid list of near pairs equals the brute-force one (disks and, in
-the 3D engine, spheres), and the Verlet list kept by `advance` (rebuilt when a disk has moved half the skin) never misses a
-contact and keeps the shear force of lasting contacts across rebuilds."""
+the 3D engine, spheres), and the Verlet list kept by `advance` (rebuilt when a disk has moved
+half the skin) never misses a contact and keeps the shear force of lasting contacts across
+rebuilds."""
 
 import numpy as np
 import pytest
 
 from rockcal.dem import neighbours, simulate
 from rockcal.dem.neighbours import near_pairs
-from rockcal.dem3d.neighbours import near_pairs as near_pairs_3d
 from rockcal.dem.simulate import advance
+from rockcal.dem3d.neighbours import near_pairs as near_pairs_3d
 from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
 

@@ -58,15 +58,15 @@ class Gauge3D:
     def _central(self, pos, name, a):
         return central_mean(pos[self.sets[name], a])
 
-    def _moved(self, name, a):
+    def _displacement(self, name, a):
         return _central_displacement(self.pos, self.start, self.sets[name], a)
 
     def strains(self) -> tuple[float, float]:
         """The axial strain (shortening positive) and the lateral strain (extension positive)."""
-        axial = (self._moved("bottom", 2) - self._moved("top", 2)) / self.height
+        axial = (self._displacement("bottom", 2) - self._displacement("top", 2)) / self.height
         if "side" in self.sets:
             return axial, _radial_strain(self.pos, self.start, self.sets["side"], self.axis, self.r0)
-        widths = [(self._moved(hi, a) - self._moved(lo, a)) / self.widths0[a]
+        widths = [(self._displacement(hi, a) - self._displacement(lo, a)) / self.widths0[a]
                   for a, (lo, hi) in enumerate(SIDES)]
         return axial, float(np.mean(widths))
 
@@ -97,7 +97,7 @@ def _numpy_sum(values, first, count):
     return _numpy_sum(values, first, half) + _numpy_sum(values, first + half, count - half)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def central_mean(values):
     """The mean of the middle half of `values` (the interquartile mean)."""
     values = np.sort(values)
@@ -115,7 +115,7 @@ def _central_displacement(pos, start, members, a):
     return central_mean(moved)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _radial_strain(pos, start, side, axis, r0):
     """The central mean of the `side` spheres' radial strains about the axis, which follows
     the mean sideways drift of all the spheres (numpy sums a column's rows in turn)."""
