@@ -19,7 +19,7 @@ from rockcal.campaign.runs.pool import specimen_of
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.labtests import bending
 from rockcal.labtests.seeds import seed_list
-from rockcal.params import make_params
+from rockcal.params import make_params, parse_assignments
 
 CAMPAIGN_POINT = {"E_c": 21.42, "kn_ks": 1.970, "sigma_c": 36.28}  # an identified point of the granite campaign, rounded
 
@@ -32,7 +32,7 @@ def main() -> None:
     parser.add_argument("--intact-speed", type=float, default=bending.INTACT_PIN_SPEED)
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     args = parser.parse_args()
-    point = CAMPAIGN_POINT | {k: float(v) for k, v in (item.split("=", 1) for item in args.set)}
+    point = CAMPAIGN_POINT | parse_assignments(args.set)
     bending.INTACT_PIN_SPEED = args.intact_speed
     campaign, _ = load_campaign(None)
     seeds = seed_list(args.first_seed or campaign.specimen.seed, args.seeds)

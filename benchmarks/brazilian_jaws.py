@@ -31,6 +31,7 @@ from rockcal.labtests.registry import lab_test
 from rockcal.labtests.rig.jaws import JAW_RADIUS_PER_DISK_RADIUS, touching_jaw_centre_y
 from rockcal.labtests.settings import specimen_settings
 from rockcal.materials import material
+from rockcal.params import parse_assignments
 
 IDENTIFIED = {"E_c": 21.65, "kn_ks": 1.985, "sigma_c": 35.61}  # docs/validation/granite-calibration.md
 
@@ -116,7 +117,7 @@ def main() -> None:
     args = parser.parse_args()
     numba.set_num_threads(args.threads)
     campaign = load_campaign(args.campaign)[0]
-    chosen = {name: float(value) for name, value in (item.split("=", 1) for item in args.set)}
+    chosen = parse_assignments(args.set)
     values = campaign.fixed_params() | (chosen if args.campaign else IDENTIFIED | chosen)
     params = material(campaign.material.model).make(values)
     test = lab_test("brazilian")

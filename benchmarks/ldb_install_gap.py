@@ -21,6 +21,7 @@ from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.campaign.runs.store import RunStore
 from rockcal.labtests.brazilian import STRIP_MODULUS_GPA
+from rockcal.params import parse_assignments
 
 POINT = {"fj_emod": 61.17, "fj_kratio": 1.313, "fj_ten": 52.69, "fj_coh": 133.7, "fjm_B_frac": 0.5024,
          "fj_fa": 0.0, "fj_resmode": 0}
@@ -40,7 +41,7 @@ def main() -> None:
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     args = parser.parse_args()
     campaign, _ = load_campaign("ldb")
-    point = POINT | {k: float(v) for k, v in (item.split("=", 1) for item in args.set)}
+    point = POINT | parse_assignments(args.set)
     params = campaign.fixed_params() | point
     seeds = range(campaign.specimen.seed, campaign.specimen.seed + args.packings)
     cases = [(gap, seed, test) for gap in args.gaps for seed in seeds for test in TESTS]

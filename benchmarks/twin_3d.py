@@ -22,6 +22,7 @@ from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.pool import Executor, execute
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.campaign.runs.store import RunStore
+from rockcal.params import parse_assignments
 
 CAMPAIGN = Path(__file__).resolve().parents[1] / "docs" / "campaigns" / "granite-3d.toml"
 TRUE = {"E_c": 28.0, "kn_ks": 3.2, "sigma_c": 45.0}
@@ -45,7 +46,7 @@ def main() -> None:
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     parser.add_argument("--tolerance", type=float, default=0.02)
     args = parser.parse_args()
-    true = TRUE | {k: float(v) for k, v in (item.split("=", 1) for item in args.set)}
+    true = TRUE | parse_assignments(args.set)
     text = CAMPAIGN.read_text()
     started = time.perf_counter()
     stand_in = parse_campaign(text, CAMPAIGN.parent)

@@ -19,6 +19,7 @@ import numba
 from rockcal.dem3d.specimen import random_specimen
 from rockcal.dem3d.ucs import simulate_ucs_3d
 from rockcal.materials.parallel_bond import make_params
+from rockcal.params import parse_assignments
 
 GRANITE_3D = {"E_c": 62, "kn_ks": 2.5, "sigma_c": 175, "tau_c": 175, "sigma_c_cv": 0.23,
               "tau_c_cv": 0.23, "mu": 0.5, "lambda": 1.0, "density": 2630}
@@ -32,7 +33,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     args = parser.parse_args()
-    params = make_params(GRANITE_3D | {k: float(v) for k, v in (item.split("=", 1) for item in args.set)})
+    params = make_params(GRANITE_3D | parse_assignments(args.set))
     print(f"threads {numba.get_num_threads()}, load average {os.getloadavg()[0]:.2f} "
           f"on {os.cpu_count()} cores")
     for diameter, height, rmin in args.size or [(25.0, 50.0, 0.8)]:
