@@ -167,10 +167,10 @@ def test_a_3d_twin_recovers_its_modulus_stiffness_ratio_and_strength(tmp_path):
     10 %. The cylinder is 8 x 16 mm (about 450 spheres): on the 7 x 14 mm one nu leaves kn/ks 6 %
     off with every target met within 1 %. The shear strength is fixed well above sigma_c (tau_c
     2.5 sigma_c) so that the UCS follows sigma_c at all (at 1.5 sigma_c it moved by less than
-    its roughness between sigma_c 36 and 44); even so this few spheres' UCS is rough, 2 MPa of
-    sigma_c moving it by -1 % to +4 %, so every target met within 1 % leaves sigma_c up to about
-    6 % off."""
-    options = dict(sensitivity="", samples=12, checks=2, tolerance=0.03, budget=30)
+    its roughness between sigma_c 36 and 44); even so this few spheres' UCS is rough (at the
+    true E_c and kn/ks it is 166.7, 165.2 and 168.1 MPa at sigma_c 40, 42 and 44), so the
+    campaign meets its targets within 1 %: within 3 % it stopped at sigma_c 45.7."""
+    options = dict(sensitivity="", samples=12, checks=2, tolerance=0.01, budget=30)
     twin = CAMPAIGN.replace("width_mm = 7\nheight_mm = 14", "width_mm = 8\nheight_mm = 16").replace(
         "tau_c = 60", "tau_c = 100")
     assert twin != CAMPAIGN

@@ -168,8 +168,7 @@ def _bond_law(start, count, table, bond_state, laws, dt, tile):
         n_fs = cross(n, total_fs)
         _put3(tile, TileRow.FX, q, axpy(fn + holds * bfn, n, total_fs))
         _put3(tile, TileRow.MIX, q, axpy(arm_i, n_fs, moment))
-        _put3(tile, TileRow.MJX, q, (arm_j * n_fs[0] - moment[0], arm_j * n_fs[1] - moment[1],
-                                     arm_j * n_fs[2] - moment[2]))
+        _put3(tile, TileRow.MJX, q, axpy(arm_j, n_fs, scale(-1.0, moment)))
 
 
 @njit(cache=True, error_model="numpy", inline="always")

@@ -27,12 +27,18 @@ under central differences), then a turn about the new normal by the pair's mean 
 (twist); only then is the step's increment added, the slip taken in the plane of mid-step.
 Both rotations are exact (norm-preserving), so a rigid-body rotation turns the forces without
 creating any.
+
+Dot and cross products and s a + b are written with fused multiply-adds (`fused.fma`): one
+rounding and one instruction where a product and a sum take two, the same bits on every
+processor.
 """
 
 from typing import NamedTuple
 
 import numpy as np
 from numba import njit
+
+from rockcal.dem3d.fused import fma
 
 INTACT, BROKEN_TENSION, BROKEN_SHEAR = 0, 1, 2
 
@@ -69,18 +75,19 @@ def bond_springs(rmin, length, laws: Laws):
 
 @njit(cache=True, inline="always")
 def dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    return fma(a[0], b[0], fma(a[1], b[1], a[2] * b[2]))
 
 
 @njit(cache=True, inline="always")
 def cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+    return (fma(a[1], b[2], -a[2] * b[1]), fma(a[2], b[0], -a[0] * b[2]),
+            fma(a[0], b[1], -a[1] * b[0]))
 
 
 @njit(cache=True, inline="always")
 def axpy(s, a, b):
     """s a + b."""
-    return (s * a[0] + b[0], s * a[1] + b[1], s * a[2] + b[2])
+    return (fma(s, a[0], b[0]), fma(s, a[1], b[1]), fma(s, a[2], b[2]))
 
 
 @njit(cache=True, inline="always")
@@ -104,9 +111,9 @@ def inverse_length_near(size_sq, inv_near):
     a series in ε = size_sq inv_near² - 1 and one Newton step, accurate to round-off for
     |ε| < 1e-3 (a pair moves far less than that in a step), and without a square root or a
     division, which the vector loop would wait on."""
-    eps = size_sq * inv_near * inv_near - 1.0
-    y = inv_near * (1.0 - eps * (0.5 - 0.375 * eps))
-    return y * (1.5 - 0.5 * size_sq * y * y)
+    eps = fma(size_sq * inv_near, inv_near, -1.0)
+    y = inv_near * fma(-eps, fma(-0.375, eps, 0.5), 1.0)
+    return y * fma(-0.5 * size_sq * y, y, 1.5)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -128,9 +135,8 @@ def plane_rotation(n_old, n, wi, wj, dt):
     k = cross(n_old, n)
     c = dot(n_old, n)
     half = 0.25 * dt * (dot(wi, n) + dot(wj, n))
-    h2 = half * half
-    inv = 1.0 / (1.0 + h2)
-    return k, c, 1.0 / (1.0 + c), (1.0 - h2) * inv, 2.0 * half * inv
+    inv = 1.0 / fma(half, half, 1.0)
+    return k, c, 1.0 / (1.0 + c), fma(-half, half, 1.0) * inv, 2.0 * half * inv
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -140,10 +146,8 @@ def rotate(v, n, k, c, inv_one_plus_c, cos_t, sin_t):
     twist about n."""
     kv = cross(k, v)
     s = dot(k, v) * inv_one_plus_c
-    t = (c * v[0] + kv[0] + s * k[0], c * v[1] + kv[1] + s * k[1], c * v[2] + kv[2] + s * k[2])
-    nt = cross(n, t)
-    return (cos_t * t[0] + sin_t * nt[0], cos_t * t[1] + sin_t * nt[1],
-            cos_t * t[2] + sin_t * nt[2])
+    t = axpy(c, v, axpy(s, k, kv))
+    return axpy(cos_t, t, scale(sin_t, cross(n, t)))
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -152,9 +156,7 @@ def slip(dv, wi, wj, n_mid, n, arm_i, arm_j, dt):
     (v_j - v_i - (arm_i ω_i + arm_j ω_j) × n) dt in the plane of the step's middle (normal
     n_mid), then put into the new plane (normal n). Taken at mid-step it is second-order
     accurate: a rigid-body turn by θ per step slips by O(θ³) per step, not O(θ²)."""
-    w = (arm_i * wi[0] + arm_j * wj[0], arm_i * wi[1] + arm_j * wj[1],
-         arm_i * wi[2] + arm_j * wj[2])
-    wn = cross(w, n_mid)
+    wn = cross(axpy(arm_i, wi, scale(arm_j, wj)), n_mid)
     r = (dv[0] - wn[0], dv[1] - wn[1], dv[2] - wn[2])
     r = axpy(-dot(r, n_mid), n_mid, r)
     return scale(dt, axpy(-dot(r, n), n, r))
@@ -197,7 +199,7 @@ def bond_force(stretch, last_fs, last_mb, last_mt, ds, dtheta, n, rb, area, inv_
     twist = dot(dtheta, n)
     bend = axpy(-twist, n, dtheta)
     mb = axpy(kbn * inertia, bend, last_mb)
-    mt = last_mt + kbs * 2.0 * inertia * twist
+    mt = fma(kbs * 2.0 * inertia, twist, last_mt)
     return fn, fs, mb, mt
 
 
@@ -211,6 +213,6 @@ def bond_breaks(fn, fs, mb, mt, inv_rb, area, ten, coh, laws):
     bending = laws.mcf * 4.0 * inv_rb
     rest = ten * area - fn
     tension = (rest < 0.0) | (bending * bending * dot(mb, mb) > rest * rest)
-    rest = coh * area - fn * laws.tan_phi - laws.mcf * 2.0 * inv_rb * abs(mt)
+    rest = fma(coh, area, -fn * laws.tan_phi) - laws.mcf * 2.0 * inv_rb * abs(mt)
     shear = ~tension & ((rest < 0.0) | (dot(fs, fs) > rest * rest))
     return tension, shear

@@ -26,7 +26,7 @@ from rockcal.dem3d.vectors import cubes
 from rockcal.errors import InputError
 from rockcal.output_files import atomic_path
 
-GENERATOR_VERSION_3D = 3
+GENERATOR_VERSION_3D = 4
 SHAPES = ("cylinder", "cuboid")
 
 
