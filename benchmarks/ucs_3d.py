@@ -7,7 +7,7 @@ Material: PFC3D-style granite values (E_c = Ē_c = 62 GPa, kn/ks 2.5, σ̄c = c�
 second run times the test alone.
 
 Run by hand: `python benchmarks/ucs_3d.py [--size 25 50 0.8] [--size 50 100 1.0] [--rates 1 0.5]
-[--seed 1] [--set E_c=31.23 ...]` (`--set NAME=VALUE` replaces one of the values above).
+[--seed 1] [--set E_c=30.97 ...]` (`--set NAME=VALUE` replaces one of the values above).
 """
 
 import argparse

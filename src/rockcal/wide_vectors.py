@@ -2,7 +2,7 @@
 
 LLVM, numba's compiler, prefers 256-bit vectors on such processors even where their 512-bit
 units are there to use (on early ones a 512-bit instruction lowered the clock). With 512-bit
-vectors the 3D step runs 12-17 % faster and the 2D step 4-10 % on an Intel Xeon
+vectors the 3D step runs 8-14 % faster and the 2D step 4-11 % on an Intel Xeon
 (`benchmarks/step_3d.py`). The numbers are the same either way, to the bit: numba compiles the
 loops without fast-math, so each vector lane does the same IEEE operations in the same order,
 whatever the lanes per instruction (`tests/dem/test_portable.py`).
