@@ -1,13 +1,13 @@
 """A 3D bonded-particle engine: PFC3D's spheres, linear contact and linear parallel bond.
 
 Modules, one idea each: `state` (the spheres' arrays), `laws` (the contact and bond laws),
-`fused` (the fused multiply-add the laws are written with), `bonds` (the bonded pairs'
-state), `forces` (the compiled pair loops), `neighbours` (the cell
-grid and pair list), `walls` (planar walls: vessel faces, platens) and `simulate` (time step,
-density scaling, the stepping loop). Specimens: `genesis` (the sphere cloud, floaters, bonds),
-`packing` (grain scaling to the material pressure), `specimen` (cuboids, carved cylinders and
-disks, cached). The tests: `material` (2D's micro-parameters mapped to the 3D laws), `platens`,
-`gauge`, `ucs` and `brazilian`. `export`: PFC3D's FISHTank parameter file and sphere lists.
+`fused` (the fused multiply-add the laws are written with), `bonds` (the bonded pairs' state),
+`forces` (the compiled pair loops), `neighbours` (the cell grid and pair list), `walls` (planar
+walls: vessel faces, platens) and `simulate` (time step, density scaling, the stepping loop).
+Specimens: `genesis` (the sphere cloud, floaters, bonds), `packing` (grain scaling to the
+material pressure), `specimen` (cuboids, carved cylinders and disks, cached). The tests:
+`material` (2D's micro-parameters mapped to the 3D laws), `platens`, `gauge`, `ucs` and
+`brazilian`. `export`: PFC3D's FISHTank parameter file and sphere lists.
 """
 
 ENGINE_VERSION_3D = 4  # part of every stored 3D run's key: raise it when the 3D engine's numbers change

@@ -16,8 +16,7 @@ def fma(typingctx, a, b, c):
     """a × b + c with one rounding, in compiled code."""
     signature = types.float64(types.float64, types.float64, types.float64)
 
-    def codegen(context, builder, sig, args):
-        return builder.fma(*(context.cast(builder, value, from_type, types.float64)
-                             for value, from_type in zip(args, sig.args)))
+    def codegen(context, builder, sig, args):  # numba casts the arguments to floats first
+        return builder.fma(*args)
 
     return signature, codegen
