@@ -34,6 +34,15 @@ def test_every_registered_test_runs_through_the_forward_path(kind):
     assert all(result.responses[name] > 0 for name in lab_test(kind).targets)
 
 
+def test_a_tests_strength_is_one_of_its_responses_a_compression_tests_its_peak():
+    """A crack figure is titled with the test's strength: the UCS test's is its UCS, not its
+    first response (E)."""
+    for test in LAB_TESTS.values():
+        assert test.strength_response in test.responses
+        assert not test.strength or test.strength_response.name == test.strength
+    assert lab_test("ucs").strength_response.name == "ucs_MPa"
+
+
 def test_an_unknown_test_is_an_error_naming_the_known_ones():
     with pytest.raises(InputError, match=f"no lab test named 'triaxial'; known: {', '.join(LAB_TESTS)}"):
         run_spec("triaxial", SpecimenSettings(), {})

@@ -252,9 +252,9 @@ def write_outputs(out: Path, test: LabTest, result, specimen, summary: dict, nam
     except OSError as exc:
         raise InputError("--out", f"cannot write to {out}: {exc.strerror}") from None
     _write_text(out / f"{name}_summary.json", json_text(summary, indent=2))
-    first = test.responses[0]
+    strength = test.strength_response
     broken = material(summary.get("model", DEFAULT_MATERIAL)).breaks_word
-    heading = f"{first.label or first.name} {getattr(result, first.name):.4g} {first.unit} — broken {broken}"
+    heading = f"{strength.label or strength.name} {getattr(result, strength.name):.4g} {strength.unit} — broken {broken}"
     if summary.get("dimensions") == 3:
         plots.crack_planes(result.cracks, specimen.shape, specimen.size_m, out / f"{name}_cracks.png", heading)
     else:

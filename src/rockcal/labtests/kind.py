@@ -142,10 +142,16 @@ class LabTest:
     combine: Callable[[list[dict]], dict] | None = None  # one response set from a series' runs
     combined_responses: tuple[Response, ...] = ()  # what `combine` gives
     series_figures: tuple[SeriesFigure, ...] = ()  # figures of a series' runs together
+    strength: str = ""  # the response that is its strength (a crack figure's title); "": the first
 
     def __post_init__(self):
         if self.lab_values is not None:
             self.lab_values.kind = self  # its section reads its targets here, not by name
+
+    @property
+    def strength_response(self) -> Response:
+        """The response that is its strength (`strength`, or the first)."""
+        return next((r for r in self.responses if r.name == self.strength), self.responses[0])
 
     @property
     def series(self) -> Setting | None:

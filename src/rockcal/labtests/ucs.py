@@ -255,6 +255,7 @@ TEST = LabTest(
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
               "stop_fraction", "contact_stiffness", "max_axial_strain", "grain_shape",
               "dimensions"),  # the later settings last, at their defaults out of a run's key
+    strength="ucs_MPa",
     plot="stress_strain",
     hexagonal=_hexagonal,
     check=_check, make=_specimen, run=_run,
