@@ -46,10 +46,11 @@ REFERENCE_PROBE_MS = 0.66
 # run time ~ work^WORK_EXPONENT: a half-resolution UCS run (1/8 of the work) takes about 1/10 of
 # the full-size one at the same point on one thread (a small specimen stays in the caches)
 WORK_EXPONENT = 1.1
-# a 3D UCS run's time per sphere and row over a 2D run's per disk and row, from the 3D granite
-# campaign's runs at the default installation gap (docs/concepts/pfc3d.md): a sphere-step costs
-# about three disk-steps, and the cylinder takes more steps per row than the 2D specimen
-RUN_COST_3D = 6.8
+# a 3D UCS run's time per sphere and row over a 2D run's per disk and row on one machine, from
+# the 3D granite campaign's runs at the default installation gap (docs/concepts/pfc3d.md): a
+# sphere-step costs about three disk-steps, and the cylinder takes more steps per row than the
+# 2D specimen
+RUN_COST_3D = 5.4
 LONE_RUN_SPEED_UP = 1.4  # a run alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
 # the main process's own work, on one core of a machine of the project's kind (numpy and
 # matplotlib, not the engine, so not scaled by the probe): one search on the surrogate for the
