@@ -34,7 +34,7 @@ def test_every_registered_test_runs_through_the_forward_path(kind):
     assert all(result.responses[name] > 0 for name in lab_test(kind).targets)
 
 
-def test_a_tests_strength_is_one_of_its_responses_a_compression_tests_its_peak():
+def test_a_tests_strength_is_one_of_its_responses():
     """A crack figure is titled with the test's strength: the UCS test's is its UCS, not its
     first response (E)."""
     for test in LAB_TESTS.values():

@@ -38,9 +38,9 @@ from rockcal.materials import material
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
 # the embedded granite campaign's mean full-size UCS run (one thread, two at a time on idle
 # cores) where engine_speed.probe_ms_per_step() gives REFERENCE_PROBE_MS: scaled by this
-# machine's probe, it gives this machine's run time before the store holds a run. Over the
-# probe's time it differs between machines of the project's kind, 117 s per probe-ms on an AMD
-# EPYC and 148 on an Intel Xeon: this is their geometric mean, 12 % from either
+# machine's probe, it gives this machine's run time before the store holds a run. That run's
+# time per probe-ms differs between machines of the project's kind (an AMD EPYC's 117 s, an
+# Intel Xeon's 148 s): this is their geometric mean, 12 % from either
 REFERENCE_RUN_S = 86.8
 REFERENCE_PROBE_MS = 0.66
 # run time ~ work^WORK_EXPONENT: a half-resolution UCS run (1/8 of the work) takes about 1/10 of
