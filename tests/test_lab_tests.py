@@ -37,8 +37,7 @@ def test_every_registered_test_runs_through_the_forward_path(kind):
 def test_a_tests_strength_is_one_of_its_responses():
     """A crack figure is titled with the test's strength: the UCS test's is its UCS, not its
     first response (E)."""
-    for test in LAB_TESTS.values():
-        assert test.strength_response in test.responses
+    for test in LAB_TESTS.values():  # a misspelt strength would fall back to the first response
         assert not test.strength or test.strength_response.name == test.strength
     assert lab_test("ucs").strength_response.name == "ucs_MPa"
 
