@@ -47,6 +47,24 @@ def test_the_prism_breaks_in_tension_between_the_grips(pulled, prism):
     assert np.all(y < prism.pos[top, 1].min() + prism.radius.max())
 
 
+def test_the_curve_figure_marks_the_peak_at_sigma_t(pulled, tmp_path):
+    """The figure's one labelled mark is the peak, at the result's sigma_t (and plotting it
+    warns of nothing, as an empty legend would)."""
+    import warnings
+    import matplotlib.pyplot as plt
+    from rockcal import plots
+
+    shown = {}
+    with warnings.catch_warnings(), pytest.MonkeyPatch.context() as patch:
+        warnings.simplefilter("error")
+        patch.setattr(plots, "_save", lambda fig, path: shown.update(ax=fig.axes[0]))
+        plots.tension_curve(pulled.curve, tmp_path / "curve.png", "direct tension test")
+    (peak,), (label,) = shown["ax"].get_legend_handles_labels()
+    assert peak.get_ydata()[0] == pytest.approx(pulled.sigma_t_direct_MPa, rel=1e-12)
+    assert label == f"direct tensile strength {pulled.sigma_t_direct_MPa:.2f} MPa"
+    plt.close("all")
+
+
 def test_halving_the_pulling_rate_changes_sigma_t_little(pulled, prism):
     slow = simulate_direct_tension(make_params({}), prism, rate_factor=0.5)
     assert slow.sigma_t_direct_MPa == pytest.approx(pulled.sigma_t_direct_MPa, rel=0.02)

@@ -136,9 +136,12 @@ def stress_strain(curve, path: Path, title: str, stress: str = "axial stress (MP
 
 
 def tension_curve(curve, path: Path, title: str) -> None:
-    """Tensile stress against axial strain (%) of a direct tension test."""
+    """Tensile stress against axial strain (%) of a direct tension test, its peak marked."""
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.plot(100 * curve[:, 0], curve[:, 1])
+    k = curve[:, 1].argmax()
+    ax.plot(100 * curve[k, 0], curve[k, 1], "o", color="tab:red",
+            label=f"direct tensile strength {curve[k, 1]:.2f} MPa")
     _finish(fig, ax, "axial strain (%)", "tensile stress (MPa)", title, path)
 
 
@@ -187,7 +190,8 @@ def _finish(fig, ax, xlabel: str, ylabel: str, title: str, path: Path) -> None:
     ax.set_ylabel(ylabel)
     ax.set_title(title)
     ax.grid(alpha=0.3)
-    ax.legend()
+    if ax.get_legend_handles_labels()[0]:  # an empty legend box says nothing, and warns
+        ax.legend()
     _save(fig, path)
 
 
