@@ -34,6 +34,16 @@ def test_simulate_gives_the_commands_numbers_to_the_bit(monkeypatch, capsys):
         assert result[name] == printed[name], name
 
 
+def test_a_test_named_as_the_command_line_names_it_runs_the_same():
+    """"direct-tension" (the command's spelling) is the test "direct_tension", to the bit; its
+    responses are plain Python numbers, as a notebook shows them."""
+    spelt, named = (rockcal.simulate(test, {"E_c": 25.0}, **SMALL).summary()
+                    for test in ("direct-tension", "direct_tension"))
+    assert spelt.pop("wall_s") > 0 and named.pop("wall_s") > 0
+    assert spelt == named
+    assert all(type(value) in (int, float, str) for value in spelt.values()), spelt
+
+
 @pytest.mark.parametrize("call, field", [
     (lambda: rockcal.simulate("ucs", rmin_m=0.4), "rmin_m"),
     (lambda: rockcal.simulate("ucs", {"E_cc": 20.0}, **SMALL), "E_cc"),

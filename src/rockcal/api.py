@@ -169,7 +169,7 @@ def _plain(value, path: list[str]):
 def simulate(test: str, params: dict | None = None, *, model: str | None = None, packing: str = "random",
              **settings):
     """One run of the lab test `test` ("ucs", "brazilian", "bending", "biaxial",
-    "direct_tension") with the micro-parameters `params` of `model` (default: the parallel
+    "direct_tension", or as the command line spells it, "direct-tension") with the micro-parameters `params` of `model` (default: the parallel
     bond; the others at their defaults) on a specimen of `settings` (the campaign file's
     [specimen] keys and the test's own, e.g. `rmin_mm=0.5`, `confinement_mpa=5`); `packing`
     "hexagonal" for a lattice where the test has one. Returns the test's result: `summary()`
@@ -178,10 +178,11 @@ def simulate(test: str, params: dict | None = None, *, model: str | None = None,
     from rockcal.labtests.settings import specimen_settings
     from rockcal.materials import DEFAULT_MATERIAL, material, parameters
 
-    kind = lab_test(test)
+    kind = lab_test(test.replace("-", "_"))
     micro = parameters(material(model or DEFAULT_MATERIAL), params or {})
     chosen = specimen_settings(kind, settings)
     if packing not in ("random", "hexagonal") or (packing == "hexagonal" and kind.hexagonal is None):
-        raise ValueError(f"packing: 'random'{' or hexagonal' if kind.hexagonal else ''}, got {packing!r}")
+        known = "'random' or 'hexagonal'" if kind.hexagonal else "'random'"
+        raise ValueError(f"packing: {known}, got {packing!r}")
     specimen = kind.hexagonal(chosen) if packing == "hexagonal" else kind.make(chosen)
     return kind.run(micro, specimen, chosen, lambda x, y: None)

@@ -54,6 +54,12 @@ class LabResult:
     radius: np.ndarray = field(repr=False)
     cracks: dict = field(repr=False)
 
+    def __post_init__(self):
+        for f in fields(self):  # numpy scalars as Python's: a result reads as plain numbers
+            value = getattr(self, f.name)
+            if isinstance(value, np.generic):
+                setattr(self, f.name, value.item())
+
     def summary(self) -> dict:
         """The scalar responses, the test's own first, as JSON-ready values."""
         shown = [f.name for f in fields(self) if f.repr]
