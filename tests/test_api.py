@@ -52,7 +52,9 @@ def test_a_test_named_as_the_command_line_names_it_runs_the_same():
     (lambda: rockcal.calibrate(workers=-1), "workers"),
     (lambda: rockcal.calibrate({"targets": {"ucs": {"E_GPaa": 20.0}}}), "targets.ucs.E_GPaa"),
     (lambda: rockcal.calibrate({"specimen": {"rmin_mm": None}}), "specimen.rmin_mm"),
-], ids=["setting", "parameter", "nan", "test", "workers", "dict key", "dict value"])
+    (lambda: rockcal.calibrate("no-such-rock.toml"), "campaign"),
+    (lambda: rockcal.calibrate([1.0]), "campaign"),
+], ids=["setting", "parameter", "nan", "test", "workers", "dict key", "dict value", "no file", "not a dict"])
 def test_bad_input_raises_an_input_error_naming_the_key(call, field):
     with pytest.raises(InputError) as error:
         call()
@@ -86,6 +88,16 @@ def test_a_dict_calibrates_as_its_file(tiny):
     from_file, from_dict = tiny
     assert from_dict.identified == from_file.identified and from_dict.verified == from_file.verified
     assert json.loads((from_dict.out / "record.json").read_text())["identified"] == from_dict.identified
+
+
+@pytest.mark.slow
+def test_a_store_in_out_is_named_as_the_call_names_it(tiny):
+    """A call's error speaks of its arguments, not of the command's options."""
+    from_file = tiny[0]
+    with pytest.raises(InputError) as error:
+        rockcal.calibrate(from_file.out.parent / "tiny.toml", out=from_file.out, workers=1)
+    assert error.value.field == "out" and "add resume=True" in error.value.problem
+    assert "--" not in error.value.problem
 
 
 @pytest.mark.slow

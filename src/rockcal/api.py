@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import html
 import os
+import re
 from base64 import b64encode
+from contextlib import contextmanager
 from dataclasses import dataclass
 from numbers import Integral, Real
 from pathlib import Path
@@ -109,28 +111,51 @@ def _pct(value) -> str:
 
 
 def calibrate(campaign: str | Path | dict | None = None, *, out: str | Path | None = None, quick: bool = False,
-              resume: bool = False, workers: int = 0, scheduler: str | None = None,
+              resume: bool = False, wait: bool = False, workers: int = 0, scheduler: str | None = None,
               threads: int | None = None) -> Calibration:
     """Calibrate a campaign file, a dict of its tables (`{"targets": {"ucs": {...}}, "specimen":
     {...}}`; a relative curve path taken from the current folder), or an embedded rock by name
     ("granite", "ldb"; None: the granite) in `out` (default runs/<rock name>,
     runs/<rock name>-quick with `quick`), going on with its stored runs if `resume`; returns the
-    `Calibration`, also written to OUT/record.json with a report. `workers`, `scheduler` and
-    `threads` are `rockcal calibrate`'s options."""
+    `Calibration`, also written to OUT/record.json with a report. `wait`, `workers`, `scheduler`
+    and `threads` are `rockcal calibrate`'s options."""
     from rockcal.campaign.input.config import parse_campaign
     from rockcal.campaign.job import as_run, campaign_of, run_in_folder
     from rockcal.campaign.runs import MAX_WORKERS
 
+    if not (campaign is None or isinstance(campaign, (str, os.PathLike, dict))):
+        raise InputError("campaign", "a campaign file's path, an embedded rock's name or a dict of the "
+                                     f"file's tables, got {type(campaign).__name__}")
     if not 0 <= workers <= MAX_WORKERS:
         raise InputError("workers", f"must be in [0, {MAX_WORKERS}], got {workers}")
     out = None if out is None else Path(out)
-    if isinstance(campaign, dict):
-        text = toml_text(campaign)
-        chosen, text, note, out = as_run(parse_campaign(text, Path.cwd()), text, quick, out)
-    else:
-        chosen, text, note, out = campaign_of(campaign, quick, out)
-    how = {"workers": workers, "scheduler": scheduler, "threads": threads}
-    return Calibration(run_in_folder(chosen, text, out, note=note, resume=resume, how=how)[0], out)
+    with _as_arguments():
+        if isinstance(campaign, dict):
+            text = toml_text(campaign)
+            chosen, text, note, out = as_run(parse_campaign(text, Path.cwd()), text, quick, out)
+        else:
+            chosen, text, note, out = campaign_of(campaign, quick, out)
+        how = {"workers": workers, "scheduler": scheduler, "threads": threads}
+        result = run_in_folder(chosen, text, out, note=note, resume=resume, wait=wait, how=how)[0]
+    return Calibration(result, out)
+
+
+# `rockcal calibrate`'s options that `calibrate` takes as arguments, as a call writes them
+_ARGUMENTS = {"--out": "out", "--resume": "resume=True", "--quick": "quick=True", "--wait": "wait=True",
+              "--workers": "workers", "--scheduler": "scheduler", "--threads": "threads"}
+_FLAGS = re.compile("(" + "|".join(_ARGUMENTS) + r")(?![\w-])")
+
+
+@contextmanager
+def _as_arguments():
+    """Within it, an InputError naming `rockcal calibrate`'s argument or options names
+    `calibrate`'s arguments instead (`campaign`, `out`, and in its advice `resume=True`, not
+    CONFIG, `--out` and `--resume`)."""
+    try:
+        yield
+    except InputError as exc:
+        field = {"CONFIG": "campaign", **_ARGUMENTS}.get(exc.field, exc.field).removesuffix("=True")
+        raise InputError(field, _FLAGS.sub(lambda flag: _ARGUMENTS[flag[0]], exc.problem)) from None
 
 
 def toml_text(tables: dict) -> str:
@@ -139,7 +164,7 @@ def toml_text(tables: dict) -> str:
     import tomli_w
 
     if not isinstance(tables, dict):
-        raise InputError("CONFIG", f"a dict of the campaign file's tables, got {type(tables).__name__}")
+        raise InputError("campaign", f"a dict of the campaign file's tables, got {type(tables).__name__}")
     return tomli_w.dumps(_plain(tables, []))
 
 
