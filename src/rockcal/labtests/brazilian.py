@@ -28,9 +28,6 @@ from typing import Callable
 
 import numpy as np
 from pydantic import Field
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
-from scipy.spatial import cKDTree
 
 from rockcal.dem import measure
 from rockcal.dem.carving import grains, inside_circle, keep_particles, of_particles
@@ -180,6 +177,11 @@ def split_through_centre(crack_xy: np.ndarray, centre_x: float, diameter: float,
 def separate_cracks(crack_xy: np.ndarray, grain_m: float) -> list[np.ndarray]:
     """The broken bonds at `crack_xy` (m; in 2D or 3D) as separate cracks: bonds broken within
     CRACK_LINK grains of each other belong to one."""
+    # here: scipy's sparse graphs and trees take 0.1 s to import, and every command would wait
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
     if len(crack_xy) == 0:
         return []
     near = cKDTree(crack_xy).query_pairs(CRACK_LINK * grain_m, output_type="ndarray")
