@@ -2,12 +2,14 @@
 to the bond tensile strength), failing between the grips; of balls or of clumps, which the grips
 hold whole and carry without turning."""
 
+import warnings
 from dataclasses import replace
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from rockcal import make_params, random_packing
+from rockcal import make_params, plots, random_packing
 from rockcal.campaign.input.config import SpecimenSettings
 from rockcal.campaign.runs.spec import RunSpec, run_spec
 from rockcal.dem.carving import grains
@@ -50,10 +52,6 @@ def test_the_prism_breaks_in_tension_between_the_grips(pulled, prism):
 def test_the_curve_figure_marks_the_peak_at_sigma_t(pulled, tmp_path):
     """The figure's one labelled mark is the peak, at the result's sigma_t (and plotting it
     warns of nothing, as an empty legend would)."""
-    import warnings
-    import matplotlib.pyplot as plt
-    from rockcal import plots
-
     shown = {}
     with warnings.catch_warnings(), pytest.MonkeyPatch.context() as patch:
         warnings.simplefilter("error")

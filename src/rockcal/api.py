@@ -194,11 +194,12 @@ def _plain(value, path: list[str]):
 def simulate(test: str, params: dict | None = None, *, model: str | None = None, packing: str = "random",
              **settings):
     """One run of the lab test `test` ("ucs", "brazilian", "bending", "biaxial",
-    "direct_tension", or as the command line spells it, "direct-tension") with the micro-parameters `params` of `model` (default: the parallel
-    bond; the others at their defaults) on a specimen of `settings` (the campaign file's
-    [specimen] keys and the test's own, e.g. `rmin_mm=0.5`, `confinement_mpa=5`); `packing`
-    "hexagonal" for a lattice where the test has one. Returns the test's result: `summary()`
-    gives its responses, `curve` its curve."""
+    "direct_tension", or as the command line spells it, "direct-tension") with the
+    micro-parameters `params` of `model` (default: the parallel bond; the others at their
+    defaults) on a specimen of `settings` (the campaign file's [specimen] keys and the test's
+    own, e.g. `rmin_mm=0.5`, `confinement_mpa=5`); `packing` "hexagonal" for a lattice where
+    the test has one. Returns the test's result: `summary()` gives its responses, `curve` its
+    curve."""
     from rockcal.labtests.registry import lab_test
     from rockcal.labtests.settings import specimen_settings
     from rockcal.materials import DEFAULT_MATERIAL, material, parameters
