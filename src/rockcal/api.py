@@ -10,12 +10,11 @@ import html
 import os
 import re
 from base64 import b64encode
-from contextlib import contextmanager
 from dataclasses import dataclass
 from numbers import Integral, Real
 from pathlib import Path
 
-from rockcal.errors import InputError
+from rockcal.errors import InputError, fields_named
 
 EXPORT_FILES = {"pfc-fish": "mpParams.p2dat", "pfc-python": "mpParams.py", "json": "mpParams.json"}
 
@@ -146,16 +145,13 @@ _ARGUMENTS = {"--out": "out", "--resume": "resume=True", "--quick": "quick=True"
 _FLAGS = re.compile("(" + "|".join(_ARGUMENTS) + r")(?![\w-])")
 
 
-@contextmanager
-def _as_arguments():
+def _as_arguments() -> fields_named:
     """Within it, an InputError naming `rockcal calibrate`'s argument or options names
     `calibrate`'s arguments instead (`campaign`, `out`, and in its advice `resume=True`, not
     CONFIG, `--out` and `--resume`)."""
-    try:
-        yield
-    except InputError as exc:
-        field = {"CONFIG": "campaign", **_ARGUMENTS}.get(exc.field, exc.field).removesuffix("=True")
-        raise InputError(field, _FLAGS.sub(lambda flag: _ARGUMENTS[flag[0]], exc.problem)) from None
+    return fields_named(
+        lambda field: {"CONFIG": "campaign", **_ARGUMENTS}.get(field, field).removesuffix("=True"),
+        lambda problem: _FLAGS.sub(lambda flag: _ARGUMENTS[flag[0]], problem))
 
 
 def toml_text(tables: dict) -> str:

@@ -16,17 +16,22 @@ class InputError(ValueError):
 
 class fields_named:
     """Within it, an InputError's field is renamed by `rename`: a function of the field, or a
-    dict (a field it does not hold keeps its name)."""
+    dict (a field it does not hold keeps its name); `reword`, a function of its message, may
+    rewrite that too (the names the message gives)."""
 
-    def __init__(self, rename: Callable[[str], str] | Mapping[str, str]):
+    def __init__(self, rename: Callable[[str], str] | Mapping[str, str],
+                 reword: Callable[[str], str] = lambda problem: problem):
         self.rename = (lambda field: rename.get(field, field)) if isinstance(rename, Mapping) else rename
+        self.reword = reword
 
     def __enter__(self):
         return self
 
     def __exit__(self, kind, exc, tb):
-        if isinstance(exc, InputError) and self.rename(exc.field) != exc.field:
-            raise InputError(self.rename(exc.field), exc.problem) from None
+        if isinstance(exc, InputError):
+            field, problem = self.rename(exc.field), self.reword(exc.problem)
+            if (field, problem) != (exc.field, exc.problem):
+                raise InputError(field, problem) from None
         return False
 
 

@@ -139,9 +139,7 @@ def tension_curve(curve, path: Path, title: str) -> None:
     """Tensile stress against axial strain (%) of a direct tension test, its peak marked."""
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.plot(100 * curve[:, 0], curve[:, 1])
-    k = curve[:, 1].argmax()
-    ax.plot(100 * curve[k, 0], curve[k, 1], "o", color="tab:red",
-            label=f"direct tensile strength {curve[k, 1]:.2f} MPa")
+    _mark_peak(ax, 100 * curve[:, 0], curve[:, 1], "direct tensile strength {:.2f} MPa")
     _finish(fig, ax, "axial strain (%)", "tensile stress (MPa)", title, path)
 
 
@@ -179,9 +177,14 @@ def load_displacement(curve, path: Path, title: str) -> None:
     """Load (kN per m of thickness) against displacement (mm), peak marked."""
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.plot(curve[:, 0], curve[:, 1])
-    k = curve[:, 1].argmax()
-    ax.plot(curve[k, 0], curve[k, 1], "o", color="tab:red", label=f"peak {curve[k, 1]:.2f} kN/m")
+    _mark_peak(ax, curve[:, 0], curve[:, 1], "peak {:.2f} kN/m")
     _finish(fig, ax, "displacement (mm)", "load (kN per m of thickness)", title, path)
+
+
+def _mark_peak(ax, x, y, label: str) -> None:
+    """The curve's peak as a red dot, labelled `label` with the peak's value in its {}."""
+    k = y.argmax()
+    ax.plot(x[k], y[k], "o", color="tab:red", label=label.format(y[k]))
 
 
 def _finish(fig, ax, xlabel: str, ylabel: str, title: str, path: Path) -> None:
