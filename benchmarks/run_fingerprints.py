@@ -1,9 +1,10 @@
-"""A fingerprint of every registered lab test's run on both materials, on small specimens: the
-run's key and a SHA-256 of its responses, curve and cracks. A change that must not move the
-engine's numbers (a refactor) prints the same lines before and after; a different processor of
-the same kind prints the same lines too (`docs/concepts/reproducibility.md`).
+"""A fingerprint of every registered lab test's run on both materials, in 2D (balls and
+two-pebble clumps) and 3D, on small specimens: the run's key and a SHA-256 of its responses,
+curve and cracks, or the message of a combination the tool refuses. A change that must not move
+the engine's numbers (a refactor) prints the same lines before and after; a different processor
+of the same kind prints the same lines too (`docs/concepts/reproducibility.md`).
 
-    python benchmarks/run_fingerprints.py            # about 1 min on one core, specimens cached
+    python benchmarks/run_fingerprints.py            # about 3 min on one core, specimens cached
 """
 
 import hashlib
@@ -12,10 +13,16 @@ import json
 from rockcal.campaign.input.config import SpecimenSettings
 from rockcal.campaign.runs.pool import execute
 from rockcal.campaign.runs.spec import run_spec
+from rockcal.errors import InputError
 from rockcal.labtests.registry import LAB_TESTS
 
-SMALL = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16, disk_diameter_mm=10, beam_length_mm=44,
-                         beam_height_mm=10, notch_mm=3.6, notch_width_mm=0.8, span_mm=32)
+SIZES = dict(rmin_mm=0.4, width_mm=8, height_mm=16, disk_diameter_mm=10, beam_length_mm=44, beam_height_mm=10,
+             notch_mm=3.6, notch_width_mm=0.8, span_mm=32)
+VARIANTS = {  # name: the specimen settings beyond SIZES
+    "2D balls": {},
+    "2D clumps": {"grain_shape": "two-pebble"},
+    "3D spheres": {"dimensions": 3},
+}
 OWN = {"biaxial": {"confinement_mpa": 5.0}}  # its servo-controlled side walls at work
 MATERIALS = {
     "parallel_bond": {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 40.0, "tau_c": 60.0, "sigma_c_cv": 0.2,
@@ -34,12 +41,20 @@ def fingerprint(result) -> str:
 
 
 def main() -> None:
-    for model, params in MATERIALS.items():
-        for test in LAB_TESTS:
-            spec = run_spec(test, SMALL, params, model, OWN.get(test))
-            result = execute(spec)
-            print(f"{model:13s} {test:15s} key {spec.key}  {result.status:6s} {fingerprint(result)}  "
-                  f"{result.message}", flush=True)
+    for variant, extra in VARIANTS.items():
+        settings = SpecimenSettings(**SIZES, **extra)
+        for model, params in MATERIALS.items():
+            for test in LAB_TESTS:
+                line = f"{variant:10s} {model:13s} {test:15s}"
+                try:
+                    LAB_TESTS[test].check_dimensions(settings.dimensions, model)
+                    spec = run_spec(test, settings, params, model, OWN.get(test))
+                except InputError as error:
+                    print(f"{line} refused: {error}", flush=True)
+                    continue
+                result = execute(spec)
+                print(f"{line} key {spec.key}  {result.status:6s} {fingerprint(result)}  {result.message}",
+                      flush=True)
 
 
 if __name__ == "__main__":

@@ -1,14 +1,33 @@
-"""rockcal: identify bonded-particle DEM micro-parameters of rock from lab tests."""
+"""rockcal: identify bonded-particle DEM micro-parameters of rock from lab tests.
 
+The names below load on first use (PEP 562), so `import rockcal.dem.laws` loads no lab test
+and no campaign; no module of rockcal imports this face, so it closes no import cycle.
+"""
+
+from importlib import import_module
+
+from rockcal.version import __version__
 from rockcal.wide_vectors import prefer_512_bit_vectors
 
 prefer_512_bit_vectors()  # before numba loads
 
-from rockcal.api import Calibration, calibrate, simulate
-from rockcal.dem.specimen import Specimen, hexagonal, random_packing
-from rockcal.labtests.ucs import UCSResult, simulate_ucs
-from rockcal.params import MicroParams, make_params
+_HOMES = {  # a name of the face: the module it lives in
+    "Calibration": "rockcal.api", "calibrate": "rockcal.api", "simulate": "rockcal.api",
+    "Specimen": "rockcal.dem.specimen", "hexagonal": "rockcal.dem.specimen",
+    "random_packing": "rockcal.dem.specimen",
+    "UCSResult": "rockcal.labtests.ucs", "simulate_ucs": "rockcal.labtests.ucs",
+    "MicroParams": "rockcal.params", "make_params": "rockcal.params",
+}
+__all__ = sorted(_HOMES)
 
-__version__ = "0.2.1"  # part of every stored run's key: runs of another version are run again (CHANGELOG.md)
-__all__ = ["Calibration", "MicroParams", "Specimen", "UCSResult", "calibrate", "hexagonal", "make_params", "random_packing",
-           "simulate", "simulate_ucs"]
+
+def __getattr__(name: str):
+    if name not in _HOMES:
+        raise AttributeError(f"module 'rockcal' has no attribute {name!r}")
+    value = getattr(import_module(_HOMES[name]), name)
+    globals()[name] = value  # found once
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_HOMES))

@@ -143,7 +143,7 @@ def _given(ctx: typer.Context, options: dict) -> dict:
 
 def _draw_series(test: LabTest, done: list[tuple[dict, np.ndarray]], out: Path) -> None:
     """The test's figures of a series' runs together (the envelope), each as OUT/<test>_<title>.png."""
-    from rockcal import plots  # matplotlib: only for a command that draws
+    import rockcal.plots as plots  # matplotlib: only for a command that draws
 
     for figure in test.series_figures:
         if len(done) >= figure.min_runs:
@@ -241,7 +241,7 @@ def write_outputs(out: Path, test: LabTest, result, specimen, summary: dict, nam
     """A run's curve (CSV), summary (JSON), crack pattern (on three planes in 3D) and curve
     (PNG), named `name`, each written whole (`rockcal.output_files`: a link at its name is
     replaced, not followed)."""
-    from rockcal import plots
+    import rockcal.plots as plots
     from rockcal.output_files import atomic_path
 
     try:

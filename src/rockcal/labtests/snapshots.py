@@ -35,7 +35,7 @@ from typing import Callable
 
 import numpy as np
 
-import rockcal
+from rockcal.version import __version__
 from rockcal.dem.specimen import cache_dir
 
 SNAPSHOT_EVERY_S = 300.0
@@ -105,7 +105,7 @@ class Snapshot:
             version, earlier_s, objects = pickle.loads(body)
         except Exception:  # none, cut short, or of classes since changed: start afresh
             return None
-        if version != rockcal.__version__:
+        if version != __version__:
             return None
         self.earlier_s = earlier_s
         return objects
@@ -120,7 +120,7 @@ class Snapshot:
         part = self.path.with_suffix(".part")
         body = io.BytesIO()
         run_s = self.earlier_s + now - self._started_s
-        _SharingPickler(body, protocol=pickle.HIGHEST_PROTOCOL).dump((rockcal.__version__, run_s, objects))
+        _SharingPickler(body, protocol=pickle.HIGHEST_PROTOCOL).dump((__version__, run_s, objects))
         with open(part, "wb") as file:
             file.write(_signature(body.getbuffer()))
             file.write(body.getbuffer())

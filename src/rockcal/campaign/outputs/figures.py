@@ -12,7 +12,7 @@ from typing import Callable
 
 import numpy as np
 
-from rockcal import plots
+import rockcal.plots as plots
 from rockcal.campaign.runs.pool import specimen_of
 from rockcal.dem3d.specimen import Specimen3D, front_view
 from rockcal.campaign.procedure.result import CalibrationResult

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rockcal import __version__
+from rockcal.version import __version__
 from rockcal.dem.clump_genesis import CLUMP_GENESIS_VERSION
 from rockcal.dem.clump_templates import DEFAULT_SHAPE
 from rockcal.dem.specimen import GENERATOR_VERSION
