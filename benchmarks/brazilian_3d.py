@@ -8,7 +8,8 @@ its steps and seconds.
 
 import argparse
 
-from rockcal.dem3d.brazilian import brazilian_disk_3d, simulate_brazilian_3d
+from rockcal.dem3d.specimen import random_disk
+from rockcal.labtests.brazilian import simulate_brazilian
 from rockcal.materials.parallel_bond import make_params
 from ucs_3d import GRANITE_3D
 
@@ -23,10 +24,10 @@ def main() -> None:
     print(f"{'loading':18s} {'packing':>7s} {'spheres':>7s} {'sigma_t MPa':>11s} {'split':>5s} {'steps':>7s} {'s':>6s}")
     for loading in ("flat", "strips"):
         for seed in range(1, args.packings + 1):
-            disk = brazilian_disk_3d(args.diameter_mm, rmin_mm=args.rmin_mm, seed=seed)
+            disk = random_disk(args.diameter_mm, rmin_mm=args.rmin_mm, seed=seed)
             rates = (1.0, 0.5) if seed == 1 and loading == "flat" else (1.0,)
             for rate in rates:
-                r = simulate_brazilian_3d(params, disk, loading=loading, rate_factor=rate)
+                r = simulate_brazilian(params, disk, loading=loading, rate_factor=rate)
                 name = loading + (", half speed" if rate != 1.0 else "")
                 print(f"{name:18s} {seed:7d} {disk.n_spheres:7d} {r.sigma_t_MPa:11.1f} {r.split:5.0f} "
                       f"{r.steps:7d} {r.wall_s:6.1f}")

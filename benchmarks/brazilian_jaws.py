@@ -26,7 +26,8 @@ import numba
 import numpy as np
 
 from rockcal.campaign.input.config import load_campaign
-from rockcal.labtests.brazilian import STRIP_MODULUS_GPA, disk_centre, simulate_brazilian
+from rockcal.labtests.brazilian import STRIP_MODULUS_GPA, simulate_brazilian
+from rockcal.labtests.rig.platens import disk_of
 from rockcal.labtests.registry import lab_test
 from rockcal.labtests.rig.jaws import JAW_RADIUS_PER_DISK_RADIUS, touching_jaw_centre_y
 from rockcal.labtests.settings import specimen_settings
@@ -40,7 +41,7 @@ def first_touch_deg(specimen, loading: str) -> tuple[float, float]:
     """Where the loading first touches the disk, top and bottom: the touching grain's angle from
     the loaded diameter seen from the disk's centre (degrees, clockwise positive)."""
     pos, radius = specimen.pos, specimen.radius
-    cx, cy = disk_centre(specimen)
+    cx, cy = disk_of(specimen).centre
     if loading != "isrm":  # flat platens, bare or with strips: the highest and the lowest grain
         top, bottom = np.argmax(pos[:, 1] + radius), np.argmin(pos[:, 1] - radius)
     else:  # the grain farthest from each jaw's centre of curvature
@@ -95,7 +96,7 @@ def run(test, params, campaign, diameter_mm: float, seed: int, loading: str, out
                             f"{'split' if result.split else 'no central split'} (bonds broken by just after the peak)")
         plots.load_displacement(result.curve, out / f"{name}_curve.png", f"Brazilian, {loading}, packing {seed}")
         np.savetxt(out / f"{name}_curve.csv", result.curve, delimiter=",", header="closure_mm,load_kN_per_m")
-        np.savez(out / f"{name}_cracks.npz", centre=disk_centre(specimen), diameter_m=1e-3 * result.diameter_mm,
+        np.savez(out / f"{name}_cracks.npz", centre=disk_of(specimen).centre, diameter_m=1e-3 * result.diameter_mm,
                  grain_m=2 * specimen.radius.mean(), **result.peak_cracks)  # to read the failure mode again
     return row
 

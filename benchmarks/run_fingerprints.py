@@ -4,7 +4,7 @@ curve and cracks, or the message of a combination the tool refuses. A change tha
 the engine's numbers (a refactor) prints the same lines before and after; a different processor
 of the same kind prints the same lines too (`docs/concepts/reproducibility.md`).
 
-    python benchmarks/run_fingerprints.py            # about 3 min on one core, specimens cached
+    python benchmarks/run_fingerprints.py            # about 2 min on one core, specimens cached
 """
 
 import hashlib
@@ -18,10 +18,13 @@ from rockcal.labtests.registry import LAB_TESTS
 
 SIZES = dict(rmin_mm=0.4, width_mm=8, height_mm=16, disk_diameter_mm=10, beam_length_mm=44, beam_height_mm=10,
              notch_mm=3.6, notch_width_mm=0.8, span_mm=32)
-VARIANTS = {  # name: the specimen settings beyond SIZES
-    "2D balls": {},
-    "2D clumps": {"grain_shape": "two-pebble"},
-    "3D spheres": {"dimensions": 3},
+VARIANTS = {  # name: the specimen settings beyond SIZES, and the tests it runs (None: all)
+    "2D balls": ({}, None),
+    "2D clumps": ({"grain_shape": "two-pebble"}, None),
+    "2D jaws": ({"brazilian_loading": "isrm"}, ("brazilian",)),
+    "2D strips": ({"brazilian_loading": "strips"}, ("brazilian",)),
+    "3D spheres": ({"dimensions": 3, "disk_diameter_mm": 16}, None),  # a disk D/2 thick: 4 spheres across
+    "3D strips": ({"dimensions": 3, "disk_diameter_mm": 16, "brazilian_loading": "strips"}, ("brazilian",)),
 }
 OWN = {"biaxial": {"confinement_mpa": 5.0}}  # its servo-controlled side walls at work
 MATERIALS = {
@@ -41,10 +44,10 @@ def fingerprint(result) -> str:
 
 
 def main() -> None:
-    for variant, extra in VARIANTS.items():
-        settings = SpecimenSettings(**SIZES, **extra)
+    for variant, (extra, tests) in VARIANTS.items():
+        settings = SpecimenSettings(**SIZES | extra)
         for model, params in MATERIALS.items():
-            for test in LAB_TESTS:
+            for test in tests or LAB_TESTS:
                 line = f"{variant:10s} {model:13s} {test:15s}"
                 try:
                     LAB_TESTS[test].check_dimensions(settings.dimensions, model)

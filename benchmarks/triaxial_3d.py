@@ -1,4 +1,4 @@
-"""3D confined runs (`rockcal.dem3d.triaxial`) on a square prism from a genesis packing, one per
+"""3D confined runs (`rockcal.labtests.biaxial` on the 3D rig) on a square prism from a genesis packing, one per
 confinement, and the envelope through their peaks; the UCS test on the cylinder carved from
 the same packing, for the two shapes' strengths side by side; the loading speed halved at one
 confinement. Each run: peak sigma1, E, nu, the sigma3 the side walls held, the seating's and
@@ -21,8 +21,8 @@ import numpy as np
 from ucs_3d import GRANITE_3D
 
 from rockcal.dem3d.specimen import carve_cylinder, random_specimen
-from rockcal.dem3d.triaxial import simulate_triaxial_3d
-from rockcal.dem3d.ucs import simulate_ucs_3d
+from rockcal.labtests.biaxial import simulate_biaxial
+from rockcal.labtests.ucs import simulate_ucs
 from rockcal.labtests.envelope import envelope_responses
 from rockcal.materials.parallel_bond import make_params
 
@@ -54,17 +54,17 @@ def main() -> None:
           f"{len(prism.bonds)} bonds; genesis (or the cache) {time.perf_counter() - started:.0f} s", flush=True)
     runs = []
     for sigma3 in args.confinements:
-        runs.append(simulate_triaxial_3d(params, prism, sigma3))
+        runs.append(simulate_biaxial(params, prism, sigma3))
         show(f"sigma3 {sigma3:g} MPa", runs[-1])
     fit = envelope_responses([r.confinement_MPa for r in runs], [r.sigma1_MPa for r in runs])
     print("  envelope: " + ", ".join(f"{k} {v:.4g}" for k, v in fit.items()), flush=True)
     if args.halve_at in args.confinements:
         full = runs[args.confinements.index(args.halve_at)]
-        half = simulate_triaxial_3d(params, prism, args.halve_at, rate_factor=0.5)
+        half = simulate_biaxial(params, prism, args.halve_at, rate_factor=0.5)
         show(f"sigma3 {args.halve_at:g} MPa, half speed", half)
         print(f"  half speed moves sigma1 by {100 * (half.sigma1_MPa / full.sigma1_MPa - 1):+.2f} %", flush=True)
     cylinder = carve_cylinder(prism)
-    r = simulate_ucs_3d(params, cylinder)
+    r = simulate_ucs(params, cylinder)
     print(f"  UCS cylinder from the same packing ({cylinder.n_spheres} spheres): UCS {r.ucs_MPa:.1f} MPa, "
           f"E {r.E_GPa:.2f} GPa, nu {r.nu:.3f}, {r.wall_s:.1f} s", flush=True)
 

@@ -1,4 +1,4 @@
-"""A 3D UCS run (`rockcal.dem3d.ucs`) on a cylinder carved from a genesis packing: spheres,
+"""A 3D UCS run (`rockcal.labtests.ucs` on the 3D rig) on a cylinder carved from a genesis packing: spheres,
 bonds, steps, genesis and test wall time, E, ν, UCS and cracks, and the machine's load.
 
 Material: PFC3D-style granite values (E_c = Ē_c = 62 GPa, kn/ks 2.5, σ̄c = c̄ = 175 MPa with
@@ -17,7 +17,7 @@ import time
 import numba
 
 from rockcal.dem3d.specimen import random_specimen
-from rockcal.dem3d.ucs import simulate_ucs_3d
+from rockcal.labtests.ucs import simulate_ucs
 from rockcal.materials.parallel_bond import make_params
 from rockcal.params import parse_assignments
 
@@ -45,7 +45,7 @@ def main() -> None:
               f"floaters {spec.floaters}, porosity {spec.porosity:.3f}; genesis {genesis_s:.0f} s",
               flush=True)
         for rate in args.rates:
-            r = simulate_ucs_3d(params, spec, rate_factor=rate)
+            r = simulate_ucs(params, spec, rate_factor=rate)
             print(f"  rate {rate:g}: {r.steps} steps, {r.wall_s:.0f} s; E {r.E_GPa:.2f} GPa, "
                   f"nu {r.nu:.3f}, UCS {r.ucs_MPa:.1f} MPa at strain {r.peak_axial_strain:.4f}; "
                   f"cracks {r.n_broken_tension} tension + {r.n_broken_shear} shear; load average "

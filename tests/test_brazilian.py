@@ -25,12 +25,12 @@ from rockcal.labtests.brazilian import (
     brazilian_disk,
     broken_through,
     central_split,
-    disk_centre,
     simulate_brazilian,
 )
 from rockcal.labtests.kind import GENESIS, all_settings
 from rockcal.labtests.settings import specimen_settings
-from rockcal.labtests.rig import BearingStrip, Platens
+from rockcal.labtests.rig import BearingStrip, Disk, Platens
+from rockcal.labtests.rig.platens import disk_of
 from rockcal.labtests.rig.jaws import JAW_HALF_ARC_DEG, JAW_RADIUS_PER_DISK_RADIUS, Jaws
 
 
@@ -146,7 +146,7 @@ def test_the_jaws_are_arcs_of_one_and_a_half_disk_radii_mirrored_about_the_disk(
     one mirrored, and each faces the disk's arc within JAW_HALF_ARC_DEG of the loaded diameter."""
     jaws = Jaws(small_disk, make_params({}), 1.0)
     pos, radius = jaws.state.particles.pos, jaws.state.particles.radius
-    cx, cy = disk_centre(small_disk)
+    cx, cy = disk_of(small_disk).centre
     y, r = small_disk.pos[:, 1], small_disk.radius
     diameter = (y + r).max() - (y - r).min()
     assert jaws.jaw_radius_m == pytest.approx(JAW_RADIUS_PER_DISK_RADIUS * diameter / 2, rel=1e-12)
@@ -170,7 +170,7 @@ def test_the_jaws_touch_the_disk_on_a_contact_arc_of_a_few_degrees(small_disk):
     jaws = Jaws(small_disk, make_params({}), 1.0)
     pos, radius = jaws.state.particles.pos, jaws.state.particles.radius
     n = small_disk.n_particles
-    cx, cy = disk_centre(small_disk)
+    cx, cy = disk_of(small_disk).centre
     for jaw in (jaws.is_top, jaws.is_bottom):
         rim, grains = pos[jaw], pos[:n]
         gap = (np.hypot(rim[:, None, 0] - grains[None, :, 0], rim[:, None, 1] - grains[None, :, 1])
@@ -210,7 +210,7 @@ def test_a_small_disk_splits_between_the_jaws(small_disk):
     assert 0 < result.sigma_t_MPa < np.inf
     assert result.sigma_t_MPa == pytest.approx(
         2 * 1e3 * result.P_max_kN_per_m / (np.pi * 1e-3 * result.diameter_mm) / 1e6)
-    x = np.vstack(list(result.peak_cracks.values()))[:, 0] - disk_centre(small_disk)[0]
+    x = np.vstack(list(result.peak_cracks.values()))[:, 0] - disk_of(small_disk).centre[0]
     band = CENTRAL_BAND * 1e-3 * result.diameter_mm + 2 * small_disk.radius.mean()
     assert np.median(np.abs(x)) < band
 
@@ -344,6 +344,7 @@ def test_a_disk_the_bare_platens_crush_splits_between_strips():
 # grains 0.01 across, a broken bond every grain along a line.
 
 GRAIN = 0.01
+UNIT = Disk(1.0, 1.0, (0, 0), 1, 1.0)  # a 2D disk of unit diameter about the origin
 
 
 def _line(x0, y0, x1, y1):
@@ -353,15 +354,15 @@ def _line(x0, y0, x1, y1):
 
 def test_a_crack_along_the_loaded_diameter_is_a_central_split():
     crack = _line(0.0, -0.5, 0.0, 0.5)
-    assert central_split(crack, (0, 0), 1.0, GRAIN) and broken_through(crack, (0, 0), 1.0, GRAIN)
+    assert central_split(crack, UNIT, GRAIN) and broken_through(crack, UNIT, GRAIN)
     # the same crack about another centre, in another unit (metres of a 50 mm disk)
-    assert central_split(0.05 * crack + (0.025, 0.025), (0.025, 0.025), 0.05, 0.05 * GRAIN)
+    assert central_split(0.05 * crack + (0.025, 0.025), Disk(0.05, 1.0, (0.025, 0.025), 1, 1.0), 0.05 * GRAIN)
     # a crack wandering within the band, and its mirror image
     wavy = np.column_stack([0.06 * np.sin(np.linspace(0, 12, 101)), np.linspace(-0.5, 0.5, 101)])
-    assert central_split(wavy, (0, 0), 1.0, GRAIN) and central_split(wavy * (-1, 1), (0, 0), 1.0, GRAIN)
+    assert central_split(wavy, UNIT, GRAIN) and central_split(wavy * (-1, 1), UNIT, GRAIN)
     # isolated breaks elsewhere make no crack
     scattered = np.column_stack([np.full(9, 0.3), np.linspace(-0.4, 0.4, 9)])
-    assert central_split(np.vstack([crack, scattered]), (0, 0), 1.0, GRAIN)
+    assert central_split(np.vstack([crack, scattered]), UNIT, GRAIN)
 
 
 def test_a_crush_at_the_contacts_is_no_split():
@@ -369,8 +370,8 @@ def test_a_crush_at_the_contacts_is_no_split():
     disk's middle."""
     fan = [_line(0, 0.5, 0.1 * np.sin(a), 0.5 - 0.1 * np.cos(a)) for a in np.linspace(-1.0, 1.0, 9)]
     crush = np.vstack(fan + [c * (1, -1) for c in fan])
-    assert not central_split(crush, (0, 0), 1.0, GRAIN)
-    assert not broken_through(crush, (0, 0), 1.0, GRAIN)
+    assert not central_split(crush, UNIT, GRAIN)
+    assert not broken_through(crush, UNIT, GRAIN)
 
 
 def test_a_wedge_driven_by_a_crushed_contact_is_no_split():
@@ -378,9 +379,9 @@ def test_a_wedge_driven_by_a_crushed_contact_is_no_split():
     contact across the middle 0.3 D off it."""
     side = np.vstack([_line(0, 0.5, -0.3, 0.3), _line(-0.3, 0.3, -0.3, -0.35)])
     wedge = np.vstack([_line(0, 0.5, 0, -0.5), side])
-    assert broken_through(wedge, (0, 0), 1.0, GRAIN)
-    assert not central_split(wedge, (0, 0), 1.0, GRAIN)
-    assert not central_split(wedge * (-1, 1), (0, 0), 1.0, GRAIN)  # its mirror image
+    assert broken_through(wedge, UNIT, GRAIN)
+    assert not central_split(wedge, UNIT, GRAIN)
+    assert not central_split(wedge * (-1, 1), UNIT, GRAIN)  # its mirror image
 
 
 def test_short_side_cracks_beside_a_split_leave_it_a_split():
@@ -389,25 +390,25 @@ def test_short_side_cracks_beside_a_split_leave_it_a_split():
     a split. Joined into one long crack they are a wedge's side."""
     side = [_line(x, y, x, y + 0.12) for x, y in ((-0.3, -0.3), (0.3, -0.1), (-0.3, 0.1), (0.3, 0.25))]
     crack = _line(0.0, -0.5, 0.0, 0.5)
-    assert central_split(np.vstack([crack, *side]), (0, 0), 1.0, GRAIN)
-    assert not central_split(np.vstack([crack, _line(-0.3, -0.3, -0.3, 0.3)]), (0, 0), 1.0, GRAIN)
+    assert central_split(np.vstack([crack, *side]), UNIT, GRAIN)
+    assert not central_split(np.vstack([crack, _line(-0.3, -0.3, -0.3, 0.3)]), UNIT, GRAIN)
 
 
 def test_two_cracks_about_the_centre_are_a_split():
     """A split's damage zone may hold two cracks side by side, one 0.15 D off the diameter."""
     double = np.vstack([_line(0, -0.5, 0, 0.5), _line(0.15, -0.45, 0.15, 0.45)])
-    assert central_split(double, (0, 0), 1.0, GRAIN)
+    assert central_split(double, UNIT, GRAIN)
 
 
 def test_a_crack_from_a_contact_to_the_centre_is_half_a_split():
     """A crack across half the middle of the diameter counts (it has left the crushed zone and
     runs on through the centre); one across a third of it does not."""
-    assert central_split(_line(0, 0.5, 0, -0.01), (0, 0), 1.0, GRAIN)
-    assert not central_split(_line(0, 0.5, 0, 0.11), (0, 0), 1.0, GRAIN)
+    assert central_split(_line(0, 0.5, 0, -0.01), UNIT, GRAIN)
+    assert not central_split(_line(0, 0.5, 0, 0.11), UNIT, GRAIN)
 
 
 def test_a_crack_off_the_centre_breaks_the_disk_but_is_no_central_split():
     """A crack along the chord at 0.3 R from the loaded diameter (a load line off the centre)."""
     chord = _line(0.15, -0.47, 0.15, 0.47)
-    assert broken_through(chord, (0, 0), 1.0, GRAIN)
-    assert not central_split(chord, (0, 0), 1.0, GRAIN)
+    assert broken_through(chord, UNIT, GRAIN)
+    assert not central_split(chord, UNIT, GRAIN)

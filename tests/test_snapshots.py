@@ -11,8 +11,8 @@ import rockcal
 from rockcal.campaign.runs.pool import execute
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.campaign.input.config import SpecimenSettings
-from rockcal.dem3d.triaxial import simulate_triaxial_3d
-from rockcal.dem3d.ucs import simulate_ucs_3d
+from rockcal.labtests.biaxial import simulate_biaxial
+from rockcal.labtests.ucs import simulate_ucs
 from rockcal.dem.specimen import cache_dir
 from rockcal.labtests import snapshots
 from rockcal.labtests.biaxial import simulate_biaxial
@@ -47,12 +47,12 @@ def _ucs(**options):
 
 def _ucs_3d(**options):
     spec = _specimen("ucs", width_mm=8, height_mm=16, rmin_mm=0.5, dimensions=3)
-    return simulate_ucs_3d(parameters(material("parallel_bond"), BALLS), spec, **options)
+    return simulate_ucs(parameters(material("parallel_bond"), BALLS), spec, **options)
 
 
 def _confined_3d(**options):
     spec = _specimen("biaxial", width_mm=8, height_mm=16, rmin_mm=0.5, dimensions=3)
-    return simulate_triaxial_3d(parameters(material("parallel_bond"), BALLS), spec, 5.0, **options)
+    return simulate_biaxial(parameters(material("parallel_bond"), BALLS), spec, 5.0, **options)
 
 
 def _counted(stop_at: int | None = None):

@@ -1,4 +1,5 @@
-"""The 3D Brazilian test (`rockcal.dem3d.brazilian`) against what must hold:
+"""The Brazilian test on a 3D disk (`rockcal.labtests.brazilian` on the 3D rig) against what
+must hold:
 
 - sigma_t = 2 P / (pi D t), with the disk's nominal D and t, at the curve's peak load;
 - an elastic bonded simple-cubic disk between the flat platens is in equilibrium: the two
@@ -15,32 +16,43 @@
 import numpy as np
 import pytest
 
-from rockcal.dem3d.brazilian import (
-    CURVE_COLUMNS,
-    brazilian_disk_3d,
-    broken_through,
-    central_split,
-    simulate_brazilian_3d,
-    strip_modulus_pa,
-    tensile_strength_MPa,
-)
-from rockcal.dem3d.specimen import Specimen3D
+from rockcal.dem3d.specimen import Specimen3D, random_disk
 from rockcal.errors import InputError
-from rockcal.labtests.brazilian import DEFAULT_MAX_STRAIN, POST_PEAK_FRACTION
-from rockcal.labtests.loading import PAST_PEAK_FRACTION
-from rockcal.labtests.rig import BearingStrip
+from rockcal.labtests.brazilian import DEFAULT_MAX_STRAIN, POST_PEAK_FRACTION, broken_through, central_split
+from rockcal.labtests.brazilian import simulate_brazilian
+from rockcal.labtests.loading import (LOCALISED_DAMAGE, PAST_PEAK_FRACTION, RAMP_STEPS_PER_ROW, Loading, Reading,
+                                      load_to_failure)
+from rockcal.labtests.rig import BearingStrip, Disk
+from rockcal.labtests.rig.platens_3d import BOTTOM, TOP, Platens3D, strip_modulus_pa
 from rockcal.materials.parallel_bond import make_params
 
 GRANITE = make_params({"E_c": 62, "kn_ks": 2.5, "sigma_c": 175, "tau_c": 175,
                        "sigma_c_cv": 0.23, "tau_c_cv": 0.23, "mu": 0.5, "density": 2630})
 ELASTIC = make_params({"E_c": 20, "Ebar_c": 40, "kn_ks": 2.5, "sigma_c": 1e5, "tau_c": 1e5})
-LOAD, BOTTOM_LOAD, TOP_LOAD = (CURVE_COLUMNS.index(c) for c in ("load_kN", "bottom_load_kN", "top_load_kN"))
+LOAD = 1  # the curve's load column, kN per m of the disk's thickness
+
+
+def tensile_strength_MPa(load_N: float, diameter_m: float, thickness_m: float) -> float:
+    return 2.0 * load_N / (np.pi * diameter_m * thickness_m) / 1e6
+
+
+def platen_loads(params, disk, closure_m: float, strip: BearingStrip | None = None) -> np.ndarray:
+    """Rows (closure mm, bottom platen's load kN, top platen's kN) as the test's platens close on
+    `disk` by its loading rule up to `closure_m`: the test's run, read at each platen."""
+    platens = Platens3D(disk, params, 1.0, strip=strip)
+
+    def read() -> Reading:
+        bottom, top = platens.state.walls.normal_force()[[BOTTOM, TOP]]
+        return Reading(platens.load(), platens.closure_m(), (1e3 * platens.closure_m(), bottom / 1e3, top / 1e3))
+
+    return load_to_failure(platens, Loading(RAMP_STEPS_PER_ROW * platens.rows, LOCALISED_DAMAGE), read,
+                           lambda reading: False, closure_m, full_speed_past_peak=True)
 
 
 @pytest.fixture(scope="module")
 def disk():
     """A genesis disk D 12 x t 8 mm at R_min 0.6 mm (about 270 spheres)."""
-    return brazilian_disk_3d(12.0, 8.0, 0.6, seed=3, cache=False)
+    return random_disk(12.0, 8.0, 0.6, seed=3, cache=False)
 
 
 def lattice_disk(across: int, layers: int, r: float) -> Specimen3D:
@@ -67,16 +79,19 @@ def test_sigma_t_is_2P_over_pi_D_t():
 
 def test_an_elastic_lattice_disk_is_loaded_alike_top_and_bottom_and_linearly():
     disk = lattice_disk(9, 4, 1e-3)
-    result = simulate_brazilian_3d(ELASTIC, disk, max_strain=2e-3)
+    result = simulate_brazilian(ELASTIC, disk, max_strain=2e-3)
     assert result.n_broken_tension + result.n_broken_shear == 0
-    closure, load = result.curve[:, 0], result.curve[:, LOAD]
+    closure, load = result.curve[:, 0], result.curve[:, LOAD] * 8e-3  # kN
     assert closure[-1] >= 2e-3 * 18.0  # stopped at the largest closure: no peak, no fall
     assert int(np.argmax(load)) == len(load) - 1
     # sigma_t from the peak load and the nominal D x t
     assert result.sigma_t_MPa == pytest.approx(2 * 1e3 * load.max() / (np.pi * 18e-3 * 8e-3) / 1e6, rel=1e-12)
-    assert (result.diameter_mm, result.thickness_mm) == pytest.approx((18.0, 8.0))
+    assert result.diameter_mm == pytest.approx(18.0)
+    assert result.P_max_kN_per_m == pytest.approx(load.max() / 8e-3, rel=1e-12)
+    each = platen_loads(ELASTIC, disk, 2e-3 * 18e-3)
+    assert np.array_equal(each[:, 0], closure)  # the test's run
     loaded = load > 0.2 * load[-1]
-    bottom, top = result.curve[loaded, BOTTOM_LOAD], result.curve[loaded, TOP_LOAD]
+    bottom, top = each[loaded, 1], each[loaded, 2]
     assert np.abs(bottom - top).max() < 1e-4 * load[-1]  # equilibrium: the same load on both
     half = np.argmin(np.abs(closure - 0.5 * closure[-1]))
     # linear: the same secant stiffness at half and at the full closure
@@ -90,7 +105,7 @@ def test_a_bearing_strip_is_a_softer_column_in_series_with_the_platen():
     k = np.pi * strip_modulus_pa(strip, bare, r) * r
     assert k == pytest.approx(1 / (1 / column + 1 / (np.pi * bare * r)), rel=1e-12)
     disk = lattice_disk(9, 4, 1e-3)
-    flat, strips = (simulate_brazilian_3d(ELASTIC, disk, loading=loading, max_strain=2e-3)
+    flat, strips = (simulate_brazilian(ELASTIC, disk, loading=loading, max_strain=2e-3)
                     for loading in ("flat", "strips"))
     slope = [run.curve[-1, LOAD] / run.curve[-1, 0] for run in (flat, strips)]
     assert slope[1] < 0.5 * slope[0]
@@ -111,13 +126,16 @@ def crack_plane(x: float, z_from: float, z_to: float, y_step: float = 1.0) -> np
     return 1e-3 * np.column_stack([np.full(zz.size, x), yy.ravel(), zz.ravel()])
 
 
+DISK = Disk(D, T, CENTRE, 2, T / GRAIN)
+
+
 def split(cracks) -> bool:
-    return central_split(cracks, CENTRE, D, T, GRAIN)
+    return central_split(cracks, DISK, GRAIN)
 
 
 def test_a_crack_in_the_loaded_plane_across_the_thickness_is_a_split():
     cracks = crack_plane(25.3, 0.5, 50)
-    assert split(cracks) and broken_through(cracks, CENTRE, D, T, GRAIN)
+    assert split(cracks) and broken_through(cracks, DISK, GRAIN)
     assert split(crack_plane(25.3, 10, 40))  # the middle only, the ends crushed or not
 
 
@@ -125,7 +143,7 @@ def test_a_crush_at_the_platens_is_no_split():
     crushed = np.vstack([crack_plane(x, 0, 5) for x in (22, 25, 28)]
                         + [crack_plane(x, 45, 50) for x in (22, 25, 28)])
     assert not split(crushed)
-    assert not broken_through(crushed, CENTRE, D, T, GRAIN)
+    assert not broken_through(crushed, DISK, GRAIN)
 
 
 def test_a_crack_off_the_centre_or_a_wedge_is_no_split():
@@ -144,14 +162,14 @@ def test_a_crack_through_one_layer_of_a_thick_disk_is_no_split():
 
 def test_bad_loadings_and_disks_are_refused(disk):
     with pytest.raises(InputError, match="loading"):
-        simulate_brazilian_3d(GRANITE, disk, loading="isrm")
+        simulate_brazilian(GRANITE, disk, loading="isrm")
     with pytest.raises(InputError, match="thickness_mm"):
-        brazilian_disk_3d(20.0, 6.0, 0.8)
+        random_disk(20.0, 6.0, 0.8)
 
 
 def test_a_small_disk_peaks_and_stops_past_the_peak_as_in_2D(disk):
-    result = simulate_brazilian_3d(GRANITE, disk)
-    closure, load, broken = result.curve[:, 0], result.curve[:, LOAD], result.curve[:, 2]
+    result = simulate_brazilian(GRANITE, disk)
+    closure, load = result.curve[:, 0], result.curve[:, LOAD] * 8e-3  # kN
     peak = int(np.argmax(load))
     assert 0 < peak < len(load) - 1
     # the flat platens' stop rule: the load fallen below POST_PEAK_FRACTION of the peak with the
@@ -159,31 +177,33 @@ def test_a_small_disk_peaks_and_stops_past_the_peak_as_in_2D(disk):
     # largest closure, DEFAULT_MAX_STRAIN x D
     assert load[-1] < POST_PEAK_FRACTION * load[peak]
     assert closure[-1] > closure[peak] + 1e3 * disk.radius.mean() or closure[-1] >= DEFAULT_MAX_STRAIN * 12.0
-    assert np.all(np.diff(broken) >= 0) and broken[-1] == result.n_broken_tension + result.n_broken_shear
     assert result.sigma_t_MPa == pytest.approx(tensile_strength_MPa(1e3 * load[peak], 12e-3, 8e-3), rel=1e-12)
-    before = (load > 0.2 * load[peak]) & (np.arange(len(load)) <= peak)
-    bottom, top = result.curve[before, BOTTOM_LOAD], result.curve[before, TOP_LOAD]
+    each = platen_loads(GRANITE, disk, 1e-3 * closure[peak])
+    assert np.array_equal(each[:, 0], closure[:len(each)])  # the test's run, up to the peak
+    before = (load[:len(each)] > 0.2 * load[peak]) & (np.arange(len(each)) <= peak)
+    bottom, top = each[before, 1], each[before, 2]
     # quasi-static: the platens bear the same load, but for the moments a break shakes the disk
     assert np.mean(np.abs(bottom - top)) < 0.01 * load[peak]
     assert np.median(np.abs(bottom - top)) < 0.002 * load[peak]
     # the cracks read for `split` are those broken by just after the peak
-    assert sum(len(v) for v in result.peak_cracks.values()) <= broken[-1]
+    assert sum(len(v) for v in result.peak_cracks.values()) <= result.n_broken_tension + result.n_broken_shear
 
 
 def test_strips_stop_at_the_first_fall_that_left_a_crack_across(disk):
-    result = simulate_brazilian_3d(GRANITE, disk, loading="strips")
+    result = simulate_brazilian(GRANITE, disk, loading="strips")
     load = result.curve[:, LOAD]
     assert load[-1] < PAST_PEAK_FRACTION * load.max()
     cracks = np.vstack(list(result.peak_cracks.values()))
     pos, radius = disk.pos, disk.radius
     centre = tuple(0.5 * ((pos[:, a] - radius).min() + (pos[:, a] + radius).max()) for a in (0, 2))
-    assert broken_through(cracks, centre, 12e-3, 8e-3, 2 * radius.mean())
+    grain = 2 * radius.mean()
+    assert broken_through(cracks, Disk(12e-3, 8e-3, centre, 2, 8e-3 / grain), grain)
 
 
 def test_the_same_seed_gives_the_same_numbers_bit_for_bit(disk):
-    again = brazilian_disk_3d(12.0, 8.0, 0.6, seed=3, cache=False)
+    again = random_disk(12.0, 8.0, 0.6, seed=3, cache=False)
     for name in ("pos", "radius", "bonds", "bond_draws"):
         assert np.array_equal(getattr(disk, name), getattr(again, name)), name
-    runs = [simulate_brazilian_3d(GRANITE, specimen) for specimen in (disk, again)]
+    runs = [simulate_brazilian(GRANITE, specimen) for specimen in (disk, again)]
     assert np.array_equal(runs[0].curve, runs[1].curve)
     assert runs[0].sigma_t_MPa == runs[1].sigma_t_MPa and runs[0].split == runs[1].split

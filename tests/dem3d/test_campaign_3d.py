@@ -17,7 +17,7 @@ from rockcal.campaign.runs.pool import Executor, execute
 from rockcal.campaign.runs.spec import ENGINE, RunSpec, run_spec
 from rockcal.campaign.runs.store import RunStore
 from rockcal.dem3d.specimen import Specimen3D
-from rockcal.dem3d.ucs import simulate_ucs_3d
+from rockcal.labtests.ucs import simulate_ucs
 from rockcal.labtests.kind import LATER_SETTINGS, all_settings
 from rockcal.labtests.settings import specimen_settings
 from rockcal.labtests.ucs import TEST as UCS
@@ -90,11 +90,11 @@ def test_the_ucs_kind_runs_the_3d_test_on_a_cylinder(cylinder_settings):
     assert specimen.size_m == pytest.approx((7e-3, 7e-3, 14e-3))
     axis = np.hypot(*(specimen.pos[:, :2] - 3.5e-3).T)
     assert axis.max() <= 3.5e-3  # centres inside the cylinder of the width as diameter
-    assert 200 < specimen.n_spheres < 400
+    assert 200 < specimen.n_particles < 400
     result = UCS.run(as_params(PARAMS), specimen, s, lambda x, y: None)
-    direct = simulate_ucs_3d(PARAMS, specimen)
+    direct = simulate_ucs(PARAMS, specimen)
     assert (result.E_GPa, result.nu, result.ucs_MPa) == (direct.E_GPa, direct.nu, direct.ucs_MPa)
-    assert result.n_particles == specimen.n_spheres
+    assert result.n_particles == specimen.n_particles
     # spheres and cracks in 3D, as the engine gave them
     assert np.array_equal(result.positions, direct.positions)
     broken = {mode: len(xyz) for mode, xyz in result.cracks.items()}
@@ -125,9 +125,9 @@ def test_simulate_ucs_in_3d_runs_the_cylinder(cli, tmp_path, cylinder_settings, 
     assert run.returncode == 0, run.stderr
     summary = json.loads(run.stdout)
     specimen = UCS.make(cylinder_settings)
-    assert summary["n_particles"] == specimen.n_spheres
+    assert summary["n_particles"] == specimen.n_particles
     assert summary["contact_stiffness"] == "pfc5" and summary["specimen"].startswith("cylinder 7x14 mm")
-    assert summary["ucs_MPa"] == pytest.approx(simulate_ucs_3d(PARAMS, specimen).ucs_MPa, rel=1e-12)
+    assert summary["ucs_MPa"] == pytest.approx(simulate_ucs(PARAMS, specimen).ucs_MPa, rel=1e-12)
     assert (tmp_path / "ucs_cracks.png").stat().st_size > 0
     # its crack picture: the cylinder's cracks in 3D on three planes
     (cracks, shape, size_m, path, _), = planes
@@ -139,7 +139,7 @@ def test_simulate_ucs_in_3d_runs_the_cylinder(cli, tmp_path, cylinder_settings, 
 @pytest.mark.slow  # a campaign of 14 small 3D runs: about 10 s
 def test_a_3d_campaign_of_ucs_targets_runs_the_whole_procedure(tmp_path):
     # targets 5 % off the cylinder's own at the box's centre: within reach whatever its packing
-    centre = simulate_ucs_3d(PARAMS, UCS.make(specimen_settings(UCS, CYLINDER)))
+    centre = simulate_ucs(PARAMS, UCS.make(specimen_settings(UCS, CYLINDER)))
     text = CAMPAIGN.format(E_GPa=1.05 * centre.E_GPa, nu=0.95 * centre.nu, ucs_MPa=1.05 * centre.ucs_MPa,
                            sensitivity=SENSITIVITY, samples=8, checks=1, tolerance=0.05, budget=14)
     store = RunStore(tmp_path)
@@ -152,7 +152,7 @@ def test_a_3d_campaign_of_ucs_targets_runs_the_whole_procedure(tmp_path):
     assert all(abs(e) <= 0.05 for e in record.errors.values())
     final = store.run(record.final_ucs_run_key)
     assert final.specimen["dimensions"] == 3
-    assert final.responses["n_particles"] == UCS.make(specimen_settings(UCS, CYLINDER)).n_spheres
+    assert final.responses["n_particles"] == UCS.make(specimen_settings(UCS, CYLINDER)).n_particles
     store.close()
 
 
@@ -218,7 +218,7 @@ def test_a_3d_calibration_exports_pfc3ds_parameter_file_and_its_spheres(cli, tmp
     assert listed.returncode == 0, listed.stderr
     balls = np.genfromtxt(tmp_path / "spheres" / "balls.csv", delimiter=",", names=True)
     assert balls.dtype.names[:5] == ("id", "x_m", "y_m", "z_m", "radius_m")
-    assert len(balls) == UCS.make(specimen_settings(UCS, CYLINDER)).n_spheres
+    assert len(balls) == UCS.make(specimen_settings(UCS, CYLINDER)).n_particles
 
 
 @pytest.mark.slow  # a genesis of a few seconds
@@ -229,7 +229,7 @@ def test_the_first_screen_counts_the_cylinders_spheres(cylinder_settings):
     from rockcal.campaign.plan.screen import specimen_size
 
     planned = specimen_size("ucs", SpecimenSettings(**CYLINDER))[1]
-    made = UCS.make(cylinder_settings).n_spheres
+    made = UCS.make(cylinder_settings).n_particles
     assert planned == pytest.approx(made, rel=0.15)
 
 
@@ -238,20 +238,19 @@ DISK = {"dimensions": 3, "disk_diameter_mm": 14.0, "rmin_mm": 0.5, "brazilian_lo
 
 @pytest.mark.slow  # a genesis and a small 3D Brazilian run: about 10 s
 def test_the_brazilian_kind_runs_the_3d_test_on_a_disk():
-    """The Brazilian kind in 3D is `simulate_brazilian_3d` on a disk D x D/2, read as the 2D
-    test's result: sigma_t and the split as they are, the load per metre of its thickness, the
-    spheres and cracks in 3D; a 3D run is keyed by its dimensions."""
-    from rockcal.dem3d.brazilian import simulate_brazilian_3d
+    """The Brazilian kind in 3D is `simulate_brazilian` on a disk D x D/2: sigma_t = 2 P /
+    (pi D t) with the load per metre of its thickness, the spheres and cracks in 3D; a 3D run
+    is keyed by its dimensions."""
     from rockcal.labtests.brazilian import TEST as BRAZILIAN
+    from rockcal.labtests.brazilian import simulate_brazilian
 
     s = specimen_settings(BRAZILIAN, DISK)
     disk = BRAZILIAN.make(s)
     assert disk.shape == "disk" and disk.size_m[1] == pytest.approx(disk.size_m[0] / 2)
     result = BRAZILIAN.run(as_params(PARAMS), disk, s, None)
-    alone = simulate_brazilian_3d(as_params(PARAMS), disk, loading="strips")
+    alone = simulate_brazilian(as_params(PARAMS), disk, loading="strips")
     assert result.sigma_t_MPa == alone.sigma_t_MPa and result.split == alone.split
-    assert result.P_max_kN_per_m == pytest.approx(alone.P_max_kN / disk.size_m[1], rel=1e-12)
     assert result.sigma_t_MPa == pytest.approx(2e-3 * result.P_max_kN_per_m / (np.pi * disk.size_m[0]), rel=1e-12)
-    assert result.positions.shape == (disk.n_spheres, 3)
+    assert result.positions.shape == (disk.n_particles, 3)
     assert sum(len(c) for c in result.cracks.values()) == result.n_broken_tension + result.n_broken_shear
     assert dict(run_spec("brazilian", SpecimenSettings(**DISK), PARAMS).specimen)["dimensions"] == 3

@@ -17,7 +17,7 @@ from rockcal.campaign.runs.spec import RunResult, run_spec
 from rockcal.campaign.runs.store import RunStore, to_blob
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.dem3d.specimen import front_view
-from rockcal.dem3d.ucs import simulate_ucs_3d
+from rockcal.labtests.ucs import simulate_ucs
 from rockcal.labtests.settings import specimen_settings
 from rockcal.labtests.ucs import TEST as UCS
 
@@ -146,7 +146,7 @@ def test_a_3d_run_keeps_its_cracks_in_3d_through_the_store(tmp_path, spies):
     stored = store.run(spec.key).cracks
     assert np.array_equal(stored, result.cracks)
 
-    direct = simulate_ucs_3d(PARAMS, UCS.make(specimen_settings(UCS, CYLINDER)))
+    direct = simulate_ucs(PARAMS, UCS.make(specimen_settings(UCS, CYLINDER)))
     for code, mode in ((BROKEN_TENSION, "tension"), (BROKEN_SHEAR, "shear")):
         assert np.array_equal(stored[stored[:, 3] == code, :3], direct.cracks[mode])
 

@@ -25,7 +25,7 @@ from rockcal.dem3d.export import (
     write_p3dat,
     write_specimen_3d,
 )
-from rockcal.dem3d.material import material_state
+from rockcal.materials import new_state
 from rockcal.dem3d.specimen import Specimen3D
 from rockcal.errors import InputError
 from rockcal.materials.fishtank import MATERIAL_TYPES
@@ -144,7 +144,7 @@ def test_the_ball_and_bond_lists_read_back_as_the_specimen_and_its_engine_bonds(
     ri, rj = block.radius[block.bonds].T
     np.testing.assert_array_equal(table[:, BOND_COLUMNS.index("bond_radius_m")], 0.8 * np.minimum(ri, rj))
     # what the engine's bonds hold, pair by pair
-    state = material_state(PARAMS, block)
+    state = new_state(PARAMS, block)
     nb = state.neighbours.n_bonds
     engine = {(int(i), int(j)): p for p, (i, j) in enumerate(zip(state.neighbours.pi[:nb],
                                                                  state.neighbours.pj[:nb]))}

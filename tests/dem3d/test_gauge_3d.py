@@ -1,10 +1,12 @@
-"""The 3D gauges (`rockcal.dem3d.gauge`) read what their definition says, to the bit: the
+"""The 3D gauges (`rockcal.labtests.rig.gauge_3d`) read what their definition says, to the bit: the
 interquartile mean of displacements, computed with numpy's own (pairwise) sums."""
+
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from rockcal.dem3d.gauge import Gauge3D, central_mean, faces
+from rockcal.labtests.rig.gauge_3d import Gauge3D, central_mean, faces
 from rockcal.dem3d.specimen import Specimen3D
 
 
@@ -40,7 +42,7 @@ def test_strains_are_their_definition_to_the_bit(shape):
     or from the two widths (a prism)."""
     specimen = cloud(shape)
     pos = specimen.pos.copy()
-    gauge = Gauge3D(specimen, pos)
+    gauge = Gauge3D(specimen, SimpleNamespace(particles=SimpleNamespace(pos=pos)))
     start = pos.copy()
     pos += np.random.default_rng(1).normal(0, 1e-6, pos.shape)
     moved = pos - start

@@ -1,5 +1,5 @@
-"""The 3D confined test (`rockcal.dem3d.triaxial`: a square prism between platens and four
-servo-controlled side walls) against what must hold:
+"""The confined test on a 3D prism (`rockcal.labtests.biaxial` on the 3D rig: a square prism
+between platens and four servo-controlled side walls) against what must hold:
 
 - an elastic bonded simple-cubic prism is a cubic lattice of C11 = (kn + k̄nĀ) / d in
   compression and C12 = 0 (`test_lattice_3d`): seated at sigma3 every wall settles at sigma3
@@ -19,12 +19,11 @@ from test_input_3d import calibrate, campaign, one_line
 from test_ucs_3d import GRANITE, cubic_prism
 
 from rockcal.dem3d.laws import bond_springs, contact_springs
-from rockcal.dem3d.material import laws_of
-from rockcal.dem3d.platens import SIDES, Platens3D
-from rockcal.dem3d.sides import SideWalls3D
-from rockcal.dem3d.simulate import advance, scale_density
-from rockcal.dem3d.triaxial import simulate_triaxial_3d
-from rockcal.dem3d.ucs import simulate_ucs_3d
+from rockcal.materials.parallel_bond import laws_3d
+from rockcal.labtests.rig.platens_3d import SIDES, Platens3D
+from rockcal.labtests.rig.sides_3d import SideWalls3D
+from rockcal.labtests.biaxial import simulate_biaxial
+from rockcal.labtests.ucs import simulate_ucs
 from rockcal.labtests.biaxial import MAX_CONFINEMENT_MPA
 from rockcal.labtests.rig.sides import SEATING_TOLERANCE
 from rockcal.materials.parallel_bond import make_params
@@ -42,7 +41,7 @@ def lattice():
 
 def c11(params) -> float:
     """The simple-cubic lattice's C11 in compression, Pa: bond and contact in parallel over d."""
-    laws = laws_of(params)
+    laws = laws_3d(params)
     kbn_a, _, _, _ = bond_springs(R, 2 * R, laws)
     kn, _ = contact_springs(R, 2 * R, laws)
     return (kn + kbn_a) / (2 * R)
@@ -50,7 +49,7 @@ def c11(params) -> float:
 
 def seated(specimen, params, sigma3_mpa):
     platens = Platens3D(specimen, params, 1.6, side_walls=True)
-    scale_density(platens.state)
+    platens.state.scale_density()
     sides = SideWalls3D(platens, specimen, sigma3_mpa * MPa)
     return platens, sides, sides.seat()
 
@@ -69,7 +68,7 @@ def test_a_seated_lattice_is_at_sigma3_and_shortened_by_sigma3_over_c11(lattice)
 
 
 def test_a_confined_lattice_reads_c11_and_no_poisson_effect(lattice):
-    result = simulate_triaxial_3d(ELASTIC, lattice, SIGMA3_MPA, max_axial_strain=5e-3)
+    result = simulate_biaxial(ELASTIC, lattice, SIGMA3_MPA, max_axial_strain=5e-3)
     assert result.n_broken_tension + result.n_broken_shear == 0
     # q is read on the original cross-section, which the seating shrank by sigma3 / C11 each way
     seated_area = (1 - SIGMA3_MPA * MPa / c11(ELASTIC)) ** 2
@@ -90,7 +89,7 @@ def test_the_four_side_walls_of_a_symmetric_lattice_bear_the_same_stress(lattice
     platens.move(1.0)
     for _ in range(1000):
         sides.update()
-        advance(state, sides.steps)
+        state.advance(sides.steps)
         side = sides.stresses_Pa()
         # alike to 1e-4 of sigma3 (3e-5 measured), 50 x finer than the seating's tolerance:
         # the walls differ by rounding alone, in the order their spheres' forces are summed
@@ -101,7 +100,7 @@ def test_the_four_side_walls_of_a_symmetric_lattice_bear_the_same_stress(lattice
 @pytest.fixture(scope="module")
 def runs(small_cuboid):
     """`conftest.small_cuboid` (10 x 10 x 20 mm at R_min 0.6 mm) unconfined and at 5 MPa."""
-    return {s3: simulate_triaxial_3d(GRANITE, small_cuboid, s3) for s3 in (0.0, 5.0)}
+    return {s3: simulate_biaxial(GRANITE, small_cuboid, s3) for s3 in (0.0, 5.0)}
 
 
 def test_confinement_raises_the_peak_and_the_side_walls_hold_sigma3(runs):
@@ -116,13 +115,13 @@ def test_confinement_raises_the_peak_and_the_side_walls_hold_sigma3(runs):
 
 
 def test_unconfined_it_is_the_ucs_test_on_the_prism_to_the_last_bit(small_cuboid, runs):
-    ucs = simulate_ucs_3d(GRANITE, small_cuboid)
+    ucs = simulate_ucs(GRANITE, small_cuboid)
     assert np.array_equal(ucs.curve, runs[0.0].curve[:, :4])
     assert ucs.ucs_MPa == runs[0.0].sigma1_MPa and ucs.E_GPa == runs[0.0].E_GPa
 
 
 def test_the_same_prism_gives_the_same_numbers_bit_for_bit(small_cuboid):
-    first, second = (simulate_triaxial_3d(GRANITE, small_cuboid, 5.0, max_axial_strain=2e-3) for _ in range(2))
+    first, second = (simulate_biaxial(GRANITE, small_cuboid, 5.0, max_axial_strain=2e-3) for _ in range(2))
     assert np.array_equal(first.curve, second.curve)
     assert first.seating_steps == second.seating_steps and np.array_equal(first.positions, second.positions)
 
@@ -144,5 +143,5 @@ def test_a_3d_campaign_with_confined_targets_is_accepted(cli, tmp_path):
 
 @pytest.mark.slow
 def test_halving_the_loading_speed_moves_the_confined_peak_by_less_than_2_percent(small_cuboid):
-    full, half = (simulate_triaxial_3d(GRANITE, small_cuboid, 10.0, rate_factor=rate) for rate in (1.0, 0.5))
+    full, half = (simulate_biaxial(GRANITE, small_cuboid, 10.0, rate_factor=rate) for rate in (1.0, 0.5))
     assert half.sigma1_MPa == pytest.approx(full.sigma1_MPa, rel=0.02)

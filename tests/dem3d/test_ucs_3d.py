@@ -1,4 +1,4 @@
-"""The 3D UCS test (`rockcal.dem3d.ucs`) against what must hold:
+"""The UCS test on 3D specimens (`rockcal.labtests.ucs` on the 3D rig) against what must hold:
 
 - a bonded simple-cubic prism between the platens is a bundle of independent columns: each
   bond (contact and parallel bond in parallel, k = π (E_c + Ē_c) R / 2) is squeezed by ε d,
@@ -13,10 +13,9 @@
 import numpy as np
 import pytest
 
-from rockcal.dem3d.platens import Platens3D
-from rockcal.dem3d.simulate import advance, scale_density
+from rockcal.labtests.rig.platens_3d import Platens3D
 from rockcal.dem3d.specimen import Specimen3D, random_specimen
-from rockcal.dem3d.ucs import simulate_ucs_3d
+from rockcal.labtests.ucs import simulate_ucs
 from rockcal.labtests.ucs import POST_PEAK_FRACTION
 from rockcal.materials.parallel_bond import make_params
 
@@ -44,7 +43,7 @@ def cubic_prism(side: int, r: float) -> Specimen3D:
 
 def test_a_simple_cubic_prism_reads_the_columns_modulus_and_no_poisson_effect():
     params = make_params({"E_c": 10, "Ebar_c": 30, "kn_ks": 2.5, "sigma_c": 1e5, "tau_c": 1e5})
-    result = simulate_ucs_3d(params, cubic_prism(5, 1e-3), max_axial_strain=5e-3)
+    result = simulate_ucs(params, cubic_prism(5, 1e-3), max_axial_strain=5e-3)
     assert result.n_broken_tension + result.n_broken_shear == 0
     assert result.E_GPa == pytest.approx(np.pi * (10 + 30) / 4, rel=2e-3)
     assert abs(result.nu) < 1e-5
@@ -53,8 +52,8 @@ def test_a_simple_cubic_prism_reads_the_columns_modulus_and_no_poisson_effect():
 def test_a_bonded_specimen_between_touching_platens_stays_at_rest(cylinder):
     platens = Platens3D(cylinder, GRANITE, 1.0)
     state = platens.state
-    scale_density(state)
-    advance(state, 2000)
+    state.scale_density()
+    state.advance(2000)
     # a sphere may touch a platen by a rounding error: forces of 1e-11 N against 1e4 N at the peak
     assert np.abs(state.spheres.vel).max() < 1e-9 * platens.speed
     assert np.abs(state.spheres.force).max() < 1e-9
@@ -62,7 +61,7 @@ def test_a_bonded_specimen_between_touching_platens_stays_at_rest(cylinder):
 
 
 def test_a_small_cylinder_loads_linearly_peaks_and_fails(cylinder):
-    result = simulate_ucs_3d(GRANITE, cylinder)
+    result = simulate_ucs(GRANITE, cylinder)
     strain, _, stress, broken = result.curve.T
     peak = int(np.argmax(stress))
     assert 0 < peak < len(stress) - 1
@@ -77,7 +76,7 @@ def test_a_small_cylinder_loads_linearly_peaks_and_fails(cylinder):
 
 
 def test_the_same_specimen_gives_the_same_curve_bit_for_bit(cylinder):
-    runs = [simulate_ucs_3d(GRANITE, cylinder, max_axial_strain=2e-3) for _ in range(2)]
+    runs = [simulate_ucs(GRANITE, cylinder, max_axial_strain=2e-3) for _ in range(2)]
     assert np.array_equal(runs[0].curve, runs[1].curve)
 
 
@@ -85,6 +84,6 @@ def test_the_same_specimen_gives_the_same_curve_bit_for_bit(cylinder):
 def test_halving_the_loading_speed_moves_E_nu_and_ucs_by_less_than_2_percent():
     """On a 12 x 24 mm cylinder at R_min 0.6 mm (about 575 spheres)."""
     cylinder = random_specimen("cylinder", 12.0, 24.0, 0.6, seed=1, cache=False)
-    full, half = (simulate_ucs_3d(GRANITE, cylinder, rate_factor=rate) for rate in (1.0, 0.5))
+    full, half = (simulate_ucs(GRANITE, cylinder, rate_factor=rate) for rate in (1.0, 0.5))
     for name in ("E_GPa", "nu", "ucs_MPa"):
         assert getattr(half, name) == pytest.approx(getattr(full, name), rel=0.02), name

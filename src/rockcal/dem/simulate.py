@@ -125,6 +125,14 @@ class State:
         state = self.breaks()[0]
         return int(np.count_nonzero(state if mode is None else state == mode))
 
+    def advance(self, n_steps: int) -> None:
+        """Run `n_steps` time steps (`advance`)."""
+        advance(self, n_steps)
+
+    def scale_density(self) -> float:
+        """Scale the masses for a quasi-static test (`scale_density`)."""
+        return scale_density(self)
+
 
 @njit(cache=True)
 def _wall_totals(a):

@@ -65,6 +65,7 @@ class Specimen:
     # None: those of seed 1
     joint_draws: np.ndarray | None = None
     clump_of: np.ndarray | None = None  # per particle its clump (`clumps.members`); None: balls
+    dimensions = 2  # PFC2D's disks: the one place a lab test, a report or a figure asks
 
     @property
     def n_particles(self) -> int:

@@ -47,10 +47,30 @@ class State:
     def n_spheres(self) -> int:
         return self.spheres.pos.shape[0]
 
+    @property
+    def particles(self) -> Spheres:  # the engine protocol's name (`rockcal.engine`)
+        return self.spheres
+
+    @property
+    def n_particles(self) -> int:
+        return self.n_spheres
+
+    def breaks(self) -> tuple[np.ndarray, np.ndarray]:
+        """How each bond broke (laws.INTACT, BROKEN_TENSION, BROKEN_SHEAR) and where (m)."""
+        return self.bonds.state, self.bonds.break_xyz
+
     def n_broken(self, mode: int | None = None) -> int:
         """Bonds broken so far, in `mode` (laws.BROKEN_TENSION, BROKEN_SHEAR) or (None) either."""
         state = self.bonds.state
         return int(np.count_nonzero(state != INTACT if mode is None else state == mode))
+
+    def advance(self, n_steps: int) -> None:
+        """Run `n_steps` time steps (`advance`)."""
+        advance(self, n_steps)
+
+    def scale_density(self) -> float:
+        """Scale the masses for a quasi-static test (`scale_density`)."""
+        return scale_density(self)
 
 
 def assemble_state(pos, radius, pairs, density: float, laws: Laws, *, damping=0.7,

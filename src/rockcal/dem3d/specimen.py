@@ -49,6 +49,7 @@ class Specimen3D:
     floaters: int = 0  # spheres the genesis left with fewer than 3 contacts in the vessel
     rmin_mm: float = float("nan")  # the cloud's R_min
     install_gap: float = float("nan")  # the bonds' installation gap / R_min
+    dimensions = 3  # PFC3D's spheres: the one place a lab test, a report or a figure asks
 
     @property
     def n_spheres(self) -> int:
@@ -167,6 +168,35 @@ def carve_disk(cuboid: Specimen3D) -> Specimen3D:
     d, t, _ = cuboid.size_m
     inside = np.hypot(cuboid.pos[:, 0] - d / 2, cuboid.pos[:, 2] - d / 2) <= d / 2
     return _carved(cuboid, inside, "disk", (d, t, d))
+
+
+DISK_THICKNESS_PER_DIAMETER = 0.5  # a Brazilian disk's, ISRM (1978): t about D / 2
+
+
+def check_disk(diameter_mm: float, thickness_mm: float, rmin_mm: float, radius_ratio: float) -> None:
+    """Reject a disk its spheres cannot fill, naming the field: D and t at least 4 diameters
+    of the largest sphere, as the cylinder (`random_specimen`)."""
+    for name, value in (("diameter_mm", diameter_mm), ("thickness_mm", thickness_mm)):
+        if not (np.isfinite(value) and value > 0):
+            raise InputError(name, f"must be a finite number > 0, got {value}")
+        if not value >= 8 * rmin_mm * radius_ratio:
+            raise InputError(name, f"{value:g} mm is too small for spheres of radius up to "
+                             f"{rmin_mm * radius_ratio:g} mm (need at least 4 diameters)")
+
+
+def random_disk(diameter_mm: float = 20.0, thickness_mm: float | None = None, rmin_mm: float = 0.75,
+                radius_ratio: float = 1.65, seed: int = 1, genesis: Genesis | None = None,
+                cache: bool = True) -> Specimen3D:
+    """A disk of diameter `diameter_mm` and thickness `thickness_mm` (None: D / 2), its axis
+    along y, carved from a D x t x D cuboid packed by the 3D genesis (`random_cuboid`, cached
+    unless `cache` is False): a Brazilian disk."""
+    if thickness_mm is None:
+        thickness_mm = DISK_THICKNESS_PER_DIAMETER * diameter_mm
+    check_disk(diameter_mm, thickness_mm, rmin_mm, radius_ratio)
+    cuboid = random_cuboid((diameter_mm, thickness_mm, diameter_mm), rmin_mm, radius_ratio, seed,
+                           genesis, cache)
+    disk = carve_disk(cuboid)
+    return replace(disk, label=f"{cuboid.label}, disk D {diameter_mm:g} x t {thickness_mm:g} mm")
 
 
 def _carved(cuboid: Specimen3D, inside: np.ndarray, shape: str, size_m) -> Specimen3D:

@@ -11,9 +11,11 @@ original width; sigma3: the side walls' mean stress), E and nu secant at half th
 peak sigma1, CI and CD (`rockcal.labtests.damage`, in q). At sigma3 = 0 there is nothing to seat
 and the side walls never touch: the test is the UCS test, to the last bit.
 
-With the setting `dimensions` 3 (PFC3D) the test's kind runs the 3D test (`rockcal.dem3d.triaxial`)
-on a square prism of the width's side between platens and four servo-controlled side walls,
-and reads it as this test's result.
+The test is one procedure in 2D and 3D, over the rig of the specimen's dimension
+(`rig.rig_for`): with the setting `dimensions` 3 (PFC3D) its specimen is a square prism of the
+width's side between the platens and four servo-controlled side walls (a polyaxial vessel,
+sigma2 = sigma3), sigma1 the platens' force over the prism's original cross-section and the
+volumetric strain axial - 2 x lateral (the mean of the two widths' strains).
 """
 
 from __future__ import annotations
@@ -26,8 +28,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from rockcal.dem import measure
-from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
-from rockcal.dem.specimen import Specimen, random_packing
+from rockcal.dem.specimen import random_packing
 from rockcal.errors import InputError
 from rockcal.labtests import snapshots, ucs
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
@@ -36,11 +37,10 @@ from rockcal.labtests.kind import (GENESIS, LabTest, Outline, Response, SeriesFi
                                    series_name)
 from rockcal.labtests.lab_values import LabValues
 from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
-                                      check_stop_fraction, load_to_failure)
+                                      load_to_failure)
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.labtests.rig import Gauge, Platens, SideWalls
-from rockcal.labtests.rig.gauge import check_gauges
-from rockcal.materials import BondedParams, as_params, material_of
+from rockcal.labtests.rig import rig_for
+from rockcal.materials import BondedParams, as_params
 from rockcal.params import MPa
 
 MAX_CONFINEMENT_MPA = 1000.0
@@ -103,33 +103,33 @@ def check_confinements(values: list) -> None:
         raise InputError("confinement_mpa", f"must increase without repeats, got {list(values)}")
 
 
-def simulate_biaxial(params: BondedParams | dict | None = None, specimen: Specimen | None = None,
+def simulate_biaxial(params: BondedParams | dict | None = None, specimen=None,
                      confinement_mpa: float = 10.0, *, rate_factor: float = 1.0,
                      max_axial_strain: float = ucs.DEFAULT_MAX_AXIAL_STRAIN,
                      strain: str = ucs.DEFAULT_STRAIN, stop_fraction: float = ucs.POST_PEAK_FRACTION,
-                     contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
+                     contact_stiffness: str | None = None,
                      progress: Callable[[float, float], None] | None = None) -> BiaxialResult:
-    """Run the confined compression test at `confinement_mpa`; the other arguments as
-    `ucs.simulate_ucs` (the stop fraction applies to q). progress(axial strain, q MPa)."""
+    """Run the confined compression test at `confinement_mpa` on a 2D specimen or a 3D prism;
+    the other arguments as `ucs.simulate_ucs` (the stop fraction applies to q).
+    progress(axial strain, q MPa)."""
     started = time.perf_counter()
     params = as_params(params)
     check_confinement(confinement_mpa)
-    if not 0 < max_axial_strain <= 0.5:
-        raise InputError("max_axial_strain", f"must be in (0, 0.5], got {max_axial_strain}")
-    if strain not in ucs.STRAIN_READINGS:
-        raise InputError("strain", f"must be one of {', '.join(ucs.STRAIN_READINGS)}, got {strain!r}")
-    check_stop_fraction(stop_fraction)
+    ucs.check_reading(max_axial_strain, strain, stop_fraction)
     specimen = specimen or random_packing(50.0, 100.0)
-    check_gauges(specimen)
+    rig = rig_for(specimen)
+    rig.check_gauges(specimen)
 
     def start() -> tuple:
-        platens = Platens(specimen, params, ucs.DENSITY_SCALED_SPEED * rate_factor, contact_stiffness)
+        sigma3 = confinement_mpa * MPa
+        platens = rig.platens(specimen, params, ucs.DENSITY_SCALED_SPEED * rate_factor, contact_stiffness,
+                              side_walls=sigma3 > 0)
         state = platens.state
-        scale_density(state)
-        sides = SideWalls(platens, specimen, confinement_mpa * MPa) if confinement_mpa > 0 else None
+        state.scale_density()
+        sides = rig.side_walls(platens, specimen, sigma3) if sigma3 > 0 else None
         seating_steps = 0 if sides is None else sides.seat()
         platens.zero()
-        read = ConfinedReadings(platens, Gauge(specimen, state), sides, strain)
+        read = ConfinedReadings(platens, rig.gauge(specimen, state), sides, strain)
         loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / ucs.DENSITY_SCALED_SPEED,
                           DISTRIBUTED_DAMAGE)
         state.step, seated_at = 0, state.step  # the loading counts its own steps (its ramp)
@@ -147,8 +147,8 @@ def simulate_biaxial(params: BondedParams | dict | None = None, specimen: Specim
                             samples=samples, snapshot=snapshots.saver(objects))
     state.step += seated_at
     curve = read.curve(curve)
-    return BiaxialResult(**confined_readings(curve, confinement_mpa), seating_steps=seating_steps,
-                         curve=curve, **run_fields(state, specimen, started))
+    return BiaxialResult(**confined_readings(curve, confinement_mpa, rig.lateral_strains),
+                         seating_steps=seating_steps, curve=curve, **run_fields(state, specimen, started))
 
 
 class ConfinedReadings:
@@ -191,21 +191,9 @@ def confined_readings(curve: np.ndarray, confinement_mpa: float, lateral_strains
 
 
 def _run(params: BondedParams, specimen, s: dict, progress) -> BiaxialResult:
-    if in_3d(s):
-        return _run_3d(params, specimen, s, progress)
     return simulate_biaxial(params, specimen, s["confinement_mpa"], strain=s["strain"],
                             stop_fraction=s["stop_fraction"],
                             contact_stiffness=s["contact_stiffness"], progress=progress)
-
-
-def _run_3d(params: BondedParams, specimen, s: dict, progress) -> BiaxialResult:
-    """The 3D test on a square prism (`dem3d.triaxial`), the 2D test's result with its spheres'
-    centres and cracks in 3D, (n, 3) (m)."""
-    from rockcal.dem3d.triaxial import simulate_triaxial_3d  # the 3D engine's kernels: only for a 3D run
-
-    TEST.check_dimensions(3, material_of(params).name)  # before the engine reads its laws
-    return simulate_triaxial_3d(params, specimen, s["confinement_mpa"], strain=s["strain"],
-                                stop_fraction=s["stop_fraction"], progress=progress)
 
 
 def _check(s: dict) -> None:

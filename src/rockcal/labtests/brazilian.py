@@ -14,6 +14,13 @@ Tensile strength sigma_t = 2 P / (pi D t) (ISRM 1978; ASTM D3967) with P the pea
 of thickness; `split` says whether the disk split through its centre (`central_split`) or not
 (crushed at a contact, or split off the centre).
 
+The test is one procedure in 2D and 3D, over the rig of the disk's dimension (`rig.rig_for`):
+with the setting `dimensions` 3 (PFC3D) the disk is D thick D / 2 (ISRM's ratio), its axis
+horizontal along y, loaded along z between the flat platens or the strips (the curved jaws
+are 2D's alone), carved from a D x t x D cuboid packing (`dem3d.specimen.random_disk`);
+its load is the platens' force in N, reported per metre of its thickness beside the 2D
+test's, and a crack counts over the disk's thickness (`crack_share`).
+
 What the loading decides: a bare platen or jaw first bears on the one to three grains of the
 rim that stand out (the rim is rough by a grain, far more than the contacts' overlap), so the
 disk may fail at a contact before its centre splits. A bearing strip spreads the load over
@@ -34,8 +41,9 @@ from rockcal.dem.carving import grains, inside_circle, keep_particles, of_partic
 from rockcal.dem.clump_templates import DEFAULT_SHAPE
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.laws import INTACT
-from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS
 from rockcal.dem.specimen import Specimen, check_geometry, random_packing
+from rockcal.dem3d.specimen import check_disk as check_disk_3d
+from rockcal.dem3d.specimen import random_disk
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kind import (
     GENESIS,
@@ -59,8 +67,8 @@ from rockcal.labtests.loading import (
     load_to_failure,
 )
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.labtests.rig import BearingStrip, Jaws, Platens
-from rockcal.materials import BondedParams, as_params, material_of
+from rockcal.labtests.rig import BearingStrip, Disk, rig_for
+from rockcal.materials import BondedParams, as_params
 
 DEFAULT_MAX_STRAIN = 0.02  # platen closure / diameter at which the test stops at the latest
 # A platen first bears on one or two particles; when their bonds break the load drops and comes
@@ -89,6 +97,7 @@ SPLIT_SHARE = 0.5  # of the middle slices a crack crosses
 CRACK_LINK = 1.5  # grains: broken bonds nearer each other are one crack
 # the UCS test's flat platens; ISRM's curved jaws; the flat platens with a bearing strip on each
 LOADINGS = ("flat", "isrm", "strips")
+LOADINGS_3D = ("flat", "strips")  # ISRM's curved jaws are not built in 3D yet
 DEFAULT_LOADING = "flat"
 # The bearing strip: thin plywood, ASTM D3967's cushion, about 0.01 D thick. Through its
 # thickness a rotary-cut veneer is loaded along the wood's radial direction: E_R = 0.078 x
@@ -136,28 +145,25 @@ def brazilian_disk(diameter_mm: float = 50.0, rmin_mm: float = 0.25, radius_rati
     return keep_particles(spec, keep, f"{spec.label}, disk D {diameter_mm:g} mm")
 
 
-def disk_centre(specimen: Specimen) -> tuple[float, float]:
-    """The centre of the disk's outline (the middle of its grains' extent each way), m."""
-    pos, radius = specimen.pos, specimen.radius
-    return tuple(0.5 * ((pos[:, a] - radius).min() + (pos[:, a] + radius).max()) for a in range(2))
-
-
-def crack_share(crack_xy: np.ndarray, centre, diameter: float, grain_m: float) -> float:
-    """The share of the middle slices of the loaded (vertical) diameter (of the SLICES slices it
-    is cut into, all but END_SLICES at each contact) that a crack crosses: where at least half
-    as many bonds broke (at `crack_xy`, m) as grains of `grain_m` (m) fit along the slice; on a
-    disk of `diameter` (m) about `centre`. Isolated breaks do not make a crack."""
-    y = (crack_xy[:, 1] - centre[1]) / diameter  # in diameters from the centre
-    counts = np.bincount(np.clip(np.floor((y + 0.5) * SLICES), 0, SLICES - 1).astype(int),
+def crack_share(crack_xy: np.ndarray, disk: Disk, grain_m: float) -> float:
+    """The share of the middle slices of the loaded diameter (of the SLICES slices it is cut
+    into, all but END_SLICES at each contact) that a crack crosses: where at least half as
+    many bonds broke (at `crack_xy`, m) as grains of `grain_m` (m) fit in the slice's patch of
+    the crack plane, (D / SLICES) x the disk's `grains_deep` (one grain in 2D, its thickness
+    in 3D). Isolated breaks do not make a crack."""
+    along = (crack_xy[:, disk.axis] - disk.centre[1]) / disk.diameter_m  # in diameters from the centre
+    counts = np.bincount(np.clip(np.floor((along + 0.5) * SLICES), 0, SLICES - 1).astype(int),
                          minlength=SLICES)[END_SLICES:SLICES - END_SLICES]
-    return float(np.mean(counts >= max(1.0, 0.5 * diameter / SLICES / grain_m)))
+    grains = (disk.diameter_m / SLICES / grain_m) * disk.grains_deep
+    return float(np.mean(counts >= max(1.0, 0.5 * grains)))
 
 
-def central_split(crack_xy: np.ndarray, centre, diameter: float, grain_m: float) -> bool:
+def central_split(crack_xy: np.ndarray, disk: Disk, grain_m: float) -> bool:
     """Whether the bonds broken at `crack_xy` split the disk through its centre
-    (`split_through_centre`, each crack's share of the middle by `crack_share`)."""
-    return split_through_centre(crack_xy, centre[0], diameter, grain_m,
-                                lambda where: crack_share(where, centre, diameter, grain_m))
+    (`split_through_centre` in the plane of the loaded diameter and the disk's axis, each
+    crack's share of the middle by `crack_share`)."""
+    return split_through_centre(crack_xy, disk.centre[0], disk.diameter_m, grain_m,
+                                lambda where: crack_share(where, disk, grain_m))
 
 
 def split_through_centre(crack_xy: np.ndarray, centre_x: float, diameter: float, grain_m: float,
@@ -190,25 +196,26 @@ def separate_cracks(crack_xy: np.ndarray, grain_m: float) -> list[np.ndarray]:
     return [crack_xy[label == k] for k in range(count)]
 
 
-def broken_through(crack_xy: np.ndarray, centre, diameter: float, grain_m: float) -> bool:
+def broken_through(crack_xy: np.ndarray, disk: Disk, grain_m: float) -> bool:
     """Whether the bonds broken at `crack_xy` cross SPLIT_SHARE of the loaded diameter's middle
     or more, anywhere across the disk: more than a crush at the contacts."""
-    return crack_share(crack_xy, centre, diameter, grain_m) >= SPLIT_SHARE
+    return crack_share(crack_xy, disk, grain_m) >= SPLIT_SHARE
 
 
-def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Specimen | None = None,
+def simulate_brazilian(params: BondedParams | dict | None = None, specimen=None,
                        *, loading: str = DEFAULT_LOADING, rate_factor: float = 1.0,
                        max_strain: float = DEFAULT_MAX_STRAIN,
-                       contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
+                       contact_stiffness: str | None = None,
                        strip_modulus_GPa: float = STRIP_MODULUS_GPA, strip_thickness_mm: float | None = None,
                        progress: Callable[[float, float], None] | None = None) -> BrazilianResult:
     """Run the Brazilian test; defaults: granite parameters on a 50 mm disk between flat platens.
 
-    loading: "flat" (the UCS test's platens), "isrm" (ISRM's curved jaws, `rig.Jaws`) or
+    specimen: a 2D disk (`brazilian_disk`) or a 3D one (`dem3d.specimen.random_disk`);
+    loading: "flat" (the UCS test's platens), "isrm" (ISRM's curved jaws, `rig.Jaws`; 2D) or
     "strips" (the flat platens with a bearing strip of `strip_modulus_GPa` and
     `strip_thickness_mm`, None: STRIP_THICKNESS_PER_DIAMETER x D, on each; `rig.BearingStrip`);
-    contact_stiffness: PFC's convention for kn ("pfc5" or "pfc4", `dem.simulate`);
-    progress(closure_mm, load_kN_per_m) is called as the test goes.
+    contact_stiffness: PFC's convention for kn ("pfc5" or "pfc4", `dem.simulate`; None: the
+    engine's default); progress(closure_mm, load_kN_per_m) is called as the test goes.
     """
     started = time.perf_counter()
     params = as_params(params)
@@ -216,18 +223,22 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Spec
         raise InputError("loading", f"must be one of {', '.join(LOADINGS)}, got {loading!r}")
     check_max_strain(max_strain)
     specimen = specimen or brazilian_disk()
-    diameter = (specimen.pos[:, 1] + specimen.radius).max() - (specimen.pos[:, 1] - specimen.radius).min()
+    rig = rig_for(specimen)
+    if loading == "isrm" and rig.jaws is None:
+        raise InputError("loading", f"must be one of {', '.join(LOADINGS_3D)} in 3D, got {loading!r}")
+    disk = rig.disk(specimen)
+    diameter, per_m = disk.diameter_m, 1.0 / disk.thickness_m  # loads per metre of thickness
     strip, squeeze = None, 0.0  # the strips, and how far they may close the platens at most
     if loading == "strips":
         strip = BearingStrip(strip_modulus_GPa, strip_thickness_mm if strip_thickness_mm is not None
                              else 1e3 * STRIP_THICKNESS_PER_DIAMETER * diameter)
         squeeze = 2e-3 * strip.thickness_mm
     if loading == "isrm":
-        rig = Jaws(specimen, params, rate_factor, contact_stiffness)
+        loader = rig.jaws(specimen, params, rate_factor, contact_stiffness)
     else:
-        rig = Platens(specimen, params, rate_factor, contact_stiffness, strip)
-    state = rig.state
-    centre, grain = disk_centre(specimen), 2 * specimen.radius.mean()
+        loader = rig.platens(specimen, params, rate_factor, contact_stiffness, strip)
+    state = loader.state
+    grain = 2 * specimen.radius.mean()
     peak, after_peak = 0.0, None  # the largest load so far; the bonds broken just after it
 
     def cracks_now() -> np.ndarray:
@@ -236,8 +247,8 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Spec
 
     def read() -> Reading:
         nonlocal peak, after_peak
-        closure = rig.closure_m()
-        load = rig.load()
+        closure = loader.closure_m()
+        load = loader.load()
         if load > peak:
             peak, after_peak = load, None
         elif after_peak is None and load < PAST_PEAK_FRACTION * peak:
@@ -248,13 +259,14 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Spec
         if loading != "flat":  # as a lab, at the first fall that broke the disk: the jaws (the
             # strips) would load its pieces on; a fall from a crush at a contact is the disk seating
             return (schedule.fallen_below(PAST_PEAK_FRACTION, reading.load)
-                    and broken_through(cracks_now(), centre, diameter, grain))
+                    and broken_through(cracks_now(), disk, grain))
         return (schedule.fallen_below(POST_PEAK_FRACTION, reading.load) and state.n_broken() > 0
                 and reading.travel > schedule.peak_travel + specimen.radius.mean())
 
-    schedule = Loading(RAMP_STEPS_PER_ROW * rig.rows, LOCALISED_DAMAGE)
-    curve = load_to_failure(rig, schedule, read, failed,
-                            max_strain * diameter + squeeze, full_speed_past_peak=True, progress=progress)
+    schedule = Loading(RAMP_STEPS_PER_ROW * loader.rows, LOCALISED_DAMAGE)
+    curve = load_to_failure(loader, schedule, read, failed, max_strain * diameter + squeeze,
+                            full_speed_past_peak=True,
+                            progress=progress and (lambda mm, kN: progress(mm, kN * per_m)))
     k = int(np.argmax(curve[:, 1]))
     P_max = 1e3 * curve[k, 1]
     modes, where = state.breaks()
@@ -262,11 +274,12 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen: Spec
         after_peak = modes
     cracks = measure.cracks(after_peak, where)
     return BrazilianResult(
-        sigma_t_MPa=2 * P_max / (np.pi * diameter * rig.thickness_m) / 1e6,
-        P_max_kN_per_m=P_max / 1e3,
+        sigma_t_MPa=2 * P_max / (np.pi * diameter * disk.thickness_m) / 1e6,
+        P_max_kN_per_m=P_max / 1e3 * per_m,
         displacement_at_peak_mm=float(curve[k, 0]), diameter_mm=1e3 * diameter,
-        split=float(central_split(np.vstack(list(cracks.values())), centre, diameter, grain)),
-        peak_cracks=cracks, curve=curve, **run_fields(state, specimen, started))
+        split=float(central_split(np.vstack(list(cracks.values())), disk, grain)),
+        peak_cracks=cracks, curve=np.column_stack([curve[:, 0], curve[:, 1] * per_m]),
+        **run_fields(state, specimen, started))
 
 
 def _check(s: dict) -> None:
@@ -282,10 +295,8 @@ def _check(s: dict) -> None:
 
 
 def _check_3d(s: dict) -> None:
-    """A 3D disk's settings (D x D/2, `dem3d.brazilian`): none of the 2D engine's alone, a
-    loading the 3D test has, and a disk its spheres fill."""
-    from rockcal.dem3d.brazilian import LOADINGS_3D, check_disk_3d
-
+    """A 3D disk's settings (D x D/2, `dem3d.specimen.random_disk`): none of the 2D engine's
+    alone, a loading the 3D test has, and a disk its spheres fill."""
     check_3d_settings(s)
     if s["brazilian_loading"] not in LOADINGS_3D:
         raise InputError("brazilian_loading", f"the 3D Brazilian test loads the disk by "
@@ -301,40 +312,15 @@ def _check_3d(s: dict) -> None:
 
 def _specimen(s: dict):
     if in_3d(s):  # a disk D thick D / 2 carved from a cached D x D/2 x D packing of spheres
-        from rockcal.dem3d.brazilian import brazilian_disk_3d
-
-        return brazilian_disk_3d(s["disk_diameter_mm"], None, s["rmin_mm"], s["radius_ratio"], s["seed"],
-                                 genesis_of(s))
+        return random_disk(s["disk_diameter_mm"], None, s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
     return brazilian_disk(s["disk_diameter_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s),
                           s.get("grain_shape", DEFAULT_SHAPE))
 
 
 def _run(params: BondedParams, specimen, s: dict, progress) -> BrazilianResult:
-    if in_3d(s):
-        return _run_3d(params, specimen, s, progress)
     return simulate_brazilian(params, specimen, loading=s["brazilian_loading"],
                               strip_modulus_GPa=s["strip_modulus_gpa"],
                               contact_stiffness=s["contact_stiffness"], progress=progress)
-
-
-def _run_3d(params: BondedParams, specimen, s: dict, progress) -> BrazilianResult:
-    """The 3D test (`dem3d.brazilian.simulate_brazilian_3d`) read as the 2D test's result: the
-    load per metre of the disk's thickness, its spheres' centres and cracks in 3D, (n, 3) (m)."""
-    from rockcal.dem3d.brazilian import simulate_brazilian_3d
-
-    TEST.check_dimensions(3, material_of(params).name)  # before the engine reads its laws
-    per_m = 1.0 / specimen.size_m[1]  # the disk's thickness
-    r = simulate_brazilian_3d(params, specimen, loading=s["brazilian_loading"],
-                              strip_modulus_GPa=s["strip_modulus_gpa"],
-                              progress=progress and (lambda mm, kN: progress(mm, kN * per_m)))
-    curve = np.column_stack([r.curve[:, 0], r.curve[:, 1] * per_m])
-    return BrazilianResult(sigma_t_MPa=r.sigma_t_MPa, P_max_kN_per_m=r.P_max_kN * per_m,
-                           displacement_at_peak_mm=r.displacement_at_peak_mm, diameter_mm=r.diameter_mm,
-                           split=r.split, peak_cracks=r.peak_cracks,
-                           curve=curve, n_particles=r.n_spheres, n_bonds=r.n_bonds,
-                           n_broken_tension=r.n_broken_tension, n_broken_shear=r.n_broken_shear,
-                           steps=r.steps, wall_s=r.wall_s, positions=r.positions,
-                           radius=specimen.radius, cracks=r.cracks)
 
 
 def _outline(s: dict) -> Outline:

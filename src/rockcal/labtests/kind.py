@@ -13,6 +13,7 @@ from rockcal.dem.clump_templates import DEFAULT_SHAPE
 from rockcal.dem.genesis import Genesis
 from rockcal.dem.grain_limit import expected_grains
 from rockcal.errors import InputError
+from rockcal.materials import check_dimensions, material
 
 GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_mpa
 # Settings added after runs were stored, with the value the engine had before them: a run's
@@ -20,9 +21,8 @@ GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_m
 LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02, "brazilian_loading": "flat",
                   "grain_shape": DEFAULT_SHAPE, "dimensions": 2, "strip_modulus_gpa": 1.0}
 # A specimen's dimensions: 2, PFC2D's disks, or 3, PFC3D's spheres (the tests with the setting
-# `dimensions` alone, on the parallel-bonded material: `rockcal.dem3d`).
+# `dimensions` alone, on a material the 3D engine has: `Material.states`).
 DIMENSIONS = (2, 3)
-MATERIALS_3D = ("parallel_bond",)
 PFC5_STIFFNESS = "pfc5"  # the 3D engine's contacts: PFC 5's deformability method (`rockcal.dem3d`)
 
 
@@ -183,9 +183,7 @@ class LabTest:
             raise InputError(self.name, f"the {self.title} test has no 3D implementation: with "
                                         "dimensions = 3 (PFC3D) a campaign runs the UCS, Brazilian and "
                                         "confined (biaxial) tests")
-        if model not in MATERIALS_3D:
-            raise InputError("model", f"the 3D engine has no {model} material; with dimensions = 3 "
-                                      f"(PFC3D) the material is {' or '.join(MATERIALS_3D)}")
+        check_dimensions(material(model), dimensions)
 
     @property
     def targets(self) -> tuple[str, ...]:

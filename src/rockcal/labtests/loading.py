@@ -30,7 +30,6 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-from rockcal.dem.simulate import advance
 from rockcal.errors import InputError
 from rockcal.labtests.rig import Loader
 
@@ -156,7 +155,6 @@ def load_to_failure(loader: Loader, loading: Loading, read: Callable[[], Reading
                     progress: Callable[[float, float], None] | None = None,
                     control: Callable[[], None] | None = None,
                     control_steps: int = 1,
-                    advance_steps: Callable[[object, int], None] = advance,
                     samples: list | None = None,
                     snapshot: Callable[[], None] | None = None) -> np.ndarray:
     """Load the specimen quasi-statically until the test may stop; its curve.
@@ -169,8 +167,8 @@ def load_to_failure(loader: Loader, loading: Loading, read: Callable[[], Reading
     PAST_PEAK_FRACTION of it with bonds broken. progress(first, last value of the sample) is
     called after each chunk. `control()`, a boundary the test servo-controls, is called every
     `control_steps` steps within each chunk (splitting a chunk changes no number). The curve is
-    the samples after a first row of zeros, the specimen unloaded. `advance_steps(state, n)` is
-    the engine's stepping (the 2D engine's, or `rockcal.dem3d.simulate.advance`). A test that
+    the samples after a first row of zeros, the specimen unloaded; the loader's state steps by
+    its engine's `advance` (`rockcal.engine`), in 2D or 3D. A test that
     takes snapshots (`rockcal.labtests.snapshots`) passes its `samples` list (so far: a run
     going on from a snapshot) and `snapshot()`, called after each reading the test goes on
     from, which saves what the test needs to go on from there.
@@ -180,11 +178,11 @@ def load_to_failure(loader: Loader, loading: Loading, read: Callable[[], Reading
     while True:
         loader.move(loading.speed(state.step, state.n_broken(), chunk, loading.peak_known))
         if control is None:
-            advance_steps(state, chunk)
+            state.advance(chunk)
         else:
             for done in range(0, chunk, control_steps):
                 control()
-                advance_steps(state, min(control_steps, chunk - done))
+                state.advance(min(control_steps, chunk - done))
         reading = read()
         samples.append(reading.sample)
         loading.update(state.step, reading.load, reading.travel)

@@ -10,8 +10,10 @@ own top and bottom particles, like gauges on a lab sample ("gauge"). The platens
 stops once the stress has fallen below a fraction of the peak (FISHTank's ct_loadFac), or at
 the maximum axial strain.
 
-With the setting `dimensions` 3 (PFC3D) the test's kind runs the 3D test (`rockcal.dem3d.ucs`)
-on a cylinder of the width as diameter and reads it as this test's result.
+The test is one procedure in 2D and 3D, over the rig of the specimen's dimension
+(`rig.rig_for`): with the setting `dimensions` 3 (PFC3D) its specimen is a cylinder of the
+width as diameter, its stress the platens' force over the nominal cross-section, its lateral
+strain the outer spheres' radial strain and its volumetric strain axial - 2 x lateral.
 """
 
 from __future__ import annotations
@@ -27,7 +29,6 @@ from pydantic import Field
 from rockcal.dem import measure
 from rockcal.dem.clump_templates import DEFAULT_SHAPE
 from rockcal.dem.genesis import Genesis
-from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.dem.specimen import Specimen, check_geometry, hexagonal, random_packing
 from rockcal.dem3d.specimen import Specimen3D, check_size, random_specimen
 from rockcal.errors import InputError
@@ -45,9 +46,8 @@ from rockcal.labtests.loading import (
 )
 from rockcal.labtests import snapshots
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.labtests.rig import Gauge, Platens
-from rockcal.labtests.rig.gauge import check_gauges
-from rockcal.materials import BondedParams, as_params, material_of
+from rockcal.labtests.rig import rig_for
+from rockcal.materials import BondedParams, as_params
 
 POST_PEAK_FRACTION = 0.7
 CRACK_TARGETS = ("ci_MPa", "ci_ratio", "cd_MPa", "cd_ratio")  # a lab reads these too
@@ -89,30 +89,32 @@ def check_reading(max_axial_strain: float, strain: str, stop_fraction: float) ->
     check_stop_fraction(stop_fraction)
 
 
-def simulate_ucs(params: BondedParams | dict | None = None, specimen: Specimen | None = None, *,
+def simulate_ucs(params: BondedParams | dict | None = None, specimen=None, *,
                  rate_factor: float = 1.0, max_axial_strain: float = DEFAULT_MAX_AXIAL_STRAIN,
                  strain: str = DEFAULT_STRAIN, stop_fraction: float = POST_PEAK_FRACTION,
-                 contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
+                 contact_stiffness: str | None = None,
                  progress: Callable[[float, float], None] | None = None) -> UCSResult:
     """Run the UCS test; defaults: granite parameters on the paper's 50 x 100 mm specimen.
 
-    rate_factor scales the loading speed; strain is the axial strain reading ("gauge" or
-    "platen"); the test stops past the peak once the stress is below stop_fraction x peak;
-    contact_stiffness is PFC's convention for kn ("pfc5" or "pfc4", `dem.simulate`);
-    progress(axial_strain, stress_MPa) is called as it goes.
+    specimen: a 2D `Specimen` or a 3D `Specimen3D` (a cylinder, or a prism); rate_factor
+    scales the loading speed; strain is the axial strain reading ("gauge" or "platen"); the
+    test stops past the peak once the stress is below stop_fraction x peak; contact_stiffness
+    is PFC's convention for kn ("pfc5" or "pfc4", `dem.simulate`; None: the engine's default,
+    3D's PFC 5's alone); progress(axial_strain, stress_MPa) is called as it goes.
     """
     started = time.perf_counter()
     params = as_params(params)
     check_reading(max_axial_strain, strain, stop_fraction)
     specimen = specimen or random_packing(50.0, 100.0)
-    check_gauges(specimen)
+    rig = rig_for(specimen)
+    rig.check_gauges(specimen)
 
     def start() -> tuple:
-        platens = Platens(specimen, params, DENSITY_SCALED_SPEED * rate_factor, contact_stiffness)
-        scale_density(platens.state)
+        platens = rig.platens(specimen, params, DENSITY_SCALED_SPEED * rate_factor, contact_stiffness)
+        platens.state.scale_density()
         loading = Loading(RAMP_STEPS_PER_ROW * platens.rows / DENSITY_SCALED_SPEED, DISTRIBUTED_DAMAGE)
         # bonds broken so far at each reading, after the unloaded first row
-        return platens, Gauge(specimen, platens.state), loading, [0], []
+        return platens, rig.gauge(specimen, platens.state), loading, [0], []
 
     objects = snapshots.resume(start)  # a run stopped part way goes on from its snapshot
     platens, gauge, loading, broken, samples = objects
@@ -131,10 +133,13 @@ def simulate_ucs(params: BondedParams | dict | None = None, specimen: Specimen |
                             max_axial_strain, progress=progress, samples=samples,
                             snapshot=snapshots.saver(objects))
     curve = np.column_stack([curve, broken])
-    E_MPa, nu, k = measure.secant_at_half_peak(curve[:, 0], curve[:, 1], curve[:, 2])
-    return UCSResult(E_GPa=E_MPa / 1e3, nu=nu, strain=strain, ucs_MPa=float(curve[k, 2]),
-                     peak_axial_strain=float(curve[k, 0]), curve=curve,
-                     **crack_stresses(*curve.T).responses, **run_fields(state, specimen, started))
+    axial, lateral, stress, broken = curve.T
+    E_MPa, nu, k = measure.secant_at_half_peak(axial, lateral, stress)
+    # the volumetric strain: axial - lateral in 2D (areal), axial - 2 lateral in 3D
+    damage = crack_stresses(axial, rig.lateral_strains * lateral, stress, broken).responses
+    return UCSResult(E_GPa=E_MPa / 1e3, nu=nu, strain=strain, ucs_MPa=float(stress[k]),
+                     peak_axial_strain=float(axial[k]), curve=curve, **damage,
+                     **run_fields(state, specimen, started))
 
 
 def _check(s: dict) -> None:
@@ -170,31 +175,10 @@ def _specimen(s: dict) -> Specimen | Specimen3D:
 
 
 def _run(params: BondedParams, specimen: Specimen | Specimen3D, s: dict, progress) -> UCSResult:
-    """The 2D or (`dimensions` 3) the 3D test on the specimen `_specimen` made of `s`."""
-    if in_3d(s):
-        return _run_3d(params, specimen, s, progress)
+    """The test on the specimen `_specimen` made of `s`."""
     return simulate_ucs(params, specimen, strain=s["strain"], stop_fraction=s["stop_fraction"],
                         contact_stiffness=s["contact_stiffness"], max_axial_strain=s["max_axial_strain"],
                         progress=progress)
-
-
-def _run_3d(params: BondedParams, specimen: Specimen3D, s: dict, progress) -> UCSResult:
-    """The 3D test (`dem3d.ucs.simulate_ucs_3d`) read as the 2D test's result, its spheres'
-    centres and cracks in 3D, (n, 3) (m): the figures project them (`plots.crack_planes`)."""
-    from rockcal.dem3d.ucs import simulate_ucs_3d  # the 3D engine's kernels: only for a 3D run
-
-    TEST.check_dimensions(3, material_of(params).name)  # before the engine reads its laws
-    r = simulate_ucs_3d(params, specimen, strain=s["strain"], stop_fraction=s["stop_fraction"],
-                        max_axial_strain=s["max_axial_strain"], progress=progress)
-    axial, lateral, stress, broken = r.curve.T
-    # the volumetric strain of a cylinder is axial - 2 lateral: `crack_stresses` reads the 2D
-    # areal strain axial - lateral, so it is given twice the lateral strain
-    damage = crack_stresses(axial, 2 * lateral, stress, broken).responses
-    return UCSResult(E_GPa=r.E_GPa, nu=r.nu, strain=r.strain, ucs_MPa=r.ucs_MPa,
-                     peak_axial_strain=r.peak_axial_strain, curve=r.curve, **damage,
-                     n_particles=r.n_spheres, n_bonds=r.n_bonds, n_broken_tension=r.n_broken_tension,
-                     n_broken_shear=r.n_broken_shear, steps=r.steps, wall_s=r.wall_s,
-                     positions=r.positions, radius=specimen.radius, cracks=r.cracks)
 
 
 def _hexagonal(s: dict) -> Specimen:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from rockcal.dem.clump_motion import clump
-from rockcal.dem.simulate import State
+from rockcal.engine import ModelState
 from rockcal.errors import InputError
 from rockcal.materials import flat_joint, parallel_bond
 from rockcal.materials.fishtank import FLAT_JOINTED, PARALLEL_BONDED, common_pfc
@@ -26,8 +26,8 @@ DEFAULT_MATERIAL = PARALLEL_BOND.name
 _BY_PARAMS = {m.params_type: m for m in MATERIALS.values()}
 
 __all__ = ["BondedParams", "DEFAULT_MATERIAL", "FLATJOINT", "FLAT_JOINTED", "MATERIALS", "Material",
-           "PARALLEL_BOND", "PARALLEL_BONDED", "as_params", "common_pfc", "material", "material_of",
-           "new_state", "parameters"]
+           "PARALLEL_BOND", "PARALLEL_BONDED", "as_params", "check_dimensions", "common_pfc",
+           "dimensions_of", "material", "material_of", "new_state", "parameters"]
 
 
 def material(name: str, field: str = "model") -> Material:
@@ -65,19 +65,35 @@ def as_params(params) -> BondedParams:
     return MATERIALS[DEFAULT_MATERIAL].make(params or {})
 
 
-def new_state(params: BondedParams, specimen, pos=None, radius=None, **options) -> State:
-    """The engine state of `specimen` in the material of `params`: its grains, or `pos` and
-    `radius` (m) with the test's rig after them; `options` as `simulate.assemble_state`'s
-    (walls, wall_active, driven, skin) and a parallel bond's `contact_stiffness`. A clumped
-    specimen's pebbles are made its rigid clumps (`clump_motion.clump`), the rig's particles
-    after them staying balls."""
+def dimensions_of(chosen: Material) -> tuple[int, ...]:
+    """The dimensions the engine has the material in (2: PFC2D, 3: PFC3D)."""
+    return tuple(sorted(chosen.states))
+
+
+def check_dimensions(chosen: Material, dimensions: int, field: str = "model") -> None:
+    """InputError naming `field` where the engine has no `chosen` material in `dimensions`."""
+    if dimensions not in chosen.states:
+        have = [m.name for m in MATERIALS.values() if dimensions in m.states]
+        raise InputError(field, f"the {dimensions}D engine has no {chosen.name} material; with dimensions = "
+                                f"{dimensions} (PFC{dimensions}D) the material is {' or '.join(have)}")
+
+
+def new_state(params: BondedParams, specimen, pos=None, radius=None, **options) -> ModelState:
+    """The engine state of `specimen` in the material of `params`, of the specimen's dimension
+    (`Material.states`): its grains, or `pos` and `radius` (m) with the test's rig after them;
+    `options` that dimension's rig options (2D: `simulate.assemble_state`'s walls,
+    wall_active, driven, skin and a parallel bond's `contact_stiffness`; 3D: the walls). A
+    clumped specimen's pebbles are made its rigid clumps (`clump_motion.clump`), the rig's
+    particles after them staying balls."""
+    chosen = material_of(params)
+    check_dimensions(chosen, specimen.dimensions)
     clump_of = getattr(specimen, "clump_of", None)
     if clump_of is not None and len(clump_of) != specimen.n_particles:
         raise ValueError(f"the specimen's clump_of has {len(clump_of)} entries for its "
                          f"{specimen.n_particles} particles")
-    state = material_of(params).new_state(specimen.pos if pos is None else pos,
-                                          specimen.radius if radius is None else radius,
-                                          specimen, params, **options)
+    state = chosen.states[specimen.dimensions](specimen.pos if pos is None else pos,
+                                               specimen.radius if radius is None else radius,
+                                               specimen, params, **options)
     if clump_of is not None:
         rig = state.n_particles - len(clump_of)
         clump(state, np.concatenate([clump_of, np.full(rig, -1, np.int64)]), params.density)

@@ -424,7 +424,8 @@ MATERIAL = Material(
     name="flatjoint", title="flat-jointed (flat joints + linear contacts)",
     parameters=NAMES, make=make_flatjoint_params, params_type=FlatJointParams,
     pfc_names=pfc_names(PFC_PROPERTIES, NAMES), bond_pairs=install_bonds,
-    new_state=_specimen_state, pfc_parameters=pfc_parameters, pfc_material_type=FLAT_JOINTED,
+    states={2: _specimen_state},  # PFC2D's; PFC3D's flat joint is not built yet
+    pfc_parameters=pfc_parameters, pfc_material_type=FLAT_JOINTED,
     pfc_group="mpSetFJParams", pair_properties=pair_properties, pairs_word="flat joints",
     breaks_word="elements", check_rock=check_bonded,
     # a step costs 1.4 x a parallel bond's (each joint sums its elements), and joints that break

@@ -41,8 +41,11 @@ class Material:
     """A bonded material. `parameters` are its micro-parameters' names (rockcal's units) and
     `make(values)` validates them into a `params_type`; `pfc_names` gives each one's PFC
     property; `bond_pairs(pos, radius, gap_m)` is its genesis step (the grain pairs bonded
-    within the installation gap); `new_state(pos, radius, specimen, params, **options)` the
-    engine state its laws run in (`simulate.assemble_state`'s options); `pfc_parameters(params,
+    within the installation gap); `states` its engine state builder per dimension (2: PFC2D's
+    disks, 3: PFC3D's spheres), `states[d](pos, radius, specimen, params, **options)` the state
+    its laws run in, with that dimension's rig options (2D: `simulate.assemble_state`'s; 3D:
+    the walls), a dimension without an entry one the material has no engine for;
+    `pfc_parameters(params,
     specimen)` its FISHTank material group's parameters in SI units, set by the FISH function
     `pfc_group`, with `pfc_material_type` (`cm_matType` in the default FISHTank's numbering, PFC 6's); `pair_properties(params, specimen)`
     the properties of each bonded pair (columns by name, SI), for the specimen's export;
@@ -57,7 +60,7 @@ class Material:
     params_type: type
     pfc_names: dict[str, str]
     bond_pairs: Callable
-    new_state: Callable
+    states: dict[int, Callable]
     pfc_parameters: Callable[[BondedParams, object], dict[str, float | int | bool]]
     pfc_material_type: int
     pfc_group: str

@@ -154,6 +154,35 @@ def new_state(pos, radius, bonds, params: MicroParams, *, walls=(0.0, 0.0, 0.0, 
                           driven=driven, skin=skin)
 
 
+def wall_modulus_pa(params: MicroParams) -> float:
+    """The modulus of the walls' contacts: the material's contact modulus (FISHTank's
+    platens), or its bond modulus if the contacts have none."""
+    return (params.E_c if params.E_c > 0 else params.Ebar_c) * GPa
+
+
+def laws_3d(params: MicroParams):
+    """The 3D engine's law constants (SI) of the micro-parameters: PFC3D's linear contact and
+    linear parallel bond under the same names (a rock's values differ from its PFC2D ones)."""
+    from rockcal.dem3d.laws import Laws  # the 3D engine: loaded for a 3D run alone
+
+    return Laws(E_c=params.E_c * GPa, ks_per_kn=1.0 / params.kn_ks, mu=params.mu,
+                Ebar_c=params.Ebar_c * GPa, ksbar_per_knbar=1.0 / params.knbar_ksbar,
+                lam=params.lambda_, tan_phi=math.tan(math.radians(params.phi_b)), mcf=params.mcf)
+
+
+def new_state_3d(pos, radius, specimen, params: MicroParams, *, walls=((), ())):
+    """A 3D specimen at rest in the material: each bond's strengths drawn at its uniform draws
+    (`bond_strengths`), between planar `walls` (points, inward normals) of the walls' modulus
+    (`wall_modulus_pa`)."""
+    from rockcal.dem3d.simulate import assemble_state as assemble_3d
+    from rockcal.dem3d.walls import new_walls
+
+    ten, coh = bond_strengths(params, np.asarray(specimen.bond_draws), len(specimen.bonds))
+    points, normals = walls
+    return assemble_3d(pos, radius, specimen.bonds, params.density, laws_3d(params), damping=params.damping,
+                       ten=ten, coh=coh, walls=new_walls(points, normals, wall_modulus_pa(params)))
+
+
 def pfc_parameters(params: MicroParams, specimen, fishtank: int | None = None) -> dict[str, float | int | str]:
     """FISHTank's parallel-bonded material parameters (SI) of a rockcal material for the
     FISHTank of PFC `fishtank` (its cm_matType; None: the default's): the common groups and
@@ -176,8 +205,9 @@ MATERIAL = Material(
     name="parallel_bond", title="parallel-bonded (linear contact + linear parallel bond)",
     parameters=NAMES, make=make_params, params_type=MicroParams,
     pfc_names=pfc_names(PFC_PROPERTIES, NAMES), bond_pairs=install_bonds,
-    new_state=lambda pos, radius, specimen, params, **options: new_state(
+    states={2: lambda pos, radius, specimen, params, **options: new_state(
         pos, radius, specimen.bonds, params, bond_draws=specimen.bond_draws, **options),
+        3: new_state_3d},
     pfc_parameters=pfc_parameters, pfc_material_type=PARALLEL_BONDED, pfc_group="mpSetPBParams",
     check_rock=check_bonded,
     pair_properties=lambda params, specimen: dict(zip(

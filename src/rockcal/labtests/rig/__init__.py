@@ -18,29 +18,29 @@ thickness of the 2D model live here and nowhere else in the lab tests.
 
 Every loading part (platens, jaws, pins, grips) is a `Loader`, which `loading.load_to_failure` drives.
 
-This is the 2D rig: disks in a slab of unit thickness `THICKNESS_M`, so loads are N per metre of
-thickness and an area is a width x THICKNESS_M. A 3D rig (spheres; a cylinder or cuboid
-specimen) is a second implementation of the same names: `Loader`s whose `load()` is in N; the
-platens' `area_m2` the specimen's cross-section (pi D^2 / 4 for a cylinder) and `thickness_m`
-a Brazilian disk's length; side walls that confine on every lateral face (four walls, or a
-servo-controlled cylindrical membrane); pins and supports that are cylinders across the beam's
-breadth, and their contact load per breadth; a `Gauge` whose lateral strain is the mean of the
-two lateral (or the diametral) strains.
+The 2D rig holds disks in a slab of unit thickness `THICKNESS_M`, so loads are N per metre of
+thickness and an area is a width x THICKNESS_M. The 3D rig (`platens_3d`, `sides_3d`,
+`gauge_3d`) holds spheres: its `Loader`s' `load()` is in N, its platens' `area_m2` the
+specimen's cross-section (pi D^2 / 4 for a cylinder) and `thickness_m` a Brazilian disk's
+length; its side walls confine the four lateral faces of a prism; its gauge's lateral strain
+is the mean of the two widths' (or the diametral) strain. `rig_for(specimen)` gives the parts
+of the specimen's dimension (`Rig`), so a lab test is one procedure in 2D and 3D.
 """
 
 from __future__ import annotations
 
-from typing import Protocol
+from dataclasses import dataclass
+from typing import Callable, Protocol
 
-from rockcal.dem.simulate import State
-from rockcal.labtests.rig.gauge import Gauge
+from rockcal.engine import ModelState
+from rockcal.labtests.rig.gauge import Gauge, check_gauges
 from rockcal.labtests.rig.grips import Grips
 from rockcal.labtests.rig.jaws import Jaws
 from rockcal.labtests.rig.pins import Pins
-from rockcal.labtests.rig.platens import BearingStrip, Platens
+from rockcal.labtests.rig.platens import BearingStrip, Disk, Platens, disk_of
 from rockcal.labtests.rig.sides import SideWalls
 
-__all__ = ["BearingStrip", "Gauge", "Grips", "Jaws", "Loader", "Pins", "Platens", "SideWalls"]
+__all__ = ["BearingStrip", "Disk", "Gauge", "Grips", "Jaws", "Loader", "Pins", "Platens", "Rig", "SideWalls", "rig_for"]
 
 
 class Loader(Protocol):
@@ -48,7 +48,7 @@ class Loader(Protocol):
     the `rows` of particles along the loaded direction (a loading's ramp scales with them) and
     the `chunk` of steps between readings."""
 
-    state: State
+    state: ModelState
     rows: float
     chunk: int
 
@@ -56,4 +56,38 @@ class Loader(Protocol):
         """Move at `factor` x the full loading speed."""
 
     def load(self) -> float:
-        """The load borne, N per m of thickness (2D), compression or pull positive."""
+        """The load borne, compression or pull positive: N per m of thickness (2D), N (3D)."""
+
+
+@dataclass(frozen=True)
+class Rig:
+    """The rig's parts of one dimension, each built as the 2D one is:
+    `platens(specimen, params, rate_factor, contact_stiffness, strip, side_walls)` (a
+    `Loader` with `area_m2`, `thickness_m`, `strain()`, `closure_m()`, `zero()`), `side_walls(platens,
+    specimen, target_Pa)`, `gauge(specimen, state)` and `check_gauges(specimen)`;
+    `lateral_strains`, the lateral strains a volumetric strain takes (2D's areal strain one, a
+    3D specimen's two); `disk(specimen)` a Brazilian disk's `Disk`; `jaws` ISRM's curved
+    jaws, where the dimension has them."""
+
+    dimensions: int
+    platens: Callable
+    side_walls: Callable
+    gauge: Callable
+    check_gauges: Callable
+    lateral_strains: int
+    disk: Callable
+    jaws: Callable | None = None
+
+
+def rig_for(specimen) -> Rig:
+    """The rig of the specimen's dimension (`specimen.dimensions`)."""
+    if specimen.dimensions == 2:
+        return Rig(2, Platens, SideWalls, Gauge, check_gauges, lateral_strains=1, disk=disk_of, jaws=Jaws)
+    # the 3D rig, and with it the 3D engine's kernels: loaded for a 3D run alone
+    from rockcal.labtests.rig.gauge_3d import Gauge3D
+    from rockcal.labtests.rig.gauge_3d import check_gauges as check_gauges_3d
+    from rockcal.labtests.rig.platens_3d import Platens3D
+    from rockcal.labtests.rig.platens_3d import disk_of as disk_of_3d
+    from rockcal.labtests.rig.sides_3d import SideWalls3D
+
+    return Rig(3, Platens3D, SideWalls3D, Gauge3D, check_gauges_3d, lateral_strains=2, disk=disk_of_3d)

@@ -53,8 +53,8 @@ class Jaws:
     centres of curvature (top, bottom) and `jaw_radius_m` their radius; `rows` of grains
     across the disk, `chunk` steps between readings, the disk's `thickness_m`."""
 
-    def __init__(self, specimen: Specimen, params, rate_factor: float,
-                 contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS):
+    def __init__(self, specimen: Specimen, params, rate_factor: float, contact_stiffness: str | None = None):
+        contact_stiffness = contact_stiffness or DEFAULT_CONTACT_STIFFNESS
         pos, radius = specimen.pos, specimen.radius
         top, bottom = (pos[:, 1] + radius).max(), (pos[:, 1] - radius).min()
         diameter = top - bottom

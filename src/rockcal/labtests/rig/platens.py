@@ -48,21 +48,45 @@ class BearingStrip:
         return 1.0 / (1.0 / self.column_stiffness(grain_width_m) + 1.0 / bare_N_per_m)
 
 
+@dataclass(frozen=True)
+class Disk:
+    """A Brazilian disk as its test reads it: its diameter and thickness (m), the centre of its
+    outline in the loaded plane (across the loaded diameter, along it; m), the loaded axis (the
+    platens' normal: y in 2D, z in 3D) and how many grains deep a crack across it is counted
+    (`grains_deep`: one in 2D, the thickness in grains in 3D)."""
+
+    diameter_m: float
+    thickness_m: float
+    centre: tuple[float, float]
+    axis: int
+    grains_deep: float
+
+
+def disk_of(specimen: Specimen) -> Disk:
+    """A 2D disk: its grains' extent along the loaded diameter, the slab's unit thickness."""
+    pos, radius = specimen.pos, specimen.radius
+    diameter = (pos[:, 1] + radius).max() - (pos[:, 1] - radius).min()
+    centre = tuple(0.5 * ((pos[:, a] - radius).min() + (pos[:, a] + radius).max()) for a in range(2))
+    return Disk(diameter, THICKNESS_M, centre, 1, 1.0)
+
+
 class Platens:
     """A specimen between a bottom and a top platen that touch it: the engine `state`, the
     platens' starting heights `bottom` and `top` (m), the `rows` of particles between them, the
     `chunk` of steps between readings, the specimen's `thickness_m` and its loaded `area_m2`
     (width x thickness). With a bearing `strip` on each platen a grain's contact with it has
     the strip's stiffness under a grain of the specimen's mean diameter (the engine's platens
-    have one contact stiffness), and the time step is the one it allows."""
+    have one contact stiffness), and the time step is the one it allows. `contact_stiffness`:
+    PFC's convention for kn (`simulate.CONTACT_STIFFNESS`; None: the default)."""
 
-    def __init__(self, specimen: Specimen, params, rate_factor: float,
-                 contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS, strip: BearingStrip | None = None):
+    def __init__(self, specimen: Specimen, params, rate_factor: float, contact_stiffness: str | None = None,
+                 strip: BearingStrip | None = None, side_walls: bool = False):
         pos, radius = specimen.pos, specimen.radius
         self.bottom, self.top = (pos[:, 1] - radius).min(), (pos[:, 1] + radius).max()
+        # the side walls are in the state whatever `side_walls`, at rest until `SideWalls` moves them
         self.state = new_state(params, specimen, walls=(0.0, 0.0, self.bottom, self.top),
                                wall_active=(False, False, True, True),
-                               contact_stiffness=contact_stiffness)
+                               contact_stiffness=contact_stiffness or DEFAULT_CONTACT_STIFFNESS)
         if strip is not None:
             walls = self.state.walls
             self.state.walls = walls._replace(

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, THICKNESS_M, TOP, advance, unbalanced_forces
+from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, THICKNESS_M, TOP, unbalanced_forces
 from rockcal.dem.specimen import Specimen
 from rockcal.labtests.result import RunFailed
 from rockcal.labtests.rig.platens import Platens
@@ -41,7 +41,7 @@ class SideWalls:
         scale sigma3 x mean grain diameter x t) and stop them; the steps it took."""
         state = self.state
         servo = WallServo(state, (LEFT, RIGHT, BOTTOM, TOP), self.servo.target, self.limit)
-        steps = settle(servo, lambda n: advance(state, n), lambda: np.hypot(*unbalanced_forces(state).T),
+        steps = settle(servo, state.advance, lambda: np.hypot(*unbalanced_forces(state).T),
                        servo.target * self.grain_diameter * THICKNESS_M)
         if steps is None:
             raise RunFailed(f"the specimen did not settle at the confinement of {servo.target / MPa:g} MPa "

@@ -1,6 +1,7 @@
-"""Four side walls confining a 3D prism between its platens at a stress sigma3 (a polyaxial
-vessel with sigma2 = sigma3, FISHTank's compression test with a confining pressure in PFC3D):
-the 2D rig's side walls (`rockcal.labtests.rig.sides`) on the four lateral faces.
+"""The side walls of the 3D rig: four walls confining a prism between its platens at a stress
+sigma3 (a polyaxial vessel with sigma2 = sigma3, FISHTank's compression test with a confining
+pressure in PFC3D): the 2D rig's side walls (`rockcal.labtests.rig.sides`) on the four lateral
+faces.
 
 The servo is the 2D rig's law (`rockcal.labtests.rig.servo`: velocity G (sigma - sigma3) plus
 an integral term, G = alpha A / (k_n N_c dt_servo), updated every STEPS steps, capped at
@@ -14,11 +15,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcal.dem3d.platens import BOTTOM, SIDES, TOP, Platens3D
-from rockcal.dem3d.simulate import advance
 from rockcal.dem3d.vectors import norms
 from rockcal.dem3d.walls import Wall, touching_counts
 from rockcal.labtests.result import RunFailed
+from rockcal.labtests.rig.platens_3d import BOTTOM, SIDES, TOP, Platens3D
 from rockcal.labtests.rig.servo import (
     ALPHA,
     BETA,
@@ -90,7 +90,7 @@ class SideWalls3D:
         state = self.state
         servo = WallServo3D(state, (BOTTOM, TOP, *SIDES), self.servo.target, self.limit)
         free = state.spheres.inv_mass > 0
-        steps = settle(servo, lambda n: advance(state, n),
+        steps = settle(servo, state.advance,
                        lambda: norms(state.spheres.force[free]),
                        servo.target * self.grain_diameter**2)
         if steps is None:

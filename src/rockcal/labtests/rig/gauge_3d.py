@@ -1,4 +1,4 @@
-"""Gauges on a 3D specimen, as the 2D rig's (`rockcal.labtests.rig.gauge`): the axial strain
+"""The gauges of the 3D rig, as the 2D rig's (`rockcal.labtests.rig.gauge`): the axial strain
 from the spheres along its top and bottom faces, the lateral strain from those along its
 side(s). Each reads the interquartile mean (the mean of the middle half) of its spheres' own
 displacements: of displacements, since a sphere's start varies with its radius and a central
@@ -40,11 +40,17 @@ def faces(specimen) -> dict[str, np.ndarray]:
     return sets
 
 
+def check_gauges(specimen) -> None:
+    """Nothing to check: a 3D specimen's size (`dem3d.specimen.check_size`) puts spheres on
+    every face."""
+
+
 class Gauge3D:
     """Gauges on the spheres along the faces of `specimen` (as made, `faces`), zeroed at the
-    spheres' positions `pos` now (a live view: read as they move)."""
+    spheres' positions in `state` now (read as they move)."""
 
-    def __init__(self, specimen, pos: np.ndarray):
+    def __init__(self, specimen, state):
+        pos = state.particles.pos
         self.pos, self.start = pos, pos.copy()
         self.sets = faces(specimen)
         self.axis = 0.5 * (self.start[:, :2].min(axis=0) + self.start[:, :2].max(axis=0))
