@@ -4,7 +4,8 @@ import pytest
 
 from rockcal.campaign.input.config import parse_campaign, SpecimenSettings
 from rockcal.campaign.plan import screen as plan
-from rockcal.campaign.plan.screen import describe, grain_count, stage_runs, stages
+from rockcal.campaign.plan.cost import grain_count
+from rockcal.campaign.plan.screen import describe, stage_runs, stages
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.spec import RunResult
 from rockcal.campaign.runs.store import RunStore

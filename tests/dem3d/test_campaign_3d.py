@@ -226,7 +226,7 @@ def test_the_first_screen_counts_the_cylinders_spheres(cylinder_settings):
     """The plan's grain count of a 3D cylinder is its packing's cloud less the corners carved
     off (pi/4 of it): within 15 % of the spheres the genesis makes, whose carving by the
     spheres' centres keeps a little more (302 against 271 on this 14-sphere-tall cylinder)."""
-    from rockcal.campaign.plan.screen import specimen_size
+    from rockcal.campaign.plan.cost import specimen_size
 
     planned = specimen_size("ucs", SpecimenSettings(**CYLINDER))[1]
     made = UCS.make(cylinder_settings).n_spheres
