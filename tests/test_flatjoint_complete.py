@@ -9,6 +9,7 @@ import pytest
 
 from rockcal import hexagonal
 from rockcal.campaign.input.config import parse_campaign, whole_numbers
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.procedure.steps import _round, planning_state, sample_points, search_space
 from rockcal.cli.app import main
 from rockcal.dem import flatjoint as fj
@@ -176,7 +177,7 @@ max_dem_runs = 20
 
 
 def campaign(bounds: str, fixed: str = "", extra: str = ""):
-    return parse_campaign(CAMPAIGN.format(bounds=bounds, fixed=fixed) + extra, None)
+    return planned(parse_campaign(CAMPAIGN.format(bounds=bounds, fixed=fixed) + extra, None))
 
 
 def test_the_complete_flat_joint_can_be_searched():
@@ -225,7 +226,7 @@ def test_a_dry_run_plans_whole_numbers_of_elements(tmp_path, monkeypatch, capsys
 def test_a_middle_level_of_a_whole_number_is_whole():
     text = CAMPAIGN.format(bounds="", fixed="").replace("[search]\nbounds = {  }\nfixed = {  }\n", "") + \
         "[sensitivity]\narray = 'L4(2^3)'\nlevels = { fj_emod = [10, 30], fj_nr = [2, 3] }\n"
-    bounds, fixed = search_space(parse_campaign(text, None), ["fj_emod"])
+    bounds, fixed = search_space(planned(parse_campaign(text, None)), ["fj_emod"])
     assert bounds == {"fj_emod": (10.0, 30.0)} and fixed["fj_nr"] == 3.0
 
 

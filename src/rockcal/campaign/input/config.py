@@ -19,7 +19,6 @@ import numpy as np
 from pydantic import Field, PrivateAttr, ValidationError, field_validator, model_validator
 
 from rockcal.campaign.input.raw_values import check_numbers
-from rockcal.campaign.plan.route import route_of, with_route
 from rockcal.campaign.outputs.safe_text import unsafe_character
 from rockcal.campaign.input.targets import LabTargets, Section, Targets, ValidationTests
 from rockcal.labtests.lab_values import read_curve  # noqa: F401  (here too)
@@ -41,8 +40,6 @@ MAX_DEM_RUNS = 5000
 MAX_ANTS = 10_000
 MAX_EVALUATIONS = 1_000_000
 MAX_DRAWS = 10_000
-QUICK_RESOLUTION = 2  # `--quick`: R_min this many times the campaign's
-QUICK_DRAWS = 50  # `--quick`: at most this many target draws for the parameters' intervals
 
 
 class Rock(Section):
@@ -217,8 +214,8 @@ class MaterialChoice(Section):
 
 
 class Campaign(Section):
-    """A whole calibration campaign, as read from its TOML file (with the defaults its file
-    leaves open set from its runs' cost: `plan.route`)."""
+    """A whole calibration campaign, as read from its TOML file (`plan.planned` sets the
+    defaults its file leaves open from its runs' cost: `plan.route`)."""
 
     _route: object = PrivateAttr(None)  # `plan.route.Route`, when the defaults were changed
 
@@ -308,33 +305,6 @@ def _check_dimensions(campaign: Campaign) -> None:
             raise ValueError(f"{key}: {exc.problem}") from None
 
 
-def quick_look(campaign: Campaign) -> Campaign:
-    """The campaign as a first look in minutes: R_min doubled (a quarter of the grains), one
-    validation beam and at most QUICK_DRAWS searches for the intervals. Its numbers are not the
-    full-resolution calibration; its route is chosen from its own costs."""
-    route = route_of(campaign)
-    if route is not None:
-        return quick_look(route.other)
-    s = campaign.specimen
-    specimen = s.model_copy(update={"rmin_mm": QUICK_RESOLUTION * s.rmin_mm, "bending_seeds": 1})
-    uncertainty = campaign.uncertainty.model_copy(update={"draws": min(campaign.uncertainty.draws, QUICK_DRAWS)})
-    update = {"specimen": specimen, "uncertainty": uncertainty}
-    if campaign.sensitivity and (campaign.sensitivity.rmin_mm or 0) <= specimen.rmin_mm:
-        update["sensitivity"] = campaign.sensitivity.model_copy(update={"rmin_mm": None})
-    quick = campaign.model_copy(update=update)
-    _check_specimens(quick, quick=True)
-    return with_route(quick, _coarse_possible(quick))
-
-
-def quick_look_note(quick: Campaign) -> str:
-    """What a quick look is, in the words of the first screen, the report and the JSON."""
-    rmin = quick.specimen.rmin_mm
-    beam = " and one validation beam" if "bending" in quick.validation_tests() else ""
-    return (f"quick look: half resolution (R_min {rmin:g} mm, the campaign's "
-            f"{rmin / QUICK_RESOLUTION:g} mm doubled){beam}; its numbers are a first look, not the "
-            "full-resolution calibration")
-
-
 DEFAULT_ROCK = "granite"
 MAX_LINE = 4096  # characters on a line of a campaign file
 
@@ -370,7 +340,8 @@ def load_campaign(path: Path | str | None) -> tuple[Campaign, str]:
 
 def parse_campaign(text: str, base: Path) -> Campaign:
     """Validate campaign TOML text, values, specimens and curve file, so that bad input fails
-    before any store or run is touched; relative curve paths are taken from `base`."""
+    before any store or run is touched; relative curve paths are taken from `base`. The
+    defaults the file leaves open stay as they are: `plan.planned` sets them from the runs' cost."""
     long = next((n for n, line in enumerate(text.splitlines(), start=1) if len(line) > MAX_LINE), None)
     if long is not None:  # TOML's parser takes the square of a long dotted key's parts
         raise InputError("CONFIG", f"line {long} is longer than {MAX_LINE} characters; not a campaign file")
@@ -386,8 +357,8 @@ def parse_campaign(text: str, base: Path) -> Campaign:
     except ValidationError as exc:
         raise from_validation_error(exc, Campaign) from None
     _check_values(campaign)
-    _check_specimens(campaign)
-    return _curves_from(with_route(campaign, _coarse_possible(campaign)), base)
+    check_specimens(campaign)
+    return _curves_from(campaign, base)
 
 
 def _curves_from(campaign: Campaign, base: Path) -> Campaign:
@@ -510,17 +481,7 @@ def _check_point(make_params, fixed: dict, values: dict, where: str, what: str) 
         raise InputError(key, exc.problem + at) from None
 
 
-def _coarse_possible(campaign: Campaign) -> bool:
-    """The specimens of the campaign's tests can be made at [surrogate] coarse_factor x R_min."""
-    coarse = campaign.surrogate.model_copy(update={"coarse_samples": 1})
-    try:
-        _check_specimens(campaign.model_copy(update={"surrogate": coarse}))
-    except InputError:
-        return False
-    return True
-
-
-def _check_specimens(campaign: Campaign, quick: bool = False) -> None:
+def check_specimens(campaign: Campaign, quick: bool = False) -> None:
     """The specimen of each test the campaign runs can be made at every resolution it runs
     them (the campaign's, the coarse samples', the sensitivity runs'), naming the key that set
     the resolution (`--quick` for a quick look's)."""

@@ -4,7 +4,7 @@ A run's time is the mean of the test's runs on the same specimen that the store 
 without any, it is scaled from a full-size granite UCS run on a reference machine by this
 machine's speed against the reference machine's (`engine_speed`: a one-second probe). Work per
 step grows with the grains, and the steps of a test with its rows of grains (the loading speed
-is set per row), so a run's time goes about as (grains x rows)^1.1 (measured on idle cores); a
+is set per row), so a run's time goes about as (grains x rows)^1.1 (measured on idle cores: `cost`); a
 full-size bending run about 2.7 times slower than that (its steps grow with span² / height), a
 Brazilian disk between bearing strips about six times, and a flat-jointed material's runs about
 twice a parallel-bonded one's (`Material.slower_than_parallel_bond`).
