@@ -10,7 +10,8 @@ import pytest
 from rockcal import hexagonal
 from rockcal.campaign.input.config import parse_campaign, whole_numbers
 from rockcal.campaign.plan.planned import planned
-from rockcal.campaign.procedure.steps import _round, planning_state, sample_points, search_space
+from rockcal.campaign.procedure.rounding import rounded
+from rockcal.campaign.procedure.steps import planning_state, sample_points, search_space
 from rockcal.cli.app import main
 from rockcal.dem import flatjoint as fj
 from rockcal.dem.simulate import advance
@@ -206,8 +207,8 @@ def test_a_whole_number_is_rounded_one_way_wherever_a_point_is_run():
         assert float(row[1]).is_integer() and 1 <= row[1] <= 4
         assert row[0] == float(f"{row[0]:.4g}")
     assert set(x[:, 1]) == {1.0, 2.0, 3.0, 4.0}
-    assert list(_round(np.array([2.5, 2.5]), np.array([False, True]))) == [2.5, 3.0]  # halves up
-    assert list(_round(np.array([2.71828, 1.23456]))) == [2.718, 1.235]  # as before: 4 digits
+    assert list(rounded(np.array([2.5, 2.5]), np.array([False, True]))) == [2.5, 3.0]  # halves up
+    assert list(rounded(np.array([2.71828, 1.23456]))) == [2.718, 1.235]  # as before: 4 digits
 
 
 def test_a_dry_run_plans_whole_numbers_of_elements(tmp_path, monkeypatch, capsys):
