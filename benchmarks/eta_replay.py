@@ -14,6 +14,7 @@ import tempfile
 from pathlib import Path
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.plan.screen import stage_runs, stage_times
 from rockcal.campaign.runs.store import RunStore
 from rockcal.cli.calibrate import _stage_progress
@@ -32,7 +33,7 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
     store = RunStore(args.out, create=False)
-    campaign = parse_campaign(store.document("campaign.toml"), args.out)
+    campaign = planned(parse_campaign(store.document("campaign.toml"), args.out))
     with tempfile.TemporaryDirectory() as empty:
         times = stage_times(campaign, RunStore(Path(empty) / "plan"), args.workers)
     runs = finished_runs(store)

@@ -16,7 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from rockcal.campaign.input.config import load_campaign, quick_look
+from rockcal.campaign.input.config import load_campaign
+from rockcal.campaign.plan.planned import planned
+from rockcal.campaign.plan.quick_look import quick_look
 from rockcal.campaign.plan.screen import specimens
 from rockcal.dem.specimen import cache_dir, packing_name, random_packing
 from rockcal.labtests.registry import lab_test
@@ -26,7 +28,7 @@ SHIPPED = Path(__file__).parents[1] / "src" / "rockcal" / "dem" / "specimens"
 
 def packings() -> list[dict]:
     """`random_packing`'s arguments for every packing of the embedded campaigns, once each."""
-    granite, _ = load_campaign(None)
+    granite = planned(load_campaign(None)[0])
     found = {}
     for campaign in (granite, quick_look(granite)):
         for test, settings in specimens(campaign):

@@ -18,6 +18,7 @@ import time
 from pathlib import Path
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.pool import Executor, execute
 from rockcal.campaign.runs.spec import run_spec
@@ -49,13 +50,13 @@ def main() -> None:
     true = TRUE | parse_assignments(args.set)
     text = CAMPAIGN.read_text()
     started = time.perf_counter()
-    stand_in = parse_campaign(text, CAMPAIGN.parent)
+    stand_in = planned(parse_campaign(text, CAMPAIGN.parent))
     lab = execute(run_spec("ucs", stand_in.specimen, stand_in.fixed_params() | true))
     assert lab.status == "ok", lab.message
     targets = {name: float(lab.responses[name]) for name in TARGETS}
     print("twin's lab values:", ", ".join(f"{k} {v:.4g}" for k, v in targets.items()),
           f"({lab.responses['n_particles']:.0f} spheres)")
-    campaign = parse_campaign(with_targets(text, targets, args.tolerance), CAMPAIGN.parent)
+    campaign = planned(parse_campaign(with_targets(text, targets, args.tolerance), CAMPAIGN.parent))
     record = calibrate(campaign, Executor(RunStore(args.out), workers=args.workers))
     print(f"accepted {record.accepted}, {record.dem_runs} parameter sets, "
           f"{(time.perf_counter() - started) / 60:.1f} min")

@@ -9,7 +9,9 @@ import pytest
 
 from rockcal import hexagonal
 from rockcal.campaign.input.config import parse_campaign, whole_numbers
-from rockcal.campaign.procedure.steps import _round, planning_state, sample_points, search_space
+from rockcal.campaign.plan.planned import planned
+from rockcal.campaign.procedure.rounding import rounded
+from rockcal.campaign.procedure.steps import planning_state, sample_points, search_space
 from rockcal.cli.app import main
 from rockcal.dem import flatjoint as fj
 from rockcal.dem.simulate import advance
@@ -176,7 +178,7 @@ max_dem_runs = 20
 
 
 def campaign(bounds: str, fixed: str = "", extra: str = ""):
-    return parse_campaign(CAMPAIGN.format(bounds=bounds, fixed=fixed) + extra, None)
+    return planned(parse_campaign(CAMPAIGN.format(bounds=bounds, fixed=fixed) + extra, None))
 
 
 def test_the_complete_flat_joint_can_be_searched():
@@ -205,8 +207,8 @@ def test_a_whole_number_is_rounded_one_way_wherever_a_point_is_run():
         assert float(row[1]).is_integer() and 1 <= row[1] <= 4
         assert row[0] == float(f"{row[0]:.4g}")
     assert set(x[:, 1]) == {1.0, 2.0, 3.0, 4.0}
-    assert list(_round(np.array([2.5, 2.5]), np.array([False, True]))) == [2.5, 3.0]  # halves up
-    assert list(_round(np.array([2.71828, 1.23456]))) == [2.718, 1.235]  # as before: 4 digits
+    assert list(rounded(np.array([2.5, 2.5]), np.array([False, True]))) == [2.5, 3.0]  # halves up
+    assert list(rounded(np.array([2.71828, 1.23456]))) == [2.718, 1.235]  # as before: 4 digits
 
 
 def test_a_dry_run_plans_whole_numbers_of_elements(tmp_path, monkeypatch, capsys):
@@ -225,7 +227,7 @@ def test_a_dry_run_plans_whole_numbers_of_elements(tmp_path, monkeypatch, capsys
 def test_a_middle_level_of_a_whole_number_is_whole():
     text = CAMPAIGN.format(bounds="", fixed="").replace("[search]\nbounds = {  }\nfixed = {  }\n", "") + \
         "[sensitivity]\narray = 'L4(2^3)'\nlevels = { fj_emod = [10, 30], fj_nr = [2, 3] }\n"
-    bounds, fixed = search_space(parse_campaign(text, None), ["fj_emod"])
+    bounds, fixed = search_space(planned(parse_campaign(text, None)), ["fj_emod"])
     assert bounds == {"fj_emod": (10.0, 30.0)} and fixed["fj_nr"] == 3.0
 
 

@@ -422,11 +422,12 @@ def test_calibrate_arguments_many(case):
 def _max_grains_of_base() -> int:
     """The most grains of a specimen the base campaign (all its sections) plans."""
     from rockcal.campaign.input.config import parse_campaign
+    from rockcal.campaign.plan.planned import planned
     from rockcal.campaign.plan.screen import specimens
     from rockcal.dem.grain_limit import expected_grains
     from rockcal.labtests.registry import lab_test
 
-    campaign = parse_campaign(hs.toml_dumps(hs.base_campaign(tuple(hs.OPTIONAL))), Path.cwd())
+    campaign = planned(parse_campaign(hs.toml_dumps(hs.base_campaign(tuple(hs.OPTIONAL))), Path.cwd()))
     most = 0.0
     for test, s in specimens(campaign):
         p = lab_test(test).packing(s)

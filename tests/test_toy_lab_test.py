@@ -10,6 +10,7 @@ import pytest
 from typer.testing import CliRunner
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.store import RunStore
@@ -80,7 +81,7 @@ checks = 1
 [acceptance]
 {chr(10).join(f"{k} = {v}" for k, v in acceptance.items())}
 """
-    return calibrate(parse_campaign(text, folder), Executor(RunStore(folder / "out"), workers=1))
+    return calibrate(planned(parse_campaign(text, folder)), Executor(RunStore(folder / "out"), workers=1))
 
 
 def test_a_campaign_calibrates_against_the_toy_test(toy, tmp_path):

@@ -131,6 +131,7 @@ def test_twin_intervals_hold_the_truth_and_shrink_with_the_lab_spread(twin):
     intervals that shrink with the spread, are tested on a known model in
     tests/inverse/test_uncertainty.py."""
     from rockcal.campaign.input.config import parse_campaign
+    from rockcal.campaign.plan.planned import planned
     from rockcal.campaign.runs.pool import Executor
     from rockcal.campaign.procedure.steps import calibrate
 
@@ -144,7 +145,7 @@ def test_twin_intervals_hold_the_truth_and_shrink_with_the_lab_spread(twin):
         store = RunStore(config.parent / "out")
         executor = Executor(store, workers=1)
         try:
-            record = calibrate(parse_campaign(text, config.parent), executor)
+            record = calibrate(planned(parse_campaign(text, config.parent)), executor)
         finally:
             store.close()
         assert executor.executed == 0

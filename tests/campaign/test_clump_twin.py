@@ -8,6 +8,7 @@ was a matter of the search's path."""
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.pool import Executor, execute
 from rockcal.campaign.runs.spec import run_spec
@@ -40,11 +41,11 @@ max_dem_runs = 30
 
 
 def test_a_clumped_twin_recovers_its_bond_modulus_and_strength(tmp_path):
-    stand_in = parse_campaign(CAMPAIGN.format(E_GPa=30.0, nu=0.2, ucs_MPa=100.0), tmp_path)
+    stand_in = planned(parse_campaign(CAMPAIGN.format(E_GPa=30.0, nu=0.2, ucs_MPa=100.0), tmp_path))
     lab = execute(run_spec("ucs", stand_in.specimen, stand_in.fixed_params() | TRUE, stand_in.material.model))
     assert lab.status == "ok", lab.message
     targets = {name: float(lab.responses[name]) for name in ("E_GPa", "nu", "ucs_MPa")}
-    campaign = parse_campaign(CAMPAIGN.format(**targets), tmp_path)
+    campaign = planned(parse_campaign(CAMPAIGN.format(**targets), tmp_path))
     record = calibrate(campaign, Executor(RunStore(tmp_path / "out"), workers=1))
     assert record.accepted
     for name in ("E_c", "sigma_c"):

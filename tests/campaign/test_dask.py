@@ -15,6 +15,7 @@ from distributed import LocalCluster  # noqa: E402
 
 from rockcal.campaign.runs import dask as dask_executor  # noqa: E402
 from rockcal.campaign.input.config import SpecimenSettings, parse_campaign  # noqa: E402
+from rockcal.campaign.plan.planned import planned  # noqa: E402
 from rockcal.campaign.runs.dask import DaskExecutor, parse_scheduler  # noqa: E402
 from rockcal.campaign.runs.pool import Executor  # noqa: E402
 from rockcal.campaign.runs.spec import run_spec
@@ -55,7 +56,7 @@ def test_campaign_on_dask_gives_the_serial_answer_bit_for_bit(tmp_path):
         store = RunStore(tmp_path / name)
         executor = make(store)
         try:
-            records[name] = calibrate(parse_campaign(CAMPAIGN, tmp_path), executor)
+            records[name] = calibrate(planned(parse_campaign(CAMPAIGN, tmp_path)), executor)
             if name == "dask":  # the workers read the driver's specimen cache
                 assert set(executor.client.run(os.getenv, "ROCKCAL_CACHE").values()) == {os.environ["ROCKCAL_CACHE"]}
         finally:

@@ -18,6 +18,7 @@ from cryptography.x509.oid import NameOID  # noqa: E402
 from distributed import LocalCluster, Security  # noqa: E402
 
 from rockcal.campaign.input.config import SpecimenSettings, parse_campaign  # noqa: E402
+from rockcal.campaign.plan.planned import planned  # noqa: E402
 from rockcal.campaign.runs.dask import DaskExecutor, parse_scheduler  # noqa: E402
 from rockcal.campaign.runs.tls import TLSFiles  # noqa: E402
 from rockcal.campaign.runs.spec import run_spec  # noqa: E402
@@ -85,7 +86,7 @@ def test_a_tiny_campaign_runs_on_a_tls_cluster(pki, tls_cluster, tmp_path):
     store = RunStore(tmp_path)
     executor = DaskExecutor(store, address, tls=TLSFiles(p["ca"], p["cert"], p["key"]))
     try:
-        result = calibrate(parse_campaign(CAMPAIGN, tmp_path), executor)
+        result = calibrate(planned(parse_campaign(CAMPAIGN, tmp_path)), executor)
     finally:
         executor.close()
     assert executor.security_source == "--tls-ca-file, --tls-cert and --tls-key"

@@ -9,6 +9,7 @@ import json
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.plan.screen import stages
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.spec import RunResult
@@ -67,7 +68,7 @@ class Recorder:
 
 @pytest.mark.parametrize("candidates", [1, 2])
 def test_the_plan_is_what_runs(tmp_path, candidates):
-    campaign = parse_campaign(CAMPAIGN.format(candidates=candidates), tmp_path)
+    campaign = planned(parse_campaign(CAMPAIGN.format(candidates=candidates), tmp_path))
     recorder = Recorder()
     record = calibrate(campaign, recorder, lambda stage, done, total: setattr(recorder, "stage", stage))
     assert record.accepted and len({it.loop for it in record.iterations}) == 1  # settled in the first round
@@ -87,9 +88,9 @@ def test_the_dry_run_prints_the_plan_and_writes_nothing(tmp_path, capsys, monkey
         app.main()
     assert done.value.code == 0 and not out.exists()
     plan = json.loads(capsys.readouterr().out)
-    planned = stages(parse_campaign(campaign_file.read_text(), tmp_path))
+    expected = stages(planned(parse_campaign(campaign_file.read_text(), tmp_path)))
     assert [(stage, test, entry["runs"]) for stage, tests in plan["stages"].items()
-            for test, entry in tests["tests"].items()] == planned
-    assert plan["runs"] == sum(n for _, _, n in planned)
+            for test, entry in tests["tests"].items()] == expected
+    assert plan["runs"] == sum(n for _, _, n in expected)
     assert plan["stages"]["packings and validation"]["tests"]["bending"]["packings"] == 2
     assert plan["expected_s"] > 0

@@ -10,6 +10,7 @@ follows E_c; phi barely moves with either (within 0.3 degrees), so c and E pin t
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.outputs.report import write_report
@@ -68,7 +69,7 @@ def twin(tmp_path_factory):
     """The campaign's result, its store and its folder."""
     folder = tmp_path_factory.mktemp("envelope-twin")
     store = RunStore(folder)
-    record = calibrate(parse_campaign(campaign_text(*lab_values()), folder), Executor(store, workers=1))
+    record = calibrate(planned(parse_campaign(campaign_text(*lab_values()), folder)), Executor(store, workers=1))
     yield record, store, folder
     store.close()
 

@@ -15,6 +15,7 @@ core): fj_fa 19.97° (true 20°), fjm_G_frac 0.206 (0.2) with fj_ten 21.0 MPa (2
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.pool import Executor, execute
 from rockcal.campaign.runs.spec import run_spec
@@ -73,7 +74,7 @@ max_dem_runs = 30
 def lab_targets(twin: dict, folder) -> dict:
     """The UCS responses at the true parameters, run as the campaign runs them."""
     stand_in = {"E_GPa": 30.0, "ucs_MPa": 50.0}
-    campaign = parse_campaign(campaign_text(twin, stand_in), folder)
+    campaign = planned(parse_campaign(campaign_text(twin, stand_in), folder))
     run = execute(run_spec("ucs", campaign.specimen, campaign.fixed_params() | twin["true"], "flatjoint"))
     assert run.status == "ok", run.message
     return {name: float(run.responses[name]) for name in TARGETS}
@@ -85,7 +86,7 @@ def twin(request, tmp_path_factory):
     name = request.param
     folder = tmp_path_factory.mktemp(name)
     spec = TWINS[name]
-    campaign = parse_campaign(campaign_text(spec, lab_targets(spec, folder)), folder)
+    campaign = planned(parse_campaign(campaign_text(spec, lab_targets(spec, folder)), folder))
     return name, campaign, calibrate(campaign, Executor(RunStore(folder / "out"), workers=1))
 
 

@@ -4,6 +4,7 @@ and E_c that made its targets, each run keyed by its own gap, every run on the o
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.store import RunStore
@@ -39,7 +40,7 @@ def test_a_twin_recovers_the_installation_gap_and_e_c(tmp_path, monkeypatch):
     specimen = random_packing(8, 16, 0.2, genesis=Genesis(install_gap=TRUE["install_gap"]))
     lab = simulate_ucs({"E_c": TRUE["E_c"], "sigma_c": 35.0}, specimen)
     store = RunStore(tmp_path / "out")
-    record = calibrate(parse_campaign(CAMPAIGN.format(E_GPa=lab.E_GPa, ucs_MPa=lab.ucs_MPa), tmp_path),
+    record = calibrate(planned(parse_campaign(CAMPAIGN.format(E_GPa=lab.E_GPa, ucs_MPa=lab.ucs_MPa), tmp_path)),
                        Executor(store, workers=1))
     assert record.accepted
     assert record.identified["install_gap"] == pytest.approx(TRUE["install_gap"], abs=0.05)

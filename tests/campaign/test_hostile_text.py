@@ -9,6 +9,7 @@ import runpy
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.outputs.export import WRITERS, read_calibration
 from rockcal.campaign.outputs.report import write_report
 from rockcal.campaign.procedure.result import CalibrationResult, save_result
@@ -126,7 +127,7 @@ def test_rich_markup_in_a_rock_name_is_printed_as_text(rock, tmp_path, capsys):
 
     from rockcal.cli.calibrate import _print_plan, _print_summary
 
-    campaign = parse_campaign(f"[rock]\nname = {json.dumps(rock)}\n" + CAMPAIGN, tmp_path)
+    campaign = planned(parse_campaign(f"[rock]\nname = {json.dumps(rock)}\n" + CAMPAIGN, tmp_path))
     store, result = finished(tmp_path, rock)
     try:
         _print_plan(campaign, store, SimpleNamespace(workers=None), None)

@@ -6,6 +6,7 @@ each kind of run."""
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.plan.screen import describe
 from rockcal.campaign.procedure.steps import calibrate
@@ -39,7 +40,7 @@ SINGLE_FIDELITY_RUNS = 19  # the same twin with 15 full-resolution samples: 15 +
 @pytest.mark.slow  # a campaign of 40 DEM runs
 def test_a_multi_fidelity_twin_recovers_its_parameters_with_fewer_fine_runs(tmp_path):
     lab = simulate_ucs(TRUE, random_packing(10, 20, 0.2))
-    campaign = parse_campaign(CAMPAIGN.format(E_GPa=lab.E_GPa, nu=lab.nu, ucs_MPa=lab.ucs_MPa), tmp_path)
+    campaign = planned(parse_campaign(CAMPAIGN.format(E_GPa=lab.E_GPa, nu=lab.nu, ucs_MPa=lab.ucs_MPa), tmp_path))
     store = RunStore(tmp_path / "out")
     screen = " ".join(describe(campaign, store, None))
     assert "coarse samples 20 (R_min 0.4 mm), samples and checks 8" in screen

@@ -6,6 +6,7 @@ that made the packings' mean; on one packing it recovers that packing's bias."""
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.plan.screen import describe, specimens, stages
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.store import RunStore
@@ -62,7 +63,7 @@ packings = 2
 
 def test_a_target_over_three_packings_recovers_the_parameters_of_their_mean(tmp_path):
     executor = Executor()
-    record = calibrate(parse_campaign(campaign_text(packings=3), tmp_path), executor)
+    record = calibrate(planned(parse_campaign(campaign_text(packings=3), tmp_path)), executor)
     assert record.accepted
     assert record.identified["sigma_c"] == pytest.approx(TRUE["sigma_c"], rel=0.01)
     assert record.verified["ucs_MPa_std"] == pytest.approx(0.06 * 3 * record.identified["sigma_c"], rel=0.01)
@@ -73,13 +74,13 @@ def test_a_target_over_three_packings_recovers_the_parameters_of_their_mean(tmp_
 
 
 def test_a_target_on_one_packing_recovers_that_packings_bias(tmp_path):
-    record = calibrate(parse_campaign(campaign_text(packings=1), tmp_path), Executor())
+    record = calibrate(planned(parse_campaign(campaign_text(packings=1), tmp_path)), Executor())
     assert record.identified["sigma_c"] == pytest.approx(TRUE["sigma_c"] / 1.06, rel=0.01)
 
 
 def test_the_first_screen_counts_every_packing(tmp_path):
     """Three packings make a verified point dear: one is verified a round (`plan.route`)."""
-    campaign = parse_campaign(campaign_text(packings=3), tmp_path)
+    campaign = planned(parse_campaign(campaign_text(packings=3), tmp_path))
     assert stages(campaign) == [("samples and checks", "ucs", 14), ("verification", "ucs", 3),
                                 ("packings and validation", "ucs", 3)]
     assert sorted(s.seed for _, s in specimens(campaign)) == [1, 2, 3, 4, 5, 6]
@@ -90,7 +91,7 @@ def test_the_first_screen_counts_every_packing(tmp_path):
 
 def test_coarse_runs_take_one_packing_and_the_verified_means_correct_them(tmp_path):
     executor = Executor()
-    campaign = parse_campaign(campaign_text(packings=3, coarse_samples=16), tmp_path)
+    campaign = planned(parse_campaign(campaign_text(packings=3, coarse_samples=16), tmp_path))
     record = calibrate(campaign, executor)
     assert record.identified["sigma_c"] == pytest.approx(TRUE["sigma_c"], rel=0.01)
     assert executor.seeds[:30] == [1] * 30  # the coarse samples, the samples and checks

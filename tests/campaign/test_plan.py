@@ -3,8 +3,10 @@
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign, SpecimenSettings
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.plan import screen as plan
-from rockcal.campaign.plan.screen import describe, grain_count, stage_runs, stages
+from rockcal.campaign.plan.cost import grain_count
+from rockcal.campaign.plan.screen import describe, stage_runs, stages
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.spec import RunResult
 from rockcal.campaign.runs.store import RunStore
@@ -20,7 +22,7 @@ def test_grain_count_is_the_genesis_count(rmin_mm, cloud_porosity):
 
 
 def test_stages_and_the_expected_time(tmp_path):
-    campaign = parse_campaign("""
+    campaign = planned(parse_campaign("""
 [targets.ucs]
 E_GPa = 20.0
 spread = { E_GPa = 1.0 }
@@ -36,7 +38,7 @@ samples = 12
 checks = 2
 [uncertainty]
 packings = 4
-""", tmp_path)
+""", tmp_path))
     assert stages(campaign) == [("sensitivity", "ucs", 9), ("samples and checks", "ucs", 14),
                                 ("verification", "ucs", 1),
                                 ("packings and validation", "bending", 2),
@@ -50,7 +52,7 @@ packings = 4
 
 
 def test_each_stage_runs_every_test_calibrated_against(tmp_path):
-    campaign = parse_campaign("""
+    campaign = planned(parse_campaign("""
 [targets.ucs]
 E_GPa = 20.0
 [targets.brazilian]
@@ -62,7 +64,7 @@ bounds = { E_c = [10, 30] }
 [surrogate]
 samples = 12
 checks = 2
-""", tmp_path)
+""", tmp_path))
     assert stages(campaign) == [("samples and checks", "ucs", 14), ("samples and checks", "brazilian", 14),
                                 ("verification", "ucs", 1), ("verification", "brazilian", 1)]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=1)
@@ -80,8 +82,8 @@ E_GPa = 20.0
 array = "L9(3^4)"
 levels = { E_c = [10, 20, 30], sigma_c = [20, 40, 60] }
 """
-    full = describe(parse_campaign(text, tmp_path), RunStore(tmp_path / "a"), workers=2)
-    coarse = describe(parse_campaign(text + "rmin_mm = 0.5\n", tmp_path), RunStore(tmp_path / "b"), workers=2)
+    full = describe(planned(parse_campaign(text, tmp_path)), RunStore(tmp_path / "a"), workers=2)
+    coarse = describe(planned(parse_campaign(text + "rmin_mm = 0.5\n", tmp_path)), RunStore(tmp_path / "b"), workers=2)
     assert "sensitivity 9 (R_min 0.5 mm), samples" in coarse[1] and "(R_min" not in full[1]
 
     def minutes(lines):
@@ -128,8 +130,8 @@ def test_a_machine_twice_as_slow_expects_twice_the_time(tmp_path, monkeypatch):
     """Before the store holds any run, the expected time follows this machine's engine probe."""
     from rockcal.campaign.plan import screen as plan
 
-    campaign = parse_campaign("[targets.ucs]\nE_GPa = 20.0\n[search]\nbounds = { E_c = [10, 30] }\n",
-                              tmp_path)
+    campaign = planned(parse_campaign("[targets.ucs]\nE_GPa = 20.0\n[search]\nbounds = { E_c = [10, 30] }\n",
+                                      tmp_path))
     store = RunStore(tmp_path / "out")
     monkeypatch.setattr(plan, "probe_ms_per_step", lambda: plan.REFERENCE_PROBE_MS)
     here = plan.expected_s(campaign, store, workers=2) - plan._main_process_s(campaign)
@@ -144,7 +146,7 @@ def test_other_work_on_the_cores_lengthens_the_estimate(tmp_path, monkeypatch):
     time, and a last lone run no second core; the main process gets two thirds of a core."""
     from rockcal.campaign.plan import screen as plan
 
-    campaign = parse_campaign("[targets.ucs]\nE_GPa = 20.0\n[search]\nbounds = { E_c = [10, 30] }\n", tmp_path)
+    campaign = planned(parse_campaign("[targets.ucs]\nE_GPa = 20.0\n[search]\nbounds = { E_c = [10, 30] }\n", tmp_path))
     store = RunStore(tmp_path / "out")
 
     def runs_s():
@@ -206,10 +208,10 @@ def test_two_candidates_on_a_single_optimum_make_the_planned_runs(tmp_path):
     ends at that count without ever lowering its total."""
     from rockcal.cli.calibrate import _stage_progress
 
-    campaign = parse_campaign(tiny_campaign().replace("max_dem_runs = 9", "max_dem_runs = 9\ncandidates = 2"),
-                              tmp_path)
-    planned = sum(stage_runs(campaign).values())
-    assert planned == 6 + 1 + 1  # samples, check, the search's optimum
+    campaign = planned(parse_campaign(tiny_campaign().replace("max_dem_runs = 9", "max_dem_runs = 9\ncandidates = 2"),
+                                      tmp_path))
+    counted = sum(stage_runs(campaign).values())
+    assert counted == 6 + 1 + 1  # samples, check, the search's optimum
     progress = _stage_progress(True, stage_runs(campaign), {stage: (n, 10.0 * n)
                                                             for stage, n in stage_runs(campaign).items()})
     counts = []
@@ -221,9 +223,9 @@ def test_two_candidates_on_a_single_optimum_make_the_planned_runs(tmp_path):
     twin = Twin()
     record = calibrate(campaign, twin, shown)
     assert record.accepted and len(record.iterations) == 1  # the second searches found the same optimum
-    assert twin.made == record.dem_runs == planned
-    assert counts[-1] == f"{planned}/{planned}"
-    assert {count.split("/")[1] for count in counts} == {str(planned)}
+    assert twin.made == record.dem_runs == counted
+    assert counts[-1] == f"{counted}/{counted}"
+    assert {count.split("/")[1] for count in counts} == {str(counted)}
 
 
 def test_a_second_optimum_and_a_run_held_only_add_to_the_count():

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.procedure.steps import calibrate, spread_out
 from rockcal.campaign.procedure.result import FailedRun
 from rockcal.campaign.runs.spec import RunResult
@@ -54,7 +55,7 @@ class SyntheticExecutor:
 
 
 def test_a_failed_sensitivity_run_is_filled_in_and_the_campaign_recovers_the_parameters(tmp_path):
-    record = calibrate(parse_campaign(CAMPAIGN, tmp_path), SyntheticExecutor())
+    record = calibrate(planned(parse_campaign(CAMPAIGN, tmp_path)), SyntheticExecutor())
     sensitivity = record.sensitivity
     assert len(sensitivity.imputed_runs) == 1
     assert sensitivity.chosen == ["E_c", "kn_ks", "sigma_c"]
@@ -106,7 +107,7 @@ class JointExecutor(SyntheticExecutor):
 def test_joint_targets_free_more_parameters_and_are_recovered(tmp_path):
     """UCS, Brazilian and bending targets: range analysis picks tau_c as well, the loop fits
     every response, the Brazilian test (listed in [validation]) is a check only."""
-    record = calibrate(parse_campaign(JOINT, tmp_path), JointExecutor())
+    record = calibrate(planned(parse_campaign(JOINT, tmp_path)), JointExecutor())
     assert record.target_tests == {"ucs": ["E_GPa", "nu", "ucs_MPa"], "bending": ["K_IC_MPa_sqrt_m"]}
     assert record.sensitivity.chosen == ["E_c", "kn_ks", "sigma_c", "tau_c"]
     assert record.failed_runs == []  # the Brazilian test runs only at the identified point
@@ -144,7 +145,7 @@ def test_the_validation_beams_and_the_other_packings_run_as_one_batch_beams_firs
         "[sensitivity]", "[specimen]\nbending_seeds = 2\n[sensitivity]") + \
         "[uncertainty]\nenabled = true\ndraws = 10\npackings = 3\n"
     executor = RememberingExecutor()
-    record = calibrate(parse_campaign(text, tmp_path), executor)
+    record = calibrate(planned(parse_campaign(text, tmp_path)), executor)
     last = max(k for k, call in enumerate(executor.calls) if call)
     assert executor.calls[last] == [("bending", 1), ("bending", 2), ("ucs", 2), ("ucs", 3),
                                     ("brazilian", 2), ("brazilian", 3)]
@@ -156,7 +157,7 @@ def test_a_failed_run_of_one_test_fails_its_parameter_set(tmp_path):
         "sigma_t_MPa = 10.0",
         "sigma_t_MPa = 10.0\nweights = { sigma_t_MPa = 2 }\nspread = { sigma_t_MPa = 0.5 }",
     ) + "[uncertainty]\ndraws = 10\npackings = 2\n"
-    record = calibrate(parse_campaign(text, tmp_path), JointExecutor())
+    record = calibrate(planned(parse_campaign(text, tmp_path)), JointExecutor())
     assert record.target_tests == {"ucs": ["E_GPa", "nu", "ucs_MPa"], "brazilian": ["sigma_t_MPa"]}
     assert record.weights == {"sigma_t_MPa": 2.0} and "sigma_t_MPa 2" in record.objective
     assert record.failed_runs == [FailedRun(stage="sensitivity (brazilian)", message="ValueError: unstable")]
@@ -210,7 +211,7 @@ def test_distinct_optima_verified_together_whatever_the_workers(tmp_path):
     """A round verifies both distinct optima at once, on one worker or two alike (the same
     record); the point accepted is the one-candidate loop's (the search's own optimum),
     within the tolerance of every target."""
-    campaign = parse_campaign(SEARCH, tmp_path)
+    campaign = planned(parse_campaign(SEARCH, tmp_path))
     serial, parallel = Workers(1), Workers(2)
     one, two = (calibrate(campaign, ex) for ex in (serial, parallel))
     assert one.model_dump() == two.model_dump() and two.accepted
@@ -220,7 +221,7 @@ def test_distinct_optima_verified_together_whatever_the_workers(tmp_path):
     assert kn_ks == pytest.approx([1.5, 2.5], abs=0.05)  # the two valleys, not one point twice
     assert all(abs(e) <= two.tolerance for it in two.iterations for e in it.errors.values())
     single = Workers(2)
-    alone = calibrate(parse_campaign(SEARCH + "[acceptance]\ncandidates = 1\n", tmp_path), single)
+    alone = calibrate(planned(parse_campaign(SEARCH + "[acceptance]\ncandidates = 1\n", tmp_path)), single)
     assert len(single.calls[-1]) == 1 and alone.identified == two.identified
 
 
@@ -230,11 +231,11 @@ def test_a_sensitivity_run_trains_the_surrogate_only_when_it_is_a_run_of_the_sea
 array = "L16(4^5)"
 levels = { E_c = [15, 20, 25, 30], kn_ks = [1.0, 1.67, 2.33, 3.0], sigma_c = [20, 30, 40, 50], tau_c = [50, 70, 90, 110], mu = [0.3, 0.4, 0.5, 0.6] }
 [search]""")
-    record = calibrate(parse_campaign(text, tmp_path), Workers(1, responses))
+    record = calibrate(planned(parse_campaign(text, tmp_path)), Workers(1, responses))
     [i] = record.samples.reused_sensitivity_runs
     assert record.sensitivity.runs[i] == {"E_c": 15.0, "kn_ks": 2.33, "sigma_c": 40.0, "tau_c": 90.0, "mu": 0.5}
     narrow = text.replace("E_c = [15, 30]", "E_c = [20, 30]")  # that run is now outside the box
-    assert calibrate(parse_campaign(narrow, tmp_path), Workers(1, responses)) \
+    assert calibrate(planned(parse_campaign(narrow, tmp_path)), Workers(1, responses)) \
         .samples.reused_sensitivity_runs is None
 
 
@@ -255,7 +256,7 @@ levels = { E_c = [15, 20, 25, 30], kn_ks = [1.0, 1.67, 2.33, 3.0], sigma_c = [20
 rmin_mm = 0.5
 [search]""")
     executor = Specimens(1, responses)
-    record = calibrate(parse_campaign(text, tmp_path), executor)
+    record = calibrate(planned(parse_campaign(text, tmp_path)), executor)
     first, *later = executor.calls
     assert first == [0.5] * 16 and {r for call in later for r in call} == {0.25}
     assert len(later[0]) == 12 + 2  # the samples and the surrogate's checks: one batch
@@ -300,8 +301,8 @@ def test_ucs_first_runs_a_beam_only_where_the_ucs_test_met_its_targets(tmp_path)
     and UCS are within the tolerance; a point that missed is recorded with its UCS responses
     (no K_IC), its beam never run, and the campaign accepts the point it accepts without."""
     plain, first = ByTest(), ByTest()
-    without = calibrate(parse_campaign(FIRST_UCS, tmp_path), plain)
-    record = calibrate(parse_campaign(FIRST_UCS + "ucs_first = true\n", tmp_path), first)
+    without = calibrate(planned(parse_campaign(FIRST_UCS, tmp_path)), plain)
+    record = calibrate(planned(parse_campaign(FIRST_UCS + "ucs_first = true\n", tmp_path)), first)
     assert record.accepted and record.identified == without.identified
     missed, accepted = record.iterations
     assert set(missed.errors) == {"E_GPa", "nu", "ucs_MPa"} and "K_IC_MPa_sqrt_m" not in missed.verified
@@ -328,7 +329,7 @@ def test_samples_every_test_runs_the_beam_at_that_many_samples_spread_over_the_b
     without K_IC, and the corrected K_IC still leads to the point the targets ask for."""
     workers = ByTest()
     text = FIRST_UCS.replace("checks = 1", "checks = 1\ncoarse_samples = 12\nsamples_every_test = 3")
-    record = calibrate(parse_campaign(text, tmp_path), workers)
+    record = calibrate(planned(parse_campaign(text, tmp_path)), workers)
     assert sorted(workers.calls[1]) == ["bending"] * 4 + ["ucs"] * 9
     with_beam = [r for r in record.samples.responses if "K_IC_MPa_sqrt_m" in r]
     assert len(with_beam) == 3 and all("ucs_MPa" in r for r in record.samples.responses)

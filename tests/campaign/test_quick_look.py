@@ -7,7 +7,8 @@ import sys
 
 import pytest
 
-from rockcal.campaign.input.config import load_campaign, parse_campaign, quick_look, quick_look_note
+from rockcal.campaign.input.config import load_campaign, parse_campaign
+from rockcal.campaign.plan.quick_look import quick_look, quick_look_note
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.outputs.report import write_report
 from rockcal.campaign.procedure.result import CalibrationResult

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.outputs.figures import FIGURES
@@ -67,7 +68,7 @@ def campaign(tmp_path_factory):
     np.savetxt(folder / "measured.csv", np.column_stack([strain, stress]), delimiter=",",
                header="axial_strain,axial_stress_MPa", comments="")
     store = RunStore(folder)
-    record = calibrate(parse_campaign(TOML, folder), Executor(store, workers=1))
+    record = calibrate(planned(parse_campaign(TOML, folder)), Executor(store, workers=1))
     yield record, store, folder
     store.close()
 

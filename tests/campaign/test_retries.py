@@ -4,6 +4,7 @@ per call, at most MAX_TRIES times; the first screen says how many will be retrie
 import numpy as np
 
 from rockcal.campaign.input.config import SpecimenSettings, parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.campaign.plan.screen import describe
@@ -69,7 +70,7 @@ def test_a_repaired_specimen_cache_heals_the_runs_that_failed_on_it(tmp_path):
 
 
 def test_a_campaign_of_timed_out_runs_resumes_and_the_first_screen_says_so(tmp_path):
-    campaign = parse_campaign(CAMPAIGN, tmp_path)
+    campaign = planned(parse_campaign(CAMPAIGN, tmp_path))
     store = RunStore(tmp_path)
     try:
         calibrate(campaign, Executor(store, workers=1, time_limit_s=1e-4))

@@ -8,6 +8,7 @@ multi-fidelity route with fewer full-resolution runs."""
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.plan.route import COARSE_PER_PARAMETER, FULL_AFTER_PARAMETERS, route_of
 from rockcal.campaign.plan.screen import describe
 from rockcal.campaign.procedure.steps import calibrate
@@ -59,7 +60,7 @@ def lab(tmp_path_factory):
     """The lab targets: one UCS run and one bending run at TRUE, as the campaign runs them
     (its specimen settings, seed and fixed parameters: the same run specs)."""
     stand_in = {"E_GPa": 30.0, "nu": 0.2, "ucs_MPa": 100.0, "K_IC_MPa_sqrt_m": 1.0}
-    campaign = parse_campaign(campaign_text(stand_in), tmp_path_factory.mktemp("lab"))
+    campaign = planned(parse_campaign(campaign_text(stand_in), tmp_path_factory.mktemp("lab")))
     params = campaign.fixed_params() | TRUE
     targets = {}
     for test, names in (("ucs", ("E_GPa", "nu", "ucs_MPa")), ("bending", ("K_IC_MPa_sqrt_m",))):
@@ -77,14 +78,14 @@ def lab(tmp_path_factory):
 @pytest.fixture(scope="module")
 def multi(lab, tmp_path_factory):
     folder = tmp_path_factory.mktemp("multi")
-    campaign = parse_campaign(campaign_text(lab), folder)
+    campaign = planned(parse_campaign(campaign_text(lab), folder))
     return campaign, calibrate(campaign, Executor(RunStore(folder / "out"), workers=1))
 
 
 @pytest.fixture(scope="module")
 def single(lab, tmp_path_factory):
     folder = tmp_path_factory.mktemp("single")
-    campaign = parse_campaign(campaign_text(lab, f"[surrogate]\nsamples = {SINGLE_FIDELITY_SAMPLES}"), folder)
+    campaign = planned(parse_campaign(campaign_text(lab, f"[surrogate]\nsamples = {SINGLE_FIDELITY_SAMPLES}"), folder))
     return campaign, calibrate(campaign, Executor(RunStore(folder / "out"), workers=1))
 
 
@@ -94,7 +95,7 @@ def full_resolution_runs(record) -> int:
 
 
 def test_the_plain_file_takes_the_multi_fidelity_route_and_says_so(lab, tmp_path):
-    campaign = parse_campaign(campaign_text(lab), tmp_path)
+    campaign = planned(parse_campaign(campaign_text(lab), tmp_path))
     assert route_of(campaign).name == "multi-fidelity"
     n = len(TRUE)
     s = campaign.surrogate
@@ -102,7 +103,7 @@ def test_the_plain_file_takes_the_multi_fidelity_route_and_says_so(lab, tmp_path
     screen = "\n".join(describe(campaign, RunStore(tmp_path / "out"), None))
     assert f"coarse samples {2 * COARSE_PER_PARAMETER * n} (R_min 0.5 mm)" in screen  # a UCS and a beam each
     assert "route: multi-fidelity" in screen
-    other = parse_campaign(campaign_text(lab, f"[surrogate]\nsamples = {SINGLE_FIDELITY_SAMPLES}"), tmp_path)
+    other = planned(parse_campaign(campaign_text(lab, f"[surrogate]\nsamples = {SINGLE_FIDELITY_SAMPLES}"), tmp_path))
     assert other.surrogate.coarse_samples == 0
     assert route_of(other).name == "one candidate a round"
 

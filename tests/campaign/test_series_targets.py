@@ -8,6 +8,7 @@ import math
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.campaign.plan.screen import describe, stages
 from rockcal.campaign.procedure.steps import calibrate
@@ -80,7 +81,7 @@ packings = 2
 
 
 def test_an_envelope_target_recovers_the_parameters_and_runs_each_confinement(tmp_path):
-    campaign = parse_campaign(campaign_text(envelope(TRUE)), tmp_path)
+    campaign = planned(parse_campaign(campaign_text(envelope(TRUE)), tmp_path))
     executor = Executor()
     record = calibrate(campaign, executor)
     assert record.target_tests == {"ucs": ["E_GPa", "nu"], "biaxial": ["phi_deg", "c_MPa"]}
@@ -100,7 +101,7 @@ def test_an_envelope_target_recovers_the_parameters_and_runs_each_confinement(tm
 
 def test_peaks_as_targets_name_each_confinement(tmp_path):
     peaks = [sigma1(TRUE, s3) for s3 in CONFINEMENTS]
-    record = calibrate(parse_campaign(campaign_text({"sigma1_MPa": peaks}), tmp_path), Executor())
+    record = calibrate(planned(parse_campaign(campaign_text({"sigma1_MPa": peaks}), tmp_path)), Executor())
     assert record.target_tests["biaxial"] == ["sigma1_MPa@0MPa", "sigma1_MPa@5MPa", "sigma1_MPa@10MPa"]
     assert record.accepted
     assert record.verified["sigma1_MPa@10MPa"] == pytest.approx(peaks[2], rel=0.01)
@@ -110,7 +111,7 @@ def test_peaks_as_targets_name_each_confinement(tmp_path):
 def test_a_confined_validation_check_folds_its_series(tmp_path):
     text = campaign_text(envelope(TRUE)) + '[validation]\ntests = ["biaxial"]\n'
     text = text.replace("[uncertainty]\nenabled = true", "[uncertainty]\nenabled = false")
-    record = calibrate(parse_campaign(text, tmp_path), Executor())
+    record = calibrate(planned(parse_campaign(text, tmp_path)), Executor())
     [check] = record.checks
     assert check.test == "biaxial" and check.status == "ok"
     assert check.responses["phi_deg"] == pytest.approx(envelope(record.identified_params)["phi_deg"])
@@ -119,7 +120,7 @@ def test_a_confined_validation_check_folds_its_series(tmp_path):
 
 def test_the_first_screen_counts_a_run_per_confinement(tmp_path):
     """A confined series is dear: one point is verified a round (`plan.route`)."""
-    campaign = parse_campaign(campaign_text(envelope(TRUE)), tmp_path)
+    campaign = planned(parse_campaign(campaign_text(envelope(TRUE)), tmp_path))
     assert stages(campaign) == [("sensitivity", "ucs", 9), ("sensitivity", "biaxial", 27),
                                 ("samples and checks", "ucs", 18), ("samples and checks", "biaxial", 54),
                                 ("verification", "ucs", 1), ("verification", "biaxial", 3),
@@ -131,7 +132,7 @@ def test_the_first_screen_counts_a_run_per_confinement(tmp_path):
 
 
 def test_a_confinement_keys_its_own_run():
-    campaign = parse_campaign(campaign_text(envelope(TRUE)), None)
+    campaign = planned(parse_campaign(campaign_text(envelope(TRUE)), None))
     specimen = campaign.specimen
     runs = {s3: run_spec("biaxial", specimen, TRUE, own={"confinement_mpa": s3}).key for s3 in CONFINEMENTS}
     assert len(set(runs.values())) == 3
@@ -142,7 +143,7 @@ def test_a_peak_is_named_by_its_confinement_in_spread_and_weights(tmp_path):
     peaks = {"sigma1_MPa": [sigma1(TRUE, s3) for s3 in CONFINEMENTS]}
     named = campaign_text(peaks | {"spread": {}}).replace(
         "spread = {}", 'spread = { "sigma1_MPa@5MPa" = 3.0 }\nweights = { "sigma1_MPa@10MPa" = 2.0 }')
-    campaign = parse_campaign(named, tmp_path)
+    campaign = planned(parse_campaign(named, tmp_path))
     assert campaign.targets.biaxial.spread == {"sigma1_MPa@5MPa": 3.0}
     with pytest.raises(InputError) as error:
         parse_campaign(named.replace('"sigma1_MPa@5MPa"', "sigma1_MPa"), tmp_path)

@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 
 from rockcal.campaign.input.config import load_campaign, parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.plan.screen import specimens_to_make
 
 DOCS = Path(__file__).parents[2] / "docs" / "campaigns"
@@ -42,7 +43,7 @@ def readme_campaign() -> str:
 
 
 def test_the_readme_campaign_is_a_valid_campaign_of_about_twenty_lines():
-    campaign = parse_campaign(readme_campaign(), ROOT)
+    campaign = planned(parse_campaign(readme_campaign(), ROOT))
     assert set(campaign.target_sections()) == {"ucs"} and campaign.validation_tests() == ["bending"]
     assert campaign.wants_uncertainty() and set(campaign.search.bounds) == {"E_c", "kn_ks", "sigma_c"}
     assert len(readme_campaign().strip().splitlines()) <= 25
@@ -50,7 +51,7 @@ def test_the_readme_campaign_is_a_valid_campaign_of_about_twenty_lines():
 
 def test_the_tutorial_campaign_runs_on_the_shipped_half_resolution_specimens():
     """So the tutorial starts at once: every specimen it needs ships with rockcal."""
-    tutorial, _ = load_campaign(str(DOCS / "tutorial.toml"))
+    tutorial = planned(load_campaign(str(DOCS / "tutorial.toml"))[0])
     granite, _ = load_campaign(None)
     assert tutorial.targets == granite.targets
     assert tutorial.specimen.rmin_mm == 0.5 and tutorial.specimen.bending_seeds == 1

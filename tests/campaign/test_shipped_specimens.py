@@ -4,7 +4,9 @@ genesis makes, and the first screen says which specimens must still be made."""
 import numpy as np
 import pytest
 
-from rockcal.campaign.input.config import load_campaign, parse_campaign, quick_look
+from rockcal.campaign.input.config import load_campaign, parse_campaign
+from rockcal.campaign.plan.planned import planned
+from rockcal.campaign.plan.quick_look import quick_look
 from rockcal.campaign.plan.screen import describe, specimens, specimens_to_make
 from rockcal.campaign.runs.store import RunStore
 from rockcal.dem.specimen import SHIPPED_DIR, packing_name, random_packing
@@ -16,7 +18,7 @@ def packings(campaign) -> list[dict]:
 
 
 def test_the_embedded_campaigns_run_on_shipped_packings_only():
-    granite, _ = load_campaign(None)
+    granite = planned(load_campaign(None)[0])
     full, quick = packings(granite), packings(quick_look(granite))
     # sensitivity (R_min 0.5 mm), 3 UCS packings, 3 beams; the quick look's 3 UCS packings, 1 beam
     assert sorted((p["width_mm"], p["rmin_mm"], p["seed"]) for p in full) == [
@@ -39,10 +41,11 @@ def test_a_shipped_packing_is_what_genesis_makes():
 
 
 def test_the_first_screen_names_the_specimens_to_make_first(tmp_path):
-    granite, text = load_campaign(None)
+    loaded, text = load_campaign(None)
+    granite = planned(loaded)
     ready = describe(granite, RunStore(tmp_path / "a"), workers=2)[-1]
     assert ready.endswith("every specimen is ready (cached, or shipped with rockcal)")
-    other = parse_campaign(text.replace("seed = 1", "seed = 7"), tmp_path)
+    other = planned(parse_campaign(text.replace("seed = 1", "seed = 7"), tmp_path))
     made = specimens_to_make(other)
     assert made == specimens(other)  # another packing seed: none is shipped
     lines = describe(other, RunStore(tmp_path / "b"), workers=2)

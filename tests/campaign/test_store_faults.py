@@ -12,6 +12,7 @@ import sys
 import pytest
 
 from rockcal.campaign.input.config import parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.job import QUICK_LOOK
 from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.procedure.steps import calibrate
@@ -30,7 +31,7 @@ def finished(tmp_path_factory):
     config.write_text(CAMPAIGN)
     out = folder / "out"
     store = RunStore(out)
-    result = calibrate(parse_campaign(CAMPAIGN, folder), Executor(store, workers=1))
+    result = calibrate(planned(parse_campaign(CAMPAIGN, folder)), Executor(store, workers=1))
     store.save_document("campaign.toml", CAMPAIGN)
     store.save_document(QUICK_LOOK, "")  # as `rockcal calibrate` saves them
     save_result(store, result)

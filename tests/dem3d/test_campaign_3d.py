@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from rockcal.campaign.input.config import SpecimenSettings, parse_campaign
+from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.pool import Executor, execute
 from rockcal.campaign.runs.spec import ENGINE, RunSpec, run_spec
@@ -143,7 +144,7 @@ def test_a_3d_campaign_of_ucs_targets_runs_the_whole_procedure(tmp_path):
     text = CAMPAIGN.format(E_GPa=1.05 * centre.E_GPa, nu=0.95 * centre.nu, ucs_MPa=1.05 * centre.ucs_MPa,
                            sensitivity=SENSITIVITY, samples=8, checks=1, tolerance=0.05, budget=14)
     store = RunStore(tmp_path)
-    record = calibrate(parse_campaign(text, tmp_path), Executor(store, workers=1))
+    record = calibrate(planned(parse_campaign(text, tmp_path)), Executor(store, workers=1))
     # the source study's finding holds in 3D: E_c drives E, kn/ks drives nu, sigma_c drives UCS
     ranking = record.sensitivity.ranking
     assert (ranking["E_GPa"][0], ranking["nu"][0], ranking["ucs_MPa"][0]) == ("E_c", "kn_ks", "sigma_c")
@@ -174,11 +175,11 @@ def test_a_3d_twin_recovers_its_modulus_stiffness_ratio_and_strength(tmp_path):
     twin = CAMPAIGN.replace("width_mm = 7\nheight_mm = 14", "width_mm = 8\nheight_mm = 16").replace(
         "tau_c = 60", "tau_c = 100")
     assert twin != CAMPAIGN
-    stand_in = parse_campaign(twin.format(E_GPa=30.0, nu=0.2, ucs_MPa=100.0, **options), tmp_path)
+    stand_in = planned(parse_campaign(twin.format(E_GPa=30.0, nu=0.2, ucs_MPa=100.0, **options), tmp_path))
     lab = execute(run_spec("ucs", stand_in.specimen, stand_in.fixed_params() | TRUE))
     assert lab.status == "ok", lab.message
     targets = {name: float(lab.responses[name]) for name in ("E_GPa", "nu", "ucs_MPa")}
-    campaign = parse_campaign(twin.format(**targets, **options), tmp_path)
+    campaign = planned(parse_campaign(twin.format(**targets, **options), tmp_path))
     record = calibrate(campaign, Executor(RunStore(tmp_path / "out"), workers=1))
     assert record.accepted
     for name in TRUE:
@@ -226,7 +227,7 @@ def test_the_first_screen_counts_the_cylinders_spheres(cylinder_settings):
     """The plan's grain count of a 3D cylinder is its packing's cloud less the corners carved
     off (pi/4 of it): within 15 % of the spheres the genesis makes, whose carving by the
     spheres' centres keeps a little more (302 against 271 on this 14-sphere-tall cylinder)."""
-    from rockcal.campaign.plan.screen import specimen_size
+    from rockcal.campaign.plan.cost import specimen_size
 
     planned = specimen_size("ucs", SpecimenSettings(**CYLINDER))[1]
     made = UCS.make(cylinder_settings).n_particles

@@ -7,7 +7,7 @@ Every case fails while the input is checked (no genesis, no run): the file is qu
 
 import pytest
 
-from rockcal.campaign.input.config import DEFAULTS_3D, SpecimenSettings
+from rockcal.labtests.specimen_settings import DEFAULTS_3D, SpecimenSettings
 from rockcal.dem.grain_limit import DEFAULT_MAX_GRAINS, ENV
 from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D
 from rockcal.dem3d.specimen import MIN_SPHERES, expected_spheres

@@ -27,23 +27,27 @@ def default_out(rock: str, quick: bool) -> Path:
 
 
 def campaign_of(config, quick: bool, out: Path | None):
-    """The campaign of a file or an embedded rock (`config`), as a quick look if `quick`, its
-    specimens within the grain limit: (campaign, its file's text, the quick look's note or
-    None, the output folder: `out` or the default)."""
+    """The campaign of a file or an embedded rock (`config`), on its route or as a quick look if
+    `quick`, its specimens within the grain limit: (campaign, its file's text, the quick look's
+    note or None, the output folder: `out` or the default)."""
     from rockcal.campaign.input.config import load_campaign
 
     return as_run(*load_campaign(config), quick, out)
 
 
 def as_run(campaign, text: str, quick: bool, out: Path | None):
-    """`campaign_of` for a campaign read from its file's `text`."""
-    from rockcal.campaign.input.config import quick_look, quick_look_note
+    """`campaign_of` for a campaign read from its file's `text` (`parse_campaign`'s: not yet on
+    its route)."""
+    from rockcal.campaign.plan.planned import planned
+    from rockcal.campaign.plan.quick_look import quick_look, quick_look_note
     from rockcal.campaign.plan.sizes import check_campaign_sizes
 
     note = None
-    if quick:
+    if quick:  # a quick look takes a route of its own
         campaign = quick_look(campaign)
         note = quick_look_note(campaign)
+    else:
+        campaign = planned(campaign)
     check_campaign_sizes(campaign)
     return campaign, text, note, out if out is not None else default_out(campaign.rock.name, quick)
 

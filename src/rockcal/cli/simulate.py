@@ -21,7 +21,7 @@ from rich.console import Console
 from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from rockcal.campaign.input.config import DEFAULTS_3D, MAX_PACKINGS, SpecimenSettings
+from rockcal.labtests.specimen_settings import DEFAULTS_3D, MAX_PACKINGS, SpecimenSettings
 
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kind import LabTest

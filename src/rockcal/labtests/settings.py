@@ -9,13 +9,12 @@ from pydantic import ValidationError
 
 from rockcal.errors import InputError, from_validation_error
 from rockcal.labtests.kind import LabTest
+from rockcal.labtests.specimen_settings import SpecimenSettings  # the [specimen] keys' model
 
 
 def specimen_settings(test: LabTest, values: dict) -> dict:
     """The settings of one run of `test`; InputError naming the key of a value that is not
     one of its settings, not finite or not valid."""
-    from rockcal.campaign.input.config import SpecimenSettings  # the [specimen] keys' model
-
     unknown = sorted(set(values) - set(test.settings))
     if unknown:
         raise InputError(unknown[0], f"not a setting of the {test.title} test; its settings: {', '.join(test.settings)}")

@@ -19,35 +19,27 @@ import numpy as np
 from pydantic import Field, PrivateAttr, ValidationError, field_validator, model_validator
 
 from rockcal.campaign.input.raw_values import check_numbers
-from rockcal.campaign.plan.route import route_of, with_route
 from rockcal.campaign.outputs.safe_text import unsafe_character
 from rockcal.campaign.input.targets import LabTargets, Section, Targets, ValidationTests
 from rockcal.labtests.lab_values import read_curve  # noqa: F401  (here too)
 from rockcal.labtests.ucs import UCSValues as UCSTargets  # noqa: F401  (the UCS section, here too)
+from rockcal.labtests.specimen_settings import MAX_PACKINGS, SpecimenSettings
 from rockcal.user_files import read_user_text
-from rockcal.dem.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES
-from rockcal.dem.genesis import Genesis, make_genesis
-from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
+from rockcal.dem.genesis import make_genesis
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.inverse.arrays import design
-from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D
-from rockcal.labtests.kind import DIMENSIONS
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
-from rockcal.labtests.ucs import DEFAULT_MAX_AXIAL_STRAIN, DEFAULT_STRAIN, POST_PEAK_FRACTION
-from rockcal.labtests.brazilian import STRIP_MODULUS_GPA
 
 RESPONSES = lab_test(PRIMARY_TEST).targets  # what the primary (UCS) test gives and the calibration can fit
 # Upper bounds on the numbers that decide work or memory. A surrogate solves a dense system of
 # its runs (MAX_DEM_RUNS runs: 200 MB); a search evaluates it ants x iterations times, in
-# batches of `ants` points (MAX_EVALUATIONS: seconds to a minute per search).
+# batches of `ants` points (MAX_EVALUATIONS: seconds to a minute per search); MAX_PACKINGS is
+# `labtests.specimen_settings`'.
 MAX_DEM_RUNS = 5000
 MAX_ANTS = 10_000
 MAX_EVALUATIONS = 1_000_000
 MAX_DRAWS = 10_000
-MAX_PACKINGS = 100
-QUICK_RESOLUTION = 2  # `--quick`: R_min this many times the campaign's
-QUICK_DRAWS = 50  # `--quick`: at most this many target draws for the parameters' intervals
 
 
 class Rock(Section):
@@ -63,79 +55,6 @@ class Rock(Section):
         if bad is not None:
             raise ValueError(f"a rock name is one line of text; {name!r} holds {bad}")
         return name
-
-
-# The specimen settings whose default differs in 3D: the 3D genesis' cloud porosity (2D's 0.09
-# would overfill a vessel of spheres) and PFC 5's contact stiffness, the 3D engine's only one.
-DEFAULTS_3D = {"cloud_porosity": DEFAULT_GENESIS_3D.cloud_porosity, "contact_stiffness": "pfc5"}
-
-
-class SpecimenSettings(Genesis):
-    """Resolution, size and genesis of the virtual specimens (UCS, Brazilian disk, notched
-    beam: one genesis for all) and how the UCS test reads them (defaults: the source's; the
-    genesis keys are `rockcal.dem.genesis.Genesis`'s)."""
-
-    rmin_mm: float = Field(0.25, gt=0, description="Smallest particle radius R_min, mm: the resolution.")
-    radius_ratio: float = Field(1.65, ge=1, le=10, description="Largest / smallest radius; radii are uniform between.")
-    seed: int = Field(1, ge=0, description="Packing seed; other packings (intervals, validation beams) take seed + 1, ...")
-    width_mm: float = Field(50.0, gt=0, description="UCS specimen width, mm (in 3D the cylinder's diameter).")
-    height_mm: float = Field(100.0, gt=0, description="UCS specimen height, mm.")
-    beam_length_mm: float = Field(220.0, gt=0, description="Notched beam length, mm.")
-    beam_height_mm: float = Field(50.0, gt=0, description="Notched beam depth W, mm.")
-    notch_mm: float = Field(18.0, gt=0, description="Notch depth a, mm, from the beam's lower edge at mid-span.")
-    notch_width_mm: float = Field(2.0, ge=0, description="Notch width, mm; 0 is a cut: the bonds across the notch line "
-                                  "are removed (a sharp crack).")
-    span_mm: float = Field(160.0, gt=0, description="Distance S between the beam's supports, mm.")
-    disk_diameter_mm: float = Field(50.0, gt=0, description="Diameter of the Brazilian test's disk, mm.")
-    bending_seeds: int = Field(1, ge=1, le=MAX_PACKINGS, description="The validation K_IC is the mean over this many packings of the "
-                               "beam (seed, seed + 1, ...).")
-    strain: Literal["gauge", "platen"] = Field(DEFAULT_STRAIN, description="Axial strain of the UCS test read on the "
-                                               "specimen's end particles (gauge) or from the platens (platen, PFC's).")
-    stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1, description="UCS and bending runs stop once past "
-                                 "the peak the load is below this fraction of it (PFC's ct_loadFac).")
-    contact_stiffness: Literal[CONTACT_STIFFNESS] = Field(DEFAULT_CONTACT_STIFFNESS, description="A contact's kn "
-                                                          "from E_c as PFC 3.x/4.0 (pfc4: t E_c) or PFC 5+ (pfc5: "
-                                                          "2 min(R) t E_c / (R_A + R_B)) computes it.")
-    # left out of a record at its default, as out of a run's key (`kind.LATER_SETTINGS`)
-    max_axial_strain: float = Field(DEFAULT_MAX_AXIAL_STRAIN, gt=0, le=0.5,
-                                    exclude_if=lambda v: v == DEFAULT_MAX_AXIAL_STRAIN,
-                                    description="UCS: stop at this axial strain at the latest.")
-    brazilian_loading: Literal["flat", "isrm", "strips"] = Field(
-        "flat", exclude_if=lambda v: v == "flat",
-        description="Brazilian test: the disk between flat frictionless platens (flat, FISHTank's), ISRM's curved "
-                    "jaws of radius 1.5 x the disk's radius (isrm) or the flat platens with a bearing strip on each, "
-                    "plywood 0.01 D thick (strips, ASTM D3967's cushion).")
-    strip_modulus_gpa: float = Field(
-        STRIP_MODULUS_GPA, gt=0, le=100, exclude_if=lambda v: v == STRIP_MODULUS_GPA,
-        description="Brazilian test between strips: the strips' modulus through their thickness, GPa (plywood's, "
-                    "1; a softer cushion spreads the load over more rim grains).")
-    grain_shape: Literal[GRAIN_SHAPES] = Field(
-        DEFAULT_SHAPE, exclude_if=lambda v: v == DEFAULT_SHAPE,
-        description="The grains: balls (ball) or rigid clumps of overlapping pebbles, randomly oriented "
-                    "(two-pebble, three-pebble, cloud: four pebbles of random sizes; FISHTank's clumped materials, "
-                    "PFC's clump templates), sized by the radius of a disk of their area; every 2D test "
-                    "takes them (the direct tension test's grips hold a clump whole by its centroid).")
-    dimensions: int = Field(
-        2, exclude_if=lambda v: v == 2,
-        description="2: PFC2D's disks; 3: PFC3D's spheres, the UCS test on a cylinder of width_mm as diameter "
-                    "and height_mm tall, the confined test on a square prism of width_mm side, the Brazilian "
-                    "test on a disk D x D/2 (parallel bonds and balls only; bending and direct tension are 2D "
-                    "only); in 3D cloud_porosity is 0.35 and contact_stiffness pfc5 unless given.")
-
-    @model_validator(mode="before")
-    @classmethod
-    def _defaults_in_3d(cls, data):
-        """In 3D the settings not given take their 3D defaults (DEFAULTS_3D)."""
-        if isinstance(data, dict) and data.get("dimensions") == 3:
-            return DEFAULTS_3D | data
-        return data
-
-    @field_validator("dimensions")
-    @classmethod
-    def _dimensions(cls, dimensions):
-        if dimensions not in DIMENSIONS:
-            raise ValueError(f"must be 2 (PFC2D) or 3 (PFC3D), got {dimensions}")
-        return dimensions
 
 
 NAMES = tuple(dict.fromkeys(name for m in MATERIALS.values() for name in m.parameters))
@@ -295,8 +214,8 @@ class MaterialChoice(Section):
 
 
 class Campaign(Section):
-    """A whole calibration campaign, as read from its TOML file (with the defaults its file
-    leaves open set from its runs' cost: `plan.route`)."""
+    """A whole calibration campaign, as read from its TOML file (`plan.planned` sets the
+    defaults its file leaves open from its runs' cost: `plan.route`)."""
 
     _route: object = PrivateAttr(None)  # `plan.route.Route`, when the defaults were changed
 
@@ -386,33 +305,6 @@ def _check_dimensions(campaign: Campaign) -> None:
             raise ValueError(f"{key}: {exc.problem}") from None
 
 
-def quick_look(campaign: Campaign) -> Campaign:
-    """The campaign as a first look in minutes: R_min doubled (a quarter of the grains), one
-    validation beam and at most QUICK_DRAWS searches for the intervals. Its numbers are not the
-    full-resolution calibration; its route is chosen from its own costs."""
-    route = route_of(campaign)
-    if route is not None:
-        return quick_look(route.other)
-    s = campaign.specimen
-    specimen = s.model_copy(update={"rmin_mm": QUICK_RESOLUTION * s.rmin_mm, "bending_seeds": 1})
-    uncertainty = campaign.uncertainty.model_copy(update={"draws": min(campaign.uncertainty.draws, QUICK_DRAWS)})
-    update = {"specimen": specimen, "uncertainty": uncertainty}
-    if campaign.sensitivity and (campaign.sensitivity.rmin_mm or 0) <= specimen.rmin_mm:
-        update["sensitivity"] = campaign.sensitivity.model_copy(update={"rmin_mm": None})
-    quick = campaign.model_copy(update=update)
-    _check_specimens(quick, quick=True)
-    return with_route(quick, _coarse_possible(quick))
-
-
-def quick_look_note(quick: Campaign) -> str:
-    """What a quick look is, in the words of the first screen, the report and the JSON."""
-    rmin = quick.specimen.rmin_mm
-    beam = " and one validation beam" if "bending" in quick.validation_tests() else ""
-    return (f"quick look: half resolution (R_min {rmin:g} mm, the campaign's "
-            f"{rmin / QUICK_RESOLUTION:g} mm doubled){beam}; its numbers are a first look, not the "
-            "full-resolution calibration")
-
-
 DEFAULT_ROCK = "granite"
 MAX_LINE = 4096  # characters on a line of a campaign file
 
@@ -448,7 +340,8 @@ def load_campaign(path: Path | str | None) -> tuple[Campaign, str]:
 
 def parse_campaign(text: str, base: Path) -> Campaign:
     """Validate campaign TOML text, values, specimens and curve file, so that bad input fails
-    before any store or run is touched; relative curve paths are taken from `base`."""
+    before any store or run is touched; relative curve paths are taken from `base`. The
+    defaults the file leaves open stay as they are: `plan.planned` sets them from the runs' cost."""
     long = next((n for n, line in enumerate(text.splitlines(), start=1) if len(line) > MAX_LINE), None)
     if long is not None:  # TOML's parser takes the square of a long dotted key's parts
         raise InputError("CONFIG", f"line {long} is longer than {MAX_LINE} characters; not a campaign file")
@@ -464,8 +357,8 @@ def parse_campaign(text: str, base: Path) -> Campaign:
     except ValidationError as exc:
         raise from_validation_error(exc, Campaign) from None
     _check_values(campaign)
-    _check_specimens(campaign)
-    return _curves_from(with_route(campaign, _coarse_possible(campaign)), base)
+    check_specimens(campaign)
+    return _curves_from(campaign, base)
 
 
 def _curves_from(campaign: Campaign, base: Path) -> Campaign:
@@ -588,17 +481,7 @@ def _check_point(make_params, fixed: dict, values: dict, where: str, what: str) 
         raise InputError(key, exc.problem + at) from None
 
 
-def _coarse_possible(campaign: Campaign) -> bool:
-    """The specimens of the campaign's tests can be made at [surrogate] coarse_factor x R_min."""
-    coarse = campaign.surrogate.model_copy(update={"coarse_samples": 1})
-    try:
-        _check_specimens(campaign.model_copy(update={"surrogate": coarse}))
-    except InputError:
-        return False
-    return True
-
-
-def _check_specimens(campaign: Campaign, quick: bool = False) -> None:
+def check_specimens(campaign: Campaign, quick: bool = False) -> None:
     """The specimen of each test the campaign runs can be made at every resolution it runs
     them (the campaign's, the coarse samples', the sensitivity runs'), naming the key that set
     the resolution (`--quick` for a quick look's)."""

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from rockcal.campaign.plan.cost import relative_time
 from rockcal.labtests.registry import PRIMARY_TEST
 
 DEAR = 2.0  # UCS runs' time: a parameter set or a verified point this dear changes the defaults
@@ -47,14 +48,6 @@ def point_cost(campaign, tests: list[str] | None = None) -> float:
     each test's packings."""
     return sum(s.packings * len(s.series() or [None]) * relative_time(campaign, t)
                for t, s in campaign.target_sections().items() if tests is None or t in tests)
-
-
-def relative_time(campaign, test: str) -> float:
-    """One run of `test` over one UCS run, on the campaign's specimen (`plan.screen`'s model)."""
-    from rockcal.campaign.plan.screen import WORK_EXPONENT, specimen_size, time_factor
-
-    work = specimen_size(test, campaign.specimen)[2] / specimen_size(PRIMARY_TEST, campaign.specimen)[2]
-    return work ** WORK_EXPONENT * time_factor(test, campaign.specimen)
 
 
 def with_route(campaign, coarse_possible: bool = True):

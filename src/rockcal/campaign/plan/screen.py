@@ -4,7 +4,7 @@ A run's time is the mean of the test's runs on the same specimen that the store 
 without any, it is scaled from a full-size granite UCS run on a reference machine by this
 machine's speed against the reference machine's (`engine_speed`: a one-second probe). Work per
 step grows with the grains, and the steps of a test with its rows of grains (the loading speed
-is set per row), so a run's time goes about as (grains x rows)^1.1 (measured on idle cores); a
+is set per row), so a run's time goes about as (grains x rows)^1.1 (measured on idle cores: `cost`); a
 full-size bending run about 2.7 times slower than that (its steps grow with span² / height), a
 Brazilian disk between bearing strips about six times, and a flat-jointed material's runs about
 twice a parallel-bonded one's (`Material.slower_than_parallel_bond`).
@@ -22,6 +22,7 @@ import os
 import numpy as np
 
 from rockcal.campaign.input.config import Campaign, SpecimenSettings
+from rockcal.campaign.plan.cost import WORK_EXPONENT, specimen_size, time_factor
 from rockcal.campaign.plan.engine_speed import busy_cores, probe_ms_per_step
 from rockcal.campaign.plan.route import route_of
 from rockcal.campaign.runs.retries import holds, retry_line
@@ -30,7 +31,6 @@ from rockcal.campaign.procedure.steps import (STEPS, VERIFICATION, planning_stat
                                               verified_at_most)
 from rockcal.campaign.runs.spec import RunSpec
 from rockcal.dem.specimen import packing_name, stored_packing
-from rockcal.dem3d.specimen import expected_spheres
 from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.materials import material
@@ -43,45 +43,12 @@ REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS speci
 # Intel Xeon's 148 s): this is their geometric mean, 12 % from either
 REFERENCE_RUN_S = 86.8
 REFERENCE_PROBE_MS = 0.66
-# run time ~ work^WORK_EXPONENT: a half-resolution UCS run (1/8 of the work) takes about 1/10 of
-# the full-size one at the same point on one thread (a small specimen stays in the caches)
-WORK_EXPONENT = 1.1
-# a 3D UCS run's time per sphere and row over a 2D run's per disk and row on one machine, from
-# the 3D granite campaign's runs at the default installation gap (docs/concepts/pfc3d.md): a
-# sphere-step costs about three disk-steps, and the cylinder takes more steps per row than the
-# 2D specimen
-RUN_COST_3D = 5.4
 LONE_RUN_SPEED_UP = 1.4  # a run alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
 # the main process's own work, on one core of a machine of the project's kind (numpy and
 # matplotlib, not the engine, so not scaled by the probe): one search on the surrogate for the
 # parameters' intervals, and the start, the first screen and the report with its figures
 DRAW_S = 0.08
 MAIN_PROCESS_S = 10.0
-
-
-def grain_count(width_mm: float, height_mm: float, s: SpecimenSettings) -> int:
-    """Grains of a genesis in a width x height vessel (in 3D, width x width x height): the
-    cloud's count (floaters are enlarged, not added)."""
-    if s.dimensions == 3:
-        return int(round(expected_spheres(width_mm, height_mm, s.rmin_mm, s.radius_ratio, s.cloud_porosity)))
-    rmin = s.rmin_mm
-    mean_area = np.pi * rmin**2 * (1 + s.radius_ratio + s.radius_ratio**2) / 3
-    return int(round((1 - s.cloud_porosity) * width_mm * height_mm / mean_area))
-
-
-def work(width_mm: float, height_mm: float, s: SpecimenSettings) -> float:
-    """Grains x rows of a specimen: what a test's run time is proportional to (a sphere
-    counting RUN_COST_3D disks)."""
-    rows = height_mm / (s.rmin_mm * (1 + s.radius_ratio))
-    return grain_count(width_mm, height_mm, s) * rows * (RUN_COST_3D if s.dimensions == 3 else 1.0)
-
-
-def specimen_size(test: str, s: SpecimenSettings) -> tuple[str, int, float]:
-    """A test's specimen in words, its grains and its work (grains x rows)."""
-    kind = lab_test(test)
-    o = kind.outline(kind.settings_of(s))
-    grains = round(o.share * grain_count(o.width_mm, o.height_mm, s))
-    return o.text, grains, o.share * work(o.width_mm, o.height_mm, s)
 
 
 def planned_runs(campaign: Campaign) -> list[tuple[str, RunSpec]]:
@@ -160,12 +127,6 @@ def run_times(campaign: Campaign, store, sizes: dict) -> tuple[dict[str, float],
              ucs_s * (size[2] / ucs_work) ** WORK_EXPONENT * time_factor(test, s)
              for test, size in sizes.items()}
     return times, bool(measured[PRIMARY_TEST])
-
-
-def time_factor(test: str, s: SpecimenSettings) -> float:
-    """A run of `test` on specimen settings `s` over a UCS run's of the same work."""
-    kind = lab_test(test)
-    return kind.time_factor(kind.settings_of(s))
 
 
 def machine_speed() -> float:

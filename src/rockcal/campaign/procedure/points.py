@@ -18,7 +18,7 @@ from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
 
 if TYPE_CHECKING:
-    from rockcal.campaign.procedure.steps import CampaignState
+    from rockcal.campaign.procedure.state import CampaignState
 
 Point = tuple[SpecimenSettings, dict]  # a parameter set on a specimen
 

@@ -4,9 +4,9 @@ samples and the surrogate's checks, the search on the surrogate and
 its DEM verification (a loop, until a verified point is accepted), then the packings and
 validation runs at the identified point (the parameters' intervals, the curve fit, the checks).
 
-A step is a function of the results so far (`CampaignState`) that returns the forward runs it needs
-and how to fold their results into the next state (`Runs`). `calibrate` passes the runs to
-the executor it is given (serial, process pool or Dask) and folds; the first screen
+A step is a function of the results so far (`state.CampaignState`) that returns the forward
+runs it needs and how to fold their results into the next state (`Runs`). `calibrate` passes
+the runs to the executor it is given (serial, process pool or Dask) and folds; the first screen
 (`rockcal.campaign.plan.screen`) asks the same steps for their runs at the planning state
 (`planning_state`), so what is planned is what runs (but for a verification round's other
 optima and further rounds, which the first screen names: `verification_runs`). Each parameter
@@ -21,20 +21,21 @@ runs only what the store does not hold.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
 
-from rockcal.campaign.input.config import (Campaign, SpecimenSettings, middle_levels, nearest_whole, split_genesis,
-                                           whole_numbers)
-from rockcal.campaign.procedure.goals import Goals, goals_of, goals_of_tests
-from rockcal.campaign.procedure.result import (CalibrationResult, FailedRun, Iteration, Samples, Sensitivity,
+from rockcal.campaign.input.config import Campaign, SpecimenSettings, middle_levels, split_genesis
+from rockcal.campaign.procedure.goals import goals_of, goals_of_tests
+from rockcal.campaign.procedure.result import (CalibrationResult, Iteration, Samples, Sensitivity,
                                      SurrogateCheck)
 from rockcal.campaign.runs.spec import RunResult, RunSpec
 from rockcal.campaign.procedure.points import (CalibrationFailed, first_packing, folded, grouped, optimise,
                                              packings_of, point_responses, point_specs,
                                              series_values, spec_of, specs_keys, specs_of_test)
+from rockcal.campaign.procedure.rounding import rounded, rounded_rows, stand_in
+from rockcal.campaign.procedure.state import CampaignState, Round
 from rockcal.campaign.procedure.verdict import verdict_of
 from rockcal.campaign.procedure.final import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
 from rockcal.inverse import RBFSurrogate, Objective, design, latin_hypercube, range_analysis
@@ -45,9 +46,7 @@ from rockcal.labtests.registry import PRIMARY_TEST
 from rockcal.labtests.seeds import seed_list
 from rockcal.materials import DEFAULT_MATERIAL, material
 
-SIGNIFICANT_DIGITS = 4  # parameters of verification runs are rounded to this (stable store keys)
 DISTINCT = 0.05  # optima closer than this (box-normalised distance) are one optimum
-GOLDEN = (np.sqrt(5) - 1) / 2
 SEARCHES_PER_CANDIDATE = 2  # searches tried for each other candidate optimum before giving up
 
 Progress = Callable[[str, int, int], None]  # progress(stage, done, total)
@@ -57,61 +56,6 @@ COARSE_SAMPLES = "coarse samples"  # the stage of the multi-fidelity search's co
 VERIFICATION = "verification"  # the stage of the verification loop's rounds
 # the stage of the runs at the identified point: the other packings and the validation tests
 PACKINGS_AND_VALIDATION = "packings and validation"
-
-
-@dataclass(frozen=True)
-class CampaignState:
-    """The results so far: each step adds its own and reads only what earlier steps found."""
-
-    campaign: Campaign
-    goals: Goals
-    fixed: dict[str, float]  # parameters held constant (with the middle of unused levels)
-    bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
-    sensitivity: Sensitivity | None = None
-    samples: Samples | None = None
-    surrogate_check: SurrogateCheck | None = None
-    coarse: Samples | None = None  # the coarse samples (multi-fidelity)
-    low_fidelity: RBFSurrogate | None = None  # the surrogate of the coarse runs, fitted once
-    train_x: np.ndarray | None = None  # the surrogate's training points and their responses
-    train_y: list = field(default_factory=list)
-    # where targets are means over packings: the verified points and their means
-    means_x: np.ndarray | None = None
-    means_y: list = field(default_factory=list)
-    iterations: tuple[Iteration, ...] = ()
-    objective: str = ""
-    accepted: int | None = None  # the accepted iteration
-    settled: bool = False  # the verification loop is over
-    dem_runs: tuple[str, ...] = ()  # keys of the distinct primary-test runs: one per parameter set
-    failed_runs: tuple[FailedRun, ...] = ()
-    specimen_description: dict | None = None  # of the first primary-test run on the campaign's specimen
-    curves: dict = field(default_factory=dict)  # verification runs' curves, by run key
-    final: dict = field(default_factory=dict)  # the last step's parts of the result
-    planning: bool = False  # the first screen's state: points found by searching are stand-ins
-    pending: Round | None = None  # a round's points whose UCS runs met the tolerance ([acceptance] ucs_first)
-
-    @property
-    def names(self) -> list[str]:
-        """The parameters searched."""
-        return list(self.bounds)
-
-    @property
-    def box(self) -> np.ndarray:
-        return np.array([self.bounds[n] for n in self.names], dtype=float)
-
-    @property
-    def whole(self) -> np.ndarray:
-        """Which of the parameters searched are whole numbers (`_round` rounds them so)."""
-        counts = whole_numbers(self.campaign.material.model)
-        return np.array([n in counts for n in self.names], dtype=bool)
-
-    def best(self) -> int:
-        """The accepted iteration, or the verified one with the smallest largest error."""
-        return self.accepted if self.accepted is not None else _closest(list(self.iterations))
-
-    def identified(self) -> dict[str, float]:
-        if self.planning:
-            return dict(zip(self.names, _stand_in(self.box, self.whole)))
-        return dict(zip(self.names, self.iterations[self.best()].x))
 
 
 Fold = Callable[[list[RunResult], Progress], CampaignState]
@@ -162,7 +106,7 @@ def start(campaign: Campaign) -> CampaignState:
 def planning_state(campaign: Campaign) -> CampaignState:
     """The state every step plans its runs from before the campaign starts: the search box
     known before any run ([search] bounds, else every sensitivity factor's levels), with
-    a stand-in (`_stand_in`) for the point a search finds: the first verification round's
+    a stand-in (`stand_in`) for the point a search finds: the first verification round's
     optimum, also the identified point."""
     levels = campaign.sensitivity.levels if campaign.sensitivity else {}
     bounds, fixed = search_space(campaign, list(levels))
@@ -227,7 +171,7 @@ def coarse_sample_runs(state: CampaignState) -> Runs:
     s = campaign.surrogate
     if not s.coarse_samples:
         return Runs([], lambda results, progress: state)
-    x = _round_rows(latin_hypercube(box, s.coarse_samples, seed=s.seed + 2), state.whole)
+    x = rounded_rows(latin_hypercube(box, s.coarse_samples, seed=s.seed + 2), state.whole)
     specimen = campaign.coarse_specimen()
     points = [(specimen, dict(zip(names, row))) for row in x]
 
@@ -325,20 +269,6 @@ def _params(state: CampaignState, row: dict) -> dict:
 
 # -- step 3: search on the surrogate and DEM verification (a loop) -------------------------------
 
-@dataclass(frozen=True)
-class Round:
-    """A verification round's points: the search's optima on the surrogate, rounded (`xs`)."""
-
-    found: list
-    xs: list
-    surrogate: object
-    objective: str
-    loop: int
-
-    def only(self, keep: list[int]) -> Round:
-        return replace(self, found=[self.found[i] for i in keep], xs=[self.xs[i] for i in keep])
-
-
 def verification_runs(state: CampaignState) -> Runs:
     """One round of the loop: the surrogate on every run so far, the search's optimum and
     other distinct optima on it ([acceptance] candidates), their DEM runs; the round settles
@@ -352,7 +282,7 @@ def verification_runs(state: CampaignState) -> Runs:
         # the plan counts the search's optimum, the one point every round verifies: the other
         # candidates are verified only where the surrogate has other distinct optima
         # (`_candidates`), and the first screen says so (`plan.screen`)
-        points = [(campaign.specimen, dict(zip(names, _stand_in(state.box, state.whole))))]
+        points = [(campaign.specimen, dict(zip(names, stand_in(state.box, state.whole))))]
         return Runs(point_specs(state, points, means=True), _not_folded)
     if state.pending is not None:
         round_ = state.pending
@@ -362,7 +292,7 @@ def verification_runs(state: CampaignState) -> Runs:
     surrogate = _judged(state)
     objective = Objective(surrogate.predict, state.goals.targets, weights=state.goals.weights or None)
     found = _candidates(state, objective, surrogate)
-    round_ = Round(found, [_round(opt.x, state.whole) for opt in found], surrogate, objective.describe(),
+    round_ = Round(found, [rounded(opt.x, state.whole) for opt in found], surrogate, objective.describe(),
                    loop=len({it.loop for it in state.iterations}))
     points = [(campaign.specimen, dict(zip(names, x))) for x in round_.xs]
     if not _ucs_first(state):
@@ -452,7 +382,7 @@ def _candidates(state: CampaignState, objective: Objective, surrogate: RBFSurrog
         if len(found) >= wanted:
             break
         opt = optimise(campaign, objective, box, seed=seed + k)
-        predicted = surrogate.predict(_round(opt.x, state.whole))
+        predicted = surrogate.predict(rounded(opt.x, state.whole))
         close = _within({r: predicted[r] / t - 1 for r, t in state.goals.targets.items()}, tolerance)
         if close and all(_distinct(opt.x, other.x, box) for other in found):
             found.append(opt)
@@ -470,13 +400,6 @@ def _wanted(state: CampaignState) -> int:
     run budget left."""
     left = state.campaign.acceptance.max_dem_runs - len(state.dem_runs)
     return max(1, min(state.campaign.acceptance.candidates, left))
-
-
-def _stand_in(box: np.ndarray, whole: np.ndarray | None = None) -> np.ndarray:
-    """A point on the box's diagonal, at the golden ratio so that it falls on no design's
-    level: where the planning state puts the point only a search finds (the first round's
-    optimum, which is also the identified point)."""
-    return _round(box[:, 0] + GOLDEN * (box[:, 1] - box[:, 0]), whole)
 
 
 def _not_folded(results, progress):
@@ -641,22 +564,10 @@ def sample_points(box: np.ndarray, s, whole: np.ndarray | None = None) -> tuple[
     """The Latin hypercube points and the surrogate's random check points in the box (rounded,
     `whole` parameters to whole numbers: stable store keys), as the campaign's [surrogate]
     settings and seed make them."""
-    x = _round_rows(latin_hypercube(box, s.samples, seed=s.seed), whole)
+    x = rounded_rows(latin_hypercube(box, s.samples, seed=s.seed), whole)
     rng = np.random.default_rng(s.seed + 1)
-    checks = _round_rows(box[:, 0] + rng.random((s.checks, len(box))) * (box[:, 1] - box[:, 0]), whole)
+    checks = rounded_rows(box[:, 0] + rng.random((s.checks, len(box))) * (box[:, 1] - box[:, 0]), whole)
     return x, checks
-
-
-def _round(x: np.ndarray, whole: np.ndarray | None = None) -> np.ndarray:
-    """A point to be run, rounded to SIGNIFICANT_DIGITS (stable store keys), the parameters
-    marked `whole` to the nearest whole number (halves up), the one rounding of every point
-    run: samples, checks, stand-ins and verified optima."""
-    whole = np.zeros(len(x), bool) if whole is None else whole
-    return np.array([nearest_whole(v) if w else float(f"{v:.{SIGNIFICANT_DIGITS}g}") for v, w in zip(x, whole)])
-
-
-def _round_rows(x: np.ndarray, whole: np.ndarray | None = None) -> np.ndarray:
-    return np.array([_round(row, whole) for row in x])
 
 
 def _usable(x: np.ndarray, y: list) -> tuple[np.ndarray, list]:
@@ -686,14 +597,3 @@ def _within(errors: dict | None, tolerance: float) -> bool:
 def _distinct(a: np.ndarray, b: np.ndarray, box: np.ndarray) -> bool:
     """Two optima further apart than DISTINCT of the box (box-normalised distance)."""
     return float(np.linalg.norm((np.asarray(a) - b) / (box[:, 1] - box[:, 0]))) > DISTINCT
-
-
-def _closest(iterations: list[Iteration]) -> int:
-    """The verified iteration with the smallest largest error (when none was accepted)."""
-    most = max((len(it.errors) for it in iterations if it.errors is not None), default=0)
-    # a point verified on every test before one whose verification stopped after its UCS test
-    scored = [(len(it.errors) < most, max(abs(e) for e in it.errors.values()), i)
-              for i, it in enumerate(iterations) if it.errors is not None]
-    if not scored:
-        raise CalibrationFailed("no verification run succeeded")
-    return min(scored)[2]

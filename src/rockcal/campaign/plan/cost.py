@@ -1,0 +1,62 @@
+"""The time model of a campaign's runs, shared by the route and the first screen: a run's work
+(grains x rows of its specimen) and its time relative to a UCS run's.
+
+Work per step grows with the grains, and the steps of a test with its rows of grains (the
+loading speed is set per row), so a run's time goes about as (grains x rows)^WORK_EXPONENT; a
+test's own `time_factor` (a bending run's span, a Brazilian disk's bearing strips) scales it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rockcal.dem3d.specimen import expected_spheres
+from rockcal.labtests.registry import PRIMARY_TEST, lab_test
+from rockcal.labtests.specimen_settings import SpecimenSettings
+
+# run time ~ work^WORK_EXPONENT: a half-resolution UCS run (1/8 of the work) takes about 1/10 of
+# the full-size one at the same point on one thread (a small specimen stays in the caches)
+WORK_EXPONENT = 1.1
+# a 3D UCS run's time per sphere and row over a 2D run's per disk and row on one machine, from
+# the 3D granite campaign's runs at the default installation gap (docs/concepts/pfc3d.md): a
+# sphere-step costs about three disk-steps, and the cylinder takes more steps per row than the
+# 2D specimen
+RUN_COST_3D = 5.4
+
+
+def grain_count(width_mm: float, height_mm: float, s: SpecimenSettings) -> int:
+    """Grains of a genesis in a width x height vessel (in 3D, width x width x height): the
+    cloud's count (floaters are enlarged, not added)."""
+    if s.dimensions == 3:
+        return int(round(expected_spheres(width_mm, height_mm, s.rmin_mm, s.radius_ratio, s.cloud_porosity)))
+    rmin = s.rmin_mm
+    mean_area = np.pi * rmin**2 * (1 + s.radius_ratio + s.radius_ratio**2) / 3
+    return int(round((1 - s.cloud_porosity) * width_mm * height_mm / mean_area))
+
+
+def work(width_mm: float, height_mm: float, s: SpecimenSettings) -> float:
+    """Grains x rows of a specimen: what a test's run time is proportional to (a sphere
+    counting RUN_COST_3D disks)."""
+    rows = height_mm / (s.rmin_mm * (1 + s.radius_ratio))
+    return grain_count(width_mm, height_mm, s) * rows * (RUN_COST_3D if s.dimensions == 3 else 1.0)
+
+
+def specimen_size(test: str, s: SpecimenSettings) -> tuple[str, int, float]:
+    """A test's specimen in words, its grains and its work (grains x rows)."""
+    kind = lab_test(test)
+    o = kind.outline(kind.settings_of(s))
+    grains = round(o.share * grain_count(o.width_mm, o.height_mm, s))
+    return o.text, grains, o.share * work(o.width_mm, o.height_mm, s)
+
+
+def time_factor(test: str, s: SpecimenSettings) -> float:
+    """A run of `test` on specimen settings `s` over a UCS run's of the same work."""
+    kind = lab_test(test)
+    return kind.time_factor(kind.settings_of(s))
+
+
+def relative_time(campaign, test: str) -> float:
+    """One run of `test` over one UCS run, on the campaign's specimen: their works' ratio to
+    the power WORK_EXPONENT, by the test's `time_factor`."""
+    work = specimen_size(test, campaign.specimen)[2] / specimen_size(PRIMARY_TEST, campaign.specimen)[2]
+    return work ** WORK_EXPONENT * time_factor(test, campaign.specimen)
