@@ -74,6 +74,23 @@ def outline(shape: str, size_m, plane: str):
     return plt.Rectangle((0, 0), across, up, **style)
 
 
+def specimen_cracks(specimen, positions, cracks: dict, path: Path, title: str, rig=(),
+                    undeformed: bool = False) -> None:
+    """A specimen's broken bonds as its dimension shows them (the one place a figure asks it):
+    over a 2D specimen's disks at `positions` (`crack_pattern`, with the `rig`'s circles; the
+    title says when they are the `undeformed` specimen's), or a 3D specimen's projected on
+    three planes (`crack_planes`); cracks stored before 3D runs kept their y, (x, z) rows, over
+    the 3D specimen's spheres from the front."""
+    if specimen.dimensions == 2:
+        crack_pattern(positions, specimen.radius, cracks, path, title + (" (undeformed specimen)" if undeformed else ""),
+                      rig)
+    elif cracks["tension"].shape[1] == 3:
+        crack_planes(cracks, specimen.shape, specimen.size_m, path, f"{title} seen from the front, the side and the top")
+    else:
+        crack_pattern(plane_view(positions, "xz"), specimen.radius, cracks, path,
+                      f"{title} (undeformed specimen, seen from the front)", axes=("x", "z"))
+
+
 def crack_planes(cracks: dict, shape: str, size_m, path: Path, title: str) -> None:
     """A 3D specimen's broken bonds, (n, 3) m by mode, projected on the front (x-z), side (y-z)
     and top (x-y) planes, tension red, shear blue, within the specimen's outline on each

@@ -255,10 +255,7 @@ def write_outputs(out: Path, test: LabTest, result, specimen, summary: dict, nam
     strength = test.strength_response
     broken = material(summary.get("model", DEFAULT_MATERIAL)).breaks_word
     heading = f"{strength.label or strength.name} {getattr(result, strength.name):.4g} {strength.unit} — broken {broken}"
-    if summary.get("dimensions") == 3:
-        plots.crack_planes(result.cracks, specimen.shape, specimen.size_m, out / f"{name}_cracks.png", heading)
-    else:
-        plots.crack_pattern(result.positions, result.radius, result.cracks, out / f"{name}_cracks.png", heading)
+    plots.specimen_cracks(specimen, result.positions, result.cracks, out / f"{name}_cracks.png", heading)
     if test.plot:
         getattr(plots, test.plot)(result.curve, out / f"{name}_curve.png", f"{test.title} test")
 

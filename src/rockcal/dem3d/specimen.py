@@ -250,12 +250,6 @@ def packing_name(vessel, rmin: float, radius_ratio: float, seed: int, genesis: G
     return hashlib.sha1(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16] + ".npz"
 
 
-def front_view(xyz: np.ndarray) -> np.ndarray:
-    """3D positions (n, 3) seen from the front, (x, z): the axis up, where a 2D specimen has
-    y, so that a 3D run's spheres and cracks are drawn and stored as a 2D run's."""
-    return np.asarray(xyz)[:, [0, 2]].copy()
-
-
 def vessel_floaters(specimen: Specimen3D) -> int:
     """Spheres of a cuboid specimen with fewer than 3 contacts in its vessel."""
     return int(np.count_nonzero(floaters(specimen.pos, specimen.radius, specimen.size_m)))

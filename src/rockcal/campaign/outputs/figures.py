@@ -14,7 +14,6 @@ import numpy as np
 
 import rockcal.plots as plots
 from rockcal.campaign.runs.pool import specimen_of
-from rockcal.dem3d.specimen import Specimen3D, front_view
 from rockcal.campaign.procedure.result import CalibrationResult
 from rockcal.campaign.runs.store import RunStore, StoredRun
 from rockcal.errors import InputError
@@ -150,12 +149,8 @@ def _cracks(key: str, what: str, store: RunStore, path: Path, title: Callable | 
     if run.cracks is None:
         return f"The {what} kept no cracks."
     specimen = specimen_of(run.kind, tuple(run.specimen.items()))
-    modes = by_mode(run.cracks)
-    if isinstance(specimen, Specimen3D):
-        return _cracks_3d(modes, specimen, what, path)
-    heading, rig = (f"{what[0].upper()}{what[1:]} —\nbroken bonds (undeformed specimen)", ()) if title is None \
-        else title(run, specimen)
-    plots.crack_pattern(specimen.pos, specimen.radius, modes, path, heading, rig)
+    heading, rig = (f"{what[0].upper()}{what[1:]} —\nbroken bonds", ()) if title is None else title(run, specimen)
+    plots.specimen_cracks(specimen, specimen.pos, by_mode(run.cracks), path, heading, rig, undeformed=title is None)
     return None
 
 
@@ -163,18 +158,6 @@ def by_mode(rows: np.ndarray) -> dict[str, np.ndarray]:
     """Stored crack rows (`pool.crack_rows`: the position's columns, then the mode) as the
     positions of each mode."""
     return {"tension": rows[rows[:, -1] == BROKEN_TENSION, :-1], "shear": rows[rows[:, -1] == BROKEN_SHEAR, :-1]}
-
-
-def _cracks_3d(modes: dict, specimen: Specimen3D, what: str, path: Path) -> None:
-    """A 3D run's broken bonds projected on three planes (`plots.crack_planes`); a run stored
-    before 3D runs kept their cracks' y, (x, z) rows, over its spheres from the front."""
-    heading = f"{what[0].upper()}{what[1:]} —\nbroken bonds"
-    if modes["tension"].shape[1] == 3:
-        plots.crack_planes(modes, specimen.shape, specimen.size_m, path,
-                           f"{heading} seen from the front, the side and the top")
-    else:
-        plots.crack_pattern(front_view(specimen.pos), specimen.radius, modes, path,
-                            f"{heading} (undeformed specimen, seen from the front)", axes=("x", "z"))
 
 
 def _ucs_cracks(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
