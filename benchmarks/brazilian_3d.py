@@ -8,7 +8,7 @@ its steps and seconds.
 
 import argparse
 
-from rockcal.dem3d.specimen import random_disk
+from rockcal.specimens3d.specimen import random_disk
 from rockcal.labtests.brazilian import simulate_brazilian
 from rockcal.materials.parallel_bond import make_params
 from ucs_3d import GRANITE_3D

@@ -17,10 +17,10 @@ import time
 import numba
 import numpy as np
 
-from rockcal.dem import clump_genesis, packing
-from rockcal.dem.clump_templates import template
-from rockcal.dem.genesis import floaters
-from rockcal.dem.specimen import Specimen
+from rockcal.specimens import clump_genesis, packing
+from rockcal.specimens.clump_templates import template
+from rockcal.specimens.genesis import floaters
+from rockcal.specimens.specimen import Specimen
 
 
 class Rounds(logging.Handler):
@@ -60,7 +60,7 @@ def main() -> None:
     box = (width, height, 1e-3 * args.rmin_mm, args.ratio, args.seed, 0.09, 0.1)
     small = (4e-3, 8e-3, 0.5e-3, 1.25, 1, 0.09, 0.1)
     rounds = Rounds()
-    log = logging.getLogger("rockcal.dem.clump_genesis")
+    log = logging.getLogger("rockcal.specimens.clump_genesis")
     log.setLevel(logging.INFO)
     log.addHandler(rounds)
 

@@ -15,9 +15,9 @@ import json
 
 import numpy as np
 
-from rockcal.dem.genesis import Genesis
+from rockcal.specimens.genesis import Genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS
-from rockcal.dem.specimen import random_packing
+from rockcal.specimens.specimen import random_packing
 from rockcal.labtests.ucs import simulate_ucs
 
 PARAMS = {"E_c": 62.0, "kn_ks": 2.5, "sigma_c": 157.0, "sigma_c_sd": 36.0, "tau_c": 157.0,

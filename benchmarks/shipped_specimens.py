@@ -1,4 +1,4 @@
-"""The packings rockcal ships (`rockcal.dem.specimen.SHIPPED_DIR`): those of the embedded granite
+"""The packings rockcal ships (`rockcal.specimens.specimen.SHIPPED_DIR`): those of the embedded granite
 campaign and of its quick look, so that a first `rockcal calibrate` need not make them.
 
 Run by hand: `python benchmarks/shipped_specimens.py` makes each (from the cache, or by genesis)
@@ -20,7 +20,7 @@ from rockcal.campaign.input.config import load_campaign
 from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.plan.quick_look import quick_look
 from rockcal.campaign.plan.screen import specimens
-from rockcal.dem.specimen import cache_dir, packing_name, random_packing
+from rockcal.specimens.specimen import cache_dir, packing_name, random_packing
 from rockcal.labtests.registry import lab_test
 
 SHIPPED = Path(__file__).parents[1] / "src" / "rockcal" / "dem" / "specimens"

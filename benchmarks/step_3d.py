@@ -31,8 +31,8 @@ from rockcal.dem import simulate as simulate_2d
 from rockcal.dem3d import simulate as simulate_3d
 from rockcal.dem3d.laws import Laws
 from rockcal.dem3d.neighbours import near_pairs, spatial_order
-from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D
-from rockcal.dem3d.specimen import random_specimen
+from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D
+from rockcal.specimens3d.specimen import random_specimen
 from rockcal.materials.parallel_bond import new_state
 from rockcal.params import make_params
 

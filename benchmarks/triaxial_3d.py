@@ -20,7 +20,7 @@ import numba
 import numpy as np
 from ucs_3d import GRANITE_3D
 
-from rockcal.dem3d.specimen import carve_cylinder, random_specimen
+from rockcal.specimens3d.specimen import carve_cylinder, random_specimen
 from rockcal.labtests.biaxial import simulate_biaxial
 from rockcal.labtests.ucs import simulate_ucs
 from rockcal.labtests.envelope import envelope_responses

@@ -3,7 +3,7 @@ bonds, steps, genesis and test wall time, E, ν, UCS and cracks, and the machine
 
 Material: PFC3D-style granite values (E_c = Ē_c = 62 GPa, kn/ks 2.5, σ̄c = c̄ = 175 MPa with
 23 % spread, μ 0.5, λ̄ 1, ρ 2630 kg/m³) under rockcal's 2D names; genesis: 3D defaults
-(`dem3d.genesis.DEFAULT_GENESIS_3D`). The packing is kept in rockcal's specimen cache, so a
+(`specimens3d.genesis.DEFAULT_GENESIS_3D`). The packing is kept in rockcal's specimen cache, so a
 second run times the test alone.
 
 Run by hand: `python benchmarks/ucs_3d.py [--size 25 50 0.8] [--size 50 100 1.0] [--rates 1 0.5]
@@ -16,7 +16,7 @@ import time
 
 import numba
 
-from rockcal.dem3d.specimen import random_specimen
+from rockcal.specimens3d.specimen import random_specimen
 from rockcal.labtests.ucs import simulate_ucs
 from rockcal.materials.parallel_bond import make_params
 from rockcal.params import parse_assignments

@@ -10,7 +10,7 @@ import pytest
 from rockcal import make_params
 from rockcal.labtests.bending import (CONFIRM_FLEXURAL_PERIODS, RUN_ON_FRACTION, Beam, crack_reach, flexural_period_s,
                                       notched_beam, period_steps, rig_circles, simulate_bending, wave_speed_m_per_s)
-from rockcal.dem.specimen import random_packing
+from rockcal.specimens.specimen import random_packing
 from rockcal.labtests.kic import senb_kic
 from rockcal.labtests.loading import NOTCH_TIP_DAMAGE, Loading
 from rockcal.labtests.seeds import mean_over_seeds

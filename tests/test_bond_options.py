@@ -7,7 +7,7 @@ from scipy import stats
 from rockcal import make_params
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION, INTACT, BondRow
 from rockcal.dem.simulate import advance
-from rockcal.dem.specimen import STRENGTH_STREAM
+from rockcal.specimens.specimen import STRENGTH_STREAM
 from rockcal.materials.parallel_bond import bond_strengths, new_state
 
 R = 1e-3  # two equal disks of radius R, touching along x
@@ -120,8 +120,8 @@ def test_strength_spread_weakens_potyondy_cundall_granite_but_leaves_its_modulus
     """P&C 2004's granite on a small specimen with its own genesis (touching pairs bonded):
     drawing the strengths 157 +- 36 MPa instead of a constant 157 leaves the elastic curve as
     it is, and the weakest bonds, failing first, lower the peak."""
-    from rockcal.dem.genesis import Genesis
-    from rockcal.dem.specimen import random_packing
+    from rockcal.specimens.genesis import Genesis
+    from rockcal.specimens.specimen import random_packing
     from rockcal.labtests.ucs import simulate_ucs
 
     spec = random_packing(12, 24, 0.27, 1.66, seed=1, genesis=Genesis(install_gap=0.0,
@@ -142,8 +142,8 @@ def test_weak_bonds_breaking_in_the_ramp_do_not_end_the_test(stop_fraction):
     not a failure (it ended this test at 3 MPa, 320 steps, and a full-size one stopping at 0.9
     of the peak at 3.4 MPa when a slow-down by a third did not count): the test goes on to the
     real peak, within 20 % of the constant-strength one."""
-    from rockcal.dem.genesis import Genesis
-    from rockcal.dem.specimen import random_packing
+    from rockcal.specimens.genesis import Genesis
+    from rockcal.specimens.specimen import random_packing
     from rockcal.labtests.ucs import simulate_ucs
 
     spec = random_packing(10, 20, 0.25, genesis=Genesis(install_gap=0.6))

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from rockcal.campaign.input.config import SpecimenSettings
-from rockcal.dem.clump_templates import (CLOUD_PEBBLES, CLOUD_SEED, GRAIN_SHAPES, MAX_EXTENT, _one_body,
+from rockcal.specimens.clump_templates import (CLOUD_PEBBLES, CLOUD_SEED, GRAIN_SHAPES, MAX_EXTENT, _one_body,
                                          from_pebbles, pebble_cloud, template)
 from rockcal.dem.clumps import union_properties
-from rockcal.dem.specimen import random_packing
+from rockcal.specimens.specimen import random_packing
 from rockcal.errors import InputError
 
 

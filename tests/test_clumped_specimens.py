@@ -12,14 +12,14 @@ import numpy as np
 import pytest
 
 from rockcal import make_params, simulate_ucs
-from rockcal.dem import clump_genesis, clump_templates, packing
-from rockcal.dem.clump_genesis import ClumpedGrains, clump_contacts, floating_clumps
-from rockcal.dem.clump_templates import from_pebbles, template
+from rockcal.specimens import clump_genesis, clump_templates, packing
+from rockcal.specimens.clump_genesis import ClumpedGrains, clump_contacts, floating_clumps
+from rockcal.specimens.clump_templates import from_pebbles, template
 from rockcal.dem.clumps import clump_properties, members, union_properties
-from rockcal.dem.genesis import Genesis
+from rockcal.specimens.genesis import Genesis
 from rockcal.dem.neighbours import spatial_order
 from rockcal.dem.simulate import advance
-from rockcal.dem.specimen import packing_name, random_packing
+from rockcal.specimens.specimen import packing_name, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.ucs import ucs_specimen
 from rockcal.materials import new_state
@@ -179,7 +179,7 @@ def test_clumped_packings_are_cached_under_their_own_key(two_pebble, balls):
     name = packing_name(WIDTH_MM, HEIGHT_MM, RMIN_MM, RATIO, 1, Genesis(), "two-pebble")
     assert name != packing_name(WIDTH_MM, HEIGHT_MM, RMIN_MM, RATIO, 1, Genesis())
     assert name != packing_name(WIDTH_MM, HEIGHT_MM, RMIN_MM, RATIO, 1, Genesis(), "three-pebble")
-    from rockcal.dem.specimen import stored_packing
+    from rockcal.specimens.specimen import stored_packing
     data = np.load(stored_packing(name))
     np.testing.assert_array_equal(data["clump_of"], two_pebble.clump_of)
     assert "clump_of" not in np.load(stored_packing(packing_name(WIDTH_MM, HEIGHT_MM, RMIN_MM, RATIO, 1, Genesis())))

@@ -12,7 +12,7 @@ import pytest
 from rockcal import make_params, plots, random_packing
 from rockcal.campaign.input.config import SpecimenSettings
 from rockcal.campaign.runs.spec import RunSpec, run_spec
-from rockcal.dem.carving import grains
+from rockcal.specimens.carving import grains
 from rockcal.dem.simulate import advance, scale_density
 from rockcal.errors import InputError
 from rockcal.labtests.direct_tension import simulate_direct_tension

@@ -13,7 +13,7 @@ import pytest
 
 from rockcal.campaign.input.config import SpecimenSettings, parse_campaign
 from rockcal.campaign.outputs.export import Calibrated, for_fishtank, to_fish, to_json, to_python
-from rockcal.dem.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES, template
+from rockcal.specimens.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES, template
 from rockcal.errors import InputError
 from rockcal.materials.flat_joint import make_flatjoint_params
 from rockcal.params import make_params

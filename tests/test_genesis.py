@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from rockcal import make_params
-from rockcal.dem.genesis import Genesis, vessel_contacts
+from rockcal.specimens.genesis import Genesis, vessel_contacts
 from rockcal.dem.laws import BondRow
-from rockcal.dem.packing import PRESSURE_TOLERANCE
+from rockcal.specimens.packing import PRESSURE_TOLERANCE
 from rockcal.dem.simulate import advance, rebuild_neighbours
-from rockcal.dem.specimen import random_packing
+from rockcal.specimens.specimen import random_packing
 from rockcal.materials.parallel_bond import new_state
 
 WIDTH_MM, HEIGHT_MM, RMIN_MM, RATIO = 10.0, 20.0, 0.25, 1.65
@@ -34,7 +34,7 @@ def test_no_floaters_and_the_material_pressure(specimen):
 
 
 def test_floaters_left_when_the_rounds_run_out_are_counted(monkeypatch, caplog):
-    from rockcal.dem import packing
+    from rockcal.specimens import packing
 
     monkeypatch.setattr(packing, "FLOATER_ROUNDS", 0)
     specimen = random_packing(WIDTH_MM, HEIGHT_MM, 2 * RMIN_MM, RATIO, seed=2, cache=False)
@@ -103,7 +103,7 @@ def test_sizes_given_as_integers_find_the_same_cached_specimen(monkeypatch, tmp_
 
 
 def _make_and_log(log):
-    import rockcal.dem.specimen as specimen
+    import rockcal.specimens.specimen as specimen
 
     pack = specimen._pack
 

@@ -6,8 +6,8 @@ import sys
 import pytest
 
 from rockcal.cli.app import main
-from rockcal.dem.grain_limit import ENV, expected_grains
-from rockcal.dem.specimen import hexagonal, random_packing
+from rockcal.specimens.grain_limit import ENV, expected_grains
+from rockcal.specimens.specimen import hexagonal, random_packing
 from rockcal.errors import InputError
 
 

@@ -12,8 +12,8 @@ from pydantic import ValidationError
 
 from rockcal.campaign.input.config import SpecimenSettings
 from rockcal.campaign.runs.spec import ENGINE, RunSpec, run_spec
-from rockcal.dem.carving import grains, keep_particles
-from rockcal.dem.specimen import packing_name
+from rockcal.specimens.carving import grains, keep_particles
+from rockcal.specimens.specimen import packing_name
 from rockcal.labtests import bending, brazilian, ucs
 from rockcal.labtests.bending import Beam, notched_beam
 from rockcal.labtests.brazilian import brazilian_disk

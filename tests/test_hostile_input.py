@@ -358,7 +358,7 @@ SIMULATE = {name: hs.options_of(cmd) for name, cmd in COMMAND.commands["simulate
 CONFIG_TEXT = [CAMPAIGN, *embedded_rocks(), *(rock.upper() for rock in embedded_rocks()), "missing", "missing.toml",
                "/dev/zero", "/dev/null", "/proc/self/mem", CAMPAIGN + "/", ".", "", "a" * 300, "a" * 300 + ".toml",
                "\udcff.toml", "-"]
-GRAIN_LIMIT = "ROCKCAL_MAX_GRAINS"  # rockcal.dem.grain_limit.ENV
+GRAIN_LIMIT = "ROCKCAL_MAX_GRAINS"  # rockcal.specimens.grain_limit.ENV
 
 
 @st.composite
@@ -424,7 +424,7 @@ def _max_grains_of_base() -> int:
     from rockcal.campaign.input.config import parse_campaign
     from rockcal.campaign.plan.planned import planned
     from rockcal.campaign.plan.screen import specimens
-    from rockcal.dem.grain_limit import expected_grains
+    from rockcal.specimens.grain_limit import expected_grains
     from rockcal.labtests.registry import lab_test
 
     campaign = planned(parse_campaign(hs.toml_dumps(hs.base_campaign(tuple(hs.OPTIONAL))), Path.cwd()))

@@ -13,7 +13,7 @@ from rockcal.campaign.runs.spec import run_spec
 from rockcal.campaign.input.config import SpecimenSettings
 from rockcal.labtests.biaxial import simulate_biaxial
 from rockcal.labtests.ucs import simulate_ucs
-from rockcal.dem.specimen import cache_dir
+from rockcal.specimens.specimen import cache_dir
 from rockcal.labtests import snapshots
 from rockcal.labtests.biaxial import simulate_biaxial
 from rockcal.labtests.registry import lab_test

@@ -14,12 +14,12 @@ from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.store import RunStore
-from rockcal.dem.specimen import hexagonal
+from rockcal.specimens.specimen import hexagonal
 from rockcal.labtests import registry
 from rockcal.labtests.kind import LabTest, Outline, Response
 from rockcal.labtests.result import LabResult
 from rockcal.labtests.ucs import simulate_ucs
-from rockcal.dem.specimen import random_packing
+from rockcal.specimens.specimen import random_packing
 
 
 @dataclass

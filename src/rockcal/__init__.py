@@ -13,8 +13,8 @@ prefer_512_bit_vectors()  # before numba loads
 
 _HOMES = {  # a name of the face: the module it lives in
     "Calibration": "rockcal.api", "calibrate": "rockcal.api", "simulate": "rockcal.api",
-    "Specimen": "rockcal.dem.specimen", "hexagonal": "rockcal.dem.specimen",
-    "random_packing": "rockcal.dem.specimen",
+    "Specimen": "rockcal.specimens.specimen", "hexagonal": "rockcal.specimens.specimen",
+    "random_packing": "rockcal.specimens.specimen",
     "UCSResult": "rockcal.labtests.ucs", "simulate_ucs": "rockcal.labtests.ucs",
     "MicroParams": "rockcal.params", "make_params": "rockcal.params",
 }

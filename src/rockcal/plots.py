@@ -65,7 +65,7 @@ def plane_view(xyz, plane: str) -> np.ndarray:
 
 
 def outline(shape: str, size_m, plane: str):
-    """A 3D specimen's outline on `plane` in mm (`dem3d.specimen.Specimen3D`: its `shape` fills
+    """A 3D specimen's outline on `plane` in mm (`specimens3d.specimen.Specimen3D`: its `shape` fills
     the box [0, size] in x, y and z): a circle where the shape is round, else a rectangle."""
     across, up = (1e3 * size_m[AXIS[c]] for c in plane)
     style = dict(fill=False, edgecolor="0.3", linewidth=1.0)

@@ -15,7 +15,7 @@ from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.outputs.report import write_report
 from rockcal.campaign.runs.store import RunStore
-from rockcal.dem.specimen import random_packing
+from rockcal.specimens.specimen import random_packing
 from rockcal.labtests.biaxial import envelope, simulate_biaxial
 from rockcal.labtests.ucs import simulate_ucs
 

@@ -14,8 +14,8 @@ import pytest
 from rockcal.campaign.input.config import parse_campaign
 from rockcal.campaign.procedure.result import CalibrationResult, save_result
 from rockcal.campaign.runs.store import RunStore
-from rockcal.dem.genesis import Genesis
-from rockcal.dem.specimen import random_packing
+from rockcal.specimens.genesis import Genesis
+from rockcal.specimens.specimen import random_packing
 from rockcal.materials.parallel_bond import bond_strengths
 from rockcal.params import make_params
 

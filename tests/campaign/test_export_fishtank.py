@@ -125,7 +125,7 @@ def test_flat_jointed_specimen_lists_read_back(tmp_path):
     import numpy as np
 
     from rockcal.campaign.outputs.export import write_specimen
-    from rockcal.dem.specimen import hexagonal
+    from rockcal.specimens.specimen import hexagonal
     from rockcal.materials.flat_joint import flatjointed
 
     spec = hexagonal(4, 4, 0.25)

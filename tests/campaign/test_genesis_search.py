@@ -8,8 +8,8 @@ from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.store import RunStore
-from rockcal.dem.genesis import Genesis
-from rockcal.dem.specimen import random_packing
+from rockcal.specimens.genesis import Genesis
+from rockcal.specimens.specimen import random_packing
 from rockcal.errors import InputError
 from rockcal.labtests.ucs import simulate_ucs
 

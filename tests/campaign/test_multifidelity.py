@@ -11,7 +11,7 @@ from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.plan.screen import describe
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.store import RunStore
-from rockcal.dem.specimen import random_packing
+from rockcal.specimens.specimen import random_packing
 from rockcal.labtests.ucs import simulate_ucs
 
 TRUE = {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 40.0}

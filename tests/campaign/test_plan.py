@@ -10,7 +10,7 @@ from rockcal.campaign.plan.screen import describe, stage_runs, stages
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.spec import RunResult
 from rockcal.campaign.runs.store import RunStore
-from rockcal.dem.specimen import random_packing
+from rockcal.specimens.specimen import random_packing
 from tiny import tiny_campaign
 
 

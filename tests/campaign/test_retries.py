@@ -11,7 +11,7 @@ from rockcal.campaign.plan.screen import describe
 from rockcal.campaign.procedure.steps import CalibrationFailed, calibrate
 from rockcal.campaign.runs.retries import MAX_TRIES
 from rockcal.campaign.runs.store import RunStore
-from rockcal.dem.specimen import cache_dir, packing_name, stored_packing
+from rockcal.specimens.specimen import cache_dir, packing_name, stored_packing
 from rockcal.labtests.registry import lab_test
 from tiny import tiny_campaign
 

@@ -9,7 +9,7 @@ from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.plan.quick_look import quick_look
 from rockcal.campaign.plan.screen import describe, specimens, specimens_to_make
 from rockcal.campaign.runs.store import RunStore
-from rockcal.dem.specimen import SHIPPED_DIR, packing_name, random_packing
+from rockcal.specimens.specimen import SHIPPED_DIR, packing_name, random_packing
 from rockcal.labtests.registry import lab_test
 
 

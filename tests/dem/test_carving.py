@@ -5,9 +5,9 @@ bonds across a line."""
 import numpy as np
 import pytest
 
-from rockcal.dem.carving import (cut_bonds, inside_circle, keep_particles, outside_rectangle)
+from rockcal.specimens.carving import (cut_bonds, inside_circle, keep_particles, outside_rectangle)
 from rockcal.dem.neighbours import near_pairs
-from rockcal.dem.specimen import Specimen
+from rockcal.specimens.specimen import Specimen
 
 R = 0.5e-3
 

@@ -10,16 +10,16 @@ import logging
 import numpy as np
 import pytest
 
-from rockcal.dem import clump_genesis
-from rockcal.dem.clump_genesis import (
+from rockcal.specimens import clump_genesis
+from rockcal.specimens.clump_genesis import (
     MAX_FLOATER_GROWTH,
     ClumpedGrains,
     floating_clumps,
     sizes_to_reach,
     vessel_contacts,
 )
-from rockcal.dem.clump_templates import template
-from rockcal.dem.packing import PRESSURE_TOLERANCE
+from rockcal.specimens.clump_templates import template
+from rockcal.specimens.packing import PRESSURE_TOLERANCE
 from rockcal.materials.parallel_bond import MicroParams
 
 
@@ -122,7 +122,7 @@ def test_a_floater_is_wedged_to_its_third_contact_within_a_round_s_growth():
 @pytest.mark.parametrize("shape", ["two-pebble", "three-pebble"])
 def test_a_small_clumped_genesis_ends_at_the_pressure_with_no_floater(shape, caplog):
     width, height = 8e-3, 16e-3
-    with caplog.at_level(logging.INFO, logger="rockcal.dem.clump_genesis"):
+    with caplog.at_level(logging.INFO, logger="rockcal.specimens.clump_genesis"):
         pos, radius, pressure, clump_of = clump_genesis.pack_clumps(
             template(shape), width, height, 0.5e-3, 1.25, 1, 0.09, 0.1)
     assert not floating_clumps(pos, radius, clump_of, width, height).any()

@@ -361,7 +361,7 @@ def test_element_strengths_are_drawn_reproducibly_by_seed():
     material's seeded draws: the same seed gives the same arrays, bit for bit, another seed
     others; as in PFC, the elements of one joint share its draw (fj_ten, fj_coh are contact
     properties)."""
-    from rockcal.dem.specimen import hexagonal
+    from rockcal.specimens.specimen import hexagonal
     from rockcal.materials import flat_joint as fjm
 
     spec = hexagonal(4.0, 4.0, 0.25)

@@ -2,7 +2,7 @@
 
 import pytest
 
-from rockcal.dem3d.specimen import carve_cylinder, random_specimen
+from rockcal.specimens3d.specimen import carve_cylinder, random_specimen
 
 
 @pytest.fixture(scope="session")

@@ -16,7 +16,7 @@ must hold:
 import numpy as np
 import pytest
 
-from rockcal.dem3d.specimen import Specimen3D, random_disk
+from rockcal.specimens3d.specimen import Specimen3D, random_disk
 from rockcal.errors import InputError
 from rockcal.labtests.brazilian import DEFAULT_MAX_STRAIN, POST_PEAK_FRACTION, broken_through, central_split
 from rockcal.labtests.brazilian import simulate_brazilian

@@ -17,7 +17,7 @@ from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.pool import Executor, execute
 from rockcal.campaign.runs.spec import ENGINE, RunSpec, run_spec
 from rockcal.campaign.runs.store import RunStore
-from rockcal.dem3d.specimen import Specimen3D
+from rockcal.specimens3d.specimen import Specimen3D
 from rockcal.labtests.ucs import simulate_ucs
 from rockcal.labtests.kind import LATER_SETTINGS, all_settings
 from rockcal.labtests.settings import specimen_settings

@@ -26,7 +26,7 @@ from rockcal.dem3d.export import (
     write_specimen_3d,
 )
 from rockcal.materials import new_state
-from rockcal.dem3d.specimen import Specimen3D
+from rockcal.specimens3d.specimen import Specimen3D
 from rockcal.errors import InputError
 from rockcal.materials.fishtank import MATERIAL_TYPES
 from rockcal.materials.parallel_bond import make_params

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from rockcal.labtests.rig.gauge_3d import Gauge3D, central_mean, faces
-from rockcal.dem3d.specimen import Specimen3D
+from rockcal.specimens3d.specimen import Specimen3D
 
 
 def interquartile_mean(values):

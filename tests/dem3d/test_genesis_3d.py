@@ -1,4 +1,4 @@
-"""PFC's material genesis in 3D (`rockcal.dem3d.packing`, `genesis`, `specimen`) on a small
+"""PFC's material genesis in 3D (`rockcal.specimens3d.packing`, `genesis`, `specimen`) on a small
 cuboid vessel (`conftest.small_cuboid`): the walls feel the material pressure P_m, read afresh from the spheres'
 overlaps with them (π E R × overlap over each face's area); no sphere has fewer than 3
 contacts; exactly the pairs within the installation gap are bonded; the same seed makes the
@@ -8,10 +8,10 @@ same packing bit for bit; a carved cylinder keeps the spheres centred inside it,
 import numpy as np
 import pytest
 
-from rockcal.dem.packing import PACKING_MODULUS_GPA, PRESSURE_TOLERANCE
-from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D as GENESIS
-from rockcal.dem3d.genesis import wall_gaps
-from rockcal.dem3d.specimen import carve_cylinder, random_specimen, vessel_floaters
+from rockcal.specimens.packing import PACKING_MODULUS_GPA, PRESSURE_TOLERANCE
+from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D as GENESIS
+from rockcal.specimens3d.genesis import wall_gaps
+from rockcal.specimens3d.specimen import carve_cylinder, random_specimen, vessel_floaters
 
 
 @pytest.fixture

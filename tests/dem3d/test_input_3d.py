@@ -8,9 +8,9 @@ Every case fails while the input is checked (no genesis, no run): the file is qu
 import pytest
 
 from rockcal.labtests.specimen_settings import DEFAULTS_3D, SpecimenSettings
-from rockcal.dem.grain_limit import DEFAULT_MAX_GRAINS, ENV
-from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D
-from rockcal.dem3d.specimen import MIN_SPHERES, expected_spheres
+from rockcal.specimens.grain_limit import DEFAULT_MAX_GRAINS, ENV
+from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D
+from rockcal.specimens3d.specimen import MIN_SPHERES, expected_spheres
 from rockcal.errors import InputError
 from rockcal.labtests.registry import LAB_TESTS
 from rockcal.labtests.settings import specimen_settings

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from rockcal.labtests.rig.platens_3d import Platens3D
-from rockcal.dem3d.specimen import Specimen3D, random_specimen
+from rockcal.specimens3d.specimen import Specimen3D, random_specimen
 from rockcal.labtests.ucs import simulate_ucs
 from rockcal.labtests.ucs import POST_PEAK_FRACTION
 from rockcal.materials.parallel_bond import make_params

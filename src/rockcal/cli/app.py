@@ -7,7 +7,7 @@ from typing import Optional
 import typer
 
 from rockcal.version import __version__
-from rockcal.dem.grain_limit import DEFAULT_MAX_GRAINS, ENV, FLAG
+from rockcal.specimens.grain_limit import DEFAULT_MAX_GRAINS, ENV, FLAG
 from rockcal.errors import InputError
 
 

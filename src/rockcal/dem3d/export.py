@@ -109,7 +109,7 @@ BOND_COLUMNS = ("id", "ball1", "ball2", "tensile_strength_Pa", "cohesion_Pa", "b
 
 
 def write_specimen_3d(specimen, params, folder: Path) -> tuple[Path, Path]:
-    """The 3D specimen (`dem3d.specimen.Specimen3D`) as balls.csv (`BALL_COLUMNS`: id, centre,
+    """The 3D specimen (`specimens3d.specimen.Specimen3D`) as balls.csv (`BALL_COLUMNS`: id, centre,
     radius; m) and bonds.csv (`BOND_COLUMNS`): each parallel bond's id, its spheres' ids, its
     tensile strength and cohesion at `params` (Pa; the draws the engine makes,
     `Material.pair_properties`), its radius Rbar = lambda min(R) (m, PFC's pb_radius), the

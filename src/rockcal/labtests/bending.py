@@ -16,11 +16,11 @@ from typing import Callable
 import numpy as np
 from pydantic import Field
 
-from rockcal.dem.carving import cut_bonds, grains, keep_particles, of_particles, outside_rectangle
-from rockcal.dem.clump_templates import DEFAULT_SHAPE
-from rockcal.dem.genesis import Genesis
+from rockcal.specimens.carving import cut_bonds, grains, keep_particles, of_particles, outside_rectangle
+from rockcal.specimens.clump_templates import DEFAULT_SHAPE
+from rockcal.specimens.genesis import Genesis
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
-from rockcal.dem.specimen import Specimen, check_geometry, random_packing
+from rockcal.specimens.specimen import Specimen, check_geometry, random_packing
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kic import senb_kic
 from rockcal.labtests.kind import (

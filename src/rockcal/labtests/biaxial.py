@@ -28,7 +28,7 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from rockcal.dem import measure
-from rockcal.dem.specimen import random_packing
+from rockcal.specimens.specimen import random_packing
 from rockcal.errors import InputError
 from rockcal.labtests import snapshots, ucs
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
@@ -203,7 +203,7 @@ def _check(s: dict) -> None:
 
 def _specimen(s: dict):
     if in_3d(s):  # a square prism: the cached cuboid packing the UCS cylinder is carved from
-        from rockcal.dem3d.specimen import random_specimen
+        from rockcal.specimens3d.specimen import random_specimen
 
         return random_specimen("cuboid", s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"],
                                s["seed"], genesis_of(s))

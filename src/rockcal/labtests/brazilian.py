@@ -17,7 +17,7 @@ of thickness; `split` says whether the disk split through its centre (`central_s
 The test is one procedure in 2D and 3D, over the rig of the disk's dimension (`rig.rig_for`):
 with the setting `dimensions` 3 (PFC3D) the disk is D thick D / 2 (ISRM's ratio), its axis
 horizontal along y, loaded along z between the flat platens or the strips (the curved jaws
-are 2D's alone), carved from a D x t x D cuboid packing (`dem3d.specimen.random_disk`);
+are 2D's alone), carved from a D x t x D cuboid packing (`specimens3d.specimen.random_disk`);
 its load is the platens' force in N, reported per metre of its thickness beside the 2D
 test's, and a crack counts over the disk's thickness (`crack_share`).
 
@@ -37,13 +37,13 @@ import numpy as np
 from pydantic import Field
 
 from rockcal.dem import measure
-from rockcal.dem.carving import grains, inside_circle, keep_particles, of_particles
-from rockcal.dem.clump_templates import DEFAULT_SHAPE
-from rockcal.dem.genesis import Genesis
+from rockcal.specimens.carving import grains, inside_circle, keep_particles, of_particles
+from rockcal.specimens.clump_templates import DEFAULT_SHAPE
+from rockcal.specimens.genesis import Genesis
 from rockcal.dem.laws import INTACT
-from rockcal.dem.specimen import Specimen, check_geometry, random_packing
-from rockcal.dem3d.specimen import check_disk as check_disk_3d
-from rockcal.dem3d.specimen import random_disk
+from rockcal.specimens.specimen import Specimen, check_geometry, random_packing
+from rockcal.specimens3d.specimen import check_disk as check_disk_3d
+from rockcal.specimens3d.specimen import random_disk
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kind import (
     GENESIS,
@@ -210,7 +210,7 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen=None,
                        progress: Callable[[float, float], None] | None = None) -> BrazilianResult:
     """Run the Brazilian test; defaults: granite parameters on a 50 mm disk between flat platens.
 
-    specimen: a 2D disk (`brazilian_disk`) or a 3D one (`dem3d.specimen.random_disk`);
+    specimen: a 2D disk (`brazilian_disk`) or a 3D one (`specimens3d.specimen.random_disk`);
     loading: "flat" (the UCS test's platens), "isrm" (ISRM's curved jaws, `rig.Jaws`; 2D) or
     "strips" (the flat platens with a bearing strip of `strip_modulus_GPa` and
     `strip_thickness_mm`, None: STRIP_THICKNESS_PER_DIAMETER x D, on each; `rig.BearingStrip`);
@@ -295,7 +295,7 @@ def _check(s: dict) -> None:
 
 
 def _check_3d(s: dict) -> None:
-    """A 3D disk's settings (D x D/2, `dem3d.specimen.random_disk`): none of the 2D engine's
+    """A 3D disk's settings (D x D/2, `specimens3d.specimen.random_disk`): none of the 2D engine's
     alone, a loading the 3D test has, and a disk its spheres fill."""
     check_3d_settings(s)
     if s["brazilian_loading"] not in LOADINGS_3D:

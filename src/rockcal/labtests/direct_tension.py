@@ -27,9 +27,9 @@ from typing import Callable
 
 import numpy as np
 
-from rockcal.dem.carving import grains
+from rockcal.specimens.carving import grains
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
-from rockcal.dem.specimen import Specimen, random_packing
+from rockcal.specimens.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests import ucs
 from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, Setting

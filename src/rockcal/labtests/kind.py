@@ -9,9 +9,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Callable
 
-from rockcal.dem.clump_templates import DEFAULT_SHAPE
-from rockcal.dem.genesis import Genesis
-from rockcal.dem.grain_limit import expected_grains
+from rockcal.specimens.clump_templates import DEFAULT_SHAPE
+from rockcal.specimens.genesis import Genesis
+from rockcal.specimens.grain_limit import expected_grains
 from rockcal.errors import InputError
 from rockcal.materials import check_dimensions, material
 
@@ -227,7 +227,7 @@ def series_name(response: str, value: float, unit: str) -> str:
 # finer R_min is no rock's grain, and (below 1e-154 mm) its area is no number.
 MIN_RMIN_MM = 1e-3
 # The fewest grains a specimen's cloud may hold: 4 x 4, a specimen 4 grains across as its size
-# must be (`dem.specimen.check_geometry`); a cloud porosity near 1 leaves fewer (1 or 2 grains:
+# must be (`specimens.specimen.check_geometry`); a cloud porosity near 1 leaves fewer (1 or 2 grains:
 # no gauge, platen or pin has a grain to read or load).
 MIN_GRAINS = 16
 

@@ -36,7 +36,7 @@ from typing import Callable
 import numpy as np
 
 from rockcal.version import __version__
-from rockcal.dem.specimen import cache_dir
+from rockcal.specimens.specimen import cache_dir
 
 SNAPSHOT_EVERY_S = 300.0
 FOLDER = "snapshots"

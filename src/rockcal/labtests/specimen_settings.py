@@ -8,10 +8,10 @@ from typing import Literal
 
 from pydantic import Field, field_validator, model_validator
 
-from rockcal.dem.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES
-from rockcal.dem.genesis import Genesis
+from rockcal.specimens.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES
+from rockcal.specimens.genesis import Genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
-from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D
+from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D
 from rockcal.labtests.brazilian import STRIP_MODULUS_GPA
 from rockcal.labtests.kind import DIMENSIONS
 from rockcal.labtests.ucs import DEFAULT_MAX_AXIAL_STRAIN, DEFAULT_STRAIN, POST_PEAK_FRACTION
@@ -27,7 +27,7 @@ DEFAULTS_3D = {"cloud_porosity": DEFAULT_GENESIS_3D.cloud_porosity, "contact_sti
 class SpecimenSettings(Genesis):
     """Resolution, size and genesis of the virtual specimens (UCS, Brazilian disk, notched
     beam: one genesis for all) and how the UCS test reads them (defaults: the source's; the
-    genesis keys are `rockcal.dem.genesis.Genesis`'s)."""
+    genesis keys are `rockcal.specimens.genesis.Genesis`'s)."""
 
     rmin_mm: float = Field(0.25, gt=0, description="Smallest particle radius R_min, mm: the resolution.")
     radius_ratio: float = Field(1.65, ge=1, le=10, description="Largest / smallest radius; radii are uniform between.")

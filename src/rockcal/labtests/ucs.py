@@ -27,10 +27,10 @@ import numpy as np
 from pydantic import Field
 
 from rockcal.dem import measure
-from rockcal.dem.clump_templates import DEFAULT_SHAPE
-from rockcal.dem.genesis import Genesis
-from rockcal.dem.specimen import Specimen, check_geometry, hexagonal, random_packing
-from rockcal.dem3d.specimen import Specimen3D, check_size, random_specimen
+from rockcal.specimens.clump_templates import DEFAULT_SHAPE
+from rockcal.specimens.genesis import Genesis
+from rockcal.specimens.specimen import Specimen, check_geometry, hexagonal, random_packing
+from rockcal.specimens3d.specimen import Specimen3D, check_size, random_specimen
 from rockcal.errors import InputError
 from rockcal.labtests.damage import CRACK_RESPONSES, crack_stresses
 from rockcal.labtests.kind import (GENESIS, LabTest, Outline, Response, check_3d_settings, check_grain_cloud,
@@ -151,7 +151,7 @@ def _check(s: dict) -> None:
 
 def _check_3d(s: dict) -> None:
     """A 3D cylinder's settings: none of the 2D engine's alone, and the size and grains
-    `dem3d.specimen.check_size` asks for."""
+    `specimens3d.specimen.check_size` asks for."""
     check_3d_settings(s)
     check_size(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["cloud_porosity"])
 
@@ -160,7 +160,7 @@ def ucs_specimen(width_mm: float = 50.0, height_mm: float = 100.0, rmin_mm: floa
                  radius_ratio: float = 1.65, seed: int = 1, genesis: Genesis | None = None,
                  grain_shape: str = DEFAULT_SHAPE) -> Specimen:
     """The UCS test's specimen: a random packing of balls, or of rigid clumps of the template
-    `grain_shape` (`dem.clump_templates`: PFC's clumped materials), whose equivalent radii are
+    `grain_shape` (`specimens.clump_templates`: PFC's clumped materials), whose equivalent radii are
     drawn in [R_min, radius_ratio x R_min]."""
     return random_packing(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis,
                           grain_shape=grain_shape)

@@ -45,7 +45,7 @@ from numba import njit
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from rockcal.dem import flatjoint, laws, simulate
-from rockcal.dem.genesis import install_bonds
+from rockcal.specimens.genesis import install_bonds
 from rockcal.errors import InputError
 from rockcal.materials.fishtank import FLAT_JOINTED, common_pfc, pfc_names, pfc_values
 from rockcal.materials.material import MAX_DAMPING, MIN_DENSITY, MIN_STIFFNESS_RATIO, Material, validated

@@ -21,7 +21,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from rockcal.dem import laws
-from rockcal.dem.genesis import install_bonds
+from rockcal.specimens.genesis import install_bonds
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS, State, assemble_state
 from rockcal.errors import InputError
 from rockcal.materials.fishtank import PARALLEL_BONDED, common_pfc, pfc_names, pfc_values

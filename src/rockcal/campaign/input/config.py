@@ -25,7 +25,7 @@ from rockcal.labtests.lab_values import read_curve  # noqa: F401  (here too)
 from rockcal.labtests.ucs import UCSValues as UCSTargets  # noqa: F401  (the UCS section, here too)
 from rockcal.labtests.specimen_settings import MAX_PACKINGS, SpecimenSettings
 from rockcal.user_files import read_user_text
-from rockcal.dem.genesis import make_genesis
+from rockcal.specimens.genesis import make_genesis
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.inverse.arrays import design
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcal.dem3d.specimen import expected_spheres
+from rockcal.specimens3d.specimen import expected_spheres
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.labtests.specimen_settings import SpecimenSettings
 

@@ -23,7 +23,7 @@ import numpy as np
 
 from rockcal.dem import cores
 from rockcal.dem.simulate import advance
-from rockcal.dem.specimen import hexagonal
+from rockcal.specimens.specimen import hexagonal
 from rockcal.materials.parallel_bond import make_params, new_state
 
 # width, height and disk radius: 7 300 disks, whose arrays (2 MB) outgrow a core's L2 cache as

@@ -30,7 +30,7 @@ from rockcal.campaign.procedure.points import packings_of
 from rockcal.campaign.procedure.steps import (STEPS, VERIFICATION, planning_state, series_values,
                                               verified_at_most)
 from rockcal.campaign.runs.spec import RunSpec
-from rockcal.dem.specimen import packing_name, stored_packing
+from rockcal.specimens.specimen import packing_name, stored_packing
 from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.materials import material

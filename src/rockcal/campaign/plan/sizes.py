@@ -1,10 +1,10 @@
 """The grains of every specimen a campaign will make, estimated before any genesis and refused
-past the limit (`rockcal.dem.grain_limit`), naming the campaign file's section."""
+past the limit (`rockcal.specimens.grain_limit`), naming the campaign file's section."""
 
 from __future__ import annotations
 
 from rockcal.campaign.plan.screen import specimens
-from rockcal.dem.grain_limit import check_grains, expected_grains
+from rockcal.specimens.grain_limit import check_grains, expected_grains
 from rockcal.labtests.registry import lab_test
 
 

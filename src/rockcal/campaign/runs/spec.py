@@ -11,11 +11,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from rockcal.version import __version__
-from rockcal.dem.clump_genesis import CLUMP_GENESIS_VERSION
-from rockcal.dem.clump_templates import DEFAULT_SHAPE
-from rockcal.dem.specimen import GENERATOR_VERSION
+from rockcal.specimens.clump_genesis import CLUMP_GENESIS_VERSION
+from rockcal.specimens.clump_templates import DEFAULT_SHAPE
+from rockcal.specimens.specimen import GENERATOR_VERSION
 from rockcal.dem3d import ENGINE_VERSION_3D
-from rockcal.dem3d.specimen import GENERATOR_VERSION_3D
+from rockcal.specimens3d.specimen import GENERATOR_VERSION_3D
 from rockcal.labtests.registry import lab_test
 from rockcal.materials import DEFAULT_MATERIAL, material
 

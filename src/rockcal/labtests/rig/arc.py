@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from rockcal.dem.simulate import State
-from rockcal.dem.specimen import Specimen
+from rockcal.specimens.specimen import Specimen
 from rockcal.materials import new_state
 
 

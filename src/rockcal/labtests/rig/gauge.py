@@ -7,7 +7,7 @@ from __future__ import annotations
 from rockcal.dem import measure
 from rockcal.errors import InputError
 from rockcal.dem.simulate import State
-from rockcal.dem.specimen import Specimen
+from rockcal.specimens.specimen import Specimen
 
 
 def _sides(specimen: Specimen) -> dict:

@@ -41,7 +41,7 @@ def faces(specimen) -> dict[str, np.ndarray]:
 
 
 def check_gauges(specimen) -> None:
-    """Nothing to check: a 3D specimen's size (`dem3d.specimen.check_size`) puts spheres on
+    """Nothing to check: a 3D specimen's size (`specimens3d.specimen.check_size`) puts spheres on
     every face."""
 
 

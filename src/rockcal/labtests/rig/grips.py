@@ -3,7 +3,7 @@ whose centres lie within a grip length of either end are the grips (their veloci
 their spin held at zero, as PFC's `ball fix velocity spin`). They open at the platens' strain
 rate (`rockcal.labtests.rig.platens`) over the free length between them.
 
-Of a clumped specimen the grains are the clumps, judged at their centroids (as `dem.carving`
+Of a clumped specimen the grains are the clumps, judged at their centroids (as `specimens.carving`
 judges them): a clump is gripped whole when its centroid lies in a grip, and then moves with
 the grip as a gripped ball does, translating without turning (a driven clump of
 `dem.clump_motion`, its body's velocity prescribed, its spin zero). The centroid, not any
@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcal.dem.carving import grains, of_particles
+from rockcal.specimens.carving import grains, of_particles
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M
-from rockcal.dem.specimen import Specimen
+from rockcal.specimens.specimen import Specimen
 from rockcal.labtests.rig.platens import STRAIN_PER_STEP_PER_ROW
 from rockcal.materials import new_state
 

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M
-from rockcal.dem.specimen import Specimen
+from rockcal.specimens.specimen import Specimen
 from rockcal.labtests.rig.arc import arc_disks, with_rigid_parts
 from rockcal.labtests.rig.platens import STRAIN_PER_STEP_PER_ROW
 

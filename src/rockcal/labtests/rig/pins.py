@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M
-from rockcal.dem.specimen import Specimen
+from rockcal.specimens.specimen import Specimen
 from rockcal.labtests.rig.arc import arc_disks, with_rigid_parts
 
 

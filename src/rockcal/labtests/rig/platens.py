@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from rockcal.dem.simulate import BOTTOM, DEFAULT_CONTACT_STIFFNESS, THICKNESS_M, TOP, stable_time_step
-from rockcal.dem.specimen import Specimen
+from rockcal.specimens.specimen import Specimen
 from rockcal.errors import InputError
 from rockcal.materials import new_state
 

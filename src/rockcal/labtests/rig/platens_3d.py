@@ -37,7 +37,7 @@ def strip_modulus_pa(strip: BearingStrip, bare_modulus_pa: float, radius_m: floa
 
 
 def disk_of(specimen) -> Disk:
-    """A 3D disk (`dem3d.specimen.random_disk`): the nominal D and t it was carved to, its axis
+    """A 3D disk (`specimens3d.specimen.random_disk`): the nominal D and t it was carved to, its axis
     along y, loaded along z."""
     if specimen.shape != "disk":
         raise InputError("specimen", f"the Brazilian test needs a disk, got a {specimen.shape}")

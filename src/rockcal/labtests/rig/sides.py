@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, THICKNESS_M, TOP, unbalanced_forces
-from rockcal.dem.specimen import Specimen
+from rockcal.specimens.specimen import Specimen
 from rockcal.labtests.result import RunFailed
 from rockcal.labtests.rig.platens import Platens
 from rockcal.labtests.rig.servo import SPEED_LIMIT, WallServo

@@ -14,7 +14,7 @@ import logging
 
 import numpy as np
 
-from rockcal.dem.genesis import MIN_CONTACTS, cloud_radii, enlarge_floaters, floaters
+from rockcal.specimens.genesis import MIN_CONTACTS, cloud_radii, enlarge_floaters, floaters
 from rockcal.dem.neighbours import spatial_order
 from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, TOP, THICKNESS_M, advance, rebuild_neighbours
 from rockcal.materials.parallel_bond import MicroParams, new_state

@@ -21,13 +21,13 @@ from pathlib import Path
 import numpy as np
 
 from rockcal.materials.flat_joint import flatjoint_draws
-from rockcal.dem.clump_genesis import CLUMP_GENESIS_VERSION, clump_bonds, floating_clumps, pack_clumps
-from rockcal.dem.clump_templates import DEFAULT_SHAPE, template
+from rockcal.specimens.clump_genesis import CLUMP_GENESIS_VERSION, clump_bonds, floating_clumps, pack_clumps
+from rockcal.specimens.clump_templates import DEFAULT_SHAPE, template
 from rockcal.dem.clumps import clump_properties, members
-from rockcal.dem.genesis import CONTACT_GAP, Genesis, floaters, grain_contacts, install_bonds, pair_gaps
-from rockcal.dem.grain_limit import check_grains, expected_grains
+from rockcal.specimens.genesis import CONTACT_GAP, Genesis, floaters, grain_contacts, install_bonds, pair_gaps
+from rockcal.specimens.grain_limit import check_grains, expected_grains
 from rockcal.dem.neighbours import spatial_order
-from rockcal.dem.packing import pack_box
+from rockcal.specimens.packing import pack_box
 from rockcal.output_files import atomic_path
 from rockcal.errors import InputError
 
@@ -41,7 +41,7 @@ STRENGTH_STREAM = 1  # the bond strength draws' random stream, apart from the pa
 # The packings of the embedded campaigns (the granite and its quick look), exactly as genesis
 # makes them, shipped so that a first run need not make them (a full-size beam's genesis takes
 # half an hour to over an hour on one core); `benchmarks/shipped_specimens.py` makes and checks them.
-SHIPPED_DIR = Path(__file__).with_name("specimens")
+SHIPPED_DIR = Path(__file__).with_name("shipped")
 
 
 @dataclass(frozen=True)
@@ -142,7 +142,7 @@ def hexagonal(width_mm: float, height_mm: float, radius_mm: float, limited: bool
 def random_packing(width_mm: float, height_mm: float, rmin_mm: float = 0.25,
                    radius_ratio: float = 1.65, seed: int = 1, genesis: Genesis | None = None,
                    cache: bool = True, grain_shape: str = DEFAULT_SHAPE) -> Specimen:
-    """A specimen made by PFC's material genesis (`rockcal.dem.genesis`); kept on disk (found
+    """A specimen made by PFC's material genesis (`rockcal.specimens.genesis`); kept on disk (found
     in the cache, or among the packings shipped with rockcal) unless `cache` is False. Its
     grains are balls, or clumps of the template `grain_shape` (`clump_templates.GRAIN_SHAPES`)
     sized by their equivalent radii (`clump_genesis`)."""

@@ -2,7 +2,7 @@
 cylinder carved out of one (a cuboid packing of the cylinder's diameter squared by its height,
 the spheres whose centres lie inside the cylinder kept, then those left without a bond dropped).
 
-As in 2D (`rockcal.dem.specimen`), a specimen is geometry (centres, radii, bonded pairs) plus
+As in 2D (`rockcal.specimens.specimen`), a specimen is geometry (centres, radii, bonded pairs) plus
 one uniform draw per bond and strength; packings are kept on disk in 2D's cache folder, under
 a hash of what their genesis depends on, and the bonds of an installation gap are found on
 loading.
@@ -16,12 +16,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from rockcal.dem.genesis import Genesis
-from rockcal.dem.grain_limit import check_grains
-from rockcal.dem.specimen import STRENGTH_STREAM, _one_maker, cache_dir
-from rockcal.dem3d.genesis import DEFAULT_GENESIS_3D, floaters, install_bonds, sphere_contacts
+from rockcal.specimens.genesis import Genesis
+from rockcal.specimens.grain_limit import check_grains
+from rockcal.specimens.specimen import STRENGTH_STREAM, _one_maker, cache_dir
+from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D, floaters, install_bonds, sphere_contacts
 from rockcal.dem3d.neighbours import spatial_order
-from rockcal.dem3d.packing import pack_cuboid
+from rockcal.specimens3d.packing import pack_cuboid
 from rockcal.dem3d.vectors import cubes
 from rockcal.errors import InputError
 from rockcal.output_files import atomic_path
@@ -116,7 +116,7 @@ def expected_spheres(width_mm: float, height_mm: float, rmin_mm: float, radius_r
 def check_size(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float,
                cloud_porosity: float) -> None:
     """Before the genesis: the specimen at least 4 of its largest spheres across and tall, its
-    cloud at least MIN_SPHERES spheres and within the grain limit (`dem.grain_limit`); an
+    cloud at least MIN_SPHERES spheres and within the grain limit (`specimens.grain_limit`); an
     InputError naming the setting."""
     for name, value in (("width_mm", width_mm), ("height_mm", height_mm)):
         if not value >= 8 * rmin_mm * radius_ratio:
@@ -242,7 +242,7 @@ def _ordered(pos, radius, pressure, left):
 
 def packing_name(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesis) -> str:
     """The file a 3D packing is kept in: a hash of what its genesis depends on, as 2D's
-    (`rockcal.dem.specimen.packing_name`) with the vessel's three sides."""
+    (`rockcal.specimens.specimen.packing_name`) with the vessel's three sides."""
     key = {"kind": "random_3d", "size_mm": [round(1e3 * float(v), 9) for v in vessel],
            "rmin_mm": round(1e3 * rmin, 9), "radius_ratio": float(radius_ratio),
            "seed": int(seed), "version": GENERATOR_VERSION_3D,

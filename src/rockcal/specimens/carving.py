@@ -16,7 +16,7 @@ from dataclasses import replace
 import numpy as np
 
 from rockcal.dem.clumps import clump_properties, members
-from rockcal.dem.specimen import Specimen
+from rockcal.specimens.specimen import Specimen
 
 
 def grains(spec: Specimen) -> tuple[np.ndarray, np.ndarray]:

@@ -1,5 +1,5 @@
 """Packing a sphere cloud by grain scaling in a rigid cuboid vessel (steps 1-3 of PFC's genesis,
-as the 2D `rockcal.dem.packing`): the cloud's spheres are dropped at random with half the size
+as the 2D `rockcal.specimens.packing`): the cloud's spheres are dropped at random with half the size
 they have at jamming, grown in stages to it with frictionless contacts, then all radii are
 scaled by one factor until the mean wall stress is the material pressure P_m; floaters are
 enlarged and the packing cycled and scaled back to P_m until none is left.
@@ -11,8 +11,8 @@ import logging
 
 import numpy as np
 
-from rockcal.dem.genesis import MIN_CONTACTS
-from rockcal.dem.packing import (
+from rockcal.specimens.genesis import MIN_CONTACTS
+from rockcal.specimens.packing import (
     FLOATER_ROUNDS,
     GROWTH_STAGES,
     MAX_SERVO_ROUNDS,
@@ -22,7 +22,7 @@ from rockcal.dem.packing import (
     STEPS_PER_STAGE,
     servo_factor,
 )
-from rockcal.dem3d.genesis import cloud_radii, enlarge_floaters, floaters
+from rockcal.specimens3d.genesis import cloud_radii, enlarge_floaters, floaters
 from rockcal.dem3d.laws import Laws
 from rockcal.dem3d.neighbours import spatial_order
 from rockcal.dem3d.simulate import advance, assemble_state, rebuild_neighbours

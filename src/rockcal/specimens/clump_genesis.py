@@ -1,5 +1,5 @@
 """The genesis of a clumped specimen (FISHTank's clumped materials): PFC's genesis
-(`rockcal.dem.genesis`) with every grain a rigid clump of a template's pebbles
+(`rockcal.specimens.genesis`) with every grain a rigid clump of a template's pebbles
 (`clump_templates`), randomly oriented.
 
 A grain's size is its equivalent radius, the radius of a disk of its area: the cloud's sizes are
@@ -52,10 +52,10 @@ import math
 
 import numpy as np
 
-from rockcal.dem import packing
+from rockcal.specimens import packing
 from rockcal.dem.clump_motion import clump
-from rockcal.dem.clump_templates import ClumpTemplate
-from rockcal.dem.genesis import (
+from rockcal.specimens.clump_templates import ClumpTemplate
+from rockcal.specimens.genesis import (
     CONTACT_GAP,
     MIN_CONTACTS,
     cloud_radii,
@@ -64,7 +64,7 @@ from rockcal.dem.genesis import (
     wall_gaps,
 )
 from rockcal.dem.neighbours import near_pairs, spatial_order
-from rockcal.dem.packing import JAMMING_FRACTION, pack_grains
+from rockcal.specimens.packing import JAMMING_FRACTION, pack_grains
 from rockcal.dem.simulate import advance, rebuild_neighbours
 from rockcal.materials.parallel_bond import MicroParams, new_state
 from rockcal.materials.units import GPa, MPa

@@ -1,6 +1,6 @@
 """The geometry of PFC's material genesis in 3D (FISHTank `ft.fis`; Potyondy & Cundall 2004):
 the sphere cloud, contacts in a cuboid vessel, floaters and the bonds of an installation gap.
-The settings are the 2D genesis' (`rockcal.dem.genesis.Genesis`, PFC's names); the steps that
+The settings are the 2D genesis' (`rockcal.specimens.genesis.Genesis`, PFC's names); the steps that
 move spheres are in `packing`.
 """
 
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcal.dem.genesis import CONTACT_GAP, MIN_CONTACTS, Genesis
+from rockcal.specimens.genesis import CONTACT_GAP, MIN_CONTACTS, Genesis
 from rockcal.dem3d.neighbours import near_pairs
 from rockcal.dem3d.vectors import cubes, norms
 
