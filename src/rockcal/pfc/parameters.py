@@ -7,7 +7,8 @@ from __future__ import annotations
 
 from rockcal.errors import InputError
 from rockcal.materials import material_of
-from rockcal.materials.fishtank import DEFAULT_FISHTANK, fishtank_version, grain_template, template_name, template_pebbles
+from rockcal.materials.fishtank import (DEFAULT_FISHTANK, fishtank_version, grain_template, template_name,
+                                        template_pebbles)
 from rockcal.materials.parallel_bond import MicroParams
 from rockcal.pfc.calibrated import Calibrated, fishtank_of
 
