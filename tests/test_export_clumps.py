@@ -12,11 +12,14 @@ import numpy as np
 import pytest
 
 from rockcal.campaign.input.config import SpecimenSettings, parse_campaign
-from rockcal.campaign.outputs.export import Calibrated, for_fishtank, to_fish, to_json, to_python
 from rockcal.specimens.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES, template
 from rockcal.errors import InputError
 from rockcal.materials.flat_joint import make_flatjoint_params
 from rockcal.params import make_params
+from rockcal.pfc.calibrated import Calibrated, for_fishtank
+from rockcal.pfc.json_file import to_json
+from rockcal.pfc.parameter_file import to_fish
+from rockcal.pfc.python_script import to_python
 
 # The names FISHTank reads to make a clumped material's grains, as found in siyuanxu/PFC-fishPKG,
 # ExampleProjects/fistSrc/ft.fis (fistPkg25, PFC 5.0): `_mpMakeGrains` (cm_shape: 0 balls,

@@ -63,7 +63,8 @@ class Calibration:
         "pfc-python" (a PFC Python script) or "json"; `to` by default OUT/mpParams.p2dat (.py,
         .json); `fishtank` the PFC version whose FISHTank reads it (5, 6 or 7).
         Returns the path written."""
-        from rockcal.campaign.outputs.export import WRITERS, for_fishtank
+        from rockcal.pfc.calibrated import for_fishtank
+        from rockcal.pfc.formats import WRITERS
         from rockcal.cli.export import _calibration
         from rockcal.output_files import write_atomic
 

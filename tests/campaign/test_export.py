@@ -156,7 +156,7 @@ def test_a_pfc4_contact_calibration_says_how_to_set_it_in_pfc():
     from types import SimpleNamespace
 
     from rockcal.campaign.input.config import SpecimenSettings
-    from rockcal.campaign.outputs.export import header_lines
+    from rockcal.pfc.header import header_lines
     from rockcal.params import make_params
 
     origin = {"rock": "granite", "accepted": True, "dem_runs": 1, "campaign": "c", "engine": "e",

@@ -15,7 +15,9 @@ from types import SimpleNamespace
 import pytest
 
 from rockcal.campaign.input.config import SpecimenSettings
-from rockcal.campaign.outputs.export import to_fish, to_json, to_python
+from rockcal.pfc.json_file import to_json
+from rockcal.pfc.parameter_file import to_fish
+from rockcal.pfc.python_script import to_python
 from rockcal.materials.flat_joint import make_flatjoint_params
 from rockcal.params import make_params
 
@@ -124,7 +126,7 @@ def test_flat_jointed_specimen_lists_read_back(tmp_path):
 
     import numpy as np
 
-    from rockcal.campaign.outputs.export import write_specimen
+    from rockcal.pfc.specimen_lists import write_specimen
     from rockcal.specimens.specimen import hexagonal
     from rockcal.materials.flat_joint import flatjointed
 
@@ -145,7 +147,7 @@ def test_flat_jointed_specimen_lists_read_back(tmp_path):
 
 @pytest.mark.parametrize("value", [0.23 * 35.61e6, 0.1 + 0.2, 21.65e9, 1e-9, 2.0, 0.5e-3 * 1.65])
 def test_a_float_is_written_to_a_doubles_precision_as_a_float(value):
-    from rockcal.campaign.outputs.export import _fish_value
+    from rockcal.pfc.parameter_file import fish_value as _fish_value
 
     text = _fish_value(value)
     assert float(text) == pytest.approx(value, rel=1e-15)

@@ -10,7 +10,8 @@ import pytest
 
 from rockcal.campaign.input.config import parse_campaign
 from rockcal.campaign.plan.planned import planned
-from rockcal.campaign.outputs.export import WRITERS, read_calibration
+from rockcal.campaign.outputs.export import read_calibration
+from rockcal.pfc.formats import WRITERS
 from rockcal.campaign.outputs.report import write_report
 from rockcal.campaign.procedure.result import CalibrationResult, save_result
 from rockcal.campaign.runs.store import RunStore

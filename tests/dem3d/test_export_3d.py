@@ -1,4 +1,4 @@
-"""The PFC3D export (`rockcal.dem3d.export`): FISHTank's mpParams.p3dat and the ball/bond lists.
+"""The PFC3D export (`rockcal.pfc`): FISHTank's mpParams.p3dat and the ball/bond lists.
 
 - the parameter file read back gives the material's parameters in SI, under FISHTank's names,
   with the cm_matType of the FISHTank asked for;
@@ -15,21 +15,16 @@ import numpy as np
 import pytest
 
 from rockcal.campaign.input.config import SpecimenSettings
-from rockcal.campaign.outputs.export import Calibrated, fish_groups, pfc_parameters
 from rockcal.dem3d.bonds import Bond
-from rockcal.dem3d.export import (
-    BALL_COLUMNS,
-    BOND_COLUMNS,
-    PARAMETER_FILE,
-    to_fish_3d,
-    write_p3dat,
-    write_specimen_3d,
-)
 from rockcal.materials import new_state
 from rockcal.specimens3d.specimen import Specimen3D
 from rockcal.errors import InputError
 from rockcal.materials.fishtank import MATERIAL_TYPES
 from rockcal.materials.parallel_bond import make_params
+from rockcal.pfc.calibrated import Calibrated
+from rockcal.pfc.parameter_file import PARAMETER_FILE, fish_groups, to_fish_3d, write_p3dat
+from rockcal.pfc.parameters import pfc_parameters
+from rockcal.pfc.specimen_lists import BALL_COLUMNS, BOND_COLUMNS, write_specimen_3d
 
 PARAMS = make_params({"E_c": 62, "Ebar_c": 55, "kn_ks": 2.5, "knbar_ksbar": 2.0, "sigma_c": 175,
                       "tau_c": 160, "sigma_c_cv": 0.23, "tau_c_cv": 0.2, "phi_b": 12.5,

@@ -37,7 +37,8 @@ def export(
 ) -> None:
     """The identified micro-parameters under PFC FISHTank's names (pbm_emod, ...), in SI units;
     a clumped material's clump template too."""
-    from rockcal.campaign.outputs.export import WRITERS, for_fishtank
+    from rockcal.pfc.calibrated import for_fishtank
+    from rockcal.pfc.formats import WRITERS
 
     calibrated = for_fishtank(_calibration(out), fishtank.value)
     text = WRITERS[format.value](calibrated)
@@ -54,7 +55,7 @@ def export_specimen(
 ) -> None:
     """The campaign's UCS specimen as ball and bond lists (SI), with each bond's strengths at
     the identified parameters."""
-    from rockcal.campaign.outputs.export import write_specimen
+    from rockcal.pfc.specimen_lists import write_specimen
     from rockcal.campaign.runs.pool import specimen_of
     from rockcal.campaign.runs.spec import run_spec
     from rockcal.labtests.registry import PRIMARY_TEST

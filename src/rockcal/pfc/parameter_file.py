@@ -1,0 +1,130 @@
+"""FISHTank's parameter file of a calibrated material, one layout for PFC2D (`to_fish`) and
+PFC3D (`to_fish_3d`, written as `mpParams.p3dat` by `write_p3dat`): the header's comments
+(`header`), a clumped material's clump template created first (`clump template create`, as
+FISHTank's `clump distribute` takes it), then FISHTank's parameter groups (`fish_groups`): the
+common and packing group functions, the material's group (`mpSetPBParams` for the
+parallel-bonded material, `mpSetFJParams` for the flat-jointed one, each with the linear
+material group `lnm_*`), in SI units, and FISHTank's own check `_mpCheckAllParams`. `cm_matType`
+differs between the FISHTanks of PFC 5, 6 and 7 (`--fishtank`, `rockcal.materials.fishtank`).
+
+FISHTank's parallel-bonded material reads the same `cm_*`, `pk_*`, `pbm_*` and `lnm_*` names in
+PFC3D as in PFC2D (its own `mpParams.p3dat` examples), but in PFC3D they mean
+(`header.PFC3D_NOTES`, in the file's header too):
+
+- `pbm_emod`, `lnm_emod`: E* of PFC3D's deformability method, kn = E* pi min(R)^2 / (R_A + R_B)
+  (PFC2D: 2 min(R) t E* / (R_A + R_B)); `pbm_bemod`: kbar_n = Ebar* / (R_A + R_B) on a bond
+  cross-section that is a disk of radius Rbar = pbm_rmul min(R) (area pi Rbar^2, I = pi Rbar^4
+  / 4, J = pi Rbar^4 / 2), not a rectangle 2 Rbar t;
+- `pbm_mcf`: the bending moment enters the bond's normal stress and the twisting moment (none
+  in 2D) its shear stress;
+- `pk_nc`: the cloud porosity of a 3D grain cloud (FISHTank's 3D default 0.35 with grain
+  scaling, 2D's 0.08); `cm_Dlo`, `cm_Dup` are sphere diameters and `cm_densityVal` the
+  spheres' density (masses rho 4/3 pi R^3, no unit thickness);
+- no `pfc4` contacts: the 3D engine has PFC 5's deformability method only.
+
+A rock's PFC3D values differ from its PFC2D ones (Potyondy & Cundall 2004 calibrated Lac du
+Bonnet granite in both). The vessel (FISHTank's `mvParams.p3dat`: `mv_shape`, `mv_H`, `mv_W`,
+`mv_D`) is not in the file: rockcal packs a cuboid and carves its cylinders and disks from it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+
+from rockcal.materials import material_of
+from rockcal.materials.fishtank import DEFAULT_FISHTANK, fishtank_version
+from rockcal.output_files import atomic_path
+from rockcal.pfc.calibrated import Calibrated, fishtank_of, in_3d
+from rockcal.pfc.header import comment_text, header_of, notes_3d, origin_lines
+from rockcal.pfc.parameters import SIZE_ARRAYS, UNITS, clump_templates, pfc3d_parameters, pfc_parameters
+
+PARAMETER_FILE = "mpParams.p3dat"  # FISHTank's name for PFC3D's: a project runs `call mpParams.p3dat`
+
+
+def to_fish(calibrated: Calibrated) -> str:
+    """A FISH data file in the layout of FISHTank's mpParams: the header, a clumped material's
+    template, the common, packing and material group functions, then FISHTank's own check
+    (`_mpCheckAllParams`); for a 3D calibration PFC3D's (`to_fish_3d`)."""
+    if in_3d(calibrated):
+        return to_fish_3d(calibrated.params, calibrated.specimen, fishtank=fishtank_of(calibrated),
+                          header=origin_lines(calibrated))
+    comments, templates = header_of(calibrated), clump_templates(calibrated)
+    return fish_file(comments, pfc_parameters(calibrated), material_of(calibrated.params).pfc_group, templates)
+
+
+def to_fish_3d(params, settings, *, fishtank: int = DEFAULT_FISHTANK,
+               header: Iterable[str] = ()) -> str:
+    """FISHTank's parameter file for PFC3D (`mpParams.p3dat`): `header`'s lines (e.g. where
+    the calibration came from), the target FISHTank and PFC3D's meanings (`header.notes_3d`) as
+    comments, then the 2D file's groups (`fish_groups`) and FISHTank's own check."""
+    version = fishtank_version(fishtank)
+    values = pfc3d_parameters(params, settings, version)
+    return fish_file([*header, *notes_3d(version)], values, material_of(params).pfc_group)
+
+
+def write_p3dat(folder: Path, params, settings, *, fishtank: int = DEFAULT_FISHTANK,
+                header: Iterable[str] = ()) -> Path:
+    """Write `to_fish_3d` to `folder`/mpParams.p3dat (atomically); its path."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / PARAMETER_FILE
+    text = to_fish_3d(params, settings, fishtank=fishtank, header=header)
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(text, encoding="ascii")
+    return path
+
+
+def fish_file(comments: Iterable[str], values: dict, group: str, templates: dict | None = None) -> str:
+    """The file: `comments` as comment lines (made safe, `comment_text`), each clump template's
+    command and an empty line, then the groups of `values` with the material group `group`."""
+    out = [f"; {comment_text(line)}" for line in comments]
+    for name, pebbles in (templates or {}).items():
+        out += [*template_command(name, pebbles), ""]
+    return "\n".join(out + fish_groups(values, group))
+
+
+def template_command(name: str, pebbles) -> list[str]:
+    """PFC's command creating the clump template `name` of `pebbles` (radius, x, y), its
+    inertial properties computed from the pebbles as FISHTank's clumped examples do
+    (`pebcalculate`): one line per pebble, each number to the last bit."""
+    lines = [f"clump template create pebcalculate name {name} pebbles {len(pebbles)} ..."]
+    lines += [" ".join(["   ", *(repr(float(v)) for v in pebble)]) + " ..." for pebble in pebbles]
+    lines[-1] = lines[-1].removesuffix(" ...")
+    return lines
+
+
+def fish_groups(values: dict, group: str) -> list[str]:
+    """FISHTank's parameter groups of `values` (PFC names, SI), one line each: the common and
+    packing group functions, the material group function `group`, FISHTank's own check
+    (`_mpCheckAllParams`), and a last empty line."""
+    arrays = [name for name in SIZE_ARRAYS if name in values]
+
+    def assign(name: str, target: str | None = None) -> str:
+        unit = f"  ; {UNITS[name]}" if name in UNITS else ""
+        return f"  {target or name} = {fish_value(values[name])}{unit}"
+
+    common = [name for name in values if name.startswith("cm_") and name not in arrays]
+    out = ["def mpSetCommonParams", *(assign(name) for name in common), "  cm_matNameSAV = cm_matName"]
+    out += [f"  {name} = array.create(cm_nSD)" for name in arrays]
+    out += [assign(name, f"{name}(1)") for name in arrays]
+    out += ["end", "@mpSetCommonParams", "", "def mpSetPackingParams",
+            *(assign(name) for name in values if name.startswith("pk_")),
+            "end", "@mpSetPackingParams", "", f"def {group}",
+            *(assign(name) for name in values if not name.startswith(("cm_", "pk_"))),
+            "end", f"@{group}", "", "@_mpCheckAllParams", ""]
+    return out
+
+
+def fish_value(value) -> str:
+    """A value as FISH reads it: a string quoted, a boolean and an integer as one, a float to
+    15 significant digits (a double's own precision: no 8190300.000000001 from a product) and
+    always with a point or an exponent, so FISH reads a float."""
+    if isinstance(value, str):
+        return f"'{value}'"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    text = f"{float(value):.15g}"
+    return text if any(c in text for c in ".en") else text + ".0"
