@@ -18,7 +18,7 @@ import numba
 import numpy as np
 
 from rockcal.specimens import clump_genesis, packing
-from rockcal.specimens.clump_templates import template
+from rockcal.materials.clump_templates import template
 from rockcal.specimens.genesis import floaters
 from rockcal.specimens.specimen import Specimen
 

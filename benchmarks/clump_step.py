@@ -1,5 +1,5 @@
 """A clumped step against a ball step: the UCS test on a specimen of balls and on specimens of
-clumps (each template of `rockcal.specimens.clump_templates`) of the same size, R_min and seed, each
+clumps (each template of `rockcal.materials.clump_templates`) of the same size, R_min and seed, each
 timed by its own clock on one thread; the time per step per pebble (a ball is one pebble) and
 its ratio to the balls', measured in the same run; with `--fresh`, each specimen is made anew
 (not from the cache) and its genesis timed too.
@@ -14,7 +14,7 @@ import time
 import numba
 
 import rockcal
-from rockcal.specimens.clump_templates import GRAIN_SHAPES
+from rockcal.materials.clump_templates import GRAIN_SHAPES
 from rockcal.params import MicroParams
 
 

@@ -25,7 +25,7 @@ def main() -> None:
     parser.add_argument("--set", action="append", default=[], help="micro-parameter NAME=VALUE")
     parser.add_argument("--width-mm", type=float, default=50.0, help="the specimen's width (height: twice it)")
     parser.add_argument("--rmin-mm", type=float, default=0.25)
-    parser.add_argument("--grain-shape", default="ball", help="ball or a clump template (rockcal.specimens.clump_templates)")
+    parser.add_argument("--grain-shape", default="ball", help="ball or a clump template (rockcal.materials.clump_templates)")
     args = parser.parse_args()
     params = material(args.model).make(parse_assignments(args.set))
     numba.set_num_threads(args.threads)

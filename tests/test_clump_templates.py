@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from rockcal.campaign.input.config import SpecimenSettings
-from rockcal.specimens.clump_templates import (CLOUD_PEBBLES, CLOUD_SEED, GRAIN_SHAPES, MAX_EXTENT, _one_body,
+from rockcal.materials.clump_templates import (CLOUD_PEBBLES, CLOUD_SEED, GRAIN_SHAPES, MAX_EXTENT, _one_body,
                                          from_pebbles, pebble_cloud, template)
 from rockcal.dem.clumps import union_properties
 from rockcal.specimens.specimen import random_packing

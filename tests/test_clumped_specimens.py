@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 
 from rockcal import make_params, simulate_ucs
-from rockcal.specimens import clump_genesis, clump_templates, packing
+from rockcal.materials import clump_templates
+from rockcal.specimens import clump_genesis, packing
 from rockcal.specimens.clump_genesis import ClumpedGrains, clump_contacts, floating_clumps
-from rockcal.specimens.clump_templates import from_pebbles, template
+from rockcal.materials.clump_templates import from_pebbles, template
 from rockcal.dem.clumps import clump_properties, members, union_properties
 from rockcal.specimens.genesis import Genesis
 from rockcal.dem.neighbours import spatial_order

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from rockcal.campaign.input.config import SpecimenSettings, parse_campaign
-from rockcal.specimens.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES, template
+from rockcal.materials.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES, template
 from rockcal.errors import InputError
 from rockcal.materials.flat_joint import make_flatjoint_params
 from rockcal.params import make_params

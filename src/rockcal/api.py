@@ -65,13 +65,13 @@ class Calibration:
         Returns the path written."""
         from rockcal.pfc.calibrated import for_fishtank
         from rockcal.pfc.formats import WRITERS
-        from rockcal.cli.export import _calibration
+        from rockcal.campaign.outputs.export import calibration_in
         from rockcal.output_files import write_atomic
 
         if format not in WRITERS:
             raise InputError("format", f"one of {', '.join(WRITERS)}, got {format!r}")
         path = self.out / EXPORT_FILES[format] if to is None else Path(to)
-        text = WRITERS[format](for_fishtank(_calibration(self.out), fishtank, "fishtank"))
+        text = WRITERS[format](for_fishtank(calibration_in(self.out), fishtank, "fishtank"))
         try:
             return write_atomic(path, text)
         except OSError as exc:

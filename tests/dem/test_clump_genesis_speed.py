@@ -18,7 +18,7 @@ from rockcal.specimens.clump_genesis import (
     sizes_to_reach,
     vessel_contacts,
 )
-from rockcal.specimens.clump_templates import template
+from rockcal.materials.clump_templates import template
 from rockcal.specimens.packing import PRESSURE_TOLERANCE
 from rockcal.materials.parallel_bond import MicroParams
 

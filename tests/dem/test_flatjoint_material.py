@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from rockcal.dem import flatjoint as fj
-from rockcal.specimens.genesis import pair_gaps
+from rockcal.dem.neighbours import pair_gaps
 from rockcal.specimens.specimen import SHIPPED_DIR, hexagonal
 from rockcal.errors import InputError
 from rockcal.materials import flat_joint as fjm

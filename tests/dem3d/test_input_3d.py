@@ -83,9 +83,20 @@ def test_a_test_without_a_3d_implementation_is_refused(cli, tmp_path, test):
     assert calibrate(cli, tmp_path, campaign(OTHER_TESTS[test], dimensions="2")).returncode == 0
 
 
-def test_the_ucs_brazilian_and_confined_tests_alone_have_3d():
-    assert sorted(name for name, test in LAB_TESTS.items() if "dimensions" in test.settings) == \
-        ["biaxial", "brazilian", "ucs"]
+@pytest.mark.parametrize("name", list(LAB_TESTS))
+def test_a_test_runs_in_3d_where_it_says_so(name):
+    """A test accepts 3D exactly where it has the setting `dimensions`, and there its specimen
+    is one of spheres; elsewhere 3D is refused naming the test."""
+    test = LAB_TESTS[name]
+    if "dimensions" not in test.settings:
+        with pytest.raises(InputError, match=f"{name}: .*no 3D implementation"):
+            test.check_dimensions(3, "parallel_bond")
+        return
+    test.check_dimensions(3, "parallel_bond")
+    given = {"dimensions": 3, "width_mm": 7.0, "height_mm": 14.0, "rmin_mm": 0.5, "disk_diameter_mm": 16.0}
+    s = specimen_settings(test, {k: v for k, v in given.items() if k in test.settings})
+    test.check(s)
+    assert test.make(s).dimensions == 3
 
 
 @pytest.mark.parametrize("key, value, flag, words", [

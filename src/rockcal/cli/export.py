@@ -37,10 +37,11 @@ def export(
 ) -> None:
     """The identified micro-parameters under PFC FISHTank's names (pbm_emod, ...), in SI units;
     a clumped material's clump template too."""
+    from rockcal.campaign.outputs.export import calibration_in
     from rockcal.pfc.calibrated import for_fishtank
     from rockcal.pfc.formats import WRITERS
 
-    calibrated = for_fishtank(_calibration(out), fishtank.value)
+    calibrated = for_fishtank(calibration_in(out), fishtank.value)
     text = WRITERS[format.value](calibrated)
     if to is None:
         typer.echo(text, nl=False)
@@ -55,13 +56,14 @@ def export_specimen(
 ) -> None:
     """The campaign's UCS specimen as ball and bond lists (SI), with each bond's strengths at
     the identified parameters."""
-    from rockcal.pfc.specimen_lists import write_specimen
+    from rockcal.campaign.outputs.export import calibration_in
     from rockcal.campaign.runs.pool import specimen_of
+    from rockcal.pfc.specimen_lists import write_specimen
     from rockcal.campaign.runs.spec import run_spec
     from rockcal.labtests.registry import PRIMARY_TEST
     from rockcal.materials import material_of
 
-    calibrated = _calibration(out)
+    calibrated = calibration_in(out)
     if to.exists() and not to.is_dir():
         raise InputError("--to", f"{to} is a file, not a folder")
     from rockcal.campaign.files import one_line_errors
@@ -73,26 +75,6 @@ def export_specimen(
         paths = write_specimen(specimen, calibrated.params, to)
     Console(stderr=True).print(f"wrote {escape(str(paths[0]))} ({specimen.n_particles} balls) and {escape(str(paths[1]))} "
                                f"({len(specimen.bonds)} bonds)")
-
-
-def _calibration(out: Path):
-    """The finished campaign in OUT; one not finished that a rockcal is running (its lock is
-    held) is waited for, not resumed."""
-    from rockcal.campaign.outputs.export import read_calibration
-    from rockcal.campaign.files import one_line_errors
-    from rockcal.campaign.procedure.result import read_result
-    from rockcal.campaign.runs.lock import holder_of
-    from rockcal.campaign.runs.store import RunStore
-
-    with one_line_errors(out, "OUT"):
-        store = RunStore(out, create=False, readonly=True)
-        try:
-            if read_result(store) is None and (holder := holder_of(out)) is not None:
-                raise InputError("OUT", f"the campaign in {out} is running ({holder}); wait for it to "
-                                        "end, then export again")
-            return read_calibration(store, out)
-        finally:
-            store.close()
 
 
 def _write(path: Path, text: str) -> None:

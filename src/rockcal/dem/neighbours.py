@@ -269,3 +269,21 @@ def contact_pairs(pos, radius, skin, bond_keys, old_keys, old_shear):
         if o < old_keys.shape[0] and old_keys[o] == key:
             shear[p] = old_shear[o]
     return ci[keep], cj[keep], shear[keep]
+
+
+# gaps below this fraction of R_min count as contact (floating-point touching)
+CONTACT_GAP = 1e-6
+
+
+def pair_gaps(pos: np.ndarray, radius: np.ndarray, reach: float):
+    """Pairs (i, j), i < j, with gap R_i + R_j - d below `reach` (m), and their gaps."""
+    pi, pj = near_pairs(pos, radius, reach)
+    gap = np.hypot(*(pos[pj] - pos[pi]).T) - radius[pi] - radius[pj]
+    return pi, pj, gap
+
+
+def install_bonds(pos: np.ndarray, radius: np.ndarray, gap: float) -> np.ndarray:
+    """Pairs i < j whose gap is <= `gap` (m): the bonds of PFC's installation gap."""
+    pi, pj, g = pair_gaps(pos, radius, gap + CONTACT_GAP * radius.min())
+    keep = g <= gap + CONTACT_GAP * radius.min()
+    return np.column_stack([pi[keep], pj[keep]]).astype(np.int64)

@@ -17,7 +17,7 @@ import numpy as np
 from pydantic import Field
 
 from rockcal.specimens.carving import cut_bonds, grains, keep_particles, of_particles, outside_rectangle
-from rockcal.specimens.clump_templates import DEFAULT_SHAPE
+from rockcal.materials.clump_templates import DEFAULT_SHAPE
 from rockcal.specimens.genesis import Genesis
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.specimens.specimen import Specimen, check_geometry, random_packing

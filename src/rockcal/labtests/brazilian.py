@@ -38,7 +38,7 @@ from pydantic import Field
 
 from rockcal.dem import measure
 from rockcal.specimens.carving import grains, inside_circle, keep_particles, of_particles
-from rockcal.specimens.clump_templates import DEFAULT_SHAPE
+from rockcal.materials.clump_templates import DEFAULT_SHAPE
 from rockcal.specimens.genesis import Genesis
 from rockcal.dem.laws import INTACT
 from rockcal.specimens.specimen import Specimen, check_geometry, random_packing

@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Callable
 
-from rockcal.specimens.clump_templates import DEFAULT_SHAPE
+from rockcal.materials.clump_templates import DEFAULT_SHAPE
 from rockcal.specimens.genesis import Genesis
 from rockcal.specimens.grain_limit import expected_grains
 from rockcal.errors import InputError

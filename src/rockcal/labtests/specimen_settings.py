@@ -8,7 +8,7 @@ from typing import Literal
 
 from pydantic import Field, field_validator, model_validator
 
-from rockcal.specimens.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES
+from rockcal.materials.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES
 from rockcal.specimens.genesis import Genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D

@@ -27,7 +27,7 @@ import numpy as np
 from pydantic import Field
 
 from rockcal.dem import measure
-from rockcal.specimens.clump_templates import DEFAULT_SHAPE
+from rockcal.materials.clump_templates import DEFAULT_SHAPE
 from rockcal.specimens.genesis import Genesis
 from rockcal.specimens.specimen import Specimen, check_geometry, hexagonal, random_packing
 from rockcal.specimens3d.specimen import Specimen3D, check_size, random_specimen
@@ -160,7 +160,7 @@ def ucs_specimen(width_mm: float = 50.0, height_mm: float = 100.0, rmin_mm: floa
                  radius_ratio: float = 1.65, seed: int = 1, genesis: Genesis | None = None,
                  grain_shape: str = DEFAULT_SHAPE) -> Specimen:
     """The UCS test's specimen: a random packing of balls, or of rigid clumps of the template
-    `grain_shape` (`specimens.clump_templates`: PFC's clumped materials), whose equivalent radii are
+    `grain_shape` (`materials.clump_templates`: PFC's clumped materials), whose equivalent radii are
     drawn in [R_min, radius_ratio x R_min]."""
     return random_packing(width_mm, height_mm, rmin_mm, radius_ratio, seed, genesis,
                           grain_shape=grain_shape)

@@ -8,7 +8,7 @@ targets one (`FISHTANKS`), PFC 6.0's by default."""
 
 from __future__ import annotations
 
-from rockcal.specimens.clump_templates import DEFAULT_SHAPE, ClumpTemplate, template
+from rockcal.materials.clump_templates import DEFAULT_SHAPE, ClumpTemplate, template
 from rockcal.errors import InputError
 from rockcal.materials.units import GPa, MM, MPa
 

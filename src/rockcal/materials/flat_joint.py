@@ -45,7 +45,7 @@ from numba import njit
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from rockcal.dem import flatjoint, laws, simulate
-from rockcal.specimens.genesis import install_bonds
+from rockcal.dem.neighbours import install_bonds
 from rockcal.errors import InputError
 from rockcal.materials.fishtank import FLAT_JOINTED, common_pfc, pfc_names, pfc_values
 from rockcal.materials.material import MAX_DAMPING, MIN_DENSITY, MIN_STIFFNESS_RATIO, Material, validated
@@ -423,7 +423,7 @@ def check_bonded(params: FlatJointParams) -> None:
 MATERIAL = Material(
     name="flatjoint", title="flat-jointed (flat joints + linear contacts)",
     parameters=NAMES, make=make_flatjoint_params, params_type=FlatJointParams,
-    pfc_names=pfc_names(PFC_PROPERTIES, NAMES), bond_pairs=install_bonds,
+    pfc_names=pfc_names(PFC_PROPERTIES, NAMES),
     states={2: _specimen_state},  # PFC2D's; PFC3D's flat joint is not built yet
     pfc_parameters=pfc_parameters, pfc_material_type=FLAT_JOINTED,
     pfc_group="mpSetFJParams", pair_properties=pair_properties, pairs_word="flat joints",

@@ -40,8 +40,7 @@ class BondedParams(Protocol):
 class Material:
     """A bonded material. `parameters` are its micro-parameters' names (rockcal's units) and
     `make(values)` validates them into a `params_type`; `pfc_names` gives each one's PFC
-    property; `bond_pairs(pos, radius, gap_m)` is its genesis step (the grain pairs bonded
-    within the installation gap); `states` its engine state builder per dimension (2: PFC2D's
+    property; `states` its engine state builder per dimension (2: PFC2D's
     disks, 3: PFC3D's spheres), `states[d](pos, radius, specimen, params, **options)` the state
     its laws run in, with that dimension's rig options (2D: `simulate.assemble_state`'s; 3D:
     the walls), a dimension without an entry one the material has no engine for;
@@ -59,7 +58,6 @@ class Material:
     make: Callable[[dict], BondedParams]
     params_type: type
     pfc_names: dict[str, str]
-    bond_pairs: Callable
     states: dict[int, Callable]
     pfc_parameters: Callable[[BondedParams, object], dict[str, float | int | bool]]
     pfc_material_type: int

@@ -21,7 +21,6 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from rockcal.dem import laws
-from rockcal.specimens.genesis import install_bonds
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS, State, assemble_state
 from rockcal.errors import InputError
 from rockcal.materials.fishtank import PARALLEL_BONDED, common_pfc, pfc_names, pfc_values
@@ -204,7 +203,7 @@ def check_bonded(params: MicroParams) -> None:
 MATERIAL = Material(
     name="parallel_bond", title="parallel-bonded (linear contact + linear parallel bond)",
     parameters=NAMES, make=make_params, params_type=MicroParams,
-    pfc_names=pfc_names(PFC_PROPERTIES, NAMES), bond_pairs=install_bonds,
+    pfc_names=pfc_names(PFC_PROPERTIES, NAMES),
     states={2: lambda pos, radius, specimen, params, **options: new_state(
         pos, radius, specimen.bonds, params, bond_draws=specimen.bond_draws, **options),
         3: new_state_3d},

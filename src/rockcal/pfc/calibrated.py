@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 from rockcal.materials.fishtank import DEFAULT_FISHTANK, fishtank_version
 
 if TYPE_CHECKING:  # the campaign's settings; the writers read only their attributes
-    from rockcal.campaign.input.config import SpecimenSettings
+    from rockcal.labtests.specimen_settings import SpecimenSettings
 
 
 @dataclass(frozen=True)

@@ -54,16 +54,9 @@ import numpy as np
 
 from rockcal.specimens import packing
 from rockcal.dem.clump_motion import clump
-from rockcal.specimens.clump_templates import ClumpTemplate
-from rockcal.specimens.genesis import (
-    CONTACT_GAP,
-    MIN_CONTACTS,
-    cloud_radii,
-    install_bonds,
-    pair_gaps,
-    wall_gaps,
-)
-from rockcal.dem.neighbours import near_pairs, spatial_order
+from rockcal.materials.clump_templates import ClumpTemplate
+from rockcal.specimens.genesis import MIN_CONTACTS, cloud_radii, wall_gaps
+from rockcal.dem.neighbours import CONTACT_GAP, install_bonds, near_pairs, pair_gaps, spatial_order
 from rockcal.specimens.packing import JAMMING_FRACTION, pack_grains
 from rockcal.dem.simulate import advance, rebuild_neighbours
 from rockcal.materials.parallel_bond import MicroParams, new_state

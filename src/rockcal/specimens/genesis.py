@@ -18,11 +18,10 @@ from __future__ import annotations
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from rockcal.dem.neighbours import near_pairs
+from rockcal.dem.neighbours import CONTACT_GAP, pair_gaps
 from rockcal.errors import from_validation_error
 
 MIN_CONTACTS = 3  # a grain with fewer contacts in the vessel (walls counted) is a floater
-CONTACT_GAP = 1e-6  # gaps below this fraction of R_min count as contact (floating-point touching)
 
 
 class Genesis(BaseModel):
@@ -52,13 +51,6 @@ def cloud_radii(rng: np.random.Generator, area: float, rmin: float, radius_ratio
     radius = rng.uniform(rmin, radius_ratio * rmin, int(1.2 * target / mean_area) + 16)
     count = int(np.searchsorted(np.cumsum(np.pi * radius**2), target)) + 1
     return radius[:count]
-
-
-def pair_gaps(pos: np.ndarray, radius: np.ndarray, reach: float):
-    """Pairs (i, j), i < j, with gap R_i + R_j - d below `reach` (m), and their gaps."""
-    pi, pj = near_pairs(pos, radius, reach)
-    gap = np.hypot(*(pos[pj] - pos[pi]).T) - radius[pi] - radius[pj]
-    return pi, pj, gap
 
 
 def grain_contacts(pos: np.ndarray, radius: np.ndarray) -> np.ndarray:
@@ -98,10 +90,3 @@ def enlarge_floaters(pos: np.ndarray, radius: np.ndarray, width: float, height: 
         nearest = np.partition(np.concatenate([gaps, walls[k]]), MIN_CONTACTS - 1)
         radius[k] += max(0.0, nearest[MIN_CONTACTS - 1]) + overlap * radius[k]
     return radius
-
-
-def install_bonds(pos: np.ndarray, radius: np.ndarray, gap: float) -> np.ndarray:
-    """Pairs i < j whose gap is <= `gap` (m): the bonds of PFC's installation gap."""
-    pi, pj, g = pair_gaps(pos, radius, gap + CONTACT_GAP * radius.min())
-    keep = g <= gap + CONTACT_GAP * radius.min()
-    return np.column_stack([pi[keep], pj[keep]]).astype(np.int64)

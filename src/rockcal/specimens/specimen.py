@@ -22,9 +22,10 @@ import numpy as np
 
 from rockcal.materials.flat_joint import flatjoint_draws
 from rockcal.specimens.clump_genesis import CLUMP_GENESIS_VERSION, clump_bonds, floating_clumps, pack_clumps
-from rockcal.specimens.clump_templates import DEFAULT_SHAPE, template
+from rockcal.materials.clump_templates import DEFAULT_SHAPE, template
 from rockcal.dem.clumps import clump_properties, members
-from rockcal.specimens.genesis import CONTACT_GAP, Genesis, floaters, grain_contacts, install_bonds, pair_gaps
+from rockcal.dem.neighbours import CONTACT_GAP, install_bonds, pair_gaps
+from rockcal.specimens.genesis import Genesis, floaters, grain_contacts
 from rockcal.specimens.grain_limit import check_grains, expected_grains
 from rockcal.dem.neighbours import spatial_order
 from rockcal.specimens.packing import pack_box

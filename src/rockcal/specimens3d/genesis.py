@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcal.specimens.genesis import CONTACT_GAP, MIN_CONTACTS, Genesis
+from rockcal.dem.neighbours import CONTACT_GAP
+from rockcal.specimens.genesis import MIN_CONTACTS, Genesis
 from rockcal.dem3d.neighbours import near_pairs
 from rockcal.dem3d.vectors import cubes, norms
 

@@ -12,7 +12,7 @@ import numpy as np
 
 from rockcal.version import __version__
 from rockcal.specimens.clump_genesis import CLUMP_GENESIS_VERSION
-from rockcal.specimens.clump_templates import DEFAULT_SHAPE
+from rockcal.materials.clump_templates import DEFAULT_SHAPE
 from rockcal.specimens.specimen import GENERATOR_VERSION
 from rockcal.dem3d import ENGINE_VERSION_3D
 from rockcal.specimens3d.specimen import GENERATOR_VERSION_3D
