@@ -6,10 +6,9 @@ material (the parallel bond, on spheres)."""
 from __future__ import annotations
 
 from rockcal.errors import InputError
-from rockcal.materials import material_of
+from rockcal.materials import check_dimensions, material_of
 from rockcal.materials.fishtank import (DEFAULT_FISHTANK, fishtank_version, grain_template, template_name,
                                         template_pebbles)
-from rockcal.materials.parallel_bond import MicroParams
 from rockcal.pfc.calibrated import Calibrated, fishtank_of
 
 UNITS = {"cm_densityVal": "kg/m3", "cm_Dlo": "m", "cm_Dup": "m", "pk_Pm": "Pa", "pbm_emod": "Pa",
@@ -39,11 +38,9 @@ def clump_templates(calibrated: Calibrated) -> dict[str, list[tuple[float, float
 
 
 def check_3d_material(params, settings) -> None:
-    """The 3D engine's material: the parallel bond, on spheres (no clumps); InputError naming
-    the field."""
-    if not isinstance(params, MicroParams):
-        raise InputError("model", f"the 3D engine has the parallel-bonded material only, got "
-                                  f"{material_of(params).name}")
+    """A material the 3D engine has (`materials.check_dimensions`), on spheres (no clumps);
+    InputError naming the field."""
+    check_dimensions(material_of(params), 3)
     shape = getattr(settings, "grain_shape", "ball")
     if shape != "ball":
         raise InputError("grain_shape", f"the 3D engine has spheres only, got {shape!r}")
