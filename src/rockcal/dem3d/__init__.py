@@ -4,11 +4,9 @@ Modules, one idea each: `state` (the spheres' arrays), `laws` (the contact and b
 `fused` (the fused multiply-add the laws are written with), `bonds` (the bonded pairs' state),
 `forces` (the compiled pair loops), `neighbours` (the cell grid and pair list), `walls` (planar
 walls: vessel faces, platens) and `simulate` (time step, density scaling, the stepping loop).
-Specimens: `genesis` (the sphere cloud, floaters, bonds), `packing` (grain scaling to the
-material pressure), `specimen` (cuboids, carved cylinders and disks, cached). It implements
-the engine protocol (`rockcal.engine`) as the 2D engine does; the lab tests run on it through
-the 3D rig (`rockcal.labtests.rig`), a material's 3D laws come from its module
-(`rockcal.materials`).
+It implements the engine protocol (`rockcal.engine`) as the 2D engine does: its specimens are
+made by `rockcal.specimens3d`, a material's 3D laws come from its module (`rockcal.materials`)
+and the lab tests run on it through the 3D rig (`rockcal.labtests.rig`).
 """
 
 ENGINE_VERSION_3D = 4  # part of every stored 3D run's key: raise it when the 3D engine's numbers change

@@ -41,6 +41,9 @@ from numba import njit
 from rockcal.dem3d.fused import fma
 
 INTACT, BROKEN_TENSION, BROKEN_SHEAR = 0, 1, 2
+# The contacts' normal stiffness as PFC 5 computes it (the deformability method above): the
+# convention a campaign names "pfc5", the 3D engine's only one
+CONTACT_STIFFNESS = "pfc5"
 
 
 class Laws(NamedTuple):

@@ -12,6 +12,7 @@ from typing import Any, Callable
 from rockcal.materials.clump_templates import DEFAULT_SHAPE
 from rockcal.specimens.genesis import Genesis
 from rockcal.specimens.grain_limit import expected_grains
+from rockcal.dem3d.laws import CONTACT_STIFFNESS as CONTACT_STIFFNESS_3D
 from rockcal.errors import InputError
 from rockcal.materials import check_dimensions, material
 
@@ -23,7 +24,6 @@ LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02, "brazil
 # A specimen's dimensions: 2, PFC2D's disks, or 3, PFC3D's spheres (the tests with the setting
 # `dimensions` alone, on a material the 3D engine has: `Material.states`).
 DIMENSIONS = (2, 3)
-PFC5_STIFFNESS = "pfc5"  # the 3D engine's contacts: PFC 5's deformability method (`rockcal.dem3d`)
 
 
 def in_3d(s: dict) -> bool:
@@ -37,9 +37,9 @@ def check_3d_settings(s: dict) -> None:
     if s.get("grain_shape", DEFAULT_SHAPE) != DEFAULT_SHAPE:
         raise InputError("grain_shape", f"the 3D engine's grains are balls (grain_shape = "
                                         f"\"{DEFAULT_SHAPE}\"), got {s['grain_shape']!r} with dimensions = 3")
-    if s["contact_stiffness"] != PFC5_STIFFNESS:
+    if s["contact_stiffness"] != CONTACT_STIFFNESS_3D:
         raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
-                                              f"({PFC5_STIFFNESS!r}), got {s['contact_stiffness']!r} "
+                                              f"({CONTACT_STIFFNESS_3D!r}), got {s['contact_stiffness']!r} "
                                               "with dimensions = 3")
 
 

@@ -11,6 +11,7 @@ from pydantic import Field, field_validator, model_validator
 from rockcal.materials.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES
 from rockcal.specimens.genesis import Genesis
 from rockcal.dem.simulate import CONTACT_STIFFNESS, DEFAULT_CONTACT_STIFFNESS
+from rockcal.dem3d.laws import CONTACT_STIFFNESS as CONTACT_STIFFNESS_3D
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D
 from rockcal.labtests.brazilian import STRIP_MODULUS_GPA
 from rockcal.labtests.kind import DIMENSIONS
@@ -21,7 +22,7 @@ MAX_PACKINGS = 100  # an upper bound on the packings of one specimen a campaign 
 
 # The specimen settings whose default differs in 3D: the 3D genesis' cloud porosity (2D's 0.09
 # would overfill a vessel of spheres) and PFC 5's contact stiffness, the 3D engine's only one.
-DEFAULTS_3D = {"cloud_porosity": DEFAULT_GENESIS_3D.cloud_porosity, "contact_stiffness": "pfc5"}
+DEFAULTS_3D = {"cloud_porosity": DEFAULT_GENESIS_3D.cloud_porosity, "contact_stiffness": CONTACT_STIFFNESS_3D}
 
 
 class SpecimenSettings(Genesis):

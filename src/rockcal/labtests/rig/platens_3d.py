@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rockcal.dem3d.laws import CONTACT_STIFFNESS
 from rockcal.dem3d.simulate import stable_time_step
 from rockcal.dem3d.walls import Wall
 from rockcal.errors import InputError
@@ -24,7 +25,6 @@ from rockcal.materials import new_state
 
 BOTTOM, TOP = 0, 1
 SIDES = (2, 3, 4, 5)  # with side walls: -x, +x, -y, +y, after the platens
-CONTACTS_3D = "pfc5"  # the 3D engine's contacts: PFC 5's deformability method
 
 
 def strip_modulus_pa(strip: BearingStrip, bare_modulus_pa: float, radius_m: float) -> float:
@@ -59,9 +59,9 @@ class Platens3D:
 
     def __init__(self, specimen, params, rate_factor: float, contact_stiffness: str | None = None,
                  strip: BearingStrip | None = None, side_walls: bool = False):
-        if contact_stiffness not in (None, CONTACTS_3D):
+        if contact_stiffness not in (None, CONTACT_STIFFNESS):
             raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
-                                                  f"({CONTACTS_3D!r}), got {contact_stiffness!r}")
+                                                  f"({CONTACT_STIFFNESS!r}), got {contact_stiffness!r}")
         pos, radius = specimen.pos, specimen.radius
         self.bottom, self.top = (pos[:, 2] - radius).min(), (pos[:, 2] + radius).max()
         centre = pos.mean(axis=0)
