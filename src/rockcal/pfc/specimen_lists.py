@@ -19,7 +19,7 @@ BOND_COLUMNS = ("id", "ball1", "ball2", "tensile_strength_Pa", "cohesion_Pa", "b
 
 def write_specimen(specimen, params, folder: Path) -> tuple[Path, Path]:
     """The specimen's balls.csv and bonds.csv in `folder`, in its dimension's columns; their paths."""
-    if specimen.pos.shape[1] == 3:
+    if specimen.dimensions == 3:
         return write_specimen_3d(specimen, params, folder)
     return write_specimen_2d(specimen, params, folder)
 
