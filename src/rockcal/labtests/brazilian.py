@@ -43,7 +43,7 @@ from rockcal.specimens.genesis import Genesis
 from rockcal.dem.laws import INTACT
 from rockcal.specimens.specimen import Specimen, check_geometry, random_packing
 from rockcal.specimens3d.specimen import check_disk as check_disk_3d
-from rockcal.specimens3d.specimen import random_disk
+from rockcal.specimens3d.specimen import check_vessel, random_disk
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kind import (
     GENESIS,
@@ -306,8 +306,10 @@ def _check_3d(s: dict) -> None:
         raise InputError("disk_diameter_mm", f"a 3D disk is D / 2 thick: {d:g} mm leaves {d / 2:g} mm for "
                                              f"spheres of radius up to {largest:g} mm (need D of at least "
                                              f"{16 * largest:g} mm)")
-    with fields_named({"diameter_mm": "disk_diameter_mm"}):
+    with fields_named({"diameter_mm": "disk_diameter_mm", "width_mm": "disk_diameter_mm",
+                       "height_mm": "disk_diameter_mm", "thickness_mm": "disk_diameter_mm"}):
         check_disk_3d(d, d / 2, s["rmin_mm"], s["radius_ratio"])
+        check_vessel((d, d / 2, d), s["rmin_mm"], s["radius_ratio"], s["cloud_porosity"], s["pressure_mpa"])
 
 
 def _specimen(s: dict):
