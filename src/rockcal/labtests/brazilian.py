@@ -107,6 +107,10 @@ DEFAULT_LOADING = "flat"
 # 50 mm disk the strip's column is 1.27 GN/m per m, 1.24 in series with the bare platen's
 # 2 t E_c (43.3), 17 times softer than a grain-grain contact (t E_c, PFC 3.x/4.0's).
 STRIP_MODULUS_GPA = 1.0
+# The softest strip: a cardboard cushion (ISRM 1978's), about 10 MPa through its thickness.
+# Softer, the strip would be squeezed past its own thickness well before a rock's disk splits
+# (contact stresses of tens of MPa), and sigma_t would read the strip, not the rock.
+MIN_STRIP_MODULUS_GPA = 0.01
 STRIP_THICKNESS_PER_DIAMETER = 0.01
 
 
@@ -284,6 +288,10 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen=None,
 
 def _check(s: dict) -> None:
     strip, loading = s.get("strip_modulus_gpa", STRIP_MODULUS_GPA), s.get("brazilian_loading", DEFAULT_LOADING)
+    if not strip >= MIN_STRIP_MODULUS_GPA:
+        raise InputError("strip_modulus_gpa", f"must be at least {MIN_STRIP_MODULUS_GPA:g} GPa (a cardboard "
+                                              f"cushion's; a softer strip is squeezed through before the disk "
+                                              f"splits), got {strip:g}; plywood's is {STRIP_MODULUS_GPA:g}")
     if strip != STRIP_MODULUS_GPA and loading != "strips":
         raise InputError("strip_modulus_gpa", f"{strip:g} GPa is a bearing strip's: it acts only with "
                                               f"brazilian_loading = \"strips\", got {loading!r}")

@@ -21,7 +21,7 @@ from rockcal.specimens.grain_limit import check_grains
 from rockcal.specimens.packing import check_packing_pressure
 from rockcal.specimens.specimen import STRENGTH_STREAM, _one_maker, cache_dir
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D, floaters, install_bonds, sphere_contacts
-from rockcal.dem3d.neighbours import spatial_order
+from rockcal.dem3d.neighbours import SpheresScattered, spatial_order
 from rockcal.specimens3d.packing import pack_cuboid
 from rockcal.dem3d.vectors import cubes
 from rockcal.errors import InputError, fields_named
@@ -257,8 +257,12 @@ def packing(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesi
     """The packed vessel's centres and radii (m), pressure reached (MPa) and floaters left:
     from the cache, or made (and kept if `cache`)."""
     def make():
-        return pack_cuboid(vessel, rmin, radius_ratio, seed, genesis.cloud_porosity,
-                           genesis.pressure_mpa)
+        try:
+            return pack_cuboid(vessel, rmin, radius_ratio, seed, genesis.cloud_porosity,
+                               genesis.pressure_mpa)
+        except SpheresScattered as exc:
+            raise InputError("cloud_porosity", f"the 3D genesis went unstable ({exc}): lower the cloud "
+                                               "porosity or pressure_mpa") from None
 
     if not cache:
         return _ordered(*make())
