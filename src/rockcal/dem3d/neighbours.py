@@ -73,10 +73,34 @@ def allocate(pos: np.ndarray, radius: np.ndarray, bonds: np.ndarray, skin: float
     return update(bonded, pos, radius), order
 
 
+# A packing's cell grid (cell = largest diameter + skin) has about a cell per sphere or fewer;
+# spheres spread over more than this many cells per sphere have left any packing (an unstable
+# run) and the grid would outgrow memory.
+MAX_CELLS_PER_SPHERE = 64
+MIN_CELLS = 2**20
+
+
+class SpheresScattered(FloatingPointError):
+    """The spheres' positions are no packing's: not finite, or scattered far beyond it."""
+
+
+def check_grid(pos: np.ndarray, radius: np.ndarray, skin: float) -> None:
+    """Before `near_pairs`'s cell grid: positions finite and spread over at most
+    MAX_CELLS_PER_SPHERE cells per sphere (a non-finite one gives no cell: the grid would be
+    indexed out of bounds); else SpheresScattered."""
+    if not (np.isfinite(pos).all() and np.isfinite(radius).all()):
+        raise SpheresScattered("a sphere's position or radius is no longer a number")
+    cell = 2.0 * float(radius.max()) + skin
+    cells = np.prod((pos.max(axis=0) - pos.min(axis=0)) / cell + 3.0)
+    if not cells <= MAX_CELLS_PER_SPHERE * len(pos) + MIN_CELLS:
+        raise SpheresScattered(f"the spheres are scattered over {cells:.3g} cells of the neighbour grid")
+
+
 def update(nlist: NeighbourList, pos: np.ndarray, radius: np.ndarray) -> NeighbourList:
     """The list rebuilt at `pos`: the same bonds, new near unbonded pairs; a pair already
-    listed keeps its shear force."""
+    listed keeps its shear force. SpheresScattered where they are no packing (`check_grid`)."""
     n, nb = pos.shape[0], nlist.n_bonds
+    check_grid(pos, radius, nlist.skin)
     bond_keys = np.sort(nlist.pi[:nb] * n + nlist.pj[:nb])
     old_keys = nlist.pi[nb:] * n + nlist.pj[nb:]
     order = np.argsort(old_keys)

@@ -43,7 +43,7 @@ from rockcal.specimens.genesis import Genesis
 from rockcal.dem.laws import INTACT
 from rockcal.specimens.specimen import Specimen, check_geometry, random_packing
 from rockcal.specimens3d.specimen import check_disk as check_disk_3d
-from rockcal.specimens3d.specimen import random_disk
+from rockcal.specimens3d.specimen import check_vessel, random_disk
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kind import (
     GENESIS,
@@ -107,6 +107,10 @@ DEFAULT_LOADING = "flat"
 # 50 mm disk the strip's column is 1.27 GN/m per m, 1.24 in series with the bare platen's
 # 2 t E_c (43.3), 17 times softer than a grain-grain contact (t E_c, PFC 3.x/4.0's).
 STRIP_MODULUS_GPA = 1.0
+# The softest strip: a cardboard cushion (ISRM 1978's), about 10 MPa through its thickness.
+# Softer, the strip would be squeezed past its own thickness well before a rock's disk splits
+# (contact stresses of tens of MPa), and sigma_t would read the strip, not the rock.
+MIN_STRIP_MODULUS_GPA = 0.01
 STRIP_THICKNESS_PER_DIAMETER = 0.01
 
 
@@ -284,6 +288,10 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen=None,
 
 def _check(s: dict) -> None:
     strip, loading = s.get("strip_modulus_gpa", STRIP_MODULUS_GPA), s.get("brazilian_loading", DEFAULT_LOADING)
+    if not strip >= MIN_STRIP_MODULUS_GPA:
+        raise InputError("strip_modulus_gpa", f"must be at least {MIN_STRIP_MODULUS_GPA:g} GPa (a cardboard "
+                                              f"cushion's; a softer strip is squeezed through before the disk "
+                                              f"splits), got {strip:g}; plywood's is {STRIP_MODULUS_GPA:g}")
     if strip != STRIP_MODULUS_GPA and loading != "strips":
         raise InputError("strip_modulus_gpa", f"{strip:g} GPa is a bearing strip's: it acts only with "
                                               f"brazilian_loading = \"strips\", got {loading!r}")
@@ -306,8 +314,10 @@ def _check_3d(s: dict) -> None:
         raise InputError("disk_diameter_mm", f"a 3D disk is D / 2 thick: {d:g} mm leaves {d / 2:g} mm for "
                                              f"spheres of radius up to {largest:g} mm (need D of at least "
                                              f"{16 * largest:g} mm)")
-    with fields_named({"diameter_mm": "disk_diameter_mm"}):
+    with fields_named({"diameter_mm": "disk_diameter_mm", "width_mm": "disk_diameter_mm",
+                       "height_mm": "disk_diameter_mm", "thickness_mm": "disk_diameter_mm"}):
         check_disk_3d(d, d / 2, s["rmin_mm"], s["radius_ratio"])
+        check_vessel((d, d / 2, d), s["rmin_mm"], s["radius_ratio"], s["cloud_porosity"], s["pressure_mpa"])
 
 
 def _specimen(s: dict):

@@ -12,6 +12,7 @@ from typing import Any, Callable
 from rockcal.materials.clump_templates import DEFAULT_SHAPE
 from rockcal.specimens.genesis import Genesis
 from rockcal.specimens.grain_limit import expected_grains
+from rockcal.specimens.packing import check_packing_pressure
 from rockcal.dem3d.laws import CONTACT_STIFFNESS as CONTACT_STIFFNESS_3D
 from rockcal.errors import InputError
 from rockcal.materials import check_dimensions, material
@@ -32,8 +33,10 @@ def in_3d(s: dict) -> bool:
 
 
 def check_3d_settings(s: dict) -> None:
-    """None of the 2D engine's settings alone in a 3D test's settings `s`: clumped grains, PFC
-    4's contact stiffness; an InputError naming the setting."""
+    """None of the 2D engine's settings alone in a 3D test's settings `s` (clumped grains, PFC
+    4's contact stiffness) and R_min at least MIN_RMIN_MM, as in 2D; an InputError naming the
+    setting."""
+    check_rmin(s["rmin_mm"])
     if s.get("grain_shape", DEFAULT_SHAPE) != DEFAULT_SHAPE:
         raise InputError("grain_shape", f"the 3D engine's grains are balls (grain_shape = "
                                         f"\"{DEFAULT_SHAPE}\"), got {s['grain_shape']!r} with dimensions = 3")
@@ -232,12 +235,19 @@ MIN_RMIN_MM = 1e-3
 MIN_GRAINS = 16
 
 
+def check_rmin(rmin_mm: float) -> None:
+    """R_min at least MIN_RMIN_MM; an InputError naming it."""
+    if not rmin_mm >= MIN_RMIN_MM:
+        raise InputError("rmin_mm", f"must be at least {MIN_RMIN_MM:g} mm (1 µm, the finest mineral "
+                                    f"grains), got {rmin_mm:g}")
+
+
 def check_grain_cloud(width_mm: float, height_mm: float, s: dict) -> None:
     """The grains of a test's packing (width x height mm, the settings `s`): R_min at least
     MIN_RMIN_MM, and the grain cloud at least MIN_GRAINS grains; before the genesis."""
-    if not s["rmin_mm"] >= MIN_RMIN_MM:
-        raise InputError("rmin_mm", f"must be at least {MIN_RMIN_MM:g} mm (1 µm, the finest mineral "
-                                    f"grains), got {s['rmin_mm']:g}")
+    check_rmin(s["rmin_mm"])
+    if s.get("grain_shape", DEFAULT_SHAPE) != DEFAULT_SHAPE:
+        check_packing_pressure(s["pressure_mpa"], f"{s['grain_shape']} clumps")
     grains = expected_grains(width_mm, height_mm, s["rmin_mm"], s["radius_ratio"], s["cloud_porosity"])
     if grains < MIN_GRAINS:
         raise InputError("cloud_porosity", f"a cloud porosity of {s['cloud_porosity']:.10g} leaves about "

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from typing import Literal
 
+import numbers
+
 from pydantic import Field, field_validator, model_validator
 
 from rockcal.materials.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES
@@ -80,7 +82,11 @@ class SpecimenSettings(Genesis):
     @model_validator(mode="before")
     @classmethod
     def _defaults_in_3d(cls, data):
-        """In 3D the settings not given take their 3D defaults (DEFAULTS_3D)."""
+        """In 3D the settings not given take their 3D defaults (DEFAULTS_3D). `dimensions` must be
+        a whole number: a string "3" would pass as 3 after the 3D defaults were passed over."""
+        given = data.get("dimensions", 2) if isinstance(data, dict) else 2
+        if isinstance(given, bool) or not isinstance(given, numbers.Real):
+            raise ValueError(f"dimensions: must be the number 2 or 3 (dimensions = 3, no quotes), got {given!r}")
         if isinstance(data, dict) and data.get("dimensions") == 3:
             return DEFAULTS_3D | data
         return data

@@ -153,7 +153,8 @@ def _check_3d(s: dict) -> None:
     """A 3D cylinder's settings: none of the 2D engine's alone, and the size and grains
     `specimens3d.specimen.check_size` asks for."""
     check_3d_settings(s)
-    check_size(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["cloud_porosity"])
+    check_size(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["cloud_porosity"],
+               s["pressure_mpa"])
 
 
 def ucs_specimen(width_mm: float = 50.0, height_mm: float = 100.0, rmin_mm: float = 0.25,
@@ -185,6 +186,9 @@ def _hexagonal(s: dict) -> Specimen:
     if in_3d(s):
         raise InputError("packing", "a hexagonal lattice is a 2D specimen; with dimensions = 3 the "
                                     "UCS specimen is a random packing")
+    if s.get("grain_shape", DEFAULT_SHAPE) != DEFAULT_SHAPE:
+        raise InputError("packing", f"a hexagonal lattice is of balls, not of {s['grain_shape']} clumps: take "
+                                    "the random packing, or grain_shape = \"ball\"")
     return hexagonal(s["width_mm"], s["height_mm"], s["rmin_mm"])
 
 

@@ -52,6 +52,7 @@ import math
 
 import numpy as np
 
+from rockcal.errors import InputError
 from rockcal.specimens import packing
 from rockcal.dem.clump_motion import clump
 from rockcal.materials.clump_templates import ClumpTemplate
@@ -264,6 +265,18 @@ class ClumpedGrains:
         return size
 
 
+def check_given_up(stress: float, target: float, left: int, n: int) -> None:
+    """A clumped genesis that ran out of rounds (`_pack`) with its wall stress (Pa) outside the
+    band about P_m (`target`, Pa) or every clump a floater made no material: an InputError
+    naming `cloud_porosity`; nearer, the packing is kept with a warning."""
+    if left < n and target / PRESSURE_BAND < stress < PRESSURE_BAND * target:
+        return
+    raise InputError("cloud_porosity", f"the clumped genesis gave up: {left} of {n} clumps still have fewer "
+                                       f"than {MIN_CONTACTS} contacts at a wall stress of {stress / MPa:.3g} MPa "
+                                       f"(P_m {target / MPa:g} MPa): lower the cloud porosity, or make the "
+                                       "specimen larger or R_min smaller")
+
+
 def pack_clumps(template: ClumpTemplate, width: float, height: float, rmin: float,
                 radius_ratio: float, seed: int, cloud_porosity: float, pressure_mpa: float):
     """The cloud of clumps of `template` packed in [0, width] x [0, height] to the pressure
@@ -341,6 +354,7 @@ def _pack(grains: ClumpedGrains, width: float, height: float, rmin: float, radiu
         rebuild_neighbours(state)
         stress = packing.settled_stress(state, floater_steps if near else servo_steps)
     else:
+        check_given_up(stress, target, grains.count_floaters(state, width, height), n)
         log.warning("genesis of %g x %g mm clumps, seed %d: %d of %d clumps still have fewer "
                     "than %d contacts, wall stress %.3g MPa, after %d rounds", 1e3 * width,
                     1e3 * height, seed, grains.count_floaters(state, width, height), n,

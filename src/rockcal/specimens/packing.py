@@ -14,6 +14,7 @@ import logging
 
 import numpy as np
 
+from rockcal.errors import InputError
 from rockcal.specimens.genesis import MIN_CONTACTS, cloud_radii, enlarge_floaters, floaters
 from rockcal.dem.neighbours import spatial_order
 from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, TOP, THICKNESS_M, advance, rebuild_neighbours
@@ -28,6 +29,11 @@ STEPS_PER_SERVO = 8000  # rounds long enough for a 220 mm box to jam evenly (200
 SAMPLES_PER_SERVO = 8
 MAX_SERVO_ROUNDS = 60
 PACKING_MODULUS_GPA = 1.0  # frictionless contacts used only to make the packing
+# The largest material pressure a packing of spheres or clumps is made at: its contacts overlap
+# by about P_m / E of a radius (E = PACKING_MODULUS_GPA) and its floaters are enlarged by that;
+# at 10 % (100 MPa) the genesis still settles, at 1 GPa a grain would sit inside its neighbour
+# (the 3D and clumped packings then fail). PFC's P_m is 0.1 MPa (FISHTank's default).
+MAX_PACKING_PRESSURE_MPA = 0.1 * PACKING_MODULUS_GPA * 1e3
 JAMMING_FRACTION = 0.845  # solid fraction of frictionless 2D polydisperse disks at jamming
 PRESSURE_TOLERANCE = 0.05  # relative; the servo stops once the wall stress is this close to P_m
 FLOATER_ROUNDS = 200  # at most this many rounds of enlarging floaters, servo step and cycling
@@ -120,6 +126,15 @@ def pack_grains(grains, width: float, height: float, rmin: float, radius_ratio: 
                     "contacts after %d floater rounds", 1e3 * width, 1e3 * height, seed, left, n,
                     MIN_CONTACTS, FLOATER_ROUNDS)
     return state, stress / MPa
+
+
+def check_packing_pressure(pressure_mpa: float, what: str) -> None:
+    """P_m at most MAX_PACKING_PRESSURE_MPA for the genesis of `what` (its grains in words);
+    an InputError naming `pressure_mpa`."""
+    if pressure_mpa > MAX_PACKING_PRESSURE_MPA:
+        raise InputError("pressure_mpa", f"{pressure_mpa:g} MPa is more than the genesis of {what} can "
+                                         f"pack to: at most {MAX_PACKING_PRESSURE_MPA:g} MPa (10 % of its "
+                                         f"contacts' {PACKING_MODULUS_GPA:g} GPa); PFC's default is 0.1 MPa")
 
 
 def wall_stress(state, width: float, height: float) -> float:

@@ -10,7 +10,7 @@ import numpy as np
 
 from rockcal.dem.neighbours import CONTACT_GAP
 from rockcal.specimens.genesis import MIN_CONTACTS, Genesis
-from rockcal.dem3d.neighbours import near_pairs
+from rockcal.dem3d.neighbours import check_grid, near_pairs
 from rockcal.dem3d.vectors import cubes, norms
 
 # The 2D default cloud porosity (0.09) would fill a 3D vessel far beyond the spheres' random
@@ -32,6 +32,7 @@ def cloud_radii(rng: np.random.Generator, volume: float, rmin: float, radius_rat
 
 def pair_gaps(pos: np.ndarray, radius: np.ndarray, reach: float):
     """Pairs (i, j), i < j, with a surface gap below `reach` (m), and their gaps."""
+    check_grid(pos, radius, reach)
     pi, pj = near_pairs(pos, radius, reach)
     gap = norms(pos[pj] - pos[pi]) - radius[pi] - radius[pj]
     return pi, pj, gap

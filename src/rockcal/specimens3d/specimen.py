@@ -18,12 +18,13 @@ import numpy as np
 
 from rockcal.specimens.genesis import Genesis
 from rockcal.specimens.grain_limit import check_grains
+from rockcal.specimens.packing import check_packing_pressure
 from rockcal.specimens.specimen import STRENGTH_STREAM, _one_maker, cache_dir
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D, floaters, install_bonds, sphere_contacts
-from rockcal.dem3d.neighbours import spatial_order
+from rockcal.dem3d.neighbours import SpheresScattered, spatial_order
 from rockcal.specimens3d.packing import pack_cuboid
 from rockcal.dem3d.vectors import cubes
-from rockcal.errors import InputError
+from rockcal.errors import InputError, fields_named
 from rockcal.output_files import atomic_path
 
 GENERATOR_VERSION_3D = 4
@@ -92,7 +93,7 @@ def random_specimen(shape: str, width_mm: float, height_mm: float, rmin_mm: floa
     if shape not in SHAPES:
         raise InputError("shape", f"must be one of {', '.join(SHAPES)}, got {shape!r}")
     genesis = genesis or DEFAULT_GENESIS_3D
-    check_size(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity)
+    check_size(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity, genesis.pressure_mpa)
     prism = random_cuboid((width_mm, width_mm, height_mm), rmin_mm, radius_ratio, seed, genesis, cache)
     prism = replace(prism, label=f"{shape} {width_mm:g}x{height_mm:g} mm, Rmin {rmin_mm:g} mm "
                                  f"x{radius_ratio:g}, gap {genesis.install_gap:g} Rmin, seed {seed}")
@@ -105,31 +106,63 @@ MIN_SPHERES = 64
 
 def expected_spheres(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float,
                      cloud_porosity: float) -> float:
-    """The sphere cloud's count in the width x width x height cuboid a specimen is packed in:
-    (1 - n_c) x volume / mean sphere volume (radii uniform in [R_min, ratio R_min]), a float
-    so that no size overflows."""
+    """The sphere cloud's count in the width x width x height cuboid a specimen is packed in
+    (`cloud_spheres`)."""
+    return cloud_spheres(width_mm**2 * height_mm, rmin_mm, radius_ratio, cloud_porosity)
+
+
+def cloud_spheres(volume_mm3: float, rmin_mm: float, radius_ratio: float, cloud_porosity: float) -> float:
+    """The sphere cloud's count in a vessel of `volume_mm3`: (1 - n_c) x volume / mean sphere
+    volume (radii uniform in [R_min, ratio R_min]), a float so that no size overflows."""
     lo, hi = rmin_mm, radius_ratio * rmin_mm
     mean_cube = (hi**4 - lo**4) / (4 * (hi - lo)) if hi > lo else lo**3
-    return (1 - cloud_porosity) * width_mm**2 * height_mm / (4 / 3 * np.pi * mean_cube)
+    return (1 - cloud_porosity) * volume_mm3 / (4 / 3 * np.pi * mean_cube)
 
 
+# The loosest cloud the 3D genesis packs: a solid fraction of 0.55, the random loose packing of
+# spheres (Onoda & Liniger 1990, 0.555). The genesis drops the cloud's spheres at their own size
+# (shrunk to jamming, never grown: `packing.pack_cuboid`), so a looser cloud has no contact
+# network to carry P_m; its floater rounds then grow single spheres far past R_max, and the
+# packing goes unstable (spheres leave the vessel, the neighbour grid outgrows memory).
+MAX_CLOUD_POROSITY_3D = 0.45
 def check_size(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float,
-               cloud_porosity: float) -> None:
-    """Before the genesis: the specimen at least 4 of its largest spheres across and tall, its
-    cloud at least MIN_SPHERES spheres and within the grain limit (`specimens.grain_limit`); an
-    InputError naming the setting."""
-    for name, value in (("width_mm", width_mm), ("height_mm", height_mm)):
+               cloud_porosity: float, pressure_mpa: float = 0.1) -> None:
+    """Before the genesis of a width x width x height packing (a cylinder's, a prism's): as
+    `check_vessel`."""
+    check_vessel((width_mm, width_mm, height_mm), rmin_mm, radius_ratio, cloud_porosity, pressure_mpa)
+
+
+def check_vessel(sides_mm, rmin_mm: float, radius_ratio: float, cloud_porosity: float,
+                 pressure_mpa: float = 0.1) -> None:
+    """Before the genesis of a cuboid packing of sides x, y, z `sides_mm`: the vessel at least
+    4 of its largest spheres across each side, a cloud and pressure the genesis can pack
+    (MAX_CLOUD_POROSITY_3D, `packing.MAX_PACKING_PRESSURE_MPA`), at least MIN_SPHERES spheres and within the
+    grain limit (`specimens.grain_limit`, counted in spheres); an InputError naming the setting."""
+    x, y, z = sides_mm
+    for name, value in (("width_mm", x), ("thickness_mm", y), ("height_mm", z)):
         if not value >= 8 * rmin_mm * radius_ratio:
             raise InputError(name, f"{value:g} mm is too small for spheres of radius up to "
                              f"{rmin_mm * radius_ratio:g} mm (need at least 4 diameters)")
-    spheres = expected_spheres(width_mm, height_mm, rmin_mm, radius_ratio, cloud_porosity)
+    check_genesis_3d(cloud_porosity, pressure_mpa)
+    box = f"{x:g} x {y:g} x {z:g} mm"
+    spheres = cloud_spheres(x * y * z, rmin_mm, radius_ratio, cloud_porosity)
     if spheres < MIN_SPHERES:
         raise InputError("cloud_porosity", f"a cloud porosity of {cloud_porosity:.10g} leaves about "
-                                           f"{spheres:.3g} spheres in the {width_mm:g} x {width_mm:g} x "
-                                           f"{height_mm:g} mm packing, fewer than {MIN_SPHERES} (4 "
-                                           "across): lower it, or make the specimen larger or R_min smaller")
-    check_grains("rmin_mm", f"a {width_mm:g} x {width_mm:g} x {height_mm:g} mm 3D packing of R_min "
-                            f"{rmin_mm:g} mm", spheres)
+                                           f"{spheres:.3g} spheres in the {box} packing, fewer than "
+                                           f"{MIN_SPHERES} (4 across): lower it, or make the specimen "
+                                           "larger or R_min smaller")
+    check_grains("rmin_mm", f"a {box} 3D packing of R_min {rmin_mm:g} mm (counted in spheres)", spheres)
+
+
+def check_genesis_3d(cloud_porosity: float, pressure_mpa: float) -> None:
+    """A cloud porosity and a material pressure the 3D genesis can pack; an InputError naming
+    the setting."""
+    if cloud_porosity > MAX_CLOUD_POROSITY_3D:
+        raise InputError("cloud_porosity", f"{cloud_porosity:.10g} is looser than the 3D genesis can pack: "
+                                           f"at most {MAX_CLOUD_POROSITY_3D:g} (a solid fraction of "
+                                           f"{1 - MAX_CLOUD_POROSITY_3D:g}, spheres' random loose packing); "
+                                           "FISHTank's 3D examples take 0.30-0.35")
+    check_packing_pressure(pressure_mpa, "spheres")
 
 
 def carve_cylinder(cuboid: Specimen3D) -> Specimen3D:
@@ -193,6 +226,10 @@ def random_disk(diameter_mm: float = 20.0, thickness_mm: float | None = None, rm
     if thickness_mm is None:
         thickness_mm = DISK_THICKNESS_PER_DIAMETER * diameter_mm
     check_disk(diameter_mm, thickness_mm, rmin_mm, radius_ratio)
+    genesis = genesis or DEFAULT_GENESIS_3D
+    with fields_named({"width_mm": "diameter_mm", "height_mm": "diameter_mm"}):
+        check_vessel((diameter_mm, thickness_mm, diameter_mm), rmin_mm, radius_ratio, genesis.cloud_porosity,
+                     genesis.pressure_mpa)
     cuboid = random_cuboid((diameter_mm, thickness_mm, diameter_mm), rmin_mm, radius_ratio, seed,
                            genesis, cache)
     disk = carve_disk(cuboid)
@@ -220,8 +257,12 @@ def packing(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesi
     """The packed vessel's centres and radii (m), pressure reached (MPa) and floaters left:
     from the cache, or made (and kept if `cache`)."""
     def make():
-        return pack_cuboid(vessel, rmin, radius_ratio, seed, genesis.cloud_porosity,
-                           genesis.pressure_mpa)
+        try:
+            return pack_cuboid(vessel, rmin, radius_ratio, seed, genesis.cloud_porosity,
+                               genesis.pressure_mpa)
+        except SpheresScattered as exc:
+            raise InputError("cloud_porosity", f"the 3D genesis went unstable ({exc}): lower the cloud "
+                                               "porosity or pressure_mpa") from None
 
     if not cache:
         return _ordered(*make())
