@@ -12,6 +12,11 @@ from typing import Protocol
 import numpy as np
 
 
+class ModelBroke(FloatingPointError):
+    """The model is no packing any more (a position not a number, or the particles scattered
+    far beyond the specimen): its run cannot go on. A lab test ends such a run in one line."""
+
+
 class Bodies(Protocol):
     """The particles' arrays: centres (n, dimensions) and radii, m."""
 

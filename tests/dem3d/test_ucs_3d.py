@@ -87,3 +87,23 @@ def test_halving_the_loading_speed_moves_E_nu_and_ucs_by_less_than_2_percent():
     full, half = (simulate_ucs(GRANITE, cylinder, rate_factor=rate) for rate in (1.0, 0.5))
     for name in ("E_GPa", "nu", "ucs_MPa"):
         assert getattr(half, name) == pytest.approx(getattr(full, name), rel=0.02), name
+
+
+def test_a_model_that_breaks_mid_run_ends_the_test_as_a_failed_run(cylinder, monkeypatch):
+    """Spheres scattered beyond any packing at a neighbour-list rebuild (`dem3d.neighbours
+    .check_grid`) end the test as RunFailed, which the command line prints in one line."""
+    from rockcal.dem3d import neighbours
+    from rockcal.labtests.result import RunFailed
+
+    checks = []
+    real = neighbours.check_grid
+
+    def scattered_after_setup(pos, radius, skin):
+        checks.append(1)
+        if len(checks) > 1:  # the state's first list is built before the loading starts
+            raise neighbours.SpheresScattered("the spheres are scattered over 1e9 cells of the neighbour grid")
+        real(pos, radius, skin)
+
+    monkeypatch.setattr(neighbours, "check_grid", scattered_after_setup)
+    with pytest.raises(RunFailed, match="the model broke while the test ran"):
+        simulate_ucs(GRANITE, cylinder)

@@ -13,6 +13,7 @@ import numpy as np
 from numba import njit
 
 from rockcal.dem.neighbours import block_layout
+from rockcal.engine import ModelBroke
 
 PARTICLES_PER_BLOCK = 4000
 # From this many spheres on a specimen is split in blocks, as the 2D engine's from as many
@@ -80,7 +81,7 @@ MAX_CELLS_PER_SPHERE = 64
 MIN_CELLS = 2**20
 
 
-class SpheresScattered(FloatingPointError):
+class SpheresScattered(ModelBroke):
     """The spheres' positions are no packing's: not finite, or scattered far beyond it."""
 
 

@@ -31,6 +31,7 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from rockcal.errors import InputError
+from rockcal.labtests.result import failed_run
 from rockcal.labtests.rig import Loader
 
 SLOWEST = 8.0
@@ -173,6 +174,14 @@ def load_to_failure(loader: Loader, loading: Loading, read: Callable[[], Reading
     going on from a snapshot) and `snapshot()`, called after each reading the test goes on
     from, which saves what the test needs to go on from there.
     """
+    with failed_run():
+        return _load(loader, loading, read, may_stop, max_travel, full_speed_past_peak, progress, control,
+                     control_steps, samples, snapshot)
+
+
+def _load(loader, loading, read, may_stop, max_travel, full_speed_past_peak, progress, control, control_steps,
+          samples, snapshot) -> np.ndarray:
+    """`load_to_failure`'s loop."""
     state, chunk = loader.state, loader.chunk
     samples = [] if samples is None else samples
     while True:

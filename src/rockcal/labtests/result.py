@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import time
 from dataclasses import dataclass, field, fields, is_dataclass
 
@@ -9,11 +10,23 @@ import numpy as np
 
 from rockcal.dem import measure
 from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
+from rockcal.engine import ModelBroke
 
 
 class RunFailed(RuntimeError):
     """A lab test's run that could not go on: the physics failed, not the input (which was
     checked before the run). Its message says what failed and what to try."""
+
+
+@contextlib.contextmanager
+def failed_run():
+    """A model that broke while the test ran (`rockcal.engine.ModelBroke`) as the test's
+    RunFailed: one line, the run not stored as done."""
+    try:
+        yield
+    except ModelBroke as exc:
+        raise RunFailed(f"the model broke while the test ran ({exc}): the loading or the time step is too "
+                        "much for these micro-parameters; check them, or try a finer specimen") from None
 
 
 # The range of a response of an elastic solid, open at both ends: a reading outside it is no

@@ -10,7 +10,7 @@ import numpy as np
 
 from rockcal.dem.simulate import BOTTOM, LEFT, RIGHT, THICKNESS_M, TOP, unbalanced_forces
 from rockcal.specimens.specimen import Specimen
-from rockcal.labtests.result import RunFailed
+from rockcal.labtests.result import RunFailed, failed_run
 from rockcal.labtests.rig.platens import Platens
 from rockcal.labtests.rig.servo import SPEED_LIMIT, WallServo
 from rockcal.params import MPa
@@ -41,8 +41,9 @@ class SideWalls:
         scale sigma3 x mean grain diameter x t) and stop them; the steps it took."""
         state = self.state
         servo = WallServo(state, (LEFT, RIGHT, BOTTOM, TOP), self.servo.target, self.limit)
-        steps = settle(servo, state.advance, lambda: np.hypot(*unbalanced_forces(state).T),
-                       servo.target * self.grain_diameter * THICKNESS_M)
+        with failed_run():
+            steps = settle(servo, state.advance, lambda: np.hypot(*unbalanced_forces(state).T),
+                           servo.target * self.grain_diameter * THICKNESS_M)
         if steps is None:
             raise RunFailed(f"the specimen did not settle at the confinement of {servo.target / MPa:g} MPa "
                             f"in {SEATING_ROUNDS * servo.steps} steps (the servo-controlled walls could not "
