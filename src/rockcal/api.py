@@ -19,6 +19,14 @@ from rockcal.errors import InputError, fields_named
 EXPORT_FILES = {"pfc-fish": "mpParams.p2dat", "pfc-python": "mpParams.py", "json": "mpParams.json"}
 
 
+def _export_file(format: str, in_3d: bool) -> str:
+    """The file `Calibration.export` writes in OUT by default: a 3D calibration's FISH file is
+    PFC3D's (mpParams.p3dat)."""
+    from rockcal.pfc.parameter_file import PARAMETER_FILE
+
+    return PARAMETER_FILE if in_3d and format == "pfc-fish" else EXPORT_FILES[format]
+
+
 @dataclass(frozen=True)
 class Figure:
     """One of the report's figures, as its PNG file; a notebook shows it."""
@@ -60,18 +68,21 @@ class Calibration:
     def export(self, format: str = "pfc-fish", to: str | Path | None = None, fishtank: int = 6) -> Path:
         """Write the identified parameters under PFC FISHTank's names, as `rockcal export OUT
         --format FORMAT --to TO --fishtank N` does: "pfc-fish" (a FISHTank mpParams data file),
-        "pfc-python" (a PFC Python script) or "json"; `to` by default OUT/mpParams.p2dat (.py,
-        .json); `fishtank` the PFC version whose FISHTank reads it (5, 6 or 7).
-        Returns the path written."""
-        from rockcal.pfc.calibrated import for_fishtank
+        "pfc-python" (a PFC Python script) or "json"; `to` by default OUT/mpParams.p2dat (a 3D
+        calibration's: PFC3D's mpParams.p3dat; .py, .json); `fishtank` the PFC version whose
+        FISHTank reads it (5, 6 or 7). Returns the path written."""
+        from rockcal.pfc.calibrated import for_fishtank, in_3d
         from rockcal.pfc.formats import WRITERS
         from rockcal.campaign.outputs.export import calibration_in
         from rockcal.output_files import write_atomic
 
-        if format not in WRITERS:
+        if not isinstance(format, str) or format not in WRITERS:
             raise InputError("format", f"one of {', '.join(WRITERS)}, got {format!r}")
-        path = self.out / EXPORT_FILES[format] if to is None else Path(to)
-        text = WRITERS[format](for_fishtank(calibration_in(self.out), fishtank, "fishtank"))
+        path = None if to is None else path_argument("to", to)
+        calibrated = calibration_in(self.out)
+        if path is None:
+            path = self.out / _export_file(format, in_3d(calibrated))
+        text = WRITERS[format](for_fishtank(calibrated, fishtank, "fishtank"))
         try:
             return write_atomic(path, text)
         except OSError as exc:
@@ -121,13 +132,9 @@ def calibrate(campaign: str | Path | dict | None = None, *, out: str | Path | No
     and `threads` are `rockcal calibrate`'s options."""
     from rockcal.campaign.input.config import parse_campaign
     from rockcal.campaign.job import as_run, campaign_of, run_in_folder
-    from rockcal.campaign.runs import MAX_WORKERS
 
-    if not (campaign is None or isinstance(campaign, (str, os.PathLike, dict))):
-        raise InputError("campaign", "a campaign file's path, an embedded rock's name or a dict of the "
-                                     f"file's tables, got {type(campaign).__name__}")
-    if not 0 <= workers <= MAX_WORKERS:
-        raise InputError("workers", f"must be in [0, {MAX_WORKERS}], got {workers}")
+    check_calibrate_arguments(campaign, out=out, quick=quick, resume=resume, wait=wait, workers=workers,
+                              scheduler=scheduler, threads=threads)
     out = None if out is None else Path(out)
     with _as_arguments():
         if isinstance(campaign, dict):
@@ -138,6 +145,57 @@ def calibrate(campaign: str | Path | dict | None = None, *, out: str | Path | No
         how = {"workers": workers, "scheduler": scheduler, "threads": threads}
         result = run_in_folder(chosen, text, out, note=note, resume=resume, wait=wait, how=how)[0]
     return Calibration(result, out)
+
+
+def check_calibrate_arguments(campaign, *, out, quick, resume, wait, workers, scheduler, threads) -> None:
+    """`calibrate`'s arguments, each of its type and in its range (as `rockcal calibrate`'s
+    options are checked before anything runs); InputError naming the first bad one."""
+    import numba
+
+    from rockcal.campaign.runs import MAX_WORKERS
+
+    if not (campaign is None or isinstance(campaign, (str, os.PathLike, dict))):
+        raise InputError("campaign", "a campaign file's path, an embedded rock's name or a dict of the "
+                                     f"file's tables, got {type(campaign).__name__}")
+    if out is not None:
+        path_argument("out", out)
+    for name, value in {"quick": quick, "resume": resume, "wait": wait}.items():
+        yes_or_no(name, value)
+    whole_number("workers", workers, 0, MAX_WORKERS)
+    if threads is not None:
+        whole_number("threads", threads, 1, numba.config.NUMBA_NUM_THREADS, "(NUMBA_NUM_THREADS)")
+    if scheduler is not None:
+        if not isinstance(scheduler, str):
+            raise InputError("scheduler", f"text (tls://HOST:PORT, tcp://HOST:PORT or local:N), got "
+                                          f"{type(scheduler).__name__}")
+        from rockcal.campaign.runs.dask import parse_scheduler
+
+        with _as_arguments():
+            parse_scheduler(scheduler)
+
+
+def path_argument(name: str, value) -> Path:
+    """`value` as a path: text or a path, not empty, without a NUL; InputError naming `name`."""
+    if not isinstance(value, (str, os.PathLike)) or not isinstance(os.fspath(value), str):
+        raise InputError(name, f"a path (text or a Path), got {type(value).__name__}")
+    text = os.fspath(value)
+    if not text.strip() or "\0" in text:
+        raise InputError(name, f"a path, got {text!r}")
+    return Path(text)
+
+
+def yes_or_no(name: str, value) -> None:
+    """InputError naming `name` unless `value` is True or False (numpy's too)."""
+    if not (isinstance(value, bool) or type(value).__name__ == "bool_"):
+        raise InputError(name, f"True or False, got {value!r}")
+
+
+def whole_number(name: str, value, low: int, high: int, why: str = "") -> None:
+    """InputError naming `name` unless `value` is a whole number (not a bool) in [low, high]."""
+    if isinstance(value, bool) or type(value).__name__ == "bool_" or not isinstance(value, Integral):
+        raise InputError(name, f"a whole number in [{low}, {high}], got {value!r}")
+    if not low <= value <= high:
+        raise InputError(name, f"must be in [{low}, {high}]{' ' + why if why else ''}, got {value}")
 
 
 # `rockcal calibrate`'s options that `calibrate` takes as arguments, as a call writes them
@@ -165,17 +223,24 @@ def toml_text(tables: dict) -> str:
     return tomli_w.dumps(_plain(tables, []))
 
 
-def _plain(value, path: list[str]):
+MAX_NESTING = 32  # tables and lists within one another: a campaign file's go 4 deep
+
+
+def _plain(value, path: list[str], depth: int = 0):
     """`value` as the Python TOML writes (numpy numbers and paths as numbers and text); the
     numbers TOML cannot check (inf, nan, beyond 64 bits) are refused with the file's own
-    messages, when the text is read."""
+    messages, when the text is read; tables and lists nested more than MAX_NESTING deep (a dict
+    that holds itself) are refused."""
+    if depth > MAX_NESTING:
+        raise InputError(".".join(map(str, path))[:40] + "...", f"tables or lists nested more than "
+                                                                f"{MAX_NESTING} deep (does a dict hold itself?)")
     if isinstance(value, dict):
         for name in value:
             if not isinstance(name, str):
                 raise InputError(".".join([*path, str(name)]), f"keys are text, got {type(name).__name__}")
-        return {name: _plain(v, [*path, name]) for name, v in value.items()}
+        return {name: _plain(v, [*path, name], depth + 1) for name, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_plain(v, [*path[:-1], f"{path[-1]}[{i}]"]) for i, v in enumerate(value)]
+        return [_plain(v, [*path[:-1], f"{path[-1]}[{i}]"], depth + 1) for i, v in enumerate(value)]
     if isinstance(value, bool):
         return value
     if isinstance(value, Integral):
@@ -201,11 +266,37 @@ def simulate(test: str, params: dict | None = None, *, model: str | None = None,
     from rockcal.labtests.settings import specimen_settings
     from rockcal.materials import DEFAULT_MATERIAL, material, parameters
 
+    check_simulate_arguments(test, params, model, packing)
     kind = lab_test(test.replace("-", "_"))
-    micro = parameters(material(model or DEFAULT_MATERIAL), params or {})
-    chosen = specimen_settings(kind, settings)
-    if packing not in ("random", "hexagonal") or (packing == "hexagonal" and kind.hexagonal is None):
-        known = "'random' or 'hexagonal'" if kind.hexagonal else "'random'"
-        raise ValueError(f"packing: {known}, got {packing!r}")
+    micro = parameters(material(model or DEFAULT_MATERIAL), dict(params or {}))
+    chosen = specimen_settings(kind, _no_flags_as_numbers(settings))
+    if packing == "hexagonal" and kind.hexagonal is None:
+        raise InputError("packing", f"'random' (the {kind.title} test has no lattice), got {packing!r}")
     specimen = kind.hexagonal(chosen) if packing == "hexagonal" else kind.make(chosen)
     return kind.run(micro, specimen, chosen, lambda x, y: None)
+
+
+def check_simulate_arguments(test, params, model, packing) -> None:
+    """`simulate`'s arguments but the specimen's settings, each of its type; InputError naming
+    the first bad one."""
+    from collections.abc import Mapping
+
+    if not isinstance(test, str):
+        raise InputError("test", f"a lab test's name (\"ucs\", \"brazilian\", ...), got {type(test).__name__}")
+    if not (params is None or isinstance(params, Mapping)):
+        raise InputError("params", f"a dict of micro-parameters (NAME: value), got {type(params).__name__}")
+    if not (model is None or isinstance(model, str)):
+        raise InputError("model", f"a material's name (\"parallel_bond\", \"flatjoint\"), got {type(model).__name__}")
+    if packing not in ("random", "hexagonal"):
+        raise InputError("packing", f"'random' or 'hexagonal', got {packing!r}")
+
+
+def _no_flags_as_numbers(settings: dict) -> dict:
+    """The specimen's settings, a True or False given for a number refused naming its key."""
+    from rockcal.labtests.specimen_settings import SpecimenSettings
+
+    for name, value in settings.items():
+        field = SpecimenSettings.model_fields.get(name)
+        if isinstance(value, bool) and (field is None or field.annotation is not bool):
+            raise InputError(name, f"a number, got {value}")
+    return settings

@@ -68,9 +68,7 @@ def run_in_folder(campaign, text: str, out: Path, *, note: str | None = None, re
     from rockcal.campaign.runs.store import STORE_NAME, RunStore
 
     with one_line_errors(out), out_folder(out), store_lock(out, wait, on_waiting):
-        if (out / STORE_NAME).exists() and not resume:
-            raise InputError("--out", f"{out} already holds a campaign's runs; add --resume to go on "
-                                      "with it, or choose another folder")
+        check_out(out, resume)
         with no_empty_store(out, not (out / STORE_NAME).exists()):
             store = RunStore(out)
             try:
@@ -89,6 +87,19 @@ def run_in_folder(campaign, text: str, out: Path, *, note: str | None = None, re
             finally:
                 store.close()
     return result, html
+
+
+def check_out(out: Path, resume: bool) -> None:
+    """What a run refuses of OUT before it writes (`--dry-run` asks the same): a file or a path
+    through one, or a campaign's store without `resume`."""
+    from rockcal.campaign.runs.store import STORE_NAME
+
+    existing = next((p for p in (out, *out.parents) if p.exists()), None)
+    if existing is not None and not existing.is_dir():
+        raise InputError("--out", f"{existing} is a file, not a folder")
+    if (out / STORE_NAME).exists() and not resume:
+        raise InputError("--out", f"{out} already holds a campaign's runs; add --resume to go on "
+                                  "with it, or choose another folder")
 
 
 def check_same_kind(store, quick: bool, out: Path) -> None:

@@ -84,6 +84,15 @@ def main() -> None:
             sys.exit(0)
         _fail(f"{_field_of(exc)}: {getattr(exc, 'message', None) or exc.format_message()}")
     except typer.Abort:
-        print("rockcal: aborted", file=sys.stderr)
-        sys.exit(130)
+        _interrupted()
+    if code == INTERRUPTED:  # typer's answer to Ctrl-C (KeyboardInterrupt), said in no words
+        _interrupted()
     sys.exit(code if isinstance(code, int) else 0)
+
+
+INTERRUPTED = 130  # the exit status of a command stopped by Ctrl-C (128 + SIGINT)
+
+
+def _interrupted() -> None:
+    print("rockcal: interrupted", file=sys.stderr)
+    sys.exit(INTERRUPTED)

@@ -6,6 +6,7 @@ test reads (its default and help from the campaign file's [specimen] keys)."""
 from __future__ import annotations
 
 import inspect
+import os
 import sys
 import typing
 from contextlib import nullcontext
@@ -109,6 +110,8 @@ def simulate(test: LabTest, options: dict) -> None:
     params = parameters(chosen, parse_assignments(options.pop("set_")))
     seeds, as_json, out = options.pop("seeds"), options.pop("as_json"), options.pop("out")
     use_threads_option(options.pop("threads"))
+    if out is not None:
+        check_out_folder(out)
     packing = options.pop("packing", "random")
     if not 1 <= seeds <= MAX_PACKINGS:
         raise InputError("--seeds", f"must be a number of packings in [1, {MAX_PACKINGS}], got {seeds}")
@@ -132,6 +135,17 @@ def simulate(test: LabTest, options: dict) -> None:
         _write_text(out / f"{test.name}_summary.json", json_text(combined, indent=2))
         _draw_series(test, done, out)
     _show_combined(test, combined, as_json)
+
+
+def check_out_folder(out: Path) -> None:
+    """Refuse --out before any run: a file, a path through a file, or a folder not writable."""
+    existing = next((p for p in (out, *out.parents) if p.exists()), None)
+    if existing is None:
+        return
+    if not existing.is_dir():
+        raise InputError("--out", f"{existing} is a file, not a folder")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise InputError("--out", f"cannot write in {existing}: permission denied")
 
 
 def _given(ctx: typer.Context, options: dict) -> dict:

@@ -8,14 +8,19 @@ the cores, counted afresh as it runs: one each while both of two workers are bus
 the last run of a batch once the other worker is idle (the engine's numbers do not depend on
 its thread count). A running test reports its reading (strain and stress, or displacement and
 load) about once a second, so a long run shows that it moves.
+
+Ctrl-C is the parent's alone: workers start with SIGINT blocked and then ignore it, and an
+interrupted parent stops them at once, storing nothing of the runs they had in hand.
 """
 
 from __future__ import annotations
 
 import os
+import signal
 import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager
 from functools import lru_cache
 from multiprocessing import get_context
 from pathlib import Path
@@ -101,9 +106,37 @@ def execute(spec: RunSpec, time_limit_s: float | None = None, snapshots_in: Path
     except RunTimedOut as exc:
         return RunResult("timed out", {}, None, run_s(), str(exc))
     except Exception as exc:  # a run that raises is recorded as failed, the campaign goes on
+        if interrupted(exc):
+            raise KeyboardInterrupt from None
         return RunResult("failed", {}, None, run_s(), f"{type(exc).__name__}: {exc}")
     finally:
         _count_running(-1)
+
+
+def interrupted(exc: BaseException) -> bool:
+    """An exception that a Ctrl-C caused: numba's compiled code, interrupted, raises a
+    SystemError whose cause is the KeyboardInterrupt."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
+
+
+@contextmanager
+def sigint_blocked():
+    """Within it SIGINT waits (it is not lost): a worker process started here inherits the
+    blocked signal, so a Ctrl-C never reaches it before `_init_worker` ignores it."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    before = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, before)
 
 
 def _count_running(change: int) -> None:
@@ -130,6 +163,9 @@ def _init_worker(cores: int, busy, live, live_interval_s: float, threads: int | 
     """A pool worker's settings: its runs share `cores` (or, `threads` given, that many each at
     most, free or not) and report to `live`."""
     global _live, _busy, _cores, LIVE_INTERVAL_S
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's: it stops the workers
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     _live, _busy = live, busy
     LIVE_INTERVAL_S = live_interval_s  # the parent's: a spawned worker imports the module anew
     _cores = min(threads or cores, numba.config.NUMBA_NUM_THREADS)
@@ -212,6 +248,15 @@ class Executor:
         if self._pool is not None:
             self._pool.shutdown(cancel_futures=True)
 
+    def _stop_now(self) -> None:
+        """Stop the pool's workers at once (a Ctrl-C): the runs they had in hand are not stored."""
+        pool, self._pool = self._pool, None
+        if pool is None:
+            return
+        for process in list((pool._processes or {}).values()):
+            process.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+
     def _get_pool(self) -> ProcessPoolExecutor:
         if self._pool is None:
             context = get_context("spawn")
@@ -245,10 +290,18 @@ class Executor:
     def _run_on_pool(self, batch: Batch) -> None:
         """Run on the process pool; a worker process that dies breaks the pool, which is made
         anew for the runs not yet done (after POOL_RESTARTS new pools they are recorded failed)."""
+        try:
+            self._run_on_workers(batch)
+        except BaseException:  # a Ctrl-C: nothing more is stored, the workers stop now
+            self._stop_now()
+            raise
+
+    def _run_on_workers(self, batch: Batch) -> None:
         todo = batch.todo
         for attempt in range(POOL_RESTARTS + 1):
-            futures = {self._get_pool().submit(execute, spec, self.time_limit_s, self.store.path.parent): spec
-                       for spec in todo}
+            with sigint_blocked():  # the workers it starts ignore Ctrl-C from their first instruction
+                futures = {self._get_pool().submit(execute, spec, self.time_limit_s, self.store.path.parent): spec
+                           for spec in todo}
             pending = set(futures)
             while pending:
                 finished, pending = wait(pending, timeout=LIVE_INTERVAL_S, return_when=FIRST_COMPLETED)
