@@ -70,7 +70,8 @@ def test_a_second_rockcal_on_a_held_store_is_refused_in_one_line(tmp_path, cli):
     RunStore(out).close()
     before = (out / "runs.sqlite").read_bytes()
     with store_lock(out):  # a lock is an open file's: the command's own open of it is refused too
-        for command in (["calibrate", config, "--out", out, "--resume"], ["report", out]):
+        for command in (["calibrate", config, "--out", out, "--resume"],
+                        ["calibrate", config, "--out", out, "--resume", "--dry-run"], ["report", out]):
             run = cli(*command)
             assert run.returncode == 2, run.stderr
             assert len(run.stderr.splitlines()) == 1 and "Traceback" not in run.stderr

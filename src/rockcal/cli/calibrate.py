@@ -60,7 +60,7 @@ def calibrate(
     tls = _cluster_options(scheduler, tls_ca_file, tls_cert, tls_key)  # before OUT gets a store
     use_threads_option(threads)
     if dry_run:
-        _print_dry_run(campaign, out, workers or os.cpu_count() or 1, note, as_json, resume)
+        _print_dry_run(campaign, out, workers or os.cpu_count() or 1, note, as_json, resume, wait)
         return
     result, html, began = _run_campaign(campaign, text, note, out, as_json,
                                         dict(resume=resume, wait=wait, on_waiting=_waiting,
@@ -151,18 +151,22 @@ def _print_plan(campaign, store, executor, note: str | None) -> None:
                       highlight=False, markup=False)
 
 
-def _print_dry_run(campaign, out: Path, workers: int, note: str | None, as_json: bool, resume: bool) -> None:
+def _print_dry_run(campaign, out: Path, workers: int, note: str | None, as_json: bool, resume: bool,
+                   wait: bool) -> None:
     """The first screen, or with `as_json` the plan as data (`plan.dry_run`), for the store in
     OUT if it holds one (read only), else for an empty store; refused as the run would be
-    (`job.check_out`, `job.check_same_kind`)."""
+    (`job.check_out`, `job.check_same_kind`, a store another rockcal holds without `wait`)."""
     from rockcal.campaign.files import one_line_errors
     from rockcal.campaign.job import check_out, check_same_kind
     from rockcal.campaign.plan.screen import describe, dry_run
+    from rockcal.campaign.runs.lock import holder_of, in_use
     from rockcal.campaign.runs.store import STORE_NAME, RunStore
 
     with one_line_errors(out), tempfile.TemporaryDirectory() as empty:
         held = (out / STORE_NAME).exists()
         check_out(out, resume)
+        if held and not wait and (holder := holder_of(out)) is not None:
+            raise in_use(out, holder)
         store = RunStore(out if held else Path(empty), create=not held, readonly=held)
         try:
             check_same_kind(store, note is not None, out)

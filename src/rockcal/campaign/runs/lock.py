@@ -75,9 +75,7 @@ def store_lock(folder: Path, wait: bool = False, waiting: Callable[[str], None] 
             holder = holder_text(fd)
             if not wait:
                 os.close(fd)
-                then = ", or add --wait" if can_wait else " and run again"
-                raise InputError(field, f"{folder} is in use by another rockcal ({holder}); wait for "
-                                        f"it to end{then}") from None
+                raise in_use(folder, holder, field, can_wait) from None
             if waiting is not None and not told:
                 waiting(holder)
                 told = True
@@ -91,6 +89,12 @@ def store_lock(folder: Path, wait: bool = False, waiting: Callable[[str], None] 
     finally:
         path.unlink(missing_ok=True)  # while still held: a waiter then finds it gone and retries
         os.close(fd)
+
+
+def in_use(folder: Path, holder: str, field: str = "--out", can_wait: bool = True) -> InputError:
+    """The refusal of a store another rockcal (`holder`) holds, naming `field`."""
+    then = ", or add --wait" if can_wait else " and run again"
+    return InputError(field, f"{folder} is in use by another rockcal ({holder}); wait for it to end{then}")
 
 
 def holder_of(folder: Path) -> str | None:
