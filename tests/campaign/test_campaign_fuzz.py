@@ -152,6 +152,9 @@ CASES = [  # (case, campaign file as text or bytes, the start of the message aft
      .replace("max_dem_runs = 9", "max_dem_runs = 90\ncandidates = 80"), "acceptance.candidates: 80 candidates x 2"),
     ("candidates past any budget", edit("max_dem_runs = 9", "max_dem_runs = 9\ncandidates = 9223372036854775807"),
      "acceptance.candidates: Input should be less"),
+    ("a long series of confinements", edit("[specimen]", "[targets.biaxial]\nconfinement_mpa = ["
+                                           + ", ".join(str(k) for k in range(21)) + "]\nphi_deg = 40.0\n[specimen]"),
+     "targets.biaxial.confinement_mpa: at most 20 confinements"),
     # checks that would fail after DEM runs, made before them
     ("samples too few for the searched", edit("samples = 6", "samples = 4").replace(
         "sigma_c = [20, 60] }", "sigma_c = [20, 60], kn_ks = [1, 3] }"),
