@@ -155,6 +155,12 @@ CASES = [  # (case, campaign file as text or bytes, the start of the message aft
     ("a long series of confinements", edit("[specimen]", "[targets.biaxial]\nconfinement_mpa = ["
                                            + ", ".join(str(k) for k in range(21)) + "]\nphi_deg = 40.0\n[specimen]"),
      "targets.biaxial.confinement_mpa: at most 20 confinements"),
+    ("budget x a long series x packings", edit("[specimen]", "[targets.biaxial]\nconfinement_mpa = [0, 5, 10, 20]\n"
+                                               "phi_deg = 40.0\npackings = 100\n[specimen]")
+     .replace("max_dem_runs = 9", "max_dem_runs = 50"), "acceptance.max_dem_runs: 50 parameter sets x 401 DEM runs each"),
+    ("uncertainty packings x target packings", add("packings = 100", "ucs_MPa = 40.0")
+     .replace("max_dem_runs = 9", "max_dem_runs = 150") + "[uncertainty]\nenabled = true\npackings = 100\n",
+     "uncertainty.packings: 150 parameter sets and 100 packings x 100 DEM runs each"),
     # checks that would fail after DEM runs, made before them
     ("samples too few for the searched", edit("samples = 6", "samples = 4").replace(
         "sigma_c = [20, 60] }", "sigma_c = [20, 60], kn_ks = [1, 3] }"),

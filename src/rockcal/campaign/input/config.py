@@ -49,6 +49,10 @@ MAX_SAMPLES = 1000
 # iterations (x2: the searches tried per candidate); at ~8 us an evaluation, 50 million are
 # about 7 min (the defaults: 2 million)
 MAX_SEARCH_EVALUATIONS = 50_000_000
+# DEM runs a campaign may ask for at most: its budget of parameter sets x each set's runs (every
+# test's series x its packings). Planning lists each run (six times, ~0.05 ms each: seconds),
+# and 20,000 runs of even a small specimen are days on a few cores
+MAX_CAMPAIGN_RUNS = 20_000
 
 
 class Rock(Section):
@@ -253,6 +257,7 @@ class Campaign(Section):
         _check_budget(self)
         _check_enough_samples(self)
         _check_search_work(self)
+        _check_campaign_runs(self)
         _check_dimensions(self)
         given = self.targets.given()
         if "tests" in self.validation.model_fields_set:
@@ -341,6 +346,22 @@ def _check_search_work(campaign: Campaign) -> None:
         raise ValueError(f"acceptance.candidates: {candidates:,} candidates x 2 searches x {per_search:,} "
                          f"evaluations a search (optimizer.ants x optimizer.iterations) = "
                          f"{2 * candidates * per_search:,} a round; at most {MAX_SEARCH_EVALUATIONS:,}")
+
+
+def _check_campaign_runs(campaign: Campaign) -> None:
+    """[acceptance] max_dem_runs parameter sets and, for the intervals, [uncertainty] packings
+    more, each run by every calibrated test over its series and its packings, are at most
+    MAX_CAMPAIGN_RUNS DEM runs."""
+    per_set = sum(max(1, len(section.series())) * section.packings for section in campaign.target_sections().values())
+    budget = campaign.acceptance.max_dem_runs
+    packings = campaign.uncertainty.packings if campaign.wants_uncertainty() else 0
+    each = f"x {per_set:,} DEM runs each (the tests' series x their packings)"
+    if budget * per_set > MAX_CAMPAIGN_RUNS:
+        raise ValueError(f"acceptance.max_dem_runs: {budget:,} parameter sets {each} = {budget * per_set:,} runs; "
+                         f"at most {MAX_CAMPAIGN_RUNS:,} (a smaller budget, fewer packings or a shorter series)")
+    if (budget + packings) * per_set > MAX_CAMPAIGN_RUNS:
+        raise ValueError(f"uncertainty.packings: {budget:,} parameter sets and {packings:,} packings {each} = "
+                         f"{(budget + packings) * per_set:,} runs; at most {MAX_CAMPAIGN_RUNS:,}")
 
 
 def _check_dimensions(campaign: Campaign) -> None:
