@@ -535,3 +535,64 @@ def set_values(model: str | None) -> st.SearchStrategy:
     other = st.tuples(st.one_of(_one_of_list(NAMES), arg_text), number_text)
     return st.one_of(st.one_of(*own).map(lambda nv: f"{nv[0]}={nv[1]}"), other.map(lambda nv: f"{nv[0]}={nv[1]}"),
                      arg_text)
+
+
+# ---------------------------------------------------------------------------------------------
+# the flat-joint material's campaign keys: [search] bounds and fixed, [sensitivity] levels
+
+FLAT_JOINT = "flatjoint"
+ARRAYS = {"L4(2^3)": 2, "L9(3^4)": 3}  # small orthogonal arrays and their levels
+
+
+def _parameter_values(model: str, name: str) -> st.SearchStrategy:
+    """A value for one of `model`'s parameters: in its range mostly, else at or past a bound."""
+    fields = MATERIALS[model].params_type.model_fields
+    info = fields.get(name) or next((f for f in fields.values() if f.alias == name), None)
+    if info is None:
+        return numbers
+    near = [_one_of_list(_bounds_of(info))] if _bounds_of(info) else []
+    default = info.default if isinstance(info.default, (int, float)) and info.default else 1.0
+    plain = st.floats(0.5, 2.0).map(lambda f: float(default * f))  # beside the default: mostly valid
+    return st.one_of(plain, plain, plain, plain, _in_range_floats(info), *near, _one_of_list(FLOAT_EXTREMES[:8]))
+
+
+def _parameter_lists(model: str, name: str, size: int) -> st.SearchStrategy:
+    """`size` values of a parameter: increasing from beside its default mostly, else any."""
+    fields = MATERIALS[model].params_type.model_fields if name in MATERIALS[model].parameters else {}
+    info = fields.get(name) or next((f for f in fields.values() if f.alias == name), None)
+    default = getattr(info, "default", None)
+    default = default if isinstance(default, (int, float)) and default else 1.0
+    rising = st.tuples(st.floats(0.5, 1.0), st.floats(1.2, 2.0)).map(
+        lambda f: [float(default * (f[0] + k * (f[1] - f[0]) / (size - 1))) for k in range(size)])
+    anything = st.lists(_parameter_values(model, name) if info is not None else numbers, min_size=size,
+                        max_size=size)
+    return st.one_of(rising, rising, rising, anything)
+
+
+@st.composite
+def flat_joint_cases(draw) -> CampaignCase:
+    """The small campaign on the flat-jointed material, its search box, fixed values and
+    sensitivity levels drawn over the material's parameters (now and then another material's),
+    and samples around the fewest the box needs."""
+    names = list(MATERIALS[FLAT_JOINT].parameters)
+    others = [n for n in NAMES if n not in names]
+    pick = st.one_of(*[st.sampled_from(names)] * 8, st.sampled_from(others), st.sampled_from(SEARCHED_GENESIS))
+    doc = base_campaign()
+    doc["material"] = {"model": FLAT_JOINT}
+    bounds = {}
+    for name in draw(st.lists(pick, min_size=0, max_size=3, unique=True)):
+        model = FLAT_JOINT if name in names else DEFAULT_MATERIAL
+        bounds[name] = draw(_parameter_lists(model, name, 2))
+    fixed = {name: draw(_parameter_values(FLAT_JOINT if name in names else DEFAULT_MATERIAL, name))
+             for name in draw(st.lists(st.one_of(*[st.sampled_from(names)] * 8, st.sampled_from(others)),
+                                       max_size=2, unique=True))}
+    doc["search"] = {"bounds": bounds, "fixed": fixed}
+    if not bounds or draw(st.booleans()):
+        array = draw(st.sampled_from(sorted(ARRAYS)))
+        levels = {name: draw(_parameter_lists(FLAT_JOINT if name in names else DEFAULT_MATERIAL, name,
+                                              ARRAYS[array]))
+                  for name in draw(st.lists(pick.filter(lambda n: n not in SEARCHED_GENESIS),
+                                            min_size=1, max_size=3, unique=True))}
+        doc["sensitivity"] = {"array": array, "levels": levels}
+    doc["surrogate"]["samples"] = draw(st.integers(4, 8))
+    return CampaignCase(toml_dumps(doc).encode())

@@ -145,3 +145,19 @@ def test_a_clumped_specimen_seats_and_confinement_raises_its_peak():
     confined = simulate_biaxial(params, clumped, 5.0)
     assert confined.curve[0, 4] == pytest.approx(5.0, rel=SEATING_TOLERANCE)
     assert confined.sigma1_MPa > simulate_ucs(params, clumped).ucs_MPa
+
+
+def test_a_series_of_ten_thousand_confinements_is_refused_before_any_run(tmp_path, monkeypatch, capsys):
+    import sys
+
+    from rockcal.cli.app import main
+
+    series = ",".join(str(1 + k) for k in range(10_000))
+    monkeypatch.setattr(sys, "argv", ["rockcal", "simulate", "biaxial", "--confinement-mpa", series,
+                                      "--out", str(tmp_path / "out")])
+    with pytest.raises(SystemExit) as exit:
+        main()
+    lines = capsys.readouterr().err.splitlines()
+    assert exit.value.code == 2 and len(lines) == 1
+    assert lines[0].startswith("rockcal: error: --confinement-mpa: at most 20 confinements")
+    assert not (tmp_path / "out").exists()

@@ -170,7 +170,7 @@ height_mm = 16
 bounds = {{ {bounds} }}
 fixed = {{ {fixed} }}
 [surrogate]
-samples = 8
+samples = 14
 checks = 2
 [acceptance]
 max_dem_runs = 20

@@ -338,6 +338,21 @@ def test_campaign_file_many(case):
     campaign_file_property(case)
 
 
+@settings(max_examples=12, **QUICK)
+@given(hs.flat_joint_cases())
+def test_flat_joint_campaign_file(case):
+    """The flat-jointed material's bounds, fixed values and sensitivity levels: planned, or
+    refused in one line naming the key, before any run."""
+    campaign_file_property(case)
+
+
+@pytest.mark.slow
+@settings(max_examples=LONG or 100, **SLOW)
+@given(hs.flat_joint_cases())
+def test_flat_joint_campaign_file_many(case):
+    campaign_file_property(case)
+
+
 def test_the_base_campaigns_plan(tmp_path):
     """Every case starts from a valid campaign: the base with each optional section plans."""
     for optional in [(), *[(p,) for p in hs.OPTIONAL], tuple(hs.OPTIONAL)]:

@@ -163,3 +163,20 @@ def test_a_snapshot_not_signed_with_the_users_key_is_never_unpickled(tmp_path):
     assert not mark.exists()
     key = cache_dir() / snapshots.KEY_FILE
     assert key.stat().st_mode & 0o777 == 0o600
+
+
+def test_a_snapshot_never_writes_through_a_link_planted_in_its_folder(tmp_path):
+    """Run keys are predictable: a link at the snapshot's name, or at its old `.part` name, is
+    replaced or left, never followed; the snapshot is whole and loads back."""
+    target = tmp_path / "precious"
+    target.write_bytes(b"keep me")
+    folder = tmp_path / snapshots.FOLDER
+    folder.mkdir()
+    for name in ("key.part", "key.pickle"):
+        (folder / name).symlink_to(target)
+    snapshot = snapshots.Snapshot(folder / "key.pickle", every_s=0.0)
+    snapshot.save(("readings", [1, 2, 3]))
+    assert target.read_bytes() == b"keep me"
+    assert not (folder / "key.pickle").is_symlink()
+    assert snapshots.Snapshot(folder / "key.pickle").load() == ("readings", [1, 2, 3])
+    assert [p.name for p in folder.iterdir() if p.name.startswith(".")] == []  # no temporary file left

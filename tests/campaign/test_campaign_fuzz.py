@@ -144,6 +144,42 @@ CASES = [  # (case, campaign file as text or bytes, the start of the message aft
     ("huge draws", BASE + "[uncertainty]\ndraws = 10000000\n", "uncertainty.draws: Input should be less"),
     ("huge packings", BASE + "[uncertainty]\npackings = 1000\n", "uncertainty.packings: Input should be less"),
     ("huge target packings", add("packings = 1000", "ucs_MPa = 40.0"), "targets.ucs.packings: Input should be"),
+    ("5000 samples", edit("samples = 6", "samples = 5000").replace("max_dem_runs = 9", "max_dem_runs = 5000"),
+     "surrogate.samples: Input should be less than or equal to 1000"),
+    ("draws x ants x iterations", add("ants = 1000", "iterations = 20").replace("iterations = 20", "iterations = 1000")
+     + "[uncertainty]\nenabled = true\ndraws = 10000\n", "uncertainty.draws: 10,000 draws x 1,000,000 evaluations"),
+    ("candidates x ants x iterations", add("ants = 1000", "iterations = 20").replace("iterations = 20", "iterations = 1000")
+     .replace("max_dem_runs = 9", "max_dem_runs = 90\ncandidates = 80"), "acceptance.candidates: 80 candidates x 2"),
+    ("candidates past any budget", edit("max_dem_runs = 9", "max_dem_runs = 9\ncandidates = 9223372036854775807"),
+     "acceptance.candidates: Input should be less"),
+    ("a long series of confinements", edit("[specimen]", "[targets.biaxial]\nconfinement_mpa = ["
+                                           + ", ".join(str(k) for k in range(21)) + "]\nphi_deg = 40.0\n[specimen]"),
+     "targets.biaxial.confinement_mpa: at most 20 confinements"),
+    ("budget x a long series x packings", edit("[specimen]", "[targets.biaxial]\nconfinement_mpa = [0, 5, 10, 20]\n"
+                                               "phi_deg = 40.0\npackings = 100\n[specimen]")
+     .replace("max_dem_runs = 9", "max_dem_runs = 50"), "acceptance.max_dem_runs: 50 parameter sets x 401 DEM runs each"),
+    ("uncertainty packings x target packings", add("packings = 100", "ucs_MPa = 40.0")
+     .replace("max_dem_runs = 9", "max_dem_runs = 150") + "[uncertainty]\nenabled = true\npackings = 100\n",
+     "uncertainty.packings: 150 parameter sets and 100 packings x 100 DEM runs each"),
+    # checks that would fail after DEM runs, made before them
+    ("samples too few for the searched", edit("samples = 6", "samples = 4").replace(
+        "sigma_c = [20, 60] }", "sigma_c = [20, 60], kn_ks = [1, 3] }"),
+     "surrogate.samples: 4 samples are too few for a surrogate of 3 searched parameters (search.bounds); at least 5"),
+    ("coarse samples too few", add("coarse_samples = 3", "checks = 1"),
+     "surrogate.coarse_samples: 3 coarse samples are too few for a surrogate of 2 searched parameters"),
+    ("the other material's parameter searched", edit("E_c = [10, 30]", "fj_emod = [10, 30]"),
+     "search.bounds.fj_emod: a parameter of the flatjoint material, not of parallel_bond: choose material.model"),
+    ("the other material's parameter fixed", edit("mu = 0.5", "fj_nr = 3"),
+     "search.fixed.fj_nr: a parameter of the flatjoint material"),
+    ("the other material's parameter levelled", FLAT_JOINT + "[sensitivity]\narray = 'L4(2^3)'\n"
+     "levels = { E_c = [10, 30], fj_kratio = [1, 2] }\n", "sensitivity.levels.E_c: a parameter of the parallel_bond"),
+    ("middle level invalid", BASE.replace("bounds = { E_c = [10, 30], sigma_c = [20, 60] }\n", "")
+     + "[sensitivity]\narray = 'L4(2^3)'\nlevels = { E_c = [-10, 5], kn_ks = [1, 2] }\n",
+     "sensitivity.levels.E_c: Input should be greater than or equal to 0, at the middle levels"),
+    ("flat-joint middle level invalid", FLAT_JOINT.replace(
+        "bounds = { fj_emod = [10, 30], fj_ten = [20, 60], fjm_B_frac = [0.5, 0.7], fjm_G_frac = [0.1, 0.3] }\n", "")
+     + "[sensitivity]\narray = 'L4(2^3)'\nlevels = { fj_emod = [-10, 5], fj_kratio = [1, 2] }\n",
+     "sensitivity.levels.fj_emod: Input should be greater than 0, at the middle levels"),
     # targets and the search box
     ("empty target section", BASE + "[targets.direct_tension]\n",
      "targets.direct_tension: no lab value given; give at least one of sigma_t_direct_MPa"),

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from scipy.spatial.distance import pdist
 
@@ -24,22 +26,35 @@ def latin_hypercube(bounds, n: int, *, seed=None, optimization: str = "random-cd
         raise InputError("n", f"a Latin hypercube needs at least 2 points, got {n}")
     if optimization not in OPTIMIZATIONS:
         raise InputError("optimization", f"must be one of {', '.join(OPTIMIZATIONS)}, got {optimization!r}")
+    if optimization == "maximin" and candidates < 1:
+        raise InputError("candidates", f"must be at least 1, got {candidates}")
     from scipy.stats import qmc  # here: scipy.stats takes 0.4 s to import, and every command would wait
 
-    rng = np.random.default_rng(seed)
     d = len(lower)
+    if isinstance(seed, (int, np.integer)):  # planning asks for the same design several times: it is made once
+        unit = _unit_design(d, int(n), int(seed), optimization, candidates)
+    else:
+        unit = _unit_design.__wrapped__(d, int(n), seed, optimization, candidates)
+    return qmc.scale(unit, lower, upper)
+
+
+@functools.lru_cache(maxsize=8)
+def _unit_design(d: int, n: int, seed, optimization: str, candidates: int) -> np.ndarray:
+    """The design in the unit cube (read-only: it may be shared)."""
+    from scipy.stats import qmc
+
+    rng = np.random.default_rng(seed)
     if optimization == "maximin":
-        if candidates < 1:
-            raise InputError("candidates", f"must be at least 1, got {candidates}")
         sampler = qmc.LatinHypercube(d, seed=rng)
         best, best_gap = None, -np.inf
         for _ in range(candidates):
-            unit = sampler.random(int(n))
+            unit = sampler.random(n)
             gap = pdist(unit).min()
             if gap > best_gap:
                 best, best_gap = unit, gap
         unit = best
     else:
         opt = None if optimization == "none" or d < 2 else optimization
-        unit = qmc.LatinHypercube(d, optimization=opt, seed=rng).random(int(n))
-    return qmc.scale(unit, lower, upper)
+        unit = qmc.LatinHypercube(d, optimization=opt, seed=rng).random(n)
+    unit.flags.writeable = False
+    return unit

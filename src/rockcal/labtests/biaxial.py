@@ -89,10 +89,19 @@ def check_confinement(confinement_mpa) -> None:
                                             f"sigma3 to about {MIN_CONFINEMENT_MPA:g} MPa), got {confinement_mpa!r}")
 
 
+# Confinements in one series: each is a DEM run (on every packing asked for), and a lab's
+# strength envelope is read on a handful (the ISRM suggests at least 5)
+MAX_CONFINEMENTS = 20
+
+
 def check_confinements(values: list) -> None:
-    """A series of confinements: not empty, each valid, increasing without repeats."""
+    """A series of confinements: not empty, at most MAX_CONFINEMENTS, each valid, increasing
+    without repeats."""
     if len(values) == 0:
         raise InputError("confinement_mpa", "needs at least one confinement")
+    if len(values) > MAX_CONFINEMENTS:
+        raise InputError("confinement_mpa", f"at most {MAX_CONFINEMENTS} confinements in a series (each a DEM "
+                                            f"run), got {len(values):,}")
     for value in values:
         check_confinement(value)
     repeated = sorted({a for a in values if values.count(a) > 1})

@@ -4,8 +4,9 @@ run never stopped.
 
 A run of a store (`rockcal.campaign.runs`) keeps its snapshot beside the store,
 `<out>/snapshots/<run key>.pickle`: the test's rig, readings and loading as they stood after a
-reading, written at most every SNAPSHOT_EVERY_S of the run (to a new file, then renamed over
-the last, so a stop while writing keeps the one before) and removed once the run is done. The
+reading, written at most every SNAPSHOT_EVERY_S of the run (by `output_files.atomic_path`: to a
+fresh name, then renamed over the last, so a stop while writing keeps the one before and a link
+planted in the folder is never followed) and removed once the run is done. The
 run's key holds its test, settings, parameters and the engine's version, and a snapshot holds
 the rockcal version that wrote it: a snapshot of another version, or one that cannot be read,
 is left aside and the run starts afresh. A run outside a store (`rockcal.simulate`) takes none.
@@ -29,12 +30,14 @@ import hmac
 import io
 import os
 import pickle
+import tempfile
 import time
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
+from rockcal.output_files import atomic_path
 from rockcal.version import __version__
 from rockcal.specimens.specimen import cache_dir
 
@@ -51,15 +54,15 @@ def _key() -> bytes:
     path = cache_dir() / KEY_FILE
     if not path.exists():
         path.parent.mkdir(parents=True, exist_ok=True)
-        made = path.with_name(f"{KEY_FILE}.{os.getpid()}")
-        with open(os.open(made, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600), "wb") as file:
+        fd, made = tempfile.mkstemp(prefix=f".{KEY_FILE}.", dir=path.parent)  # a fresh file, the user's alone
+        with open(fd, "wb") as file:
             file.write(os.urandom(32))
         try:
             os.link(made, path)  # whole, or not at all
         except FileExistsError:  # another process made it first
             pass
         finally:
-            made.unlink()
+            os.unlink(made)
     return path.read_bytes()
 
 
@@ -117,16 +120,12 @@ class Snapshot:
         if now - self._saved_s < self.every_s:
             return
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        part = self.path.with_suffix(".part")
         body = io.BytesIO()
         run_s = self.earlier_s + now - self._started_s
         _SharingPickler(body, protocol=pickle.HIGHEST_PROTOCOL).dump((__version__, run_s, objects))
-        with open(part, "wb") as file:
+        with atomic_path(self.path) as part, open(part, "wb") as file:  # a fresh name, never a link
             file.write(_signature(body.getbuffer()))
             file.write(body.getbuffer())
-            file.flush()
-            os.fsync(file.fileno())
-        os.replace(part, self.path)
         self._saved_s = time.perf_counter()
 
     def remove(self) -> None:

@@ -40,6 +40,19 @@ MAX_DEM_RUNS = 5000
 MAX_ANTS = 10_000
 MAX_EVALUATIONS = 1_000_000
 MAX_DRAWS = 10_000
+# The Latin hypercube's centred-discrepancy improvement grows with the square of its points
+# (1,000: about 2 s; 5,000: 12 s, each time a campaign is planned), and an RBF surrogate of a
+# few parameters gains nothing from more runs than this
+MAX_SAMPLES = 1000
+# The searches the main process makes on the surrogate, beside no DEM run the first screen
+# counts: the intervals' draws x ants x iterations, a verification round's candidates x ants x
+# iterations (x2: the searches tried per candidate); at ~8 us an evaluation, 50 million are
+# about 7 min (the defaults: 2 million)
+MAX_SEARCH_EVALUATIONS = 50_000_000
+# DEM runs a campaign may ask for at most: its budget of parameter sets x each set's runs (every
+# test's series x its packings). Planning lists each run (six times, ~0.05 ms each: seconds),
+# and 20,000 runs of even a small specimen are days on a few cores
+MAX_CAMPAIGN_RUNS = 20_000
 
 
 class Rock(Section):
@@ -131,12 +144,13 @@ class Search(Section):
 class Surrogate(Section):
     """The Latin hypercube runs the RBF surrogate is fitted on, and its check runs."""
 
-    samples: int = Field(30, ge=4, le=MAX_DEM_RUNS, description="Latin hypercube DEM runs in the search box.")
+    samples: int = Field(30, ge=4, le=MAX_SAMPLES, description="Latin hypercube DEM runs in the search box "
+                         "(at least the searched parameters + 2, the surrogate's fewest).")
     checks: int = Field(3, ge=1, le=MAX_DEM_RUNS, description="Fresh random DEM runs that check the surrogate.")
     tolerance: float = Field(0.05, gt=0, description="The surrogate is trusted when every check is within this "
                              "relative error.")
     seed: int = Field(1, ge=0, description="Seed of the Latin hypercube and the check points.")
-    coarse_samples: int = Field(0, ge=0, le=MAX_DEM_RUNS, description="Multi-fidelity: Latin hypercube runs at coarse resolution "
+    coarse_samples: int = Field(0, ge=0, le=MAX_SAMPLES, description="Multi-fidelity: Latin hypercube runs at coarse resolution "
                                 "(R_min x coarse_factor) that train a low-fidelity surrogate, which the samples "
                                 "correct; 0: none.")
     coarse_factor: float = Field(2.0, gt=1, le=4, description="R_min of the coarse samples over the campaign's "
@@ -183,7 +197,7 @@ class Acceptance(Section):
                              "relative error of the lab's.")
     max_dem_runs: int = Field(80, ge=1, le=MAX_DEM_RUNS, description="Budget of parameter sets run in the DEM (UCS runs).")
     # set here, not by --workers, so that the workers never change the result
-    candidates: int = Field(2, ge=1, description="Distinct optima of the surrogate verified at once per loop "
+    candidates: int = Field(2, ge=1, le=MAX_DEM_RUNS, description="Distinct optima of the surrogate verified at once per loop "
                             "round.")
     ucs_first: bool = Field(False, description="Verify a point's UCS test first and run its other tests only "
                             "where the UCS responses meet the tolerance (on where those tests are dear).")
@@ -241,6 +255,9 @@ class Campaign(Section):
         if both:
             raise ValueError(f"search.fixed: {sorted(both)[0]!r} is also in search.bounds")
         _check_budget(self)
+        _check_enough_samples(self)
+        _check_search_work(self)
+        _check_campaign_runs(self)
         _check_dimensions(self)
         given = self.targets.given()
         if "tests" in self.validation.model_fields_set:
@@ -292,6 +309,59 @@ def _check_budget(campaign: Campaign) -> None:
     if s.samples + s.checks > budget:
         raise ValueError(f"surrogate.samples: {s.samples} samples and {s.checks} checks are more DEM runs than "
                          f"the budget of {budget} (acceptance.max_dem_runs)")
+
+
+def _check_enough_samples(campaign: Campaign) -> None:
+    """The runs a surrogate of the searched parameters is fitted on (d + 2: the samples, or
+    with coarse samples those, which the samples only correct), with the sensitivity runs that
+    may be reused, are enough: a campaign does not stop after its samples' DEM runs."""
+    searched, s = len(campaign.search.bounds), campaign.surrogate
+    key, runs = ("coarse_samples", s.coarse_samples) if s.coarse_samples else ("samples", s.samples)
+    if searched and runs + _reusable_runs(campaign) < searched + 2:
+        raise ValueError(f"surrogate.{key}: {runs} {key.replace('_', ' ')} are too few for a surrogate of {searched} searched "
+                         f"parameters (search.bounds); at least {searched + 2}")
+
+
+def _reusable_runs(campaign: Campaign) -> int:
+    """The sensitivity runs that may be runs of the search (those at the campaign's R_min)."""
+    sensitivity = campaign.sensitivity
+    if sensitivity is None or sensitivity.rmin_mm not in (None, campaign.specimen.rmin_mm):
+        return 0
+    try:
+        return len(next(iter(design(sensitivity.array, sensitivity.levels).values())))
+    except (InputError, StopIteration):
+        return 0  # a bad array is named by `_check_values`
+
+
+def _check_search_work(campaign: Campaign) -> None:
+    """The searches on the surrogate beside the DEM runs fit in MAX_SEARCH_EVALUATIONS: the
+    intervals' and a verification round's."""
+    per_search = campaign.optimizer.ants * campaign.optimizer.iterations
+    draws, candidates = campaign.uncertainty.draws, campaign.acceptance.candidates
+    if campaign.wants_uncertainty() and draws * per_search > MAX_SEARCH_EVALUATIONS:
+        raise ValueError(f"uncertainty.draws: {draws:,} draws x {per_search:,} evaluations a search "
+                         f"(optimizer.ants x optimizer.iterations) = {draws * per_search:,}; at most "
+                         f"{MAX_SEARCH_EVALUATIONS:,} (fewer draws, ants or iterations)")
+    if 2 * candidates * per_search > MAX_SEARCH_EVALUATIONS:
+        raise ValueError(f"acceptance.candidates: {candidates:,} candidates x 2 searches x {per_search:,} "
+                         f"evaluations a search (optimizer.ants x optimizer.iterations) = "
+                         f"{2 * candidates * per_search:,} a round; at most {MAX_SEARCH_EVALUATIONS:,}")
+
+
+def _check_campaign_runs(campaign: Campaign) -> None:
+    """[acceptance] max_dem_runs parameter sets and, for the intervals, [uncertainty] packings
+    more, each run by every calibrated test over its series and its packings, are at most
+    MAX_CAMPAIGN_RUNS DEM runs."""
+    per_set = sum(max(1, len(section.series())) * section.packings for section in campaign.target_sections().values())
+    budget = campaign.acceptance.max_dem_runs
+    packings = campaign.uncertainty.packings if campaign.wants_uncertainty() else 0
+    each = f"x {per_set:,} DEM runs each (the tests' series x their packings)"
+    if budget * per_set > MAX_CAMPAIGN_RUNS:
+        raise ValueError(f"acceptance.max_dem_runs: {budget:,} parameter sets {each} = {budget * per_set:,} runs; "
+                         f"at most {MAX_CAMPAIGN_RUNS:,} (a smaller budget, fewer packings or a shorter series)")
+    if (budget + packings) * per_set > MAX_CAMPAIGN_RUNS:
+        raise ValueError(f"uncertainty.packings: {budget:,} parameter sets and {packings:,} packings {each} = "
+                         f"{(budget + packings) * per_set:,} runs; at most {MAX_CAMPAIGN_RUNS:,}")
 
 
 def _check_dimensions(campaign: Campaign) -> None:
@@ -377,6 +447,7 @@ def _check_values(campaign: Campaign) -> None:
     """Fixed values, bounds and levels must be valid values, named by their key: the fixed
     values (`_check_fixed`), the search box at every corner, the sensitivity runs row by row
     (fractions that must not sum past 1 may be searched together)."""
+    _check_material_names(campaign)
     fixed = campaign.fixed_params()
     make_params = functools.partial(parameters, material(campaign.material.model))
     _check_fixed(campaign, make_params, fixed)
@@ -387,6 +458,22 @@ def _check_values(campaign: Campaign) -> None:
         for row, values in enumerate(zip(*runs.values()), start=1):
             _check_point(make_params, fixed, dict(zip(runs, map(float, values))), "sensitivity.levels",
                          f"in run {row} of {campaign.sensitivity.array}")
+
+
+def _check_material_names(campaign: Campaign) -> None:
+    """Every parameter named in [search] bounds and fixed and [sensitivity] levels is one of the
+    chosen material's (or a searched genesis setting), else named with the material that has it."""
+    model = campaign.material.model
+    own = set(material(model).parameters) | set(SEARCHED_GENESIS)
+    named = {"search.bounds": campaign.search.bounds, "search.fixed": campaign.search.fixed,
+             "sensitivity.levels": campaign.sensitivity.levels if campaign.sensitivity else {}}
+    for key, values in named.items():
+        for name in values:
+            if name not in own:
+                others = [m for m, record in MATERIALS.items() if name in record.parameters]
+                raise InputError(f"{key}.{name}", f"a parameter of the {' or '.join(others)} material, not of "
+                                 f"{model}: choose material.model = {others[0]!r}, or name {model}'s parameters "
+                                 f"({', '.join(material(model).parameters)})")
 
 
 def _check_fixed(campaign: Campaign, make_params, fixed: dict) -> None:
@@ -453,9 +540,27 @@ def _check_box(campaign: Campaign, make_params, fixed: dict) -> None:
             low, high = bounds[name]
             raise InputError(f"search.bounds.{name}", f"a whole number ({info.description}): its bounds must be "
                              f"whole numbers, got [{low:g}, {high:g}]")
-    held = fixed | split_genesis(middle_levels(campaign, bounds))[0]
+    middle = split_genesis(middle_levels(campaign, bounds))[0]
+    held = fixed | middle
     for values in _corners(bounds):
-        _check_point(make_params, held, values, "search.bounds", "at a corner of the search box")
+        try:
+            _check_point(make_params, held, values, "search.bounds", "at a corner of the search box")
+        except InputError as exc:
+            if exc.field != "search.bounds" or not middle:
+                raise
+            _check_middle_levels(make_params, fixed, middle)
+            raise
+
+
+def _check_middle_levels(make_params, fixed: dict, middle: dict) -> None:
+    """The middle levels the search holds the sensitivity factors it does not search at are
+    valid with the fixed values, named `sensitivity.levels.<factor>`."""
+    try:
+        make_params(fixed | middle)
+    except InputError as exc:
+        key = f"sensitivity.levels.{exc.field}" if exc.field in middle else "sensitivity.levels"
+        at = ", ".join(f"{n} {v:g}" for n, v in middle.items())
+        raise InputError(key, f"{exc.problem}, at the middle levels the search holds its factors at ({at})") from None
 
 
 def _corners(bounds: dict) -> list[dict]:
@@ -477,7 +582,7 @@ def _check_point(make_params, fixed: dict, values: dict, where: str, what: str) 
         make_params(fixed | params)
     except InputError as exc:
         key = f"{where}.{exc.field}" if exc.field in values else where
-        at = "" if len(values) == 1 else f", {what} ({', '.join(f'{n} {v:g}' for n, v in values.items())})"
+        at = "" if len(values) <= 1 else f", {what} ({', '.join(f'{n} {v:g}' for n, v in values.items())})"
         raise InputError(key, exc.problem + at) from None
 
 

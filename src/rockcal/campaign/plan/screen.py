@@ -48,6 +48,7 @@ LONE_RUN_SPEED_UP = 1.4  # a run alone on 2 threads against two at a time: a UCS
 # matplotlib, not the engine, so not scaled by the probe): one search on the surrogate for the
 # parameters' intervals, and the start, the first screen and the report with its figures
 DRAW_S = 0.08
+DRAW_EVALUATIONS = 50 * 200  # the surrogate evaluations of the search DRAW_S was timed on (ants x iterations)
 MAIN_PROCESS_S = 10.0
 
 
@@ -262,7 +263,8 @@ def expected_s(campaign: Campaign, store, workers: int) -> float:
 def _main_process_s(campaign: Campaign) -> float:
     """The main process's own work, s: the searches for the parameters' intervals, the start
     and the report."""
-    draws = campaign.uncertainty.draws * DRAW_S if campaign.wants_uncertainty() else 0.0
+    search_s = DRAW_S * max(1.0, campaign.optimizer.ants * campaign.optimizer.iterations / DRAW_EVALUATIONS)
+    draws = campaign.uncertainty.draws * search_s if campaign.wants_uncertainty() else 0.0
     return (draws + MAIN_PROCESS_S) * _share(1)
 
 

@@ -228,8 +228,9 @@ def spread_out(x: np.ndarray, box: np.ndarray, k: int) -> list[int]:
     taken before it, the first the nearest the box's centre: few runs that still span it."""
     unit = (x - box[:, 0]) / (box[:, 1] - box[:, 0])
     taken = [int(np.argmin(np.linalg.norm(unit - 0.5, axis=1)))]
+    gap = np.full(len(x), np.inf)  # each point's distance to the nearest taken: k x n work, not k^2 x n
     while len(taken) < min(k, len(x)):
-        gap = np.min(np.linalg.norm(unit[:, None, :] - unit[taken][None, :, :], axis=2), axis=1)
+        gap = np.minimum(gap, np.linalg.norm(unit - unit[taken[-1]], axis=1))
         taken.append(int(np.argmax(gap)))
     return sorted(taken)
 
