@@ -80,7 +80,7 @@ CAMPAIGNS = [  # (case, campaign text, the key the error must name)
         "bounds = { fj_emod = [10, 30], fj_ten = [20, 60] }\n"
         "fixed = { fjm_B_frac = 0.8, fjm_G_frac = 0.3 }"), "search.fixed.fjm_G_frac"),
     ("a parallel-bond bound with the flat joint", "[material]\nmodel = 'flatjoint'\n" + CAMPAIGN,
-     "search.fixed.mu"),
+     "search.bounds.E_c"),
     ("beam too short for its particles", edit("[specimen]", "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0\n"
                                                "[specimen]\nbeam_length_mm = 4"), "specimen.beam_length_mm"),
     ("span longer than the beam", edit("[specimen]", "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0\n"

@@ -16,6 +16,12 @@ from test_store_lock import stored_runs
 from tiny import tiny_campaign
 
 
+def _terminal_sigint() -> None:
+    """Ctrl-C as a terminal's process has it: a shell runs a background job (the suite's, say)
+    with SIGINT ignored, and a child would inherit that."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def test_an_exception_caused_by_ctrl_c_is_the_interrupt():
     try:
         try:
@@ -34,7 +40,7 @@ def test_ctrl_c_on_two_workers_is_one_line_and_stores_no_failure(after_s, tmp_pa
     config.write_text(tiny_campaign(seed=7))
     run = subprocess.Popen([sys.executable, "-m", "rockcal", "calibrate", str(config), "--out", str(out),
                             "--workers", "2"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                           start_new_session=True)
+                           start_new_session=True, preexec_fn=_terminal_sigint)
     deadline = time.time() + 300
     while time.time() < deadline and run.poll() is None and stored_runs(out / "runs.sqlite") < 1:
         time.sleep(0.05)
