@@ -150,6 +150,7 @@ class Reading(NamedTuple):
     sample: tuple  # the curve's row: the travel's reading first, the load's last
 
 
+@failed_run()  # a model that broke while loading: the test's RunFailed
 def load_to_failure(loader: Loader, loading: Loading, read: Callable[[], Reading],
                     may_stop: Callable[[Reading], bool], max_travel: float, *,
                     full_speed_past_peak: bool = False,
@@ -174,14 +175,6 @@ def load_to_failure(loader: Loader, loading: Loading, read: Callable[[], Reading
     going on from a snapshot) and `snapshot()`, called after each reading the test goes on
     from, which saves what the test needs to go on from there.
     """
-    with failed_run():
-        return _load(loader, loading, read, may_stop, max_travel, full_speed_past_peak, progress, control,
-                     control_steps, samples, snapshot)
-
-
-def _load(loader, loading, read, may_stop, max_travel, full_speed_past_peak, progress, control, control_steps,
-          samples, snapshot) -> np.ndarray:
-    """`load_to_failure`'s loop."""
     state, chunk = loader.state, loader.chunk
     samples = [] if samples is None else samples
     while True:

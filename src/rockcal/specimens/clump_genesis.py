@@ -52,11 +52,10 @@ import math
 
 import numpy as np
 
-from rockcal.errors import InputError
 from rockcal.specimens import packing
 from rockcal.dem.clump_motion import clump
 from rockcal.materials.clump_templates import ClumpTemplate
-from rockcal.specimens.genesis import MIN_CONTACTS, cloud_radii, wall_gaps
+from rockcal.specimens.genesis import MIN_CONTACTS, PRESSURE_BAND, check_given_up, cloud_radii, wall_gaps
 from rockcal.dem.neighbours import CONTACT_GAP, install_bonds, near_pairs, pair_gaps, spatial_order
 from rockcal.specimens.packing import JAMMING_FRACTION, pack_grains
 from rockcal.dem.simulate import advance, rebuild_neighbours
@@ -72,7 +71,6 @@ CLUMP_JAMMING_FRACTION = 0.90  # the cloud of clumps starts above jamming
 SERVO_GAIN = 0.75  # of a full step to the pressure at the contacts' stiffness estimate
 INTEGRAL_GAIN = 0.1
 MAX_SERVO_BOOST = 16.0  # the step's doubling below the band
-PRESSURE_BAND = 2.0  # floaters are enlarged while P_m / 2 < σ < 2 P_m
 MAX_FLOATER_GROWTH = 0.02  # a floater grows by at most this fraction of its size a round
 MAX_FLOATER_DOUBLINGS = 6  # a floater found again overlaps up to 2^6 x the first overlap
 CLUMP_ROUNDS = packing.MAX_SERVO_ROUNDS + packing.FLOATER_ROUNDS
@@ -265,18 +263,6 @@ class ClumpedGrains:
         return size
 
 
-def check_given_up(stress: float, target: float, left: int, n: int) -> None:
-    """A clumped genesis that ran out of rounds (`_pack`) with its wall stress (Pa) outside the
-    band about P_m (`target`, Pa) or every clump a floater made no material: an InputError
-    naming `cloud_porosity`; nearer, the packing is kept with a warning."""
-    if left < n and target / PRESSURE_BAND < stress < PRESSURE_BAND * target:
-        return
-    raise InputError("cloud_porosity", f"the clumped genesis gave up: {left} of {n} clumps still have fewer "
-                                       f"than {MIN_CONTACTS} contacts at a wall stress of {stress / MPa:.3g} MPa "
-                                       f"(P_m {target / MPa:g} MPa): lower the cloud porosity, or make the "
-                                       "specimen larger or R_min smaller")
-
-
 def pack_clumps(template: ClumpTemplate, width: float, height: float, rmin: float,
                 radius_ratio: float, seed: int, cloud_porosity: float, pressure_mpa: float):
     """The cloud of clumps of `template` packed in [0, width] x [0, height] to the pressure
@@ -354,7 +340,8 @@ def _pack(grains: ClumpedGrains, width: float, height: float, rmin: float, radiu
         rebuild_neighbours(state)
         stress = packing.settled_stress(state, floater_steps if near else servo_steps)
     else:
-        check_given_up(stress, target, grains.count_floaters(state, width, height), n)
+        check_given_up("clumped", "clumps still", stress / MPa, pressure_mpa,
+                       grains.count_floaters(state, width, height), n)
         log.warning("genesis of %g x %g mm clumps, seed %d: %d of %d clumps still have fewer "
                     "than %d contacts, wall stress %.3g MPa, after %d rounds", 1e3 * width,
                     1e3 * height, seed, grains.count_floaters(state, width, height), n,

@@ -19,9 +19,12 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from rockcal.dem.neighbours import CONTACT_GAP, pair_gaps
-from rockcal.errors import from_validation_error
+from rockcal.errors import InputError, from_validation_error
 
 MIN_CONTACTS = 3  # a grain with fewer contacts in the vessel (walls counted) is a floater
+# a genesis that ran out of rounds with its wall stress outside P_m / 2 .. 2 P_m gave up (the
+# clumped genesis enlarges its floaters only within this band)
+PRESSURE_BAND = 2.0
 
 
 class Genesis(BaseModel):
@@ -90,3 +93,15 @@ def enlarge_floaters(pos: np.ndarray, radius: np.ndarray, width: float, height: 
         nearest = np.partition(np.concatenate([gaps, walls[k]]), MIN_CONTACTS - 1)
         radius[k] += max(0.0, nearest[MIN_CONTACTS - 1]) + overlap * radius[k]
     return radius
+
+
+def check_given_up(genesis: str, grains: str, stress_mpa: float, pressure_mpa: float, left: int, n: int) -> None:
+    """A packing its genesis (in words: "clumped", "3D") gave up on, its wall stress not within
+    a factor PRESSURE_BAND of P_m or every one of its n `grains` a floater (`left` of them), is
+    no material: an InputError naming `cloud_porosity`."""
+    if left < n and pressure_mpa / PRESSURE_BAND < stress_mpa < PRESSURE_BAND * pressure_mpa:
+        return
+    raise InputError("cloud_porosity", f"the {genesis} genesis gave up: {left} of {n} {grains} have fewer than "
+                                       f"{MIN_CONTACTS} contacts at a wall stress of {stress_mpa:.3g} MPa "
+                                       f"(P_m {pressure_mpa:g} MPa): lower the cloud porosity, or make the "
+                                       "specimen larger or R_min smaller")

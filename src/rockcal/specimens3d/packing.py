@@ -12,7 +12,7 @@ import logging
 import numpy as np
 
 from rockcal.errors import InputError
-from rockcal.specimens.genesis import MIN_CONTACTS
+from rockcal.specimens.genesis import MIN_CONTACTS, check_given_up
 from rockcal.specimens.packing import (
     FLOATER_ROUNDS,
     GROWTH_STAGES,
@@ -33,9 +33,6 @@ from rockcal.materials.units import GPa, MPa
 
 log = logging.getLogger(__name__)
 
-# a packing whose wall stress ends outside P_m / 2 .. 2 P_m was given up on (the clumped
-# genesis' band: `specimens.clump_genesis.PRESSURE_BAND`)
-PRESSURE_BAND = 2.0
 JAMMING_FRACTION = 0.64  # solid fraction of frictionless polydisperse spheres at jamming
 PACKING_DENSITY = 2650.0  # kg/m³; the packing is cycled to rest, so the mass sets only its pace
 # Rounds are at most this many steps per row of spheres along the vessel's longest side (the
@@ -98,22 +95,11 @@ def pack_cuboid(size, rmin: float, radius_ratio: float, seed: int, cloud_porosit
         rebuild_neighbours(state)
         stress = settled_stress(state, size, floater_steps)
     left = int(np.count_nonzero(floaters(s.pos, s.radius, size)))
-    check_packed(stress / MPa, pressure_mpa, left, n)
+    check_given_up("3D", "spheres", stress / MPa, pressure_mpa, left, n)
     if left:
         log.warning("3D genesis of %s mm, seed %d: %d of %d spheres have fewer than %d contacts",
                     np.round(1e3 * size, 3), seed, left, n, MIN_CONTACTS)
     return s.pos.copy(), s.radius.copy(), stress / MPa, left
-
-
-def check_packed(stress_mpa: float, pressure_mpa: float, left: int, n: int) -> None:
-    """A packing the genesis gave up on (its wall stress not within a factor PRESSURE_BAND of
-    P_m, or every sphere a floater) is no material: an InputError naming `cloud_porosity`."""
-    if left < n and pressure_mpa / PRESSURE_BAND < stress_mpa < PRESSURE_BAND * pressure_mpa:
-        return
-    raise InputError("cloud_porosity", f"the 3D genesis gave up: {left} of {n} spheres have fewer than "
-                                       f"{MIN_CONTACTS} contacts at a wall stress of {stress_mpa:.3g} MPa "
-                                       f"(P_m {pressure_mpa:g} MPa): lower the cloud porosity, or make the "
-                                       "specimen larger or R_min smaller")
 
 
 def wall_stress(state, size) -> float:

@@ -41,9 +41,8 @@ class SideWalls:
         scale sigma3 x mean grain diameter x t) and stop them; the steps it took."""
         state = self.state
         servo = WallServo(state, (LEFT, RIGHT, BOTTOM, TOP), self.servo.target, self.limit)
-        with failed_run():
-            steps = settle(servo, state.advance, lambda: np.hypot(*unbalanced_forces(state).T),
-                           servo.target * self.grain_diameter * THICKNESS_M)
+        steps = settle(servo, state.advance, lambda: np.hypot(*unbalanced_forces(state).T),
+                       servo.target * self.grain_diameter * THICKNESS_M)
         if steps is None:
             raise RunFailed(f"the specimen did not settle at the confinement of {servo.target / MPa:g} MPa "
                             f"in {SEATING_ROUNDS * servo.steps} steps (the servo-controlled walls could not "
@@ -61,6 +60,7 @@ class SideWalls:
         return float(self.servo.stresses()[[LEFT, RIGHT]].mean())
 
 
+@failed_run()  # a model that broke while seating: the test's RunFailed
 def settle(servo, advance_steps, unbalanced_N, scale_N: float) -> int | None:
     """Update `servo` and step (`advance_steps(n)`) until every one of its walls is within
     SEATING_TOLERANCE of its target and the bodies' mean unbalanced force (`unbalanced_N()`,

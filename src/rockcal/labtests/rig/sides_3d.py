@@ -17,7 +17,7 @@ import numpy as np
 
 from rockcal.dem3d.vectors import norms
 from rockcal.dem3d.walls import Wall, touching_counts
-from rockcal.labtests.result import RunFailed, failed_run
+from rockcal.labtests.result import RunFailed
 from rockcal.labtests.rig.platens_3d import BOTTOM, SIDES, TOP, Platens3D
 from rockcal.labtests.rig.servo import (
     ALPHA,
@@ -90,9 +90,8 @@ class SideWalls3D:
         state = self.state
         servo = WallServo3D(state, (BOTTOM, TOP, *SIDES), self.servo.target, self.limit)
         free = state.spheres.inv_mass > 0
-        with failed_run():
-            steps = settle(servo, state.advance, lambda: norms(state.spheres.force[free]),
-                           servo.target * self.grain_diameter**2)
+        steps = settle(servo, state.advance, lambda: norms(state.spheres.force[free]),
+                       servo.target * self.grain_diameter**2)
         if steps is None:
             raise RunFailed(f"the prism did not settle at the confinement of {servo.target / MPa:g} MPa in "
                             f"{SEATING_ROUNDS * servo.steps} steps (the servo-controlled walls could not bring "
