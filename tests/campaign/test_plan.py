@@ -157,7 +157,9 @@ def test_other_work_on_the_cores_lengthens_the_estimate(tmp_path, monkeypatch):
     monkeypatch.setattr(plan, "busy_cores", lambda: (2, 2.0))
     assert runs_s() > 2 * idle
     assert plan._main_process_s(campaign) == pytest.approx(1.5 * idle_main)
-    assert "other work asks for 2.0 of the 2 cores" in describe(campaign, store, workers=2)[-1]
+    assert "other work asks for 2.0 cores of this machine's 2" in describe(campaign, store, workers=2)[-1]
+    monkeypatch.setattr(plan, "busy_cores", lambda: (2, 4.0))  # more than the cores: a third each
+    assert runs_s() > 2.9 * idle
 
 
 def test_the_probe_counts_what_other_work_asks_for():

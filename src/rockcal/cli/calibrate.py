@@ -75,7 +75,7 @@ def _run_campaign(campaign, text: str, note: str | None, out: Path, as_json: boo
     """Run the campaign in OUT (`campaign.job.run_in_folder` with `options`), with its first
     screen and bars; its result, its report and when each stage began (`time.perf_counter`)."""
     from rockcal.campaign.job import run_in_folder
-    from rockcal.campaign.plan.screen import stage_runs, stage_times
+    from rockcal.campaign.plan.screen import genesis_times, genesis_wall_s, stage_runs, stage_times
     from rockcal.campaign.procedure.points import CalibrationFailed
 
     bars = []
@@ -83,9 +83,11 @@ def _run_campaign(campaign, text: str, note: str | None, out: Path, as_json: boo
     def start(store, executor):
         if not as_json:
             _print_plan(campaign, store, executor, note)
-        times = stage_times(campaign, store, getattr(executor, "workers", 1))
-        bars.append(_stage_progress(as_json, stage_runs(campaign), times))
-        executor.on_live = bars[0].live
+        workers = getattr(executor, "workers", 1)
+        times = stage_times(campaign, store, workers)
+        genesis = (len(genesis_times(campaign)), genesis_wall_s(campaign, workers))
+        bars.append(_stage_progress(as_json, stage_runs(campaign), times, genesis))
+        executor.on_live, executor.on_genesis = bars[0].live, bars[0].genesis
         return bars[0]
 
     try:
@@ -205,9 +207,14 @@ class _stage_progress:
     verification round that verifies a second optimum, another round): the counts only grow.
     A run the store held when its batch began counts toward the stage's planned runs, never
     beyond them: it may be a run of an earlier stage (the identified point's first packing is
-    its verification run), so a campaign as planned ends at the count the first screen gave."""
+    its verification run), so a campaign as planned ends at the count the first screen gave.
 
-    def __init__(self, quiet: bool, planned_runs: dict[str, int], times: dict[str, tuple[int, float]]):
+    The genesis of the packings a batch needs, before its runs, has a bar of its own (packings
+    made / to make), and weighs in the campaign's bar by its expected time (`genesis`: the
+    packings planned and their wall time)."""
+
+    def __init__(self, quiet: bool, planned_runs: dict[str, int], times: dict[str, tuple[int, float]],
+                 genesis: tuple[int, float] = (0, 0.0)):
         self.bar = _Bars(TextColumn("{task.description:<23}"), BarColumn(bar_width=16),
                          TextColumn("{task.fields[count]:>7}"), TimeElapsedColumn(), TextColumn("ETA"),
                          TimeRemainingColumn(), console=Console(stderr=True), disable=quiet,
@@ -215,7 +222,11 @@ class _stage_progress:
         self.planned = planned_runs  # forward runs per stage (the others count no runs)
         self.to_do = {stage: runs for stage, (runs, _) in times.items()}  # of stages not begun
         self.run_s = {stage: seconds / runs for stage, (runs, seconds) in times.items() if runs}
-        self.campaign = self.bar.add_task("campaign (planned runs)", total=round(sum(s for _, s in times.values())),
+        self.packings_planned, genesis_s = genesis
+        self.packing_s = genesis_s / self.packings_planned if self.packings_planned else 0.0
+        self.packings: list[list[int]] = []  # a batch's genesis each: [made, to make]
+        self.campaign = self.bar.add_task("campaign (planned runs)",
+                                          total=round(genesis_s + sum(s for _, s in times.values())),
                                           count=f"0/{sum(planned_runs.values())}")
         # stage: its batches (a verification round each), each [runs held when it began, done, total]
         self.batches: dict[str, list[list[int]]] = {}
@@ -225,6 +236,18 @@ class _stage_progress:
     def live(self, lines: list[str]) -> None:
         """Show what the running tests read now, a line each below the bars."""
         self.bar.lines = lines
+
+    def genesis(self, made: int, total: int) -> None:
+        """Show the packings a batch has made of those it makes before its runs."""
+        if "genesis" not in self.tasks:
+            self.tasks["genesis"] = self.bar.add_task("genesis (packings)", total=total, count="")
+        if not self.packings or made < self.packings[-1][0]:
+            self.packings.append([made, total])
+        self.packings[-1][0] = made
+        made_all = sum(m for m, _ in self.packings)
+        total_all = max(self.packings_planned, sum(t for _, t in self.packings))
+        self.bar.update(self.tasks["genesis"], completed=made_all, total=total_all, count=f"{made_all}/{total_all}")
+        self._update_campaign()
 
     def __enter__(self):
         self.bar.start()
@@ -264,6 +287,10 @@ class _stage_progress:
         left = sum((total - done) * run_s(stage, 0.0)
                    for stage, batches in self.batches.items() for _, done, total in batches) \
             + sum(runs * run_s(stage, 0.0) for stage, runs in self.to_do.items())
+        made = sum(m for m, _ in self.packings)
+        to_make = max(self.packings_planned, sum(t for _, t in self.packings))
+        spent += made * self.packing_s
+        left += (to_make - made) * self.packing_s
         counts = [self._runs(stage) for stage in self.batches]
         done = sum(runs - to_do for runs, to_do in counts)
         planned = sum(runs for runs, _ in counts) + sum(n for stage, n in self.planned.items()

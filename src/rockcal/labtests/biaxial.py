@@ -221,8 +221,9 @@ def _specimen(s: dict):
 
 def _outline(s: dict) -> Outline:
     shape = "prism {0:g} x {0:g} x {1:g} mm" if in_3d(s) else "{0:g} x {1:g} mm"
+    vessel = (s["width_mm"], s["width_mm"], s["height_mm"]) if in_3d(s) else None
     return Outline(f"biaxial {shape.format(s['width_mm'], s['height_mm'])}, sigma3 {s['confinement_mpa']:g} MPa",
-                   s["width_mm"], s["height_mm"])
+                   s["width_mm"], s["height_mm"], vessel_mm=vessel)
 
 
 def envelope(runs: list[dict]) -> dict:

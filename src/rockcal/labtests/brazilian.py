@@ -43,7 +43,7 @@ from rockcal.specimens.genesis import Genesis
 from rockcal.dem.laws import INTACT
 from rockcal.specimens.specimen import Specimen, check_geometry, random_packing
 from rockcal.specimens3d.specimen import check_disk as check_disk_3d
-from rockcal.specimens3d.specimen import check_vessel, random_disk
+from rockcal.specimens3d.specimen import DISK_THICKNESS_PER_DIAMETER, check_vessel, random_disk
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kind import (
     GENESIS,
@@ -336,7 +336,8 @@ def _run(params: BondedParams, specimen, s: dict, progress) -> BrazilianResult:
 def _outline(s: dict) -> Outline:
     d = s["disk_diameter_mm"]
     if in_3d(s):  # the disk keeps pi/4 of its D x D/2 x D packing: pi/8 of a D x D x D one
-        return Outline(f"disk D {d:g} x t {d / 2:g} mm", d, d, share=np.pi / 8)
+        return Outline(f"disk D {d:g} x t {d / 2:g} mm", d, d, share=np.pi / 8,
+                       vessel_mm=(d, DISK_THICKNESS_PER_DIAMETER * d, d))
     return Outline(f"disk D {d:g} mm", d, d, share=np.pi / 4)
 
 

@@ -13,6 +13,8 @@ from rockcal.materials.clump_templates import DEFAULT_SHAPE
 from rockcal.specimens.genesis import Genesis
 from rockcal.specimens.grain_limit import expected_grains
 from rockcal.specimens.packing import check_packing_pressure
+from rockcal.specimens.specimen import packing_name
+from rockcal.specimens3d.specimen import packing_name as packing_name_3d
 from rockcal.dem3d.laws import CONTACT_STIFFNESS as CONTACT_STIFFNESS_3D
 from rockcal.errors import InputError
 from rockcal.materials import check_dimensions, material
@@ -99,12 +101,13 @@ class SeriesFigure:
 @dataclass(frozen=True)
 class Outline:
     """A test's specimen as a plan sees it: in words, and the packing it is cut from (width and
-    height, mm) with the share of that packing's grains it keeps."""
+    height, mm; in 3D its vessel's three sides) with the share of that packing's grains it keeps."""
 
     text: str
     width_mm: float
     height_mm: float
     share: float = 1.0
+    vessel_mm: tuple[float, float, float] | None = None  # a 3D packing's cuboid, x y z
 
 
 @dataclass(frozen=True)
@@ -215,6 +218,16 @@ class LabTest:
         return dict(width_mm=box.width_mm, height_mm=box.height_mm, rmin_mm=s["rmin_mm"],
                     radius_ratio=s["radius_ratio"], seed=s["seed"], genesis=genesis_of(s),
                     grain_shape=s.get("grain_shape", DEFAULT_SHAPE))
+
+    def packing_file(self, specimen_settings) -> str:
+        """The file name (in the specimen cache) of the packing this test's specimen is cut
+        from, 2D or 3D."""
+        p = self.packing(specimen_settings)
+        vessel = self.outline(self.settings_of(specimen_settings)).vessel_mm
+        if vessel is None:
+            return packing_name(**p)
+        return packing_name_3d(tuple(1e-3 * v for v in vessel), 1e-3 * p["rmin_mm"], p["radius_ratio"],
+                               p["seed"], p["genesis"])
 
     def responses_of(self, result) -> dict:
         """The declared responses of a test's result, in their declared order."""

@@ -195,7 +195,7 @@ def _hexagonal(s: dict) -> Specimen:
 def _outline(s: dict) -> Outline:
     if in_3d(s):  # the cylinder keeps pi/4 of its cuboid packing's spheres
         return Outline(f"UCS cylinder Ø{s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"],
-                       s["height_mm"], np.pi / 4)
+                       s["height_mm"], np.pi / 4, (s["width_mm"], s["width_mm"], s["height_mm"]))
     return Outline(f"UCS {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"], s["height_mm"])
 
 

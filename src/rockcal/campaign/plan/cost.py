@@ -10,13 +10,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from rockcal.specimens3d.specimen import expected_spheres
+from rockcal.materials.clump_templates import DEFAULT_SHAPE
+from rockcal.specimens3d.specimen import cloud_spheres, expected_spheres
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.labtests.specimen_settings import SpecimenSettings
 
 # run time ~ work^WORK_EXPONENT: a half-resolution UCS run (1/8 of the work) takes about 1/10 of
 # the full-size one at the same point on one thread (a small specimen stays in the caches)
 WORK_EXPONENT = 1.1
+# A packing's genesis on one thread: its time goes with the packing's grains x rows as a run's
+# does (every step moves every grain; a taller vessel takes more steps to settle), in seconds per
+# grain-row per ms of the engine probe's step (`engine_speed`): 2D balls, 3D spheres
+GENESIS_S_PER_WORK = {2: 4.3e-4, 3: 2.2e-3}
+GENESIS_CLUMPS = 1.3  # a clumped packing's genesis over a ball packing's of as many grains
+
 # a 3D UCS run's time per sphere and row over a 2D run's per disk and row on one machine, from
 # the 3D granite campaign's runs at the default installation gap (docs/concepts/pfc3d.md): a
 # sphere-step costs about three disk-steps, and the cylinder takes more steps per row than the
@@ -60,3 +67,23 @@ def relative_time(campaign, test: str) -> float:
     the power WORK_EXPONENT, by the test's `time_factor`."""
     work = specimen_size(test, campaign.specimen)[2] / specimen_size(PRIMARY_TEST, campaign.specimen)[2]
     return work ** WORK_EXPONENT * time_factor(test, campaign.specimen)
+
+
+def genesis_work(test: str, s: SpecimenSettings) -> float:
+    """Grains x rows of the packing a test's specimen is cut from (its whole vessel)."""
+    kind = lab_test(test)
+    o = kind.outline(kind.settings_of(s))
+    if o.vessel_mm is not None:
+        grains = cloud_spheres(float(np.prod(o.vessel_mm)), s.rmin_mm, s.radius_ratio, s.cloud_porosity)
+        height_mm = o.vessel_mm[2]
+    else:
+        grains, height_mm = grain_count(o.width_mm, o.height_mm, s), o.height_mm
+    return grains * height_mm / (s.rmin_mm * (1 + s.radius_ratio))
+
+
+def genesis_s(test: str, s: SpecimenSettings, probe_ms: float) -> float:
+    """The genesis of a test's packing on one thread of a machine whose probe step takes
+    `probe_ms`, s."""
+    d = s.dimensions
+    clumps = GENESIS_CLUMPS if getattr(s, "grain_shape", DEFAULT_SHAPE) != DEFAULT_SHAPE else 1.0
+    return probe_ms * GENESIS_S_PER_WORK[d] * genesis_work(test, s) * clumps

@@ -4,7 +4,10 @@ how much of the machine other work takes meanwhile.
 
 The probe counts processor time, so that it gives a core's speed whatever else runs; the share of
 the cores the runs will get is the other part of the estimate: the tasks that other work has
-ready to run, counted between the probe's rounds (`cores.others_runnable`).
+ready to run, counted between the probe's rounds (`cores.others_runnable`), or, where more, what
+the probe's own wall time says of them (a task beside L others on C cores runs (L + 1) / C times
+slower than on a core of its own). Neither is capped at the cores: other work that asks for four
+cores of two leaves a campaign's two workers a third of the machine, not half.
 
 Machines of one kind differ about 2x in speed, so the plan scales its reference run time (measured
 on one machine, beside this probe's time there) by the ratio of this machine's probe time to that
@@ -38,7 +41,7 @@ class Probe(NamedTuple):
 
     ms_per_step: float  # processor time: the engine's speed on a core of its own
     cores: int  # the cores this process may run on
-    busy_cores: float  # of them, the cores other processes ask for (0 where unknown)
+    busy_cores: float  # the cores other processes ask for, more than `cores` on a crowded machine
 
 
 @functools.cache
@@ -46,7 +49,8 @@ def probe() -> Probe:
     """The engine's processor time per step on the probe lattice at the granite's default
     parameters, its disks moving slightly, on one thread: the least of ROUNDS runs of STEPS
     steps (ms); and the cores other work asks for meanwhile: the mean of its tasks ready to
-    run, counted before each round, at most the cores (`dem.cores.others_runnable`)."""
+    run, counted before each round (`dem.cores.others_runnable`), or what the rounds' wall
+    time over their processor time says, if more (`others_from_wall`)."""
     spec = hexagonal(*LATTICE_MM, limited=False)  # the probe, not a user's specimen
     state = new_state(spec.pos, spec.radius, spec.bonds, make_params({}))
     state.particles.vel[:] = np.random.default_rng(0).normal(0, 1e-4, spec.pos.shape)
@@ -55,16 +59,30 @@ def probe() -> Probe:
     try:
         advance(state, 1)  # compiles the engine, or loads it from numba's cache
         best, others = np.inf, []
+        wall, processor = time.perf_counter(), time.process_time()
         for _ in range(ROUNDS):
             others.append(cores.others_runnable())
             started = time.process_time()
             advance(state, STEPS)
             best = min(best, time.process_time() - started)
+        slower = (time.perf_counter() - wall) / max(time.process_time() - processor, 1e-9)
     finally:
         numba.set_num_threads(threads)
     mine = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
-    busy = 0.0 if None in others else min(mine, float(np.mean(others)))
-    return Probe(1e3 * best / STEPS, mine, busy)
+    runnable = 0.0 if None in others else float(np.mean(others))
+    return Probe(1e3 * best / STEPS, mine, max(runnable, others_from_wall(slower, mine)))
+
+
+# a probe up to this much slower in wall time than in processor time may just have been
+# interrupted now and then: it says nothing of other work
+UNSHARED_SLOWDOWN = 1.1
+
+
+def others_from_wall(slower: float, cores: int) -> float:
+    """The cores other work asks for, from how much slower (wall time over processor time) a
+    one-thread task ran beside it on `cores` cores: (L + 1) / C = slower; 0 where it ran about
+    as fast as alone (then up to C - 1 others leave it a core: the runnable count tells)."""
+    return max(0.0, slower * cores - 1) if slower > UNSHARED_SLOWDOWN else 0.0
 
 
 def probe_ms_per_step() -> float:

@@ -22,7 +22,7 @@ import os
 import numpy as np
 
 from rockcal.campaign.input.config import Campaign, SpecimenSettings
-from rockcal.campaign.plan.cost import WORK_EXPONENT, specimen_size, time_factor
+from rockcal.campaign.plan.cost import WORK_EXPONENT, genesis_s, specimen_size, time_factor
 from rockcal.campaign.plan.engine_speed import busy_cores, probe_ms_per_step
 from rockcal.campaign.plan.route import route_of
 from rockcal.campaign.runs.retries import holds, retry_line
@@ -30,7 +30,7 @@ from rockcal.campaign.procedure.points import packings_of
 from rockcal.campaign.procedure.steps import (STEPS, VERIFICATION, planning_state, series_values,
                                               verified_at_most)
 from rockcal.campaign.runs.spec import RunSpec
-from rockcal.specimens.specimen import packing_name, stored_packing
+from rockcal.specimens.specimen import stored_packing
 from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.materials import material
@@ -91,7 +91,7 @@ def _settings_of(campaign: Campaign, spec: RunSpec) -> SpecimenSettings:
 
 def packing_file(test: str, settings: SpecimenSettings) -> str:
     """The file name of the packing a test's specimen is cut from."""
-    return packing_name(**lab_test(test).packing(settings))
+    return lab_test(test).packing_file(settings)
 
 
 def specimens_to_make(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
@@ -99,6 +99,23 @@ def specimens_to_make(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
     their genesis comes first."""
     return [(test, settings) for test, settings in specimens(campaign)
             if stored_packing(packing_file(test, settings)) is None]
+
+
+def genesis_times(campaign: Campaign) -> list[tuple[str, float]]:
+    """The specimens whose packing must be made first (`specimens_to_make`): each in words, and
+    its genesis on one thread of this machine, s."""
+    probe_ms = probe_ms_per_step()
+    return [(specimen_size(test, s)[0], genesis_s(test, s, probe_ms)) for test, s in specimens_to_make(campaign)]
+
+
+def genesis_wall_s(campaign: Campaign, workers: int) -> float:
+    """The genesis of the packings to make, s: one per worker at a time (the longest at least),
+    beside the other work the probe saw."""
+    times = [t for _, t in genesis_times(campaign)]
+    if not times:
+        return 0.0
+    at_once = min(workers, len(times))
+    return max(max(times), sum(times) / at_once) * _share(at_once)
 
 
 def stage_runs(campaign: Campaign) -> dict[str, int]:
@@ -201,10 +218,11 @@ def dry_run(campaign: Campaign, store, workers: int) -> dict:
         entry = plan.setdefault(stage, {"runs": stage_runs_s, "expected_s": round(stage_wall_s, 1), "tests": {}})
         entry["tests"][test] = {"runs": runs, "packings": len(packings[stage, test]),
                                 "expected_s": round(share * stage_wall_s, 1)}
+    genesis = genesis_wall_s(campaign, workers)
     return {"rock": campaign.rock.name, "workers": workers, "stages": plan,
             "runs": sum(runs for runs, _ in walls.values()),
-            "specimens_to_make": len(specimens_to_make(campaign)),
-            "expected_s": round(sum(wall for _, wall in walls.values()) + _main_process_s(campaign), 1),
+            "specimens_to_make": len(genesis_times(campaign)), "genesis_expected_s": round(genesis, 1),
+            "expected_s": round(genesis + sum(wall for _, wall in walls.values()) + _main_process_s(campaign), 1),
             "ucs_runs_time": round(ucs_runs_time(campaign, store), 1), "route": _route_data(campaign, store, workers)}
 
 
@@ -254,10 +272,10 @@ def _share(processes: int) -> float:
 
 
 def expected_s(campaign: Campaign, store, workers: int) -> float:
-    """The campaign's expected wall time: its stages' runs and the main process's own work
-    (without the specimens' genesis)."""
+    """The campaign's expected wall time: the genesis of the packings to make, its stages' runs
+    and the main process's own work."""
     total = sum(seconds for _, seconds in stage_times(campaign, store, workers).values())
-    return total + _main_process_s(campaign)
+    return genesis_wall_s(campaign, workers) + total + _main_process_s(campaign)
 
 
 def _main_process_s(campaign: Campaign) -> float:
@@ -297,12 +315,11 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
                  f"{machine_speed():.2g}x the reference machine's")
         cores, busy = busy_cores()
         if busy >= 0.5:
-            basis += f"; other work asks for {busy:.1f} of the {cores} cores"
+            basis += f"; other work asks for {busy:.1f} cores of this machine's {cores}"
         lines.append(f"expected: about {_duration(expected_s(campaign, store, workers))} on "
-                     f"{workers} worker{'s' if workers > 1 else ''} "
-                     f"for the {' and '.join(f'{n} {lab_test(t).title}' for t, n in runs.items())} runs "
-                     f"still to do ({_duration(times[PRIMARY_TEST])} per UCS run on one worker: {basis})"
-                     + _genesis(campaign))
+                     f"{workers} worker{'s' if workers > 1 else ''}: " + _genesis(campaign, workers)
+                     + f"the {' and '.join(f'{n} {lab_test(t).title}' for t, n in runs.items())} runs "
+                     f"still to do ({_duration(times[PRIMARY_TEST])} per UCS run on one worker: {basis})")
         if route is not None:
             lines.append(f"cost: the runs' time is {_cost(campaign, store)} UCS runs' on this "
                          f"route; {route.other_name}: {_cost(route.other, store)} "
@@ -343,14 +360,15 @@ def _runs_text(campaign: Campaign, test: str) -> str:
     return text + (f" (verified on {n} packings, their mean; the surrogate's runs on one)" if n > 1 else "")
 
 
-def _genesis(campaign: Campaign) -> str:
-    """What the expected time leaves out: the genesis of the specimens not yet made."""
-    made = specimens_to_make(campaign)
+def _genesis(campaign: Campaign, workers: int) -> str:
+    """The expected time's first part in words: the genesis of the packings not yet made, or
+    that every one is ready."""
+    made = genesis_times(campaign)
     if not made:
-        return "; every specimen is ready (cached, or shipped with rockcal)"
-    texts = sorted({specimen_size(test, s)[0] for test, s in made})
-    return (f", plus first the genesis of {len(made)} specimen{'s' if len(made) > 1 else ''} "
-            f"({', '.join(texts)}): minutes for a small one, up to an hour for a full-size beam")
+        return "every specimen is ready (cached, or shipped with rockcal); "
+    texts = sorted({text for text, _ in made})
+    return (f"first the genesis of {len(made)} specimen{'s' if len(made) > 1 else ''} ({', '.join(texts)}), "
+            f"about {_duration(genesis_wall_s(campaign, workers))}, then ")
 
 
 def _resolution(campaign: Campaign, stage: str) -> str:

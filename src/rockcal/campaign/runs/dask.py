@@ -24,7 +24,8 @@ from typing import Callable, Iterable
 
 from rockcal.campaign.runs import MAX_WORKERS
 from rockcal.campaign.runs.tls import CLEAR_TEXT, TLSFiles, security_of
-from rockcal.campaign.runs.pool import Batch, execute
+from rockcal.campaign.runs.packings import make_in_turn, new_packings
+from rockcal.campaign.runs.pool import Batch, execute, prepare
 from rockcal.campaign.runs.spec import ENGINE
 from rockcal.campaign.runs.store import RunStore
 from rockcal.campaign.runs.spec import RunResult, RunSpec
@@ -77,6 +78,7 @@ class DaskExecutor:
         self.time_limit_s = time_limit_s
         self.executed = 0  # runs done by this executor (not found in the store)
         self.tried: set[str] = set()  # keys run by this executor: a failure among them is not rerun
+        self.on_genesis = None  # shows the packings made of those to make
         self.cluster = None
         kind, where = parse_scheduler(scheduler)
         from distributed import Client, LocalCluster
@@ -100,7 +102,9 @@ class DaskExecutor:
         """Results in the order of `specs`; each new one is stored as soon as it is done."""
         from distributed import as_completed
 
-        batch = Batch(self.store, specs, progress, self.tried)
+        batch = Batch(self.store, specs, None, self.tried)
+        make_in_turn(new_packings(batch.todo), prepare, self.on_genesis)  # here, for every worker to load
+        batch.show(progress)
         submitted = time.perf_counter()
         futures = {self.client.submit(run_on_worker, spec, self.time_limit_s,
                                       key=f"rockcal-run-{spec.key}"): spec for spec in batch.todo}

@@ -18,7 +18,7 @@ from __future__ import annotations
 import os
 import signal
 import time
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, as_completed, wait
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from functools import lru_cache
@@ -29,6 +29,7 @@ from typing import Callable, Iterable
 import numba
 import numpy as np
 
+from rockcal.campaign.runs.packings import make_in_turn, new_packings
 from rockcal.campaign.runs.retries import stored_result
 from rockcal.campaign.runs.spec import RunResult, RunSpec, params_of
 from rockcal.campaign.runs.store import RunStore
@@ -53,12 +54,17 @@ def specimen_of(kind: str, specimen: tuple):
 
 
 def prepare(spec: RunSpec) -> None:
-    """Make (and cache on disk) the specimen of a run before workers need it; one that cannot
-    be made is left to `execute`, which records the run as failed."""
+    """Make (and cache on disk) the specimen of a run before its runs need it, on this run's
+    share of the cores; one that cannot be made is left to `execute`, which records the run as
+    failed."""
+    _count_running(+1)
     try:
+        _take_share_of_cores()
         specimen_of(spec.kind, spec.specimen)
     except Exception:
         pass
+    finally:
+        _count_running(-1)
 
 
 class RunTimedOut(Exception):
@@ -191,8 +197,7 @@ class _Shown:
 def split_stored(store: RunStore, specs: list[RunSpec],
                  tried: set[str] | frozenset = frozenset()) -> tuple[dict[str, RunResult], list[RunSpec]]:
     """The results already in the store (by key) and the distinct specs still to run (a stored
-    failure runs again: `retries`), whose specimens are made here, once, into the disk cache
-    that workers read."""
+    failure runs again: `retries`)."""
     results: dict[str, RunResult] = {}
     todo: dict[str, RunSpec] = {}
     for spec in specs:
@@ -203,8 +208,6 @@ def split_stored(store: RunStore, specs: list[RunSpec],
             results[spec.key] = found
         else:
             todo[spec.key] = spec
-    for spec in {(s.kind, s.specimen): s for s in todo.values()}.values():
-        prepare(spec)
     return results, list(todo.values())
 
 
@@ -222,6 +225,7 @@ class Executor:
         self.executed = 0  # runs done by this executor (not found in the store)
         self.tried: set[str] = set()  # keys run by this executor: a failure among them is not rerun
         self.on_live: Callable[[list[str]], None] | None = None  # shows `live_lines` of running tests
+        self.on_genesis: Callable[[int, int], None] | None = None  # shows the packings made of those to make
         self._readings: dict[str, tuple] = {}
 
     def _reading(self, item) -> None:
@@ -271,7 +275,9 @@ class Executor:
             progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
         """Results in the order of `specs`; each new one is stored as soon as it is done."""
         global _live
-        batch = Batch(self.store, specs, progress, self.tried)
+        batch = Batch(self.store, specs, None, self.tried)
+        self._make_packings(new_packings(batch.todo))
+        batch.show(progress)
         try:
             if self.workers == 1 or len(batch.todo) <= 1:
                 if self.threads is not None:
@@ -286,6 +292,26 @@ class Executor:
             _live = None
             self.executed += batch.executed
         return batch.in_order()
+
+    def _make_packings(self, specs: list[RunSpec]) -> None:
+        """Make the packings of `specs` (`packings.new_packings`) into the specimen cache: one
+        per worker at a time, or here where there is one worker or one packing."""
+        if self.workers == 1 or len(specs) <= 1:
+            make_in_turn(specs, prepare, self.on_genesis)
+            return
+        show = self.on_genesis or (lambda done, total: None)
+        try:
+            with sigint_blocked():
+                futures = [self._get_pool().submit(prepare, spec) for spec in specs]
+            show(0, len(specs))
+            for done, _ in enumerate(as_completed(futures), 1):
+                show(done, len(specs))
+        except BaseException:  # a Ctrl-C
+            self._stop_now()
+            raise
+        if any(f.exception() is not None for f in futures):  # a worker died: the runs get a new pool
+            self._pool.shutdown(cancel_futures=True)
+            self._pool = None
 
     def _run_on_pool(self, batch: Batch) -> None:
         """Run on the process pool; a worker process that dies breaks the pool, which is made
@@ -334,6 +360,12 @@ class Batch:
         self.results, self.todo = split_stored(store, self.specs, self.tried)
         self.total = len(self.results) + len(self.todo)
         self.executed = 0  # runs of this batch stored as done
+        self._report()
+
+    def show(self, progress: Callable[[int, int], None] | None) -> None:
+        """Report the progress from now on to `progress` (after the genesis of the batch's
+        packings, so that their bar comes first)."""
+        self.progress = progress
         self._report()
 
     def finish(self, spec: RunSpec, result: RunResult, store: bool = True) -> None:
