@@ -36,6 +36,7 @@ from rockcal.labtests.envelope import envelope_responses
 from rockcal.labtests.kind import (GENESIS, LabTest, Outline, Response, SeriesFigure, Setting, genesis_of, in_3d,
                                    series_name)
 from rockcal.labtests.lab_values import LabValues
+from rockcal.labtests.plausible import check_plausible
 from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       load_to_failure)
 from rockcal.labtests.result import LabResult, run_fields
@@ -79,6 +80,7 @@ class BiaxialResult(LabResult):
 def check_confinement(confinement_mpa) -> None:
     """A confining stress is 0 (unconfined) or a number in [MIN_CONFINEMENT_MPA,
     MAX_CONFINEMENT_MPA] MPa: for the command's option and the campaign's targets alike."""
+    check_plausible("confinement_mpa", "confinement_mpa", confinement_mpa)
     if not (isinstance(confinement_mpa, (int, float)) and not isinstance(confinement_mpa, bool)
             and 0 <= confinement_mpa <= MAX_CONFINEMENT_MPA):
         raise InputError("confinement_mpa", f"must be a number in [0, {MAX_CONFINEMENT_MPA:g}] MPa, "
