@@ -91,7 +91,8 @@ class Calibration:
     def __repr__(self) -> str:
         r = self.result
         found = ", ".join(f"{name} {value:.4g}" for name, value in r.identified.items())
-        return f"<Calibration of {r.rock}: {_verdict(r)}; identified {found}; in {self.out}>"
+        warnings = "".join(f"; {line}" for line in _warnings(r))
+        return f"<Calibration of {r.rock}: {_verdict(r)}; identified {found}{warnings}; in {self.out}>"
 
     def _repr_html_(self) -> str:
         r = self.result
@@ -103,10 +104,15 @@ class Calibration:
         figures = "".join(f"<figure><img alt='{e(f.title)}' src='data:image/png;base64,"
                           f"{b64encode(f._repr_png_()).decode()}'><figcaption>{e(f.title)}</figcaption></figure>"
                           for f in self.figures.values())
-        note = f"<p><b>{e(r.quick_look)}</b></p>" if r.quick_look else ""
+        note = "".join(f"<p><b>{e(line)}</b></p>" for line in [r.quick_look, *_warnings(r)] if line)
         return (f"<h3>Calibration of {e(r.rock)}: {e(_verdict(r))}</h3>{note}<table><tr><th></th>"
                 f"<th>value</th><th>target</th><th>error</th></tr>{rows}</table>"
                 f"<p>report: {e(str(self.out / 'report.html'))}</p>{figures}")
+
+
+def _warnings(result) -> list[str]:
+    """The summary's warnings: each parameter on its search bound."""
+    return [f"warning: {line}" for line in result.at_bounds or []]
 
 
 def _verdict(result) -> str:
