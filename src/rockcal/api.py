@@ -9,6 +9,7 @@ from __future__ import annotations
 import html
 import os
 import re
+import warnings
 from base64 import b64encode
 from dataclasses import dataclass
 from numbers import Integral, Real
@@ -266,9 +267,11 @@ def simulate(test: str, params: dict | None = None, *, model: str | None = None,
     micro-parameters `params` of `model` (default: the parallel bond; the others at their
     defaults) on a specimen of `settings` (the campaign file's [specimen] keys and the test's
     own, e.g. `rmin_mm=0.5`, `confinement_mpa=5`); `packing` "hexagonal" for a lattice where
-    the test has one. Returns the test's result: `summary()` gives its responses, `curve` its
+    the test has one. Returns the test's result: `summary()` gives its responses and whether the
+    specimen failed (`failed`: a bond broke; a run that broke none is warned of), `curve` its
     curve."""
     from rockcal.labtests.registry import lab_test
+    from rockcal.labtests.result import warnings_of
     from rockcal.labtests.settings import specimen_settings
     from rockcal.materials import DEFAULT_MATERIAL, material, parameters
 
@@ -279,7 +282,10 @@ def simulate(test: str, params: dict | None = None, *, model: str | None = None,
     if packing == "hexagonal" and kind.hexagonal is None:
         raise InputError("packing", f"'random' (the {kind.title} test has no lattice), got {packing!r}")
     specimen = kind.hexagonal(chosen) if packing == "hexagonal" else kind.make(chosen)
-    return kind.run(micro, specimen, chosen, lambda x, y: None)
+    result = kind.run(micro, specimen, chosen, lambda x, y: None)
+    for problem in warnings_of(result.summary()):
+        warnings.warn(f"{kind.title} test: {problem}", stacklevel=2)
+    return result
 
 
 def check_simulate_arguments(test, params, model, packing) -> None:

@@ -27,7 +27,7 @@ from rockcal.labtests.specimen_settings import DEFAULTS_3D, MAX_PACKINGS, Specim
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kind import LabTest
 from rockcal.labtests.settings import specimen_settings
-from rockcal.labtests.result import RunFailed, out_of_range
+from rockcal.labtests.result import RunFailed, warnings_of
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
 from rockcal.cli.threads import use_threads_option
@@ -192,7 +192,7 @@ def _on_packings(test, params, settings, packing, seeds, run, as_json, out, name
     for k, seed in enumerate(seed_list(settings["seed"], seeds)):
         label = f"{test.title} test" + (f", packing {k + 1}/{seeds}" if seeds > 1 else "")
         result, specimen = _run_one(test, params, settings | {"seed": seed}, packing, label, as_json)
-        for problem in out_of_range(result.summary()):
+        for problem in warnings_of(result.summary()):
             print(f"rockcal: warning: {label}: {problem}", file=sys.stderr)
         curves.append(result.curve)
         per_seed.append(result.summary() | specimen.description() | _clumps(specimen) | run
@@ -248,7 +248,7 @@ def _over_seeds(per_seed: list[dict], seed: int, run: dict) -> dict:
     specimen = per_seed[0]["specimen"].replace(f"seed {seed}", f"seeds {seed}-{seed + count - 1}")
     shared = {k: v for k, v in per_seed[0].items() if k not in run and k not in ("specimen", "seed")}
     return mean_over_seeds([{k: s[k] for k in shared} for s in per_seed]) | run | {
-        "specimen": specimen, "seeds": seed_list(seed, count), "per_seed": per_seed}
+        "failed": all(s["failed"] for s in per_seed), "specimen": specimen, "seeds": seed_list(seed, count), "per_seed": per_seed}
 
 
 def write_outputs(out: Path, test: LabTest, result, specimen, summary: dict, name: str) -> None:
@@ -294,6 +294,8 @@ def _show(test: LabTest, summary: dict, as_json: bool) -> None:
              (f"broken {chosen.breaks_word} tension / shear",
               f"{summary['n_broken_tension']:.0f} / {summary['n_broken_shear']:.0f}"),
              ("steps, wall time", f"{summary['steps']:.0f}, {summary['wall_s']:.1f} s")]
+    if not summary["failed"]:
+        rows.append(("failed", "no: no bond broke, the peak is no strength"))
     _print(f"{test.title} test — {summary['specimen']}", rows, summary, as_json)
 
 
