@@ -176,6 +176,8 @@ def _print_dry_run(campaign, out: Path, workers: int, note: str | None, as_json:
             console = Console()
             console.print(f"[bold]Plan of {escape(campaign.rock.name)}[/] (dry run: nothing runs)"
                           + (" [yellow](quick look)[/]" if note else ""))
+            if note:
+                console.print(f"  {note}", highlight=False, markup=False)
             for line in describe(campaign, store, workers):
                 console.print("  " + line, highlight=False, markup=False)
         finally:
