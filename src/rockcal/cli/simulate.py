@@ -96,7 +96,13 @@ def _setting_options(test: LabTest) -> dict:
         if typing.get_origin(kind) is typing.Literal:
             kind = Enum(setting, [(v, v) for v in typing.get_args(kind)], type=str)
             default = kind(default)
-        options[setting] = (kind, typer.Option(default, flag_of(test, setting), help=info.description))
+        shown = True  # a default that differs in 3D: each dimension's
+        if setting in DEFAULTS_3D and "dimensions" in test.settings:
+            shown = f"{getattr(default, 'value', default)} in 2D, {DEFAULTS_3D[setting]} with --dimensions 3"
+        options[setting] = (kind, typer.Option(default, flag_of(test, setting), help=info.description,
+                                               show_default=shown))
+    if "dimensions" not in test.settings:  # told in one line: no 3D implementation yet
+        options["dimensions"] = (int, typer.Option(2, hidden=True))
     if test.hexagonal is not None:
         options["packing"] = (Packing, typer.Option(Packing("random"), help="Specimen packing (hexagonal: "
                                                     "a lattice of grains of radius --rmin-mm)."))
@@ -115,8 +121,10 @@ def simulate(test: LabTest, options: dict) -> None:
     packing = options.pop("packing", "random")
     if not 1 <= seeds <= MAX_PACKINGS:
         raise InputError("--seeds", f"must be a number of packings in [1, {MAX_PACKINGS}], got {seeds}")
-    with fields_named({"model": "--model"}):  # 3D (--dimensions 3): a material the 3D engine has
-        test.check_dimensions(options.get("dimensions", 2), chosen.name)
+    # 3D (--dimensions 3): a test and a material the 3D engine has (a test without 3D: its hidden option)
+    dimensions = options.get("dimensions", 2) if "dimensions" in test.settings else options.pop("dimensions")
+    with fields_named({"model": "--model", test.name: test.name.replace("_", "-")}):
+        test.check_dimensions(dimensions, chosen.name)
     series, values = _series(test, options)
     settings = _checked_settings(test, options)
     run = {"params": params.key(), "contact_stiffness": settings.get("contact_stiffness")}

@@ -222,8 +222,9 @@ def _specimen(s: dict):
 
 
 def _outline(s: dict) -> Outline:
-    shape = "prism {0:g} x {0:g} x {1:g} mm" if in_3d(s) else "{0:g} x {1:g} mm"
-    return Outline(f"biaxial {shape.format(s['width_mm'], s['height_mm'])}, sigma3 {s['confinement_mpa']:g} MPa",
+    shape = "confined (square prism, polyaxial walls) {0:g} x {0:g} x {1:g} mm" if in_3d(s) else \
+        "biaxial {0:g} x {1:g} mm"
+    return Outline(f"{shape.format(s['width_mm'], s['height_mm'])}, sigma3 {s['confinement_mpa']:g} MPa",
                    s["width_mm"], s["height_mm"])
 
 
@@ -302,6 +303,9 @@ CONFINEMENT = Setting("confinement_mpa", 0.0, "MPa", check_confinement,
 TEST = LabTest(
     lab_values=BiaxialValues,
     name="biaxial", title="confined compression",
+    help="Confined compression at sigma3 (a list: one run each, and the strength envelope): in 2D a "
+         "rectangle between two servo side walls, with --dimensions 3 a square prism between "
+         "four servo walls (polyaxial).",
     responses=(Response("sigma1_MPa", "MPa", label="peak axial stress sigma1"),
                Response("confinement_MPa", "MPa", target=False, label="confinement set"),
                Response("q_MPa", "MPa", target=False), Response("E_GPa", "GPa", target=False),
