@@ -1,25 +1,9 @@
 """What the command line tells of its scope: its commands in the order a user meets them, the
 defaults that differ in 3D, and a test with no 3D implementation refused in one line."""
 
-import sys
-from types import SimpleNamespace
-
 import pytest
 
-from rockcal.cli.app import main
-
-
-@pytest.fixture
-def rockcal(monkeypatch, capsys):
-    """`rockcal ARGS` in this process: its exit code, stdout and stderr."""
-    def run(*args):
-        monkeypatch.setattr(sys, "argv", ["rockcal", *args])
-        capsys.readouterr()
-        with pytest.raises(SystemExit) as done:
-            main()
-        out = capsys.readouterr()
-        return SimpleNamespace(returncode=done.value.code, stdout=out.out, stderr=out.err)
-    return run
+from test_cli import rockcal  # noqa: F401  (the command in this process)
 
 
 def test_the_commands_are_listed_as_a_user_meets_them(rockcal):

@@ -2,29 +2,12 @@
 in one line naming its key and the unit it was likely given in, exit 2, before any run and
 with nothing written: from a campaign file, a notebook's dict, and the command's options."""
 
-import sys
-from types import SimpleNamespace
-
 import pytest
 
-import rockcal
-from rockcal.cli.app import main
+from rockcal.api import calibrate
+from test_cli import rockcal  # noqa: F401  (the command in this process)
 from rockcal.errors import InputError
 from rockcal.labtests.plausible import PLAUSIBLE, implausible
-
-
-@pytest.fixture
-def rockcal_cli(monkeypatch, capsys):
-    """`rockcal ARGS` in this process: its exit code, stdout and stderr."""
-    def run(*args):
-        monkeypatch.setattr(sys, "argv", ["rockcal", *map(str, args)])
-        capsys.readouterr()
-        with pytest.raises(SystemExit) as done:
-            main()
-        out = capsys.readouterr()
-        return SimpleNamespace(returncode=done.value.code, stdout=out.out, stderr=out.err)
-    return run
-
 
 GRANITE = {"E_GPa": 41.5, "nu": 0.23, "ucs_MPa": 138.8}
 
@@ -39,10 +22,10 @@ def campaign_text(**targets) -> str:
     ({"E_GPa": 41.5e9}, "targets.ucs.E_GPa: 4.15e+10 GPa is not a rock's value; did you give Pa? (give GPa)"),
     ({"E_GPa": 41500.0}, "targets.ucs.E_GPa: 4.15e+04 GPa is not a rock's value; did you give MPa? (give GPa)"),
 ])
-def test_a_campaign_value_in_the_wrong_unit_is_refused_before_the_dry_run(tmp_path, rockcal_cli, targets, message):
+def test_a_campaign_value_in_the_wrong_unit_is_refused_before_the_dry_run(tmp_path, rockcal, targets, message):
     path = tmp_path / "rock.toml"
     path.write_text(campaign_text(**targets))
-    run = rockcal_cli("calibrate", path, "--dry-run", "--out", tmp_path / "out")
+    run = rockcal("calibrate", str(path), "--dry-run", "--out", str(tmp_path / "out"))
     assert run.returncode == 2
     assert run.stderr == f"rockcal: error: {message}\n"
     assert not (tmp_path / "out").exists()
@@ -66,7 +49,7 @@ def test_a_rocks_values_pass_and_one_beyond_any_unit_says_the_range():
 def test_a_notebooks_dict_in_the_wrong_unit_raises_naming_the_key(tmp_path, section, message):
     tables = {"targets": {"ucs": GRANITE, **section}}
     with pytest.raises(InputError, match="^" + message.replace("?", r"\?").replace("+", r"\+")):
-        rockcal.calibrate(tables, out=tmp_path / "out")
+        calibrate(tables, out=tmp_path / "out")
     assert not (tmp_path / "out").exists()
 
 
@@ -76,6 +59,6 @@ def test_a_notebooks_dict_in_the_wrong_unit_raises_naming_the_key(tmp_path, sect
     (["simulate", "biaxial", "--confinement-mpa", "5e6"],
      "--confinement-mpa: 5e+06 MPa is not a rock's value; did you give Pa? (give MPa)"),
 ])
-def test_a_command_option_in_the_wrong_unit_is_refused(rockcal_cli, args, message):
-    run = rockcal_cli(*args)
+def test_a_command_option_in_the_wrong_unit_is_refused(rockcal, args, message):
+    run = rockcal(*args)
     assert (run.returncode, run.stderr) == (2, f"rockcal: error: {message}\n")
