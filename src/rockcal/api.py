@@ -94,8 +94,8 @@ class Calibration:
     def __repr__(self) -> str:
         r = self.result
         found = ", ".join(f"{name} {value:.4g}" for name, value in r.identified.items())
-        warnings = "".join(f"; {line}" for line in _warnings(r))
-        return f"<Calibration of {r.rock}: {_verdict(r)}; identified {found}{warnings}; in {self.out}>"
+        told = "".join(f"; {line}" for line in _warnings(r))
+        return f"<Calibration of {r.rock}: {_verdict(r)}; identified {found}{told}; in {self.out}>"
 
     def _repr_html_(self) -> str:
         r = self.result
