@@ -80,7 +80,8 @@ class BiaxialResult(LabResult):
 def check_confinement(confinement_mpa) -> None:
     """A confining stress is 0 (unconfined) or a number in [MIN_CONFINEMENT_MPA,
     MAX_CONFINEMENT_MPA] MPa: for the command's option and the campaign's targets alike."""
-    check_plausible("confinement_mpa", "confinement_mpa", confinement_mpa)
+    if isinstance(confinement_mpa, (int, float)) and confinement_mpa > MAX_CONFINEMENT_MPA:
+        check_plausible("confinement_mpa", "confinement_mpa", confinement_mpa)  # given in Pa?
     if not (isinstance(confinement_mpa, (int, float)) and not isinstance(confinement_mpa, bool)
             and 0 <= confinement_mpa <= MAX_CONFINEMENT_MPA):
         raise InputError("confinement_mpa", f"must be a number in [0, {MAX_CONFINEMENT_MPA:g}] MPa, "
