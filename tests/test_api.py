@@ -41,7 +41,7 @@ def test_a_test_named_as_the_command_line_names_it_runs_the_same():
                     for test in ("direct-tension", "direct_tension"))
     assert spelt.pop("wall_s") > 0 and named.pop("wall_s") > 0
     assert spelt == named
-    assert all(type(value) in (int, float, str) for value in spelt.values()), spelt
+    assert all(type(value) in (int, float, str, bool) for value in spelt.values()), spelt
 
 
 @pytest.mark.parametrize("call, field", [

@@ -9,6 +9,9 @@ from __future__ import annotations
 import html
 import os
 import re
+import sys
+import time
+import warnings
 from base64 import b64encode
 from dataclasses import dataclass
 from numbers import Integral, Real
@@ -91,7 +94,8 @@ class Calibration:
     def __repr__(self) -> str:
         r = self.result
         found = ", ".join(f"{name} {value:.4g}" for name, value in r.identified.items())
-        return f"<Calibration of {r.rock}: {_verdict(r)}; identified {found}; in {self.out}>"
+        told = "".join(f"; {line}" for line in _warnings(r))
+        return f"<Calibration of {r.rock}: {_verdict(r)}; identified {found}{told}; in {self.out}>"
 
     def _repr_html_(self) -> str:
         r = self.result
@@ -103,10 +107,15 @@ class Calibration:
         figures = "".join(f"<figure><img alt='{e(f.title)}' src='data:image/png;base64,"
                           f"{b64encode(f._repr_png_()).decode()}'><figcaption>{e(f.title)}</figcaption></figure>"
                           for f in self.figures.values())
-        note = f"<p><b>{e(r.quick_look)}</b></p>" if r.quick_look else ""
+        note = "".join(f"<p><b>{e(line)}</b></p>" for line in [r.quick_look, *_warnings(r)] if line)
         return (f"<h3>Calibration of {e(r.rock)}: {e(_verdict(r))}</h3>{note}<table><tr><th></th>"
                 f"<th>value</th><th>target</th><th>error</th></tr>{rows}</table>"
                 f"<p>report: {e(str(self.out / 'report.html'))}</p>{figures}")
+
+
+def _warnings(result) -> list[str]:
+    """The summary's warnings: each parameter on its search bound."""
+    return [f"warning: {line}" for line in result.at_bounds or []]
 
 
 def _verdict(result) -> str:
@@ -123,18 +132,20 @@ def _pct(value) -> str:
 
 def calibrate(campaign: str | Path | dict | None = None, *, out: str | Path | None = None, quick: bool = False,
               resume: bool = False, wait: bool = False, workers: int = 0, scheduler: str | None = None,
-              threads: int | None = None) -> Calibration:
+              threads: int | None = None, quiet: bool = False) -> Calibration:
     """Calibrate a campaign file, a dict of its tables (`{"targets": {"ucs": {...}}, "specimen":
     {...}}`; a relative curve path taken from the current folder), or an embedded rock by name
     ("granite", "ldb"; None: the granite) in `out` (default runs/<rock name>,
     runs/<rock name>-quick with `quick`), going on with its stored runs if `resume`; returns the
     `Calibration`, also written to OUT/record.json with a report. `wait`, `workers`, `scheduler`
-    and `threads` are `rockcal calibrate`'s options."""
+    and `threads` are `rockcal calibrate`'s options. Unless `quiet`, the first screen and a line
+    as each stage begins and ends are printed on stderr (`StageLines`)."""
     from rockcal.campaign.input.config import parse_campaign
     from rockcal.campaign.job import as_run, campaign_of, run_in_folder
 
     check_calibrate_arguments(campaign, out=out, quick=quick, resume=resume, wait=wait, workers=workers,
                               scheduler=scheduler, threads=threads)
+    yes_or_no("quiet", quiet)
     out = None if out is None else Path(out)
     with _as_arguments():
         if isinstance(campaign, dict):
@@ -143,8 +154,42 @@ def calibrate(campaign: str | Path | dict | None = None, *, out: str | Path | No
         else:
             chosen, text, note, out = campaign_of(campaign, quick, out)
         how = {"workers": workers, "scheduler": scheduler, "threads": threads}
-        result = run_in_folder(chosen, text, out, note=note, resume=resume, wait=wait, how=how)[0]
+        start = None if quiet else lambda store, executor: StageLines(chosen, note, store, executor)
+        result = run_in_folder(chosen, text, out, note=note, resume=resume, wait=wait, how=how, start=start)[0]
     return Calibration(result, out)
+
+
+class StageLines:
+    """`calibrate`'s progress as plain lines on stderr, for a script or a notebook where the
+    command's bars do not show: the first screen, then a line as each stage's runs begin and
+    another as they end."""
+
+    def __init__(self, campaign, note: str | None, store, executor):
+        from rockcal.campaign.plan.screen import describe
+
+        self.began: dict[str, float] = {}
+        self.told: set[tuple[str, int, int]] = set()
+        self._print(f"Calibrating {campaign.rock.name}" + (" (quick look)" if note else ""))
+        for line in ([note] if note else []) + describe(campaign, store, getattr(executor, "workers", None)):
+            self._print("  " + line)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def __call__(self, stage: str, done: int, total: int) -> None:
+        if stage not in self.began:
+            self.began[stage] = time.perf_counter()
+            self._print(f"{stage}: {total} to do")
+        if done == total and (stage, done, total) not in self.told:
+            self.told.add((stage, done, total))
+            self._print(f"{stage}: {done}/{total} done, {time.perf_counter() - self.began[stage]:.0f} s")
+
+    @staticmethod
+    def _print(line: str) -> None:
+        print(line, file=sys.stderr, flush=True)
 
 
 def check_calibrate_arguments(campaign, *, out, quick, resume, wait, workers, scheduler, threads) -> None:
@@ -260,9 +305,11 @@ def simulate(test: str, params: dict | None = None, *, model: str | None = None,
     micro-parameters `params` of `model` (default: the parallel bond; the others at their
     defaults) on a specimen of `settings` (the campaign file's [specimen] keys and the test's
     own, e.g. `rmin_mm=0.5`, `confinement_mpa=5`); `packing` "hexagonal" for a lattice where
-    the test has one. Returns the test's result: `summary()` gives its responses, `curve` its
+    the test has one. Returns the test's result: `summary()` gives its responses and whether the
+    specimen failed (`failed`: a bond broke; a run that broke none is warned of), `curve` its
     curve."""
     from rockcal.labtests.registry import lab_test
+    from rockcal.labtests.result import warnings_of
     from rockcal.labtests.settings import specimen_settings
     from rockcal.materials import DEFAULT_MATERIAL, material, parameters
 
@@ -273,7 +320,10 @@ def simulate(test: str, params: dict | None = None, *, model: str | None = None,
     if packing == "hexagonal" and kind.hexagonal is None:
         raise InputError("packing", f"'random' (the {kind.title} test has no lattice), got {packing!r}")
     specimen = kind.hexagonal(chosen) if packing == "hexagonal" else kind.make(chosen)
-    return kind.run(micro, specimen, chosen, lambda x, y: None)
+    result = kind.run(micro, specimen, chosen, lambda x, y: None)
+    for problem in warnings_of(result.summary()):
+        warnings.warn(f"{kind.title} test: {problem}", stacklevel=2)
+    return result
 
 
 def check_simulate_arguments(test, params, model, packing) -> None:

@@ -8,7 +8,8 @@ import sys
 import pytest
 
 from rockcal.campaign.input.config import load_campaign, parse_campaign
-from rockcal.campaign.plan.quick_look import quick_look, quick_look_note
+from rockcal.campaign.plan.cost import specimen_size
+from rockcal.campaign.plan.quick_look import FEW_GRAINS, quick_look, quick_look_note
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.outputs.report import write_report
 from rockcal.campaign.procedure.result import CalibrationResult
@@ -48,6 +49,16 @@ def test_a_quick_look_doubles_rmin_and_keeps_one_beam_of_the_granite():
     note = quick_look_note(quick)
     assert "R_min 0.5 mm" in note and "one validation beam" in note
     assert "not the full-resolution calibration" in note
+    assert "warning" not in note  # its specimens keep thousands of grains
+
+
+def test_a_quick_look_of_specimens_with_few_grains_warns_naming_the_count(tmp_path):
+    quick = quick_look(parse_campaign(TINY, tmp_path))
+    _, grains, _ = specimen_size("ucs", quick.specimen)
+    assert grains < FEW_GRAINS
+    assert quick_look_note(quick).endswith(f"; warning: the UCS 8 x 16 mm specimen holds about {grains:,} grains, "
+                                           f"fewer than {FEW_GRAINS:,}: too few for its numbers to mean much (a "
+                                           "strength on its bound, a peak that breaks no bond)")
 
 
 def test_a_quick_look_without_a_beam_does_not_promise_one(tmp_path):

@@ -5,14 +5,25 @@ import sys
 from typing import Optional
 
 import typer
+from typer.core import TyperGroup
 
 from rockcal.version import __version__
 from rockcal.specimens.grain_limit import DEFAULT_MAX_GRAINS, ENV, FLAG
 from rockcal.errors import InputError
 
 
+# the commands in the order a user meets them (typer's own: the commands, then the groups)
+COMMANDS = ("calibrate", "simulate", "export", "report", "sensitivity", "kic", "export-specimen")
+
+
+class _InOrder(TyperGroup):
+    def list_commands(self, ctx) -> list[str]:
+        order = {name: k for k, name in enumerate(COMMANDS)}
+        return sorted(super().list_commands(ctx), key=lambda name: order.get(name, len(COMMANDS)))
+
+
 # plain help (click's): no `<bool>` beside a flag, and it fits 80 columns
-app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+app = typer.Typer(cls=_InOrder, add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   rich_markup_mode=None, help="Calibrate bonded-particle DEM micro-parameters of rock from lab tests.")
 
 
@@ -46,12 +57,12 @@ def _register() -> None:
 
     app.registered_groups.clear()
     app.registered_commands.clear()
+    app.command("calibrate")(calibrate.calibrate)
     app.add_typer(simulate.build_app(), name="simulate")
+    app.command("export")(export.export)
+    app.command("report")(calibrate.report)
     app.add_typer(sensitivity.app, name="sensitivity")
     app.command("kic")(kic.kic)
-    app.command("calibrate")(calibrate.calibrate)
-    app.command("report")(calibrate.report)
-    app.command("export")(export.export)
     app.command("export-specimen")(export.export_specimen)
     _registered_for = tuple(LAB_TESTS)
 

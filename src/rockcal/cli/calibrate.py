@@ -178,6 +178,8 @@ def _print_dry_run(campaign, out: Path, workers: int, note: str | None, as_json:
             console = Console()
             console.print(f"[bold]Plan of {escape(campaign.rock.name)}[/] (dry run: nothing runs)"
                           + (" [yellow](quick look)[/]" if note else ""))
+            if note:
+                console.print(f"  {note}", highlight=False, markup=False)
             for line in describe(campaign, store, workers):
                 console.print("  " + line, highlight=False, markup=False)
         finally:
@@ -326,6 +328,7 @@ def summary(result: CalibrationResult) -> dict:
         "checks": [c.model_dump(mode="json") for c in result.checks or []],
         "intervals": None if u is None else {n: i.to_dict() for n, i in u.intervals.items()},
         "verdict": None if result.verdict is None else result.verdict.text,
+        "at_bounds": result.at_bounds or [],
     }
 
 
@@ -373,6 +376,7 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool, timing:
         console.print(f"[red]verdict:[/] {escape(s['verdict'])}")
     if s["quick_look"]:
         console.print(f"[yellow]{escape(s['quick_look'])}[/]")
-    if s["warning"]:
-        console.print(f"[yellow]warning:[/] {escape(s['warning'])}")
+    for warning in [s["warning"], *s["at_bounds"]]:
+        if warning:
+            console.print(f"[yellow]warning:[/] {escape(warning)}")
     console.print(f"objective: {escape(s['objective'])}\nreport: {escape(str(html))}")

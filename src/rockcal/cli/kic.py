@@ -18,7 +18,11 @@ def kic(
     from rockcal.labtests.kic import check_round_bar, ouchterlony_Y, round_bar_kic
 
     from rockcal.errors import as_flags
+    from rockcal.labtests.plausible import check_plausible
 
+    given = {"pmax_kn": pmax_kn, "diameter_mm": diameter_mm, "notch_mm": notch_mm, "span_mm": span_mm}
+    for name, value in given.items():
+        check_plausible("--" + name.replace("_", "-"), name, value)
     args = (1e3 * pmax_kn, 1e-3 * diameter_mm, 1e-3 * notch_mm, 1e-3 * span_mm)
     with as_flags():
         check_round_bar(*args)

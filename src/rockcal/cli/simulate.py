@@ -27,7 +27,7 @@ from rockcal.labtests.specimen_settings import DEFAULTS_3D, MAX_PACKINGS, Specim
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kind import LabTest
 from rockcal.labtests.settings import specimen_settings
-from rockcal.labtests.result import RunFailed, out_of_range
+from rockcal.labtests.result import RunFailed, warnings_of
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
 from rockcal.cli.threads import use_threads_option
@@ -96,7 +96,13 @@ def _setting_options(test: LabTest) -> dict:
         if typing.get_origin(kind) is typing.Literal:
             kind = Enum(setting, [(v, v) for v in typing.get_args(kind)], type=str)
             default = kind(default)
-        options[setting] = (kind, typer.Option(default, flag_of(test, setting), help=info.description))
+        shown = True  # a default that differs in 3D: each dimension's
+        if setting in DEFAULTS_3D and "dimensions" in test.settings:
+            shown = f"{getattr(default, 'value', default)} in 2D, {DEFAULTS_3D[setting]} with --dimensions 3"
+        options[setting] = (kind, typer.Option(default, flag_of(test, setting), help=info.description,
+                                               show_default=shown))
+    if "dimensions" not in test.settings:  # told in one line: no 3D implementation yet
+        options["dimensions"] = (int, typer.Option(2, hidden=True))
     if test.hexagonal is not None:
         options["packing"] = (Packing, typer.Option(Packing("random"), help="Specimen packing (hexagonal: "
                                                     "a lattice of grains of radius --rmin-mm)."))
@@ -115,8 +121,10 @@ def simulate(test: LabTest, options: dict) -> None:
     packing = options.pop("packing", "random")
     if not 1 <= seeds <= MAX_PACKINGS:
         raise InputError("--seeds", f"must be a number of packings in [1, {MAX_PACKINGS}], got {seeds}")
-    with fields_named({"model": "--model"}):  # 3D (--dimensions 3): a material the 3D engine has
-        test.check_dimensions(options.get("dimensions", 2), chosen.name)
+    # 3D (--dimensions 3): a test and a material the 3D engine has (a test without 3D: its hidden option)
+    dimensions = options.get("dimensions", 2) if "dimensions" in test.settings else options.pop("dimensions")
+    with fields_named({"model": "--model", test.name: test.name.replace("_", "-")}):
+        test.check_dimensions(dimensions, chosen.name)
     series, values = _series(test, options)
     settings = _checked_settings(test, options)
     run = {"params": params.key(), "contact_stiffness": settings.get("contact_stiffness")}
@@ -192,7 +200,7 @@ def _on_packings(test, params, settings, packing, seeds, run, as_json, out, name
     for k, seed in enumerate(seed_list(settings["seed"], seeds)):
         label = f"{test.title} test" + (f", packing {k + 1}/{seeds}" if seeds > 1 else "")
         result, specimen = _run_one(test, params, settings | {"seed": seed}, packing, label, as_json)
-        for problem in out_of_range(result.summary()):
+        for problem in warnings_of(result.summary()):
             print(f"rockcal: warning: {label}: {problem}", file=sys.stderr)
         curves.append(result.curve)
         per_seed.append(result.summary() | specimen.description() | _clumps(specimen) | run
@@ -248,7 +256,7 @@ def _over_seeds(per_seed: list[dict], seed: int, run: dict) -> dict:
     specimen = per_seed[0]["specimen"].replace(f"seed {seed}", f"seeds {seed}-{seed + count - 1}")
     shared = {k: v for k, v in per_seed[0].items() if k not in run and k not in ("specimen", "seed")}
     return mean_over_seeds([{k: s[k] for k in shared} for s in per_seed]) | run | {
-        "specimen": specimen, "seeds": seed_list(seed, count), "per_seed": per_seed}
+        "failed": all(s["failed"] for s in per_seed), "specimen": specimen, "seeds": seed_list(seed, count), "per_seed": per_seed}
 
 
 def write_outputs(out: Path, test: LabTest, result, specimen, summary: dict, name: str) -> None:
@@ -294,6 +302,8 @@ def _show(test: LabTest, summary: dict, as_json: bool) -> None:
              (f"broken {chosen.breaks_word} tension / shear",
               f"{summary['n_broken_tension']:.0f} / {summary['n_broken_shear']:.0f}"),
              ("steps, wall time", f"{summary['steps']:.0f}, {summary['wall_s']:.1f} s")]
+    if not summary["failed"]:
+        rows.append(("failed", "no: no bond broke, the peak is no strength"))
     _print(f"{test.title} test — {summary['specimen']}", rows, summary, as_json)
 
 

@@ -36,6 +36,7 @@ from rockcal.labtests.envelope import envelope_responses
 from rockcal.labtests.kind import (GENESIS, LabTest, Outline, Response, SeriesFigure, Setting, genesis_of, in_3d,
                                    series_name)
 from rockcal.labtests.lab_values import LabValues
+from rockcal.labtests.plausible import check_plausible
 from rockcal.labtests.loading import (DISTRIBUTED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       load_to_failure)
 from rockcal.labtests.result import LabResult, run_fields
@@ -79,6 +80,8 @@ class BiaxialResult(LabResult):
 def check_confinement(confinement_mpa) -> None:
     """A confining stress is 0 (unconfined) or a number in [MIN_CONFINEMENT_MPA,
     MAX_CONFINEMENT_MPA] MPa: for the command's option and the campaign's targets alike."""
+    if isinstance(confinement_mpa, (int, float)) and confinement_mpa > MAX_CONFINEMENT_MPA:
+        check_plausible("confinement_mpa", "confinement_mpa", confinement_mpa)  # given in Pa?
     if not (isinstance(confinement_mpa, (int, float)) and not isinstance(confinement_mpa, bool)
             and 0 <= confinement_mpa <= MAX_CONFINEMENT_MPA):
         raise InputError("confinement_mpa", f"must be a number in [0, {MAX_CONFINEMENT_MPA:g}] MPa, "
@@ -220,9 +223,10 @@ def _specimen(s: dict):
 
 
 def _outline(s: dict) -> Outline:
-    shape = "prism {0:g} x {0:g} x {1:g} mm" if in_3d(s) else "{0:g} x {1:g} mm"
+    shape = "confined (square prism, polyaxial walls) {0:g} x {0:g} x {1:g} mm" if in_3d(s) else \
+        "biaxial {0:g} x {1:g} mm"
     vessel = (s["width_mm"], s["width_mm"], s["height_mm"]) if in_3d(s) else None
-    return Outline(f"biaxial {shape.format(s['width_mm'], s['height_mm'])}, sigma3 {s['confinement_mpa']:g} MPa",
+    return Outline(f"{shape.format(s['width_mm'], s['height_mm'])}, sigma3 {s['confinement_mpa']:g} MPa",
                    s["width_mm"], s["height_mm"], vessel_mm=vessel)
 
 
@@ -301,6 +305,9 @@ CONFINEMENT = Setting("confinement_mpa", 0.0, "MPa", check_confinement,
 TEST = LabTest(
     lab_values=BiaxialValues,
     name="biaxial", title="confined compression",
+    help="Confined compression at sigma3 (a list: one run each, and the strength envelope): in 2D a "
+         "rectangle between two servo side walls, with --dimensions 3 a square prism between "
+         "four servo walls (polyaxial).",
     responses=(Response("sigma1_MPa", "MPa", label="peak axial stress sigma1"),
                Response("confinement_MPa", "MPa", target=False, label="confinement set"),
                Response("q_MPa", "MPa", target=False), Response("E_GPa", "GPa", target=False),

@@ -29,6 +29,11 @@ LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02, "brazil
 DIMENSIONS = (2, 3)
 
 
+# the tests with a 3D implementation, in words; the 3D confined test is a square prism between
+# four servo walls, polyaxial, not the 2D biaxial test's two
+TESTS_3D = "ucs, brazilian, biaxial: confined (square prism, polyaxial walls)"
+
+
 def in_3d(s: dict) -> bool:
     """The settings `s` ask for a 3D specimen (PFC3D: `dimensions` 3)."""
     return s.get("dimensions", 2) == 3
@@ -186,9 +191,7 @@ class LabTest:
         if dimensions != 3:  # 2, or a value the setting's own check refuses
             return
         if "dimensions" not in self.settings:
-            raise InputError(self.name, f"the {self.title} test has no 3D implementation: with "
-                                        "dimensions = 3 (PFC3D) a campaign runs the UCS, Brazilian and "
-                                        "confined (biaxial) tests")
+            raise InputError(self.name, f"no 3D implementation yet (3D has {TESTS_3D})")
         check_dimensions(material(model), dimensions)
 
     @property

@@ -15,6 +15,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
 from rockcal.errors import InputError
+from rockcal.labtests.plausible import implausible
 from rockcal.user_files import read_user_text
 
 if TYPE_CHECKING:
@@ -65,6 +66,10 @@ class LabValues(Section):
 
     @model_validator(mode="after")
     def _spread_and_weights(self):
+        for name in type(self).model_fields:  # a value in the wrong unit first: the rest follows from it
+            problem = implausible(name, getattr(self, name))
+            if problem:
+                raise ValueError(f"{name}: {problem}")
         given = self.scalars()
         for key, values in (("spread", self.spread), ("weights", self.weights)):
             for name in values:

@@ -50,6 +50,16 @@ def out_of_range(responses: dict) -> list[str]:
     return found
 
 
+NOT_FAILED = ("no bond broke: the specimen did not fail, and its peak is no strength (a contact slipping "
+              "or the specimen seating; too few grains for the test?): give a larger specimen or a smaller R_min")
+
+
+def warnings_of(summary: dict) -> list[str]:
+    """What makes a run's responses meaningless, in words: a reading outside an elastic solid's
+    range (`out_of_range`), a run that broke no bond (its summary's `failed` False)."""
+    return out_of_range(summary) + ([NOT_FAILED] if summary.get("failed") is False else [])
+
+
 @dataclass
 class LabResult:
     """The specimen's size, the bonds broken and the cost of the run, then the curve and the
@@ -74,14 +84,20 @@ class LabResult:
                 setattr(self, f.name, value.item())
 
     def summary(self) -> dict:
-        """The scalar responses, the test's own first, as JSON-ready values."""
+        """The scalar responses, the test's own first, as JSON-ready values, and whether it failed."""
         shown = [f.name for f in fields(self) if f.repr]
         shared = [f.name for f in fields(LabResult) if f.repr]
         summary = {}
         for name in [n for n in shown if n not in shared] + shared:
             value = getattr(self, name)
             summary[name] = vars(value) if is_dataclass(value) else value  # e.g. the Beam
-        return summary
+        return summary | {"failed": self.failed}
+
+    @property
+    def failed(self) -> bool:
+        """Whether the specimen failed, broke a bond at least: a peak without a broken bond is
+        no strength."""
+        return self.n_broken_tension + self.n_broken_shear > 0
 
 
 def run_fields(state, specimen, started: float) -> dict:

@@ -54,6 +54,7 @@ def _overview(result: CalibrationResult) -> str:
     rows = [["rock", result.rock], ["result", verdict]]
     if result.verdict is not None:
         rows.append(["why", result.verdict.text])
+    rows += [["warning", warning] for warning in result.at_bounds or []]
     rows += [["objective", result.objective],
             [runs, result.dem_runs],
             ["surrogate check", _check_text(result.surrogate_check)]]

@@ -179,6 +179,25 @@ class Verdict(_Part):
     text: str
 
 
+AT_BOUND = 0.01  # a parameter within this share of its search box from a bound is on it
+
+
+def on_bounds(identified: Values, bounds: dict[str, tuple[float, float]]) -> list[str]:
+    """A warning for each identified parameter within AT_BOUND of its box from a bound: the
+    search may have stopped there, not at the targets' optimum."""
+    found = []
+    for name, value in identified.items():
+        if name not in bounds:
+            continue
+        low, high = bounds[name]
+        near = AT_BOUND * (high - low)
+        side, bound = ("lower", low) if value - low <= near else ("upper", high) if high - value <= near else ("", 0)
+        if side:
+            found.append(f"{name} is at its {side} bound {bound:g}: widen search.bounds.{name} and resume "
+                         "(the runs done are kept)")
+    return found
+
+
 class CalibrationResult(_Part):
     """A campaign's result, in the order the procedure finds it: its inputs,
     each step's outcome, then the identified parameters (`identified`; every micro-parameter
@@ -225,6 +244,7 @@ class CalibrationResult(_Part):
     verdict: Verdict | None = _absent()  # when not accepted: which targets conflict
     executed_runs: int | None = _absent()  # by this call of `rockcal calibrate`
     quick_look: str | None = _absent()  # what the quick look (`--quick`) was; None: the calibration
+    at_bounds: list[str] | None = _absent()  # identified parameters on their search bound (`on_bounds`)
 
     def responses_by_test(self) -> dict[str, list[str]]:
         """The target responses of each lab test calibrated against."""

@@ -29,7 +29,7 @@ import numpy as np
 from rockcal.campaign.input.config import Campaign, SpecimenSettings, middle_levels, split_genesis
 from rockcal.campaign.procedure.goals import goals_of, goals_of_tests
 from rockcal.campaign.procedure.result import (CalibrationResult, Iteration, Samples, Sensitivity,
-                                     SurrogateCheck)
+                                     SurrogateCheck, on_bounds)
 from rockcal.campaign.runs.spec import RunResult, RunSpec
 from rockcal.campaign.procedure.points import (CalibrationFailed, first_packing, folded, grouped, optimise,
                                              packings_of, point_responses, point_specs,
@@ -502,7 +502,8 @@ def result_of(state: CampaignState) -> CalibrationResult:
         tolerance=campaign.acceptance.tolerance, objective=state.objective, dem_runs=len(state.dem_runs),
         best_iteration=best, dem_run_keys=list(state.dem_runs), final_ucs_run_key=final_ucs_run_key,
         final_bending_run_key=final_bending_run_key, series_runs=series_runs or None,
-        verdict=None if state.accepted is not None else _verdict(state), **state.final)
+        verdict=None if state.accepted is not None else _verdict(state),
+        at_bounds=on_bounds(identified, state.bounds) or None, **state.final)
 
 
 def _verdict(state: CampaignState):
