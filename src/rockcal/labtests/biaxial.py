@@ -196,7 +196,7 @@ def confined_readings(curve: np.ndarray, confinement_mpa: float, lateral_strains
     return dict(confinement_MPa=float(confinement_mpa), sigma1_MPa=float(q[k] + sigma3[k]),
                 q_MPa=float(q[k]), E_GPa=E_MPa / 1e3, nu=nu, peak_axial_strain=float(axial[k]),
                 sigma3_MPa=float(sigma3[1:k + 1].mean()) if k else float(confinement_mpa),
-                **crack_stresses(axial, lateral_strains * lateral, q, broken).responses)
+                **crack_stresses(axial, lateral, q, broken, lateral_strains).responses)
 
 
 def _run(params: BondedParams, specimen, s: dict, progress) -> BiaxialResult:
