@@ -221,7 +221,7 @@ def _specimen(s: dict):
 
 def _outline(s: dict) -> Outline:
     shape = "prism {0:g} x {0:g} x {1:g} mm" if in_3d(s) else "{0:g} x {1:g} mm"
-    return Outline(f"biaxial {shape.format(s['width_mm'], s['height_mm'])}, sigma3 {s['confinement_mpa']:g} MPa",
+    return Outline(f"biaxial {shape.format(s['width_mm'], s['height_mm'])}",
                    s["width_mm"], s["height_mm"])
 
 

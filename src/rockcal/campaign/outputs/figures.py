@@ -256,8 +256,11 @@ FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
 
 
 def figures_of(result: CalibrationResult) -> list[tuple[str, str, str, Figure]]:
-    """FIGURES, then the figures of each test run as a series at the identified parameters
-    (a confined compression test's envelope and curves), as its registry entry declares them."""
+    """FIGURES (a notched beam's only where the campaign has one), then the figures of
+    each test run as a series at the identified parameters (a confined compression test's
+    envelope and curves), as its registry entry declares them."""
+    beam = "bending" in result.tests()
+    figures = [f for f in FIGURES if beam or f[3] not in (_bending_cracks, _bending_curve)]
     extra = []
     for test, keys in (result.series_runs or {}).items():
         kind = lab_test(test)
@@ -265,7 +268,7 @@ def figures_of(result: CalibrationResult) -> list[tuple[str, str, str, Figure]]:
             title = figure.heading(kind.title)
             extra.append((title, figure.file(test), figure.caption,
                           partial(_series, keys, figure, f"{title}\nat the identified parameters")))
-    return [*FIGURES, *extra]
+    return [*figures, *extra]
 
 
 def draw(name: str, figure: Figure, result: CalibrationResult, store: RunStore, path: Path) -> str | None:
