@@ -107,7 +107,7 @@ def test_summary_shows_the_identified_parameters_and_the_validation(campaign):
     s = record.specimen
     assert "<h1>Calibration of rock (2D)</h1>" in page and "PFC2D" in page and "PFC3D" not in page
     assert f"UCS {s.width_mm:g} x {s.height_mm:g} mm; beam {s.beam_length_mm:g} x {s.beam_height_mm:g} mm, notch" in page
-    assert "disk" not in page  # no Brazilian test
+    assert "disk D" not in page  # no Brazilian test
     assert "Ouchterlony" in page  # the lab's P_max and K_IC disagree: the warning is shown
     reproduced = abs(v.K_IC_error) <= record.tolerance
     assert ("reproduces the rock's fracture toughness" in page) == reproduced
