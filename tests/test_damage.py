@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from rockcal import make_params, random_packing, simulate_ucs
-from rockcal.labtests.damage import (areal_strain, cd_by_reversal, ci_by_crack_strain,
-                                     ci_by_cracking, crack_strain, crack_stresses)
+from rockcal.labtests.damage import (cd_by_reversal, ci_by_crack_strain, ci_by_cracking, crack_strain,
+                                     crack_stresses, volumetric_strain)
 
 E_MPA, NU, PEAK = 50e3, 0.2, 100.0
 Q = np.linspace(0.0, PEAK, 2001)  # deviatoric stress, MPa, every 0.05 MPa
@@ -25,8 +25,22 @@ def synthetic_curve(noise=0.0, seed=0):
     return axial, lateral
 
 
-def test_areal_strain_is_compaction_positive():
-    assert areal_strain([1e-3], [2e-4])[0] == pytest.approx(8e-4)
+def test_volumetric_strain_is_compaction_positive_over_the_lateral_strains():
+    assert volumetric_strain([1e-3], [2e-4])[0] == pytest.approx(8e-4)  # 2D: the areal strain
+    assert volumetric_strain([1e-3], [2e-4], 2)[0] == pytest.approx(6e-4)  # 3D: eps_1 + 2 eps_3
+
+
+def test_in_3d_the_two_lateral_strains_give_the_true_nu_and_an_earlier_reversal():
+    """A cylinder dilating by c (q - onset)^2 in each of its two lateral directions: nu read as
+    itself, the crack volumetric strain twice the lateral one, and eps_v = (1 - 2 nu) q / E -
+    2 c (q - onset)^2 turning back at q = onset + (1 - 2 nu) / (4 c E), before the plane's."""
+    axial, lateral = synthetic_curve()
+    E, nu, crack = crack_strain(axial, lateral, Q, lateral_strains=2)
+    assert E == pytest.approx(E_MPA, rel=1e-9) and nu == pytest.approx(NU, rel=1e-9)
+    np.testing.assert_allclose(crack.strain, -2 * C * np.maximum(0.0, Q - ONSET) ** 2, atol=1e-12)
+    reversal = ONSET + (1 - 2 * NU) / (4 * C * E_MPA)
+    assert cd_by_reversal(axial, lateral, Q, 2) == pytest.approx(reversal, abs=0.05)
+    assert reversal < REVERSAL
 
 
 def test_crack_strain_recovers_the_elastic_constants_and_the_onset_of_dilatancy():
@@ -50,7 +64,7 @@ def test_noise_moves_the_dilatancy_onset_by_the_noise_reach_only():
     assert ONSET - 2.0 < ci <= ONSET + reach + 1.0
 
 
-def test_cd_is_at_the_reversal_of_the_areal_strain():
+def test_cd_is_at_the_reversal_of_the_areal_strain_in_2d():
     axial, lateral = synthetic_curve()
     assert cd_by_reversal(axial, lateral, Q) == pytest.approx(REVERSAL, abs=0.05)
 

@@ -11,7 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import EllipseCollection  # noqa: E402
 
-from rockcal.labtests.damage import areal_strain, crack_strain, crack_stresses  # noqa: E402
+from rockcal.labtests.damage import VOLUMETRIC_NAME, crack_strain, crack_stresses, volumetric_strain  # noqa: E402
 from rockcal.labtests.envelope import check_peaks, fit_hoek_brown, fit_mohr_coulomb  # noqa: E402
 from rockcal.output_files import save_figure  # noqa: E402
 
@@ -142,36 +142,39 @@ def _specimen_figsize(width_m: float, height_m: float) -> tuple[float, float]:
     return 10, 2 + 8 * height_m / width_m
 
 
-def stress_strain(curve, path: Path, title: str, stress: str = "axial stress (MPa)") -> None:
+def stress_strain(curve, path: Path, title: str, rig, stress: str = "axial stress (MPa)") -> None:
     """Axial stress against axial and lateral strain (%), with CI and CD marked when the curve
-    counts its broken bonds (a compression curve's fourth column)."""
+    counts its broken bonds (a compression curve's fourth column), read over the `rig`'s
+    lateral strains (`rockcal.labtests.rig.Rig`)."""
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.plot(100 * curve[:, 0], curve[:, 2], label="axial")
     ax.plot(-100 * curve[:, 1], curve[:, 2], label="lateral")
-    mark_crack_stresses(ax, curve)
+    mark_crack_stresses(ax, curve, rig.lateral_strains)
     _finish(fig, ax, "strain (%)  (lateral shown negative)", stress, title, path)
 
 
-def tension_curve(curve, path: Path, title: str) -> None:
-    """Tensile stress against axial strain (%) of a direct tension test, its peak marked."""
+def tension_curve(curve, path: Path, title: str, rig=None) -> None:
+    """Tensile stress against axial strain (%) of a direct tension test, its peak marked (a
+    test's curve figure takes its `rig`; this one does not read it)."""
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.plot(100 * curve[:, 0], curve[:, 1])
     _mark_peak(ax, 100 * curve[:, 0], curve[:, 1], "direct tensile strength {:.2f} MPa")
     _finish(fig, ax, "axial strain (%)", "tensile stress (MPa)", title, path)
 
 
-def deviatoric_stress_strain(curve, path: Path, title: str) -> None:
+def deviatoric_stress_strain(curve, path: Path, title: str, rig) -> None:
     """A confined compression curve: q = sigma1 - sigma3 against axial and lateral strain."""
-    stress_strain(curve, path, title, "deviatoric stress q = σ1 − σ3 (MPa)")
+    stress_strain(curve, path, title, rig, "deviatoric stress q = σ1 − σ3 (MPa)")
 
 
-def mark_crack_stresses(ax, curve) -> None:
-    """CI (onset of cracking) and CD (reversal of the areal strain) as dotted lines, when the
-    curve has its column of broken bonds (`rockcal.labtests.damage`)."""
+def mark_crack_stresses(ax, curve, lateral_strains: int) -> None:
+    """CI (onset of cracking) and CD (reversal of the volumetric strain over `lateral_strains`
+    lateral strains) as dotted lines, when the curve has its column of broken bonds
+    (`rockcal.labtests.damage`)."""
     curve = np.asarray(curve, float)
     if curve.ndim != 2 or curve.shape[1] < 4 or len(curve) < 3:
         return
-    found = crack_stresses(*curve[:, :4].T)
+    found = crack_stresses(*curve[:, :4].T, lateral_strains)
     for name, stress, colour in (("CI", found.ci_MPa, "tab:orange"), ("CD", found.cd_MPa, "tab:red")):
         ax.axhline(stress, color=colour, ls=":",
                    label=f"{name} {stress:.0f} MPa ({stress / found.peak_MPa:.2f} of the peak)")
@@ -190,8 +193,9 @@ def confined_curves(runs: list[tuple[dict, np.ndarray]], path: Path, title: str)
             "deviatoric stress q = σ1 − σ3 (MPa)", title, path)
 
 
-def load_displacement(curve, path: Path, title: str) -> None:
-    """Load (kN per m of thickness) against displacement (mm), peak marked."""
+def load_displacement(curve, path: Path, title: str, rig=None) -> None:
+    """Load (kN per m of thickness) against displacement (mm), peak marked (a test's curve
+    figure takes its `rig`; this one does not read it)."""
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.plot(curve[:, 0], curve[:, 1])
     _mark_peak(ax, curve[:, 0], curve[:, 1], "peak {:.2f} kN/m")
@@ -324,15 +328,16 @@ def trade_off(errors, pareto: list[int], best: list[float], responses: list[str]
             f"{second}: (simulated − target) / target (%)", "The trade-off between two targets", path)
 
 
-def calibrated_curve(curve, measured, path: Path, title: str) -> None:
+def calibrated_curve(curve, measured, path: Path, title: str, lateral_strains: int) -> None:
     """Simulated axial and lateral stress–strain curves (curve columns: axial strain, lateral
-    strain, stress MPa) and the measured axial curve (strain, stress MPa) when given."""
+    strain, stress MPa) and the measured axial curve (strain, stress MPa) when given; CI and CD
+    read over the specimen's `lateral_strains` lateral strains (`mark_crack_stresses`)."""
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.plot(100 * curve[:, 0], curve[:, 2], label="simulated, axial")
     ax.plot(-100 * curve[:, 1], curve[:, 2], ls="--", label="simulated, lateral")
     if measured is not None:
         ax.plot(100 * measured[:, 0], measured[:, 1], "k.", ms=3, label="measured, axial")
-    mark_crack_stresses(ax, curve)
+    mark_crack_stresses(ax, curve, lateral_strains)
     _finish(fig, ax, "strain (%)  (lateral shown negative)", "axial stress (MPa)", title, path)
 
 
@@ -390,26 +395,28 @@ def strength_envelope(runs: list[tuple[dict, np.ndarray]], path: Path, title: st
     plot_envelope([r["confinement_MPa"] for r, _ in runs], [r["sigma1_MPa"] for r, _ in runs], path, title)
 
 
-def plot_crack_stresses(curve, path, title: str = "Compression test") -> None:
+def plot_crack_stresses(curve, path, title: str = "Compression test", lateral_strains: int = 1) -> None:
     """Two panels of a compression curve up to its peak (columns: axial, lateral strain, q MPa,
-    bonds broken): q against the axial, lateral (shown negative) and areal strain, and the
-    bonds broken and the crack areal strain against q; CI (both readings) and CD marked."""
+    bonds broken): q against the axial, lateral (shown negative) and volumetric strain (over
+    `lateral_strains` lateral strains: 2D's areal strain with one), and the bonds broken and the
+    crack volumetric strain against q; CI (both readings) and CD marked."""
     axial, lateral, q, broken = np.asarray(curve, float)[:, :4].T
-    found = crack_stresses(axial, lateral, q, broken)
+    found = crack_stresses(axial, lateral, q, broken, lateral_strains)
     peak = int(np.argmax(q))
     axial, lateral, q, broken = axial[:peak + 1], lateral[:peak + 1], q[:peak + 1], broken[:peak + 1]
-    _, _, crack = crack_strain(axial, lateral, q)
+    _, _, crack = crack_strain(axial, lateral, q, lateral_strains=lateral_strains)
+    volumetric = VOLUMETRIC_NAME[lateral_strains]
     marks = (("CI", found.ci_MPa, "tab:orange"),
              ("CI (crack strain)", found.ci_strain_MPa, "tab:purple"),
              ("CD", found.cd_MPa, "tab:red"))
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
     left.plot(100 * axial, q, label="axial")
     left.plot(-100 * lateral, q, label="lateral")
-    left.plot(100 * areal_strain(axial, lateral), q, label="areal")
+    left.plot(100 * volumetric_strain(axial, lateral, lateral_strains), q, label=volumetric)
     right.plot(q, broken, color="k", label="bonds broken")
     twin = right.twinx()
-    twin.plot(q, 1e6 * crack.strain, color="tab:purple", lw=0.8, label="crack areal strain")
-    twin.set_ylabel("crack areal strain (10⁻⁶)")
+    twin.plot(q, 1e6 * crack.strain, color="tab:purple", lw=0.8, label=f"crack {volumetric} strain")
+    twin.set_ylabel(f"crack {volumetric} strain (10⁻⁶)")
     for name, stress, colour in marks:
         text = f"{name} {stress:.0f} MPa ({stress / found.peak_MPa:.2f})"
         left.axhline(stress, color=colour, ls=":", label=text)

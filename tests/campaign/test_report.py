@@ -103,6 +103,11 @@ def test_summary_shows_the_identified_parameters_and_the_validation(campaign):
     assert f"{v.K_IC_MPa_sqrt_m:.4g}" in page and f"{100 * v.K_IC_error:+.1f} %" in page
     assert v.ok_seeds == [1, 2] and v.K_IC_MPa_sqrt_m == pytest.approx(np.mean(v.K_IC_per_seed))
     assert all(f"{seed}: {k:.4g}" in page for seed, k in zip(v.ok_seeds, v.K_IC_per_seed))
+    # a 2D campaign's page says so, and lists the specimens of its tests: the UCS one and the beam
+    s = record.specimen
+    assert "<h1>Calibration of rock (2D)</h1>" in page and "PFC2D" in page and "PFC3D" not in page
+    assert f"UCS {s.width_mm:g} x {s.height_mm:g} mm; beam {s.beam_length_mm:g} x {s.beam_height_mm:g} mm, notch" in page
+    assert "disk D" not in page  # no Brazilian test
     assert "Ouchterlony" in page  # the lab's P_max and K_IC disagree: the warning is shown
     reproduced = abs(v.K_IC_error) <= record.tolerance
     assert ("reproduces the rock's fracture toughness" in page) == reproduced
@@ -158,7 +163,9 @@ def test_missing_pieces_are_noted_not_raised(campaign):
     assert written == ALL_PNGS - {"range_analysis.png", "cracks_bending.png", "bending_curve.png",
                                   "parameter_draws.png"}
     assert len(_images(page)) == len(written)
-    assert "No sensitivity study" in page and "No bending validation" in page
+    assert "No sensitivity study" in page
+    # without a beam the campaign's page has no bending section and no beam's figures
+    assert "bending" not in page.lower() and "beam" not in page
     assert "No intervals" in page
     assert "<td>samples</td><td>RunTimedOut: stopped after 5 s</td>" in page
 

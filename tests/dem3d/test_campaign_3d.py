@@ -117,9 +117,24 @@ def drawn_by(monkeypatch, name: str) -> list:
     return calls
 
 
+def read_by_figures(monkeypatch) -> list:
+    """What `rockcal.labtests.damage.crack_stresses` gives the figures from now on (the CI and
+    CD they mark)."""
+    from rockcal import plots
+
+    found, read = [], plots.crack_stresses
+    monkeypatch.setattr(plots, "crack_stresses", lambda *args: found.append(read(*args)) or found[-1])
+    return found
+
+
+def crack_stresses_of(responses: dict) -> tuple:
+    return responses["ci_MPa"], responses["ci_strain_MPa"], responses["cd_MPa"]
+
+
 @pytest.mark.slow  # a genesis (cached) and one run through the command
 def test_simulate_ucs_in_3d_runs_the_cylinder(cli, tmp_path, cylinder_settings, monkeypatch):
     planes = drawn_by(monkeypatch, "crack_planes")
+    marked = read_by_figures(monkeypatch)
     run = cli("simulate", "ucs", "--dimensions", "3", "--width-mm", "7", "--height-mm", "14",
               "--rmin-mm", "0.5", *[f"--set={k}={v}" for k, v in PARAMS.items()], "--json",
               "--out", tmp_path)
@@ -135,6 +150,8 @@ def test_simulate_ucs_in_3d_runs_the_cylinder(cli, tmp_path, cylinder_settings, 
     assert (shape, path.name) == ("cylinder", "ucs_cracks.png") and size_m == specimen.size_m
     assert sum(len(xyz) for xyz in cracks.values()) == summary["n_broken_tension"] + summary["n_broken_shear"]
     assert all(xyz.shape[1] == 3 for xyz in cracks.values())
+    # its curve's CI and CD: the summary's, read over the cylinder's two lateral strains
+    assert [crack_stresses_of(vars(found)) for found in marked] == [crack_stresses_of(summary)]
 
 
 @pytest.mark.slow  # a campaign of 14 small 3D runs: about 10 s
@@ -190,9 +207,11 @@ def test_a_3d_twin_recovers_its_modulus_stiffness_ratio_and_strength(tmp_path):
 def test_a_3d_calibration_exports_pfc3ds_parameter_file_and_its_spheres(cli, tmp_path, monkeypatch):
     """`rockcal export` of a 3D calibration writes PFC3D's mpParams.p3dat (the identified
     parameters read back), a PFC Python script is refused in one line, and `export-specimen`
-    lists the cylinder's spheres with their z and its bonds. Its report shows the UCS run's
-    cracks at the identified point on three planes."""
+    lists the cylinder's spheres with their z and its bonds. Its report says 3D, names the
+    cylinder and no beam, shows the UCS run's cracks at the identified point on three planes,
+    and its figures mark the run's CI and CD as its record has them."""
     planes = drawn_by(monkeypatch, "crack_planes")
+    marked = read_by_figures(monkeypatch)
     text = CAMPAIGN.format(E_GPa=30.0, nu=0.16, ucs_MPa=110.0, sensitivity=SENSITIVITY, samples=8,
                            checks=1, tolerance=0.05, budget=14) + "[uncertainty]\ndraws = 10\n"
     (tmp_path / "rock.toml").write_text(text)
@@ -204,6 +223,12 @@ def test_a_3d_calibration_exports_pfc3ds_parameter_file_and_its_spheres(cli, tmp
     assert all(xyz.shape[1] == 3 for xyz in cracks.values())
     report = (tmp_path / "out" / "report.html").read_text()
     assert "<h2>Crack pattern, UCS</h2><figure><img" in report
+    assert "(3D)</h1>" in report and "PFC3D" in report and "UCS cylinder Ø7 x 14 mm" in report
+    assert "beam" not in report and "bending" not in report.lower()
+    record = json.loads((tmp_path / "out" / "record.json").read_text())
+    final = RunStore(tmp_path / "out", readonly=True).run(record["final_ucs_run_key"])
+    assert len(marked) == 2  # the stress-strain curve and the CI / CD figure
+    assert all(crack_stresses_of(vars(found)) == crack_stresses_of(final.responses) for found in marked)
 
     fish = cli("export", tmp_path / "out")
     assert fish.returncode == 0, fish.stderr

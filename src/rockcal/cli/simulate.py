@@ -264,6 +264,7 @@ def write_outputs(out: Path, test: LabTest, result, specimen, summary: dict, nam
     (PNG), named `name`, each written whole (`rockcal.output_files`: a link at its name is
     replaced, not followed)."""
     import rockcal.plots as plots
+    from rockcal.labtests.rig import rig_for
     from rockcal.output_files import atomic_path
 
     try:
@@ -279,7 +280,7 @@ def write_outputs(out: Path, test: LabTest, result, specimen, summary: dict, nam
     heading = f"{strength.label or strength.name} {getattr(result, strength.name):.4g} {strength.unit} — broken {broken}"
     plots.specimen_cracks(specimen, result.positions, result.cracks, out / f"{name}_cracks.png", heading)
     if test.plot:
-        getattr(plots, test.plot)(result.curve, out / f"{name}_curve.png", f"{test.title} test")
+        getattr(plots, test.plot)(result.curve, out / f"{name}_curve.png", f"{test.title} test", rig_for(specimen))
 
 
 def _write_text(path: Path, text: str) -> None:

@@ -199,7 +199,7 @@ def confined_readings(curve: np.ndarray, confinement_mpa: float, lateral_strains
     return dict(confinement_MPa=float(confinement_mpa), sigma1_MPa=float(q[k] + sigma3[k]),
                 q_MPa=float(q[k]), E_GPa=E_MPa / 1e3, nu=nu, peak_axial_strain=float(axial[k]),
                 sigma3_MPa=float(sigma3[1:k + 1].mean()) if k else float(confinement_mpa),
-                **crack_stresses(axial, lateral_strains * lateral, q, broken).responses)
+                **crack_stresses(axial, lateral, q, broken, lateral_strains).responses)
 
 
 def _run(params: BondedParams, specimen, s: dict, progress) -> BiaxialResult:
@@ -226,8 +226,7 @@ def _outline(s: dict) -> Outline:
     shape = "confined (square prism, polyaxial walls) {0:g} x {0:g} x {1:g} mm" if in_3d(s) else \
         "biaxial {0:g} x {1:g} mm"
     vessel = (s["width_mm"], s["width_mm"], s["height_mm"]) if in_3d(s) else None
-    return Outline(f"{shape.format(s['width_mm'], s['height_mm'])}, sigma3 {s['confinement_mpa']:g} MPa",
-                   s["width_mm"], s["height_mm"], vessel_mm=vessel)
+    return Outline(shape.format(s["width_mm"], s["height_mm"]), s["width_mm"], s["height_mm"], vessel_mm=vessel)
 
 
 def envelope(runs: list[dict]) -> dict:

@@ -9,17 +9,17 @@ the bonds broken so far. Three readings, all on the curve up to its peak q:
   that is, never pauses until the peak for more than PAUSE_FRACTION of the peak q (q rising by
   that much with no bond breaking). Isolated early breaks followed by a longer pause do not count.
 - CI by the crack volumetric strain (Martin & Chandler 1994, IJRMMS 31(6):643-659): crack
-  strain = measured volumetric strain - elastic volumetric strain. In 2D the volumetric strain
-  is the areal strain eps_A = eps_axial - eps_lateral (compaction positive, the small-strain
-  sum of the two principal strains of the plane, as eps_v = eps_1 + 2 eps_3 in 3D); the elastic
-  part follows from the plane's own E and nu, read as the test reads them (the deviatoric load
-  gives eps_axial = q / E, eps_lateral = nu q / E), so eps_A elastic = (1 - nu) q / E, the 2D
-  form of (1 - 2 nu) q / E. E and nu are the tangents over the elastic part of the curve
+  strain = measured volumetric strain - elastic volumetric strain. The volumetric strain is
+  eps_v = eps_axial - k eps_lateral (compaction positive, the small-strain sum of the principal
+  strains) over the specimen's k lateral strains (`rig.Rig.lateral_strains`): in 2D (k = 1) the
+  areal strain of the plane, in 3D (k = 2) eps_1 + 2 eps_3. The elastic part follows from E and
+  nu read as the test reads them (the deviatoric load gives eps_axial = q / E, eps_lateral =
+  nu q / E), so eps_v elastic = (1 - k nu) q / E: (1 - nu) q / E in 2D, (1 - 2 nu) q / E in 3D. E and nu are the tangents over the elastic part of the curve
   (least-squares slopes of both strains against q over ELASTIC_WINDOW of the peak, whose
   intercept sets the strains' origin). CI is the q of the last reading before the peak at which
   the crack strain is not yet below -3 x its scatter over that window (the noise of the
   elastic part): from there on the specimen dilates beyond elasticity until the peak.
-- CD at the reversal of the areal strain: the q of the largest compaction eps_A before the
+- CD at the reversal of the volumetric strain: the q of the largest compaction eps_v before the
   peak (Martin & Chandler 1994; Bieniawski 1967). A specimen that compacts up to its peak has
   CD at the peak.
 
@@ -40,6 +40,7 @@ PAUSE_FRACTION = 0.1  # cracking that pauses over more than this x peak q was no
 ELASTIC_WINDOW = (0.1, 0.3)  # the part of the rising curve (x peak q) E and nu are read over
 NOISE_MULTIPLE = 3.0  # crack strain below -this x its scatter over the elastic part is dilatancy
 MIN_TOLERANCE = 1e-9  # the tolerance of a noiseless curve (strain)
+VOLUMETRIC_NAME = {1: "areal", 2: "volumetric"}  # the volumetric strain's name, by lateral strains
 # The responses of every compression test. Not yet targets: a campaign section must first hold
 # them (`campaign.targets.LabTargets.scalars` reads every target of its test).
 CRACK_RESPONSES = (
@@ -47,7 +48,7 @@ CRACK_RESPONSES = (
     Response("ci_ratio", "", target=False, label="CI / peak"),
     Response("ci_strain_MPa", "MPa", target=False, label="CI (crack volumetric strain)"),
     Response("ci_strain_ratio", "", target=False, label="CI (crack strain) / peak"),
-    Response("cd_MPa", "MPa", target=False, label="crack damage CD (areal strain reversal)"),
+    Response("cd_MPa", "MPa", target=False, label="crack damage CD (volumetric strain reversal)"),
     Response("cd_ratio", "", target=False, label="CD / peak"))
 
 
@@ -72,23 +73,25 @@ class CrackStresses:
                 "cd_MPa": self.cd_MPa, "cd_ratio": self.cd_MPa / p}
 
 
-def crack_stresses(axial, lateral, q_MPa, broken, pause_fraction: float = PAUSE_FRACTION,
-                   window=ELASTIC_WINDOW) -> CrackStresses:
-    """CI, CI by crack strain and CD of a compression curve (see the module docstring)."""
+def crack_stresses(axial, lateral, q_MPa, broken, lateral_strains: int = 1,
+                   pause_fraction: float = PAUSE_FRACTION, window=ELASTIC_WINDOW) -> CrackStresses:
+    """CI, CI by crack strain and CD of a compression curve whose volumetric strain takes
+    `lateral_strains` lateral strains (see the module docstring)."""
     axial, lateral, q, broken = (np.asarray(v, float) for v in (axial, lateral, q_MPa, broken))
     peak = int(np.argmax(q))
     a, l, q, n = axial[:peak + 1], lateral[:peak + 1], q[:peak + 1], broken[:peak + 1]
-    E, nu, crack = crack_strain(a, l, q, window)
+    E, nu, crack = crack_strain(a, l, q, window, lateral_strains)
     return CrackStresses(ci_MPa=ci_by_cracking(q, n, pause_fraction),
                          ci_strain_MPa=ci_by_crack_strain(q, crack.strain, crack.tolerance),
-                         cd_MPa=cd_by_reversal(a, l, q), peak_MPa=float(q[-1]),
+                         cd_MPa=cd_by_reversal(a, l, q, lateral_strains), peak_MPa=float(q[-1]),
                          E_tangent_MPa=E, nu_tangent=nu)
 
 
-def areal_strain(axial, lateral) -> np.ndarray:
-    """The 2D volumetric (areal) strain, compaction positive: eps_axial - eps_lateral (axial
-    shortening and lateral extension positive)."""
-    return np.asarray(axial, float) - np.asarray(lateral, float)
+def volumetric_strain(axial, lateral, lateral_strains: int = 1) -> np.ndarray:
+    """The volumetric strain, compaction positive: eps_axial - lateral_strains x eps_lateral
+    (axial shortening and lateral extension positive); 2D's areal strain with one lateral
+    strain, 3D's eps_1 + 2 eps_3 with two."""
+    return np.asarray(axial, float) - lateral_strains * np.asarray(lateral, float)
 
 
 def ci_by_cracking(q, broken, pause_fraction: float = PAUSE_FRACTION) -> float:
@@ -112,15 +115,16 @@ def ci_by_cracking(q, broken, pause_fraction: float = PAUSE_FRACTION) -> float:
 
 @dataclass(frozen=True)
 class CrackStrain:
-    """The crack areal strain along the curve and the tolerance of its elastic part."""
+    """The crack volumetric strain along the curve and the tolerance of its elastic part."""
 
     strain: np.ndarray
     tolerance: float
 
 
-def crack_strain(axial, lateral, q, window=ELASTIC_WINDOW) -> tuple[float, float, CrackStrain]:
+def crack_strain(axial, lateral, q, window=ELASTIC_WINDOW, lateral_strains: int = 1) -> tuple[float, float, CrackStrain]:
     """Tangent E (MPa) and nu over `window` of the peak q (the curve runs up to its peak) and
-    the crack areal strain: eps_A less its elastic line (a0 - l0) + (1 - nu) q / E."""
+    the crack volumetric strain over `lateral_strains` lateral strains (k): eps_v less its
+    elastic line (a0 - k l0) + (1 - k nu) q / E."""
     axial, lateral, q = (np.asarray(v, float) for v in (axial, lateral, q))
     rows = (q >= window[0] * q.max()) & (q <= window[1] * q.max())
     rows[np.argmax(q > window[1] * q.max()):] = False  # the rising part only
@@ -131,11 +135,11 @@ def crack_strain(axial, lateral, q, window=ELASTIC_WINDOW) -> tuple[float, float
                         "test stopped before the specimen took up load): nothing to read E, nu, CI "
                         "and CD from; try a larger maximum axial strain")
     slope_a, a0 = fit_line(q[rows], axial[rows])
-    slope_l, l0 = fit_line(q[rows], lateral[rows])
-    E, nu = 1.0 / slope_a, slope_l / slope_a
-    crack = areal_strain(axial, lateral) - ((a0 - l0) + (1.0 - nu) * q / E)
+    slope_l, l0 = fit_line(q[rows], lateral_strains * lateral[rows])  # of the lateral strains' sum
+    E, k_nu = 1.0 / slope_a, slope_l / slope_a
+    crack = volumetric_strain(axial, lateral, lateral_strains) - ((a0 - l0) + (1.0 - k_nu) * q / E)
     tolerance = max(NOISE_MULTIPLE * float(np.sqrt(np.mean(crack[rows] ** 2))), MIN_TOLERANCE)
-    return float(E), float(nu), CrackStrain(crack, tolerance)
+    return float(E), float(k_nu / lateral_strains), CrackStrain(crack, tolerance)
 
 
 def ci_by_crack_strain(q, crack, tolerance: float) -> float:
@@ -146,6 +150,6 @@ def ci_by_crack_strain(q, crack, tolerance: float) -> float:
     return float(q[holding[-1]]) if len(holding) else float(q[0])
 
 
-def cd_by_reversal(axial, lateral, q) -> float:
-    """The q (MPa) at the largest areal compaction before the peak (the curve's last row)."""
-    return float(np.asarray(q, float)[int(np.argmax(areal_strain(axial, lateral)))])
+def cd_by_reversal(axial, lateral, q, lateral_strains: int = 1) -> float:
+    """The q (MPa) at the largest volumetric compaction before the peak (the curve's last row)."""
+    return float(np.asarray(q, float)[int(np.argmax(volumetric_strain(axial, lateral, lateral_strains)))])

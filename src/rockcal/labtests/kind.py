@@ -144,7 +144,7 @@ class LabTest:
     # its run time over a UCS run's of the same work (grains x rows), with these specimen settings
     time_factor: Callable[[dict], float] = lambda settings: 1.0
     curve_columns: tuple[str, ...] = ()  # the columns of its result's curve, with units
-    plot: str | None = None  # the `rockcal.plots` function of (curve, path, title) that draws it
+    plot: str | None = None  # the `rockcal.plots` function of (curve, path, title, rig) that draws it
     flags: tuple[tuple[str, str], ...] = ()  # (setting, its CLI flag's name) where they differ
     defaults: tuple[tuple[str, Any], ...] = ()  # (setting, its default for this test alone)
     hexagonal: Callable[[dict], Any] | None = None  # its specimen as a hexagonal lattice, if it has one

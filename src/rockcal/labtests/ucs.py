@@ -135,8 +135,7 @@ def simulate_ucs(params: BondedParams | dict | None = None, specimen=None, *,
     curve = np.column_stack([curve, broken])
     axial, lateral, stress, broken = curve.T
     E_MPa, nu, k = measure.secant_at_half_peak(axial, lateral, stress)
-    # the volumetric strain: axial - lateral in 2D (areal), axial - 2 lateral in 3D
-    damage = crack_stresses(axial, rig.lateral_strains * lateral, stress, broken).responses
+    damage = crack_stresses(axial, lateral, stress, broken, rig.lateral_strains).responses
     return UCSResult(E_GPa=E_MPa / 1e3, nu=nu, strain=strain, ucs_MPa=float(stress[k]),
                      peak_axial_strain=float(axial[k]), curve=curve, **damage,
                      **run_fields(state, specimen, started))

@@ -21,6 +21,7 @@ from rockcal.dem.laws import BROKEN_SHEAR, BROKEN_TENSION
 from rockcal.labtests.bending import beam_of, crack_reach, rig_circles
 from rockcal.labtests.kind import SeriesFigure
 from rockcal.labtests.registry import lab_test
+from rockcal.labtests.rig import rig_for
 
 logger = logging.getLogger(__name__)
 
@@ -112,7 +113,7 @@ def _stress_strain(result: CalibrationResult, store: RunStore, path: Path) -> st
     if fit:
         title += f"\nRE {fit.RE:.3f}, CC {fit.CC:.3f}"
     plots.calibrated_curve(run.curve, None if measured is None else np.asarray(measured, dtype=float),
-                           path, title)
+                           path, title, lateral_strains(run))
     return None
 
 
@@ -123,8 +124,14 @@ def _crack_stresses(result: CalibrationResult, store: RunStore, path: Path) -> s
         return why
     if run.curve.shape[1] < 4:
         return "The UCS run at the identified parameters kept no count of broken bonds."
-    plots.plot_crack_stresses(run.curve, path, "UCS test at the identified parameters")
+    plots.plot_crack_stresses(run.curve, path, "UCS test at the identified parameters", lateral_strains(run))
     return None
+
+
+def lateral_strains(run: StoredRun) -> int:
+    """The lateral strains of a stored compression run's volumetric strain, as its test read
+    them (its specimen's rig: `rockcal.labtests.rig.Rig.lateral_strains`)."""
+    return rig_for(specimen_of(run.kind, tuple(run.specimen.items()))).lateral_strains
 
 
 def _series(keys: list[str], figure: SeriesFigure, title: str, result: CalibrationResult, store: RunStore,
@@ -232,11 +239,12 @@ FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
      "spread and the model's scatter over packings; +: the identified point.", _parameter_draws),
     ("Stress–strain curve", "stress_strain.png",
      "UCS test at the identified parameters; the measured curve when one was given; CI (onset of "
-     "cracking) and CD (reversal of the areal strain) dotted.", _stress_strain),
+     "cracking) and CD (reversal of the volumetric strain) dotted.", _stress_strain),
     ("Crack initiation and crack damage, UCS", "crack_stresses_ucs.png",
-     "Up to the peak: the stress against the axial, lateral and areal strain, and the bonds broken "
-     "and the crack areal strain against the stress; CI (onset of cracking, and by the crack "
-     "volumetric strain) and CD (reversal of the areal strain) marked.", _crack_stresses),
+     "Up to the peak: the stress against the axial, lateral and volumetric strain (in 2D the "
+     "areal strain), and the bonds broken and the crack volumetric strain against the stress; CI "
+     "(onset of cracking, and by the crack volumetric strain) and CD (reversal of the volumetric "
+     "strain) marked.", _crack_stresses),
     ("Crack pattern, UCS", "cracks_ucs.png",
      "Broken bonds: tension red, shear blue.", _ucs_cracks),
     ("Crack pattern, bending", "cracks_bending.png",
@@ -248,8 +256,11 @@ FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
 
 
 def figures_of(result: CalibrationResult) -> list[tuple[str, str, str, Figure]]:
-    """FIGURES, then the figures of each test run as a series at the identified parameters
-    (a confined compression test's envelope and curves), as its registry entry declares them."""
+    """FIGURES (a notched beam's only where the campaign has one), then the figures of
+    each test run as a series at the identified parameters (a confined compression test's
+    envelope and curves), as its registry entry declares them."""
+    beam = "bending" in result.tests()
+    figures = [f for f in FIGURES if beam or f[3] not in (_bending_cracks, _bending_curve)]
     extra = []
     for test, keys in (result.series_runs or {}).items():
         kind = lab_test(test)
@@ -257,7 +268,7 @@ def figures_of(result: CalibrationResult) -> list[tuple[str, str, str, Figure]]:
             title = figure.heading(kind.title)
             extra.append((title, figure.file(test), figure.caption,
                           partial(_series, keys, figure, f"{title}\nat the identified parameters")))
-    return [*FIGURES, *extra]
+    return [*figures, *extra]
 
 
 def draw(name: str, figure: Figure, result: CalibrationResult, store: RunStore, path: Path) -> str | None:

@@ -64,17 +64,25 @@ def _overview(result: CalibrationResult) -> str:
     fit = result.curve_fit
     if fit:
         rows.append(["stress–strain fit", f"RE {fit.RE:.3f}, CC {fit.CC:.3f}"])
-    tests = [*result.responses_by_test(), *(c.test for c in result.checks or [])]
-    rows.append(["specimens", _specimen_text(result.specimen, "brazilian" in tests)])
+    rows += [["model", MODELS[result.specimen.dimensions]],
+             ["specimens", _specimen_text(result.specimen, result.tests())]]
     return _table(None, rows)
 
 
-def _specimen_text(s: SpecimenSettings, disk: bool) -> str:
-    """The virtual specimens in a line (mm); the Brazilian disk when the campaign runs it."""
-    return (f"UCS {s.width_mm:g} × {s.height_mm:g} mm; beam {s.beam_length_mm:g} × "
-            f"{s.beam_height_mm:g} mm, notch {s.notch_mm:g} × {s.notch_width_mm:g} mm, "
-            f"span {s.span_mm:g} mm; " + (f"disk D {s.disk_diameter_mm:g} mm; " if disk else "")
-            + f"radii {s.rmin_mm:g} to {s.rmin_mm * s.radius_ratio:.3g} mm, packing seed {s.seed}")
+MODELS = {2: "2D (PFC2D): bonded disks in a slab of unit thickness", 3: "3D (PFC3D): bonded spheres"}
+
+
+def _specimen_text(s: SpecimenSettings, tests: list[str]) -> str:
+    """The specimen of each test the campaign ran, in a line (mm; each test's outline, a
+    notched beam's notch and span), then the particles' radii and the packing seed."""
+    texts = []
+    for test in tests:
+        kind = lab_test(test)
+        text = kind.outline(kind.settings_of(s)).text
+        if test == "bending":
+            text += f", notch {s.notch_mm:g} × {s.notch_width_mm:g} mm, span {s.span_mm:g} mm"
+        texts.append(text)
+    return "; ".join([*texts, f"radii {s.rmin_mm:g} to {s.rmin_mm * s.radius_ratio:.3g} mm, packing seed {s.seed}"])
 
 
 def _check_text(check: SurrogateCheck) -> str:
@@ -135,9 +143,8 @@ def _parameters(result: CalibrationResult) -> str:
 def _validation(result: CalibrationResult) -> str:
     """Simulated K_IC against the lab's, or why there is none; the P_max/K_IC warning."""
     v = result.validation
-    if v is None:
-        fitted = " (K_IC is calibrated against)" if "bending" in result.responses_by_test() else ""
-        return f"<p class='note'>No bending validation in this campaign{fitted}.</p>"
+    if v is None:  # the beam is a target
+        return "<p class='note'>No bending validation in this campaign: K_IC is calibrated against.</p>"
     if v.status != "ok":
         text = f"<p class='note'>The bending run {html.escape(v.status)}: " \
                f"{html.escape(v.message or '')}</p>"
@@ -172,10 +179,7 @@ def _verdict(result: CalibrationResult) -> str:
                  f"{'tougher' if v.K_IC_error > 0 else 'more brittle'} for its compressive "
                  "strength than this rock.")
         text += (" Constant bond strengths, a wider installation gap and a cut notch raise "
-                 "UCS / K_IC, a narrower gap lowers it: recalibrated with bonds within 0.9, 1.1 "
-                 "and 1.2 R_min, the granite's K_IC went from +99 % to +24 %, +5.8 % and -13 %; "
-                 "docs/campaigns/granite-all-targets.toml searches the gap and meets all four "
-                 "of the granite's lab values.")
+                 "UCS / K_IC, a narrower gap lowers it.")
     return text + (" Use these parameters where the UCS responses matter; where fracture "
                    "matters, calibrate with K_IC as a target ([targets.bending] with "
                    "[validation] tests = []) and weigh the two fits.</p>")
@@ -218,7 +222,16 @@ text-align:left;vertical-align:top}th{background:#eee}img{max-width:100%}
 
 
 def _title(result: CalibrationResult) -> str:
-    return "Quick look at" if result.quick_look else "Calibration of"
+    """The page's heading: what it is, of which rock, in which dimension."""
+    what = "Quick look at" if result.quick_look else "Calibration of"
+    return f"{what} {html.escape(result.rock)} ({result.specimen.dimensions}D)"
+
+
+def _bending(result: CalibrationResult) -> str:
+    """The bending validation's section, when the campaign has a notched beam."""
+    if "bending" not in result.tests():
+        return ""
+    return f"\n<h3>Validation: notched-beam bending</h3>{_validation(result)}"
 
 
 def _quick_look(result: CalibrationResult) -> str:
@@ -234,10 +247,10 @@ def write_report(result: CalibrationResult, store: RunStore, out: Path) -> Path:
                       for title, name, caption, figure in figures_of(result))
     rock = html.escape(result.rock)
     page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>rockcal calibration — {rock}"
-            f"</title><style>{CSS}</style></head><body><h1>{_title(result)} {rock}</h1>{_quick_look(result)}"
+            f"</title><style>{CSS}</style></head><body><h1>{_title(result)}</h1>{_quick_look(result)}"
             f"\n<h2>Summary</h2>{_overview(result)}\n<h3>Responses</h3>{_responses(result)}"
             f"\n<h3>Identified parameters</h3>{_parameters(result)}"
-            f"\n<h3>Validation: notched-beam bending</h3>{_validation(result)}\n{_checks(result)}"
+            f"{_bending(result)}\n{_checks(result)}"
             f"\n{_failed(result)}"
             f"\n{figures}\n</body></html>\n")
     return write_atomic(out / REPORT_NAME, page)

@@ -250,6 +250,12 @@ class CalibrationResult(_Part):
         """The target responses of each lab test calibrated against."""
         return self.target_tests or {PRIMARY_TEST: list(self.targets)}
 
+    def tests(self) -> list[str]:
+        """The lab tests the campaign ran: its targets', its validations' and its series'."""
+        tests = [*self.responses_by_test(), *(["bending"] if self.validation else []),
+                 *(c.test for c in self.checks or []), *(self.series_runs or {})]
+        return list(dict.fromkeys(tests))
+
     def to_json(self, indent: int | None = None) -> str:
         """The record."""
         return json.dumps(self.model_dump(mode="json"), indent=indent)
