@@ -147,7 +147,7 @@ def test_flat_jointed_specimen_lists_read_back(tmp_path):
 
 @pytest.mark.parametrize("value", [0.23 * 35.61e6, 0.1 + 0.2, 21.65e9, 1e-9, 2.0, 0.5e-3 * 1.65])
 def test_a_float_is_written_to_a_doubles_precision_as_a_float(value):
-    from rockcal.pfc.parameter_file import fish_value as _fish_value
+    from rockcal.pfc.fish_value import fish_value as _fish_value
 
     text = _fish_value(value)
     assert float(text) == pytest.approx(value, rel=1e-15)
