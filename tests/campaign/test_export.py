@@ -11,8 +11,6 @@ import sys
 import numpy as np
 import pytest
 
-from rockcal.campaign.input.config import parse_campaign
-from rockcal.campaign.procedure.result import CalibrationResult, save_result
 from rockcal.campaign.runs.store import RunStore
 from rockcal.specimens.genesis import Genesis
 from rockcal.specimens.specimen import random_packing
@@ -56,29 +54,13 @@ def rockcal(*args):
 
 
 @pytest.fixture(scope="module")
-def finished(tmp_path_factory):
+def finished(tmp_path_factory, save_finished):
     """A store holding a finished campaign's documents (what `calibrate` writes at its end)."""
-    folder = tmp_path_factory.mktemp("campaign")
-    nothing = {"samples": {"x": [], "responses": []}, "iterations": [], "dem_run_keys": [],
-               "surrogate_check": {"x": [], "dem": [], "predicted": [], "max_relative_error": None,
-                                   "trusted": None, "tolerance": 0.05, "epsilon": {}},
-               "failed_runs": [], "ucs_specimen": {}, "fixed": {}}
-    result = CalibrationResult.model_validate(nothing | {
-        "rock": "twin", "accepted": True, "dem_runs": 12, "targets": {"E_GPa": 41.5},
-        "specimen": parse_campaign(CAMPAIGN, folder).specimen, "parameters": ["E_c"],
-        "bounds": {"E_c": [10, 30]}, "verified": {"E_GPa": 41.3}, "errors": {"E_GPa": -0.005},
-        "identified": {"E_c": 21.65}, "identified_params": make_params(IDENTIFIED).key(),
-        "tolerance": 0.05, "objective": "F", "best_iteration": 0, "final_ucs_run_key": "not run",
-        "uncertainty": {"seeds": [1], "run_keys": [], "packing_responses": [], "scatter": {},
-                        "spread": {}, "draws": 10, "samples": [], "drawn_targets": {},
-                        "intervals": {"E_c": {"p5": 20.9, "p50": 21.6, "p95": 22.4, "at_bound": 0.0,
-                                              "pinned": True}}}})
-    store = RunStore(folder)
-    store.save_document("campaign.toml", CAMPAIGN)
-    save_result(store, result)
-    store.close()
-    return folder
-
+    return save_finished(tmp_path_factory.mktemp("campaign"), CAMPAIGN, make_params(IDENTIFIED), {"E_c": 21.65},
+                         uncertainty={"seeds": [1], "run_keys": [], "packing_responses": [], "scatter": {},
+                                      "spread": {}, "draws": 10, "samples": [], "drawn_targets": {},
+                                      "intervals": {"E_c": {"p5": 20.9, "p50": 21.6, "p95": 22.4,
+                                                            "at_bound": 0.0, "pinned": True}}})
 
 def check(values: dict) -> None:
     assert values.pop("cm_matName", "rockcal_parallel_bond") == "rockcal_parallel_bond"

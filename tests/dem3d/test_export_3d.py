@@ -192,43 +192,15 @@ pressure_mpa = 0.2
 bounds = { E_c = [10, 30] }
 """
 
-
-def finished_3d(folder):
-    """A store holding a finished 3D campaign's documents (what `calibrate` writes at its end)."""
-    from rockcal.campaign.input.config import parse_campaign
-    from rockcal.campaign.procedure.result import CalibrationResult, save_result
-    from rockcal.campaign.runs.store import RunStore
-
-    nothing = {"samples": {"x": [], "responses": []}, "iterations": [], "dem_run_keys": [],
-               "surrogate_check": {"x": [], "dem": [], "predicted": [], "max_relative_error": None,
-                                   "trusted": None, "tolerance": 0.05, "epsilon": {}},
-               "failed_runs": [], "ucs_specimen": {}, "fixed": {}}
-    result = CalibrationResult.model_validate(nothing | {
-        "rock": "granite 3D", "accepted": True, "dem_runs": 12, "targets": {"E_GPa": 41.5},
-        "specimen": parse_campaign(CAMPAIGN_3D, folder).specimen, "parameters": ["E_c"],
-        "bounds": {"E_c": [10, 30]}, "verified": {"E_GPa": 41.3}, "errors": {"E_GPa": -0.005},
-        "identified": {"E_c": 62.0}, "identified_params": PARAMS.key(), "tolerance": 0.05,
-        "objective": "F", "best_iteration": 0, "final_ucs_run_key": "not run"})
-    store = RunStore(folder)
-    store.save_document("campaign.toml", CAMPAIGN_3D)
-    save_result(store, result)
-    store.close()
-    return folder
-
-
-def test_a_finished_3d_campaign_exports_both_files_with_its_own_values(tmp_path):
-    from typer.testing import CliRunner
-
+def test_a_finished_3d_campaign_exports_both_files_with_its_own_values(tmp_path, cli, save_finished):
     from rockcal.campaign.outputs.export import calibration_in
-    from rockcal.cli.app import _register, app
     from rockcal.pfc.parameters import pfc_parameters
     from rockcal.pfc.vessel_file import vessel_values
 
-    out = finished_3d(tmp_path / "campaign")
+    out = save_finished(tmp_path / "campaign", CAMPAIGN_3D, PARAMS, {"E_c": 62.0})
     (tmp_path / "pfc").mkdir()
-    _register()
-    run = CliRunner().invoke(app, ["export", str(out), "--to", str(tmp_path / "pfc" / PARAMETER_FILE)])
-    assert run.exit_code == 0, run.output
+    run = cli("export", out, "--to", tmp_path / "pfc" / PARAMETER_FILE)
+    assert run.returncode == 0, run.stderr
     calibrated = calibration_in(out)  # read back from the store as the export read it
     assert calibrated.specimen.dimensions == 3 and calibrated.specimen.seed == 7
     written = read_fish((tmp_path / "pfc" / PARAMETER_FILE).read_text())
@@ -240,7 +212,7 @@ def test_a_finished_3d_campaign_exports_both_files_with_its_own_values(tmp_path)
     vessel = read_fish((tmp_path / "pfc" / VESSEL_FILE).read_text())
     assert vessel == pytest.approx(vessel_values(calibrated.specimen), rel=1e-14)
     assert (vessel["mv_H"], vessel["mv_W"]) == (24e-3, 12e-3)
-    # the parameter file cannot take the vessel file's name (`main` makes the error one line, exit 2)
-    clash = CliRunner().invoke(app, ["export", str(out), "--to", str(tmp_path / "pfc" / VESSEL_FILE)])
-    assert isinstance(clash.exception, InputError) and clash.exception.field == "--to"
-    assert read_fish((tmp_path / "pfc" / VESSEL_FILE).read_text()) == vessel  # not overwritten
+    # the parameter file cannot take the vessel file's name: one line, exit 2, nothing overwritten
+    clash = cli("export", out, "--to", tmp_path / "pfc" / VESSEL_FILE)
+    assert clash.returncode == 2 and len(clash.stderr.strip().splitlines()) == 1 and "--to" in clash.stderr
+    assert read_fish((tmp_path / "pfc" / VESSEL_FILE).read_text()) == vessel

@@ -45,17 +45,17 @@ def export(
     from rockcal.pfc.header import PFC4_NOT_IN_FISHTANK, takes_pfc4_contacts
 
     calibrated = for_fishtank(calibration_in(out), fishtank.value)
-    console = Console(stderr=True)
-    if takes_pfc4_contacts(calibrated.specimen, material_of(calibrated.params).name):
-        console.print(escape(f"calibrated with PFC 3.x/4.0's contacts (contact_stiffness = \"pfc4\"): "
-                             f"{PFC4_NOT_IN_FISHTANK}"))
+    notes = []
     if to is None:
         typer.echo(WRITERS[format.value](calibrated), nl=False)
-        for name in companion_files(format.value, calibrated):
-            console.print(f"not written: {name}, which --to FOLDER/FILE writes beside FILE")
-        return
-    written = write_export(to, format.value, calibrated)
-    console.print("wrote " + " and ".join(escape(str(path)) for path in written))
+        notes += [f"not written: {name}, which --to FOLDER/FILE writes beside FILE"
+                  for name in companion_files(format.value, calibrated)]
+    else:
+        notes.append("wrote " + " and ".join(map(str, write_export(to, format.value, calibrated))))
+    if takes_pfc4_contacts(calibrated.specimen, material_of(calibrated.params).name):
+        notes.append(f"calibrated with PFC 3.x/4.0's contacts (contact_stiffness = \"pfc4\"): {PFC4_NOT_IN_FISHTANK}")
+    for note in notes:
+        Console(stderr=True).print(escape(note), soft_wrap=True)
 
 
 def export_specimen(
