@@ -286,15 +286,15 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
         f"runs of this campaign already in the store: {sum(stage_runs(campaign).values()) - sum(runs.values())} "
         "(a run done is never run again)",
     ]
-    if takes_pfc4_contacts(s, campaign.material.model):
-        lines.append(f"contacts: PFC 3.x/4.0's (contact_stiffness = \"pfc4\", kn = t E_c whatever the radii); "
-                     + PFC4_NOT_IN_FISHTANK)
     route = route_of(campaign)
     if route is not None:
         lines.append(f"route: {route.name}: {route.why}")
     retry = retry_line(store)
     if retry:
         lines.append(retry)
+    if takes_pfc4_contacts(s, campaign.material.model):
+        lines.append(f"contacts: PFC 3.x/4.0's (contact_stiffness = \"pfc4\", kn = t E_c whatever the radii); "
+                     + PFC4_NOT_IN_FISHTANK)
     if workers:
         times, measured = run_times(campaign, store, sizes)
         basis = ("the mean of this store's UCS runs" if measured else
