@@ -51,3 +51,32 @@ def cli(monkeypatch, capsys):
         out = capsys.readouterr()
         return SimpleNamespace(returncode=done.value.code or 0, stdout=out.out, stderr=out.err)
     return run
+
+
+@pytest.fixture(scope="session")
+def save_finished():
+    """`save_finished(folder, campaign_text, params, identified)`: a store in `folder` holding
+    a finished campaign's documents (what `calibrate` writes at its end) of `campaign_text`, its
+    identified `params` (`identified`: the searched ones by name), verified within 0.5 % of
+    E_GPa 41.5; the folder."""
+    from rockcal.campaign.input.config import parse_campaign
+    from rockcal.campaign.procedure.result import CalibrationResult, save_result
+    from rockcal.campaign.runs.store import RunStore
+
+    def save(folder, campaign_text: str, params, identified: dict, **fields):
+        nothing = {"samples": {"x": [], "responses": []}, "iterations": [], "dem_run_keys": [],
+                   "surrogate_check": {"x": [], "dem": [], "predicted": [], "max_relative_error": None,
+                                       "trusted": None, "tolerance": 0.05, "epsilon": {}},
+                   "failed_runs": [], "ucs_specimen": {}, "fixed": {}}
+        result = CalibrationResult.model_validate(nothing | {
+            "rock": "twin", "accepted": True, "dem_runs": 12, "targets": {"E_GPa": 41.5},
+            "specimen": parse_campaign(campaign_text, folder).specimen, "parameters": list(identified),
+            "bounds": {"E_c": [10, 30]}, "verified": {"E_GPa": 41.3}, "errors": {"E_GPa": -0.005},
+            "identified": identified, "identified_params": params.key(), "tolerance": 0.05,
+            "objective": "F", "best_iteration": 0, "final_ucs_run_key": "not run"} | fields)
+        store = RunStore(folder)
+        store.save_document("campaign.toml", campaign_text)
+        save_result(store, result)
+        store.close()
+        return folder
+    return save

@@ -11,7 +11,7 @@ from types import ModuleType, SimpleNamespace
 import numpy as np
 import pytest
 
-from rockcal.campaign.input.config import SpecimenSettings, parse_campaign
+from rockcal.campaign.input.config import SpecimenSettings
 from rockcal.materials.clump_templates import DEFAULT_SHAPE, GRAIN_SHAPES, template
 from rockcal.errors import InputError
 from rockcal.materials.flat_joint import make_flatjoint_params
@@ -184,27 +184,9 @@ bounds = { E_c = [10, 30] }
 
 
 @pytest.fixture(scope="module")
-def finished(tmp_path_factory):
+def finished(tmp_path_factory, save_finished):
     """A store holding a finished clumped campaign's record (what `calibrate` writes at its end)."""
-    from rockcal.campaign.procedure.result import CalibrationResult, save_result
-    from rockcal.campaign.runs.store import RunStore
-
-    folder = tmp_path_factory.mktemp("clumped")
-    nothing = {"samples": {"x": [], "responses": []}, "iterations": [], "dem_run_keys": [],
-               "surrogate_check": {"x": [], "dem": [], "predicted": [], "max_relative_error": None,
-                                   "trusted": None, "tolerance": 0.05, "epsilon": {}},
-               "failed_runs": [], "ucs_specimen": {}, "fixed": {}}
-    result = CalibrationResult.model_validate(nothing | {
-        "rock": "twin", "accepted": True, "dem_runs": 1, "targets": {"E_GPa": 41.5},
-        "specimen": parse_campaign(CAMPAIGN, folder).specimen, "parameters": ["E_c"],
-        "bounds": {"E_c": [10, 30]}, "verified": {"E_GPa": 41.3}, "errors": {"E_GPa": -0.005},
-        "identified": {"E_c": 21.65}, "identified_params": make_params({"E_c": 21.65}).key(),
-        "tolerance": 0.05, "objective": "F", "best_iteration": 0, "final_ucs_run_key": "none"})
-    store = RunStore(folder)
-    save_result(store, result)
-    store.close()
-    return folder
-
+    return save_finished(tmp_path_factory.mktemp("clumped"), CAMPAIGN, make_params({"E_c": 21.65}), {"E_c": 21.65})
 
 def test_rockcal_export_of_a_clumped_campaign_for_pfc5(cli, finished, tmp_path):
     path = tmp_path / "mpParams-Clumped.p2dat"

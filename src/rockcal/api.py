@@ -73,11 +73,11 @@ class Calibration:
         --format FORMAT --to TO --fishtank N` does: "pfc-fish" (a FISHTank mpParams data file),
         "pfc-python" (a PFC Python script) or "json"; `to` by default OUT/mpParams.p2dat (a 3D
         calibration's: PFC3D's mpParams.p3dat; .py, .json); `fishtank` the PFC version whose
-        FISHTank reads it (5, 6 or 7). Returns the path written."""
+        FISHTank reads it (5, 6 or 7); a 3D calibration's FISH file has FISHTank's vessel,
+        mvParams.p3dat, written beside it. Returns the path of the file asked for."""
         from rockcal.pfc.calibrated import for_fishtank, in_3d
-        from rockcal.pfc.formats import WRITERS
+        from rockcal.pfc.formats import WRITERS, write_export
         from rockcal.campaign.outputs.export import calibration_in
-        from rockcal.output_files import write_atomic
 
         if not isinstance(format, str) or format not in WRITERS:
             raise InputError("format", f"one of {', '.join(WRITERS)}, got {format!r}")
@@ -85,11 +85,7 @@ class Calibration:
         calibrated = calibration_in(self.out)
         if path is None:
             path = self.out / _export_file(format, in_3d(calibrated))
-        text = WRITERS[format](for_fishtank(calibrated, fishtank, "fishtank"))
-        try:
-            return write_atomic(path, text)
-        except OSError as exc:
-            raise InputError("to", f"cannot write {path}: {exc.strerror}") from None
+        return write_export(path, format, for_fishtank(calibrated, fishtank, "fishtank"), "to")[0]
 
     def __repr__(self) -> str:
         r = self.result

@@ -11,8 +11,6 @@ import sys
 import numpy as np
 import pytest
 
-from rockcal.campaign.input.config import parse_campaign
-from rockcal.campaign.procedure.result import CalibrationResult, save_result
 from rockcal.campaign.runs.store import RunStore
 from rockcal.specimens.genesis import Genesis
 from rockcal.specimens.specimen import random_packing
@@ -45,7 +43,7 @@ EXPECTED = {"pbm_emod": 21.65e9, "pbm_krat": 1.9, "pbm_fric": 0.5, "pbm_bemod": 
             "pbm_bkrat": 1.9, "pbm_rmul": 1.0, "pbm_mcf": 0.8, "pbm_ten_m": 36.55e6,
             "pbm_ten_sd": 7.31e6, "pbm_coh_m": 90e6, "pbm_coh_sd": 15e6, "pbm_fa": 12.0,
             "pbm_igap": 0.2e-3, "cm_Dlo": 0.8e-3, "cm_Dup": 1.2e-3, "cm_densityVal": 2622.0,
-            "cm_localDampFac": 0.7, "pk_Pm": 0.2e6, "pk_nc": 0.1, "cm_matType": 2,
+            "cm_localDampFac": 0.7, "pk_seed": 10001, "pk_Pm": 0.2e6, "pk_nc": 0.1, "cm_matType": 2,
             "cm_densityCode": 0, "cm_shape": 0, "cm_Dmult": 1.0, "cm_nSD": 1, "cm_typeSD": 0, "cm_Vfrac": 1.0, "pk_procCode": 1,
             "lnm_emod": 21.65e9, "lnm_krat": 1.9, "lnm_fric": 0.5}
 
@@ -56,29 +54,13 @@ def rockcal(*args):
 
 
 @pytest.fixture(scope="module")
-def finished(tmp_path_factory):
+def finished(tmp_path_factory, save_finished):
     """A store holding a finished campaign's documents (what `calibrate` writes at its end)."""
-    folder = tmp_path_factory.mktemp("campaign")
-    nothing = {"samples": {"x": [], "responses": []}, "iterations": [], "dem_run_keys": [],
-               "surrogate_check": {"x": [], "dem": [], "predicted": [], "max_relative_error": None,
-                                   "trusted": None, "tolerance": 0.05, "epsilon": {}},
-               "failed_runs": [], "ucs_specimen": {}, "fixed": {}}
-    result = CalibrationResult.model_validate(nothing | {
-        "rock": "twin", "accepted": True, "dem_runs": 12, "targets": {"E_GPa": 41.5},
-        "specimen": parse_campaign(CAMPAIGN, folder).specimen, "parameters": ["E_c"],
-        "bounds": {"E_c": [10, 30]}, "verified": {"E_GPa": 41.3}, "errors": {"E_GPa": -0.005},
-        "identified": {"E_c": 21.65}, "identified_params": make_params(IDENTIFIED).key(),
-        "tolerance": 0.05, "objective": "F", "best_iteration": 0, "final_ucs_run_key": "not run",
-        "uncertainty": {"seeds": [1], "run_keys": [], "packing_responses": [], "scatter": {},
-                        "spread": {}, "draws": 10, "samples": [], "drawn_targets": {},
-                        "intervals": {"E_c": {"p5": 20.9, "p50": 21.6, "p95": 22.4, "at_bound": 0.0,
-                                              "pinned": True}}}})
-    store = RunStore(folder)
-    store.save_document("campaign.toml", CAMPAIGN)
-    save_result(store, result)
-    store.close()
-    return folder
-
+    return save_finished(tmp_path_factory.mktemp("campaign"), CAMPAIGN, make_params(IDENTIFIED), {"E_c": 21.65},
+                         uncertainty={"seeds": [1], "run_keys": [], "packing_responses": [], "scatter": {},
+                                      "spread": {}, "draws": 10, "samples": [], "drawn_targets": {},
+                                      "intervals": {"E_c": {"p5": 20.9, "p50": 21.6, "p95": 22.4,
+                                                            "at_bound": 0.0, "pinned": True}}})
 
 def check(values: dict) -> None:
     assert values.pop("cm_matName", "rockcal_parallel_bond") == "rockcal_parallel_bond"
@@ -149,23 +131,3 @@ def test_bad_input_is_one_line_exit_2(finished, tmp_path, args, field):
     assert len(run.stderr.strip().splitlines()) == 1 and field in run.stderr
     assert RunStore(finished, create=False).document("record.json")  # nothing lost
 
-
-def test_a_pfc4_contact_calibration_says_how_to_set_it_in_pfc():
-    """Calibrated with PFC 3.x/4.0's contacts, the export gives the ball stiffnesses (2 t E_c,
-    in series t E_c) and warns that pbm_emod is PFC 5's other convention."""
-    from types import SimpleNamespace
-
-    from rockcal.campaign.input.config import SpecimenSettings
-    from rockcal.pfc.header import header_lines
-    from rockcal.params import make_params
-
-    origin = {"rock": "granite", "accepted": True, "dem_runs": 1, "campaign": "c", "engine": "e",
-              "targets": {"E_GPa": 41.5}, "verified": {}, "identified": {"E_c": 20.0}}
-    lines = {}
-    for stiffness in ("pfc5", "pfc4"):
-        lines[stiffness] = header_lines(SimpleNamespace(
-            origin=origin, params=make_params({"E_c": 20.0, "kn_ks": 2.0}),
-            specimen=SpecimenSettings(contact_stiffness=stiffness)))
-    assert not any("PFC 3.x/4.0" in line for line in lines["pfc5"])
-    (note,) = [line for line in lines["pfc4"] if "PFC 3.x/4.0" in line]
-    assert "ball kn 4e+10 N/m, ks 2e+10 N/m" in note and "contacts' kn 2e+10, ks 1e+10 N/m" in note

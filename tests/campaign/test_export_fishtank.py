@@ -6,7 +6,10 @@ The names FISHTank reads come from FISHTank 6.6 as published in itascaconsulting
 `_mpCheckPBParams` or `_mpCheckFJParams`, each ending with `_mpCheckLinParams`), then the
 genesis' `_mpFinalizationPhase`: `ft_setMatBehavior` (the linear group for contacts that form
 later) and `_mpAssignPB` (`_mpAssignPBprops`) or `_mpAssignFJ` (`_mpAssignFJProps`,
-`_mpFJrmulReduce`, `_mpFJsetMicroStruc`)."""
+`_mpFJrmulReduce`, `_mpFJsetMicroStruc`).
+
+The files are read back by the tests' own reader (`fish_values`), not by PFC: the names and
+values written are checked, not that PFC runs them."""
 
 import json
 import re
@@ -23,7 +26,7 @@ from rockcal.params import make_params
 
 COMMON = ("cm_matName", "cm_matType", "cm_localDampFac", "cm_densityCode", "cm_densityVal",
           "cm_shape", "cm_nSD", "cm_typeSD", "cm_Dlo", "cm_Dup", "cm_Vfrac", "cm_Dmult")
-PACKING = ("pk_Pm", "pk_procCode", "pk_nc")
+PACKING = ("pk_seed", "pk_Pm", "pk_procCode", "pk_nc")
 LINEAR = ("lnm_emod", "lnm_krat", "lnm_fric")
 READ = {  # by cm_matType
     2: COMMON + PACKING + LINEAR + (
@@ -36,8 +39,7 @@ READ = {  # by cm_matType
 }
 # Read too but left to FISHTank's defaults, which are what a rockcal material means or which
 # only steer PFC's own genesis: cm_matNameSAV (set to cm_matName), cm_modName (cm_matType 5),
-# cm_ctName (a ball material's; a clumped one sets it), pk_seed (PFC's random numbers are not rockcal's), pk_PTol,
-# pk_ARatLimit, pk_stepLimit (its genesis tolerances), pk_fricCA, pk_vLimit (boundary
+# cm_ctName (a ball material's; a clumped one sets it), pk_PTol, pk_ARatLimit, pk_stepLimit (its genesis tolerances), pk_fricCA, pk_vLimit (boundary
 # contraction), fjm_Nal (3D).
 
 SPECIMEN = SpecimenSettings(rmin_mm=0.4, radius_ratio=1.5, install_gap=0.5, cloud_porosity=0.1,
@@ -51,7 +53,7 @@ FLATJOINTED = {"fj_emod": 35.0, "fj_kratio": 2.5, "fj_ten": 20.0, "fj_ten_cv": 0
 FLATJOINTED_PFC = {
     "cm_matName": "rockcal_flatjoint", "cm_matType": 4, "cm_localDampFac": 0.6, "cm_densityCode": 0,
     "cm_densityVal": 2650.0, "cm_shape": 0, "cm_nSD": 1, "cm_typeSD": 0, "cm_Dlo": 0.8e-3,
-    "cm_Dup": 1.2e-3, "cm_Vfrac": 1.0, "cm_Dmult": 1.0, "pk_Pm": 0.2e6, "pk_procCode": 1,
+    "cm_Dup": 1.2e-3, "cm_Vfrac": 1.0, "cm_Dmult": 1.0, "pk_seed": 10001, "pk_Pm": 0.2e6, "pk_procCode": 1,
     "pk_nc": 0.1, "fjm_igap": 0.2e-3, "fjm_B_frac": 0.7, "fjm_G_frac": 0.1, "fjm_G_m": 2e-6,
     "fjm_G_sd": 5e-7, "fjm_Nr": 3, "fjm_rmulCode": 1, "fjm_rmulVal": 0.9, "fjm_emod": 35e9,
     "fjm_krat": 2.5, "fjm_fric": 0.6, "fjm_ten_m": 20e6, "fjm_ten_sd": 4e6, "fjm_coh_m": 60e6,
@@ -147,9 +149,32 @@ def test_flat_jointed_specimen_lists_read_back(tmp_path):
 
 @pytest.mark.parametrize("value", [0.23 * 35.61e6, 0.1 + 0.2, 21.65e9, 1e-9, 2.0, 0.5e-3 * 1.65])
 def test_a_float_is_written_to_a_doubles_precision_as_a_float(value):
-    from rockcal.pfc.parameter_file import fish_value as _fish_value
+    from rockcal.pfc.fish_value import fish_value as _fish_value
 
     text = _fish_value(value)
     assert float(text) == pytest.approx(value, rel=1e-15)
     assert len(text.replace(".", "").split("e")[0].lstrip("0")) <= 15
     assert "." in text or "e" in text
+
+
+def test_a_pfc4_contact_calibration_says_that_no_fishtank_file_reproduces_it():
+    """Calibrated with PFC 3.x/4.0's contacts (kn = t E_c), the header gives their kn, ks (and
+    PFC 3.x/4.0's ball stiffnesses, 2 t E_c in series) and says that FISHTank's PFC 5+ contacts
+    are not those, and how to calibrate for PFC 5+; a flat-jointed or pfc5 calibration says
+    nothing of it."""
+    from rockcal.pfc.header import header_lines
+
+    lines = {}
+    for stiffness in ("pfc5", "pfc4"):
+        c = calibrated(make_params({"E_c": 20.0, "kn_ks": 2.0}))
+        c.specimen = SPECIMEN.model_copy(update={"contact_stiffness": stiffness})
+        lines[stiffness] = header_lines(c)
+    flat = calibrated(make_flatjoint_params(FLATJOINTED))
+    flat.specimen = SPECIMEN.model_copy(update={"contact_stiffness": "pfc4"})
+    assert not any("PFC 3.x/4.0" in line for line in lines["pfc5"] + header_lines(flat))
+    (kn,) = [line for line in lines["pfc4"] if "PFC 3.x/4.0" in line]
+    assert 'contact_stiffness = "pfc4"' in kn and "kn = t E_c = 2e+10 N/m, ks = 1e+10 N/m" in kn
+    assert "ball kn 4e+10, ks 2e+10 N/m" in kn
+    (note,) = [line for line in lines["pfc4"] if "no FISHTank file" in line]
+    assert 'calibrate with contact_stiffness = "pfc5"' in note
+    assert fish_values(to_fish(c))["pbm_emod"] == 20e9  # E_c itself, in PFC 5's formula

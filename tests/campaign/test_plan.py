@@ -73,6 +73,27 @@ checks = 2
     assert "15 UCS and 15 Brazilian runs" in lines[-1]
 
 
+@pytest.mark.parametrize("specimen, says", [("", True), ('contact_stiffness = "pfc5"', False),
+                                            ('dimensions = 3\nwidth_mm = 12\nheight_mm = 24\nrmin_mm = 0.75', False)])
+def test_the_first_screen_says_when_no_fishtank_file_reproduces_the_contacts(tmp_path, specimen, says):
+    """PFC 3.x/4.0's contacts (2D's default) have no FISHTank (PFC 5+) equivalent: the first
+    screen says so and how to calibrate for PFC 5+; PFC 5's contacts (3D's only) need no word."""
+    campaign = planned(parse_campaign(f"""
+[targets.ucs]
+E_GPa = 20.0
+[specimen]
+{specimen}
+[search]
+bounds = {{ E_c = [10, 30] }}
+""", tmp_path))
+    lines = [line for line in describe(campaign, RunStore(tmp_path / "out"), workers=None)
+             if line.startswith("contacts: ")]
+    assert len(lines) == says
+    if says:
+        assert 'PFC 3.x/4.0\'s (contact_stiffness = "pfc4"' in lines[0]
+        assert 'no FISHTank file (PFC 5+) reproduces' in lines[0] and 'contact_stiffness = "pfc5"' in lines[0]
+
+
 def test_coarser_sensitivity_runs_are_shown_and_expected_sooner(tmp_path, monkeypatch):
     monkeypatch.setattr(plan, "probe_ms_per_step", lambda: 0.66)  # one machine speed for both
     text = """

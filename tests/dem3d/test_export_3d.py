@@ -1,11 +1,19 @@
-"""The PFC3D export (`rockcal.pfc`): FISHTank's mpParams.p3dat and the ball/bond lists.
+"""The PFC3D export (`rockcal.pfc`): FISHTank's mpParams.p3dat, its vessel file mvParams.p3dat
+and the ball/bond lists.
 
 - the parameter file read back gives the material's parameters in SI, under FISHTank's names,
-  with the cm_matType of the FISHTank asked for;
+  with the cm_matType of the FISHTank asked for, and the calibration's packing seed;
 - it sets every name FISHTank's own PFC3D parallel-bonded example sets;
 - its layout is the 2D export's, line for line;
+- the vessel file sets every name FISHTank's own mvParams.p3dat examples set, with the UCS
+  specimen's cylinder and the packing vessel's modulus; a finished 3D campaign's export
+  (`rockcal export --to`) writes both files, whose values are the calibration's as
+  `read_calibration` reads it back;
 - the ball and bond lists read back give the specimen bit for bit, and each bond's strengths
   are those the engine gives it, its gap the one it takes as its zero.
+
+The FISH here is read by the tests' own reader (`read_fish`), not by PFC: it checks the names
+and values written, not that PFC runs them.
 """
 
 import csv
@@ -23,6 +31,7 @@ from rockcal.materials.fishtank import MATERIAL_TYPES
 from rockcal.materials.parallel_bond import make_params
 from rockcal.pfc.calibrated import Calibrated
 from rockcal.pfc.parameter_file import PARAMETER_FILE, fish_groups, to_fish_3d, write_p3dat
+from rockcal.pfc.vessel_file import VESSEL_FILE, to_vessel_fish
 from rockcal.pfc.parameters import pfc_parameters
 from rockcal.pfc.specimen_lists import BALL_COLUMNS, BOND_COLUMNS, write_specimen_3d
 
@@ -30,7 +39,7 @@ PARAMS = make_params({"E_c": 62, "Ebar_c": 55, "kn_ks": 2.5, "knbar_ksbar": 2.0,
                       "tau_c": 160, "sigma_c_cv": 0.23, "tau_c_cv": 0.2, "phi_b": 12.5,
                       "mu": 0.5, "lambda": 0.8, "mcf": 0.9, "density": 2630})
 SETTINGS = SpecimenSettings(rmin_mm=0.75, radius_ratio=1.65, install_gap=0.4, cloud_porosity=0.35,
-                            pressure_mpa=0.2)
+                            pressure_mpa=0.2, seed=7, width_mm=12.0, height_mm=24.0, dimensions=3)
 # FISHTank's PFC3D parallel-bonded example (siyuanxu/PFC-fishPKG,
 # ExampleProjects/MatGen-ParallelBonded/mpParams.p3dat): the names it sets
 FISHTANK_EXAMPLE = {"cm_matName", "cm_matType", "cm_localDampFac", "cm_densityCode", "cm_densityVal",
@@ -38,6 +47,9 @@ FISHTANK_EXAMPLE = {"cm_matName", "cm_matType", "cm_localDampFac", "cm_densityCo
                     "pk_nc", "pbm_emod", "pbm_krat", "pbm_fric", "pbm_igap", "pbm_rmul", "pbm_bemod",
                     "pbm_bkrat", "pbm_mcf", "pbm_ten_m", "pbm_ten_sd", "pbm_coh_m", "pbm_coh_sd",
                     "pbm_fa", "lnm_emod", "lnm_krat", "lnm_fric"}
+# FISHTank's own mvParams.p3dat examples (itascaconsulting/2021_ARMA_frac, cube/ and coupled/,
+# a cylinder): the names they set; ft.fis (`_mvCheckParams`) reads them
+FISHTANK_VESSEL = {"mv_type", "mv_shape", "mv_H", "mv_W", "mv_D", "mv_emod", "_mvCylRes"}
 
 
 def read_fish(text: str) -> dict:
@@ -68,7 +80,7 @@ def test_the_parameter_file_reads_back_as_the_material_in_SI(fishtank):
                 "pbm_coh_sd": 0.2 * 160e6, "pbm_fa": 12.5, "pbm_igap": 0.4 * 0.75e-3,
                 "cm_Dlo": 1.5e-3, "cm_Dup": 1.65 * 1.5e-3, "cm_densityVal": 2630.0,
                 "cm_localDampFac": 0.7, "pk_Pm": 0.2e6, "pk_nc": 0.35, "pk_procCode": 1,
-                "cm_densityCode": 0, "cm_Vfrac": 1.0, "cm_typeSD": 0, "cm_nSD": 1}
+                "cm_densityCode": 0, "cm_Vfrac": 1.0, "cm_typeSD": 0, "cm_nSD": 1, "pk_seed": 10007}
     for name, value in expected.items():
         assert values[name] == pytest.approx(value, rel=1e-14), name
     assert values["cm_matName"] == "rockcal_parallel_bond"
@@ -89,8 +101,21 @@ def test_its_groups_are_the_2D_exports_line_for_line(tmp_path):
     assert body == fish_groups(pfc_parameters(Calibrated(PARAMS, SETTINGS, {}, 5)), "mpSetPBParams")
     assert comments[0] == "; a line\\nthat breaks"  # no header text leaves its comment
     assert any("PFC3D" in line for line in comments) and text.endswith("@_mpCheckAllParams\n")
-    path = write_p3dat(tmp_path, PARAMS, SETTINGS, fishtank=5, header=["a line\nthat breaks"])
+    path, vessel = write_p3dat(tmp_path, PARAMS, SETTINGS, fishtank=5, header=["a line\nthat breaks"])
     assert path.name == PARAMETER_FILE and path.read_text() == text
+    assert vessel.name == VESSEL_FILE and vessel.read_text() == to_vessel_fish(SETTINGS, ["a line\nthat breaks"])
+
+
+def test_the_vessel_file_is_the_ucs_cylinder_in_fishtanks_names():
+    text = to_vessel_fish(SETTINGS, ["a line\nthat breaks"])
+    values = read_fish(text)
+    assert values.keys() == FISHTANK_VESSEL
+    assert values == {"mv_type": 0, "mv_shape": 1, "mv_H": 24e-3, "mv_W": 12e-3, "mv_D": 12e-3,
+                      "mv_emod": 1e9, "_mvCylRes": pytest.approx(2 * np.pi / 100, rel=1e-14)}
+    # FISHTank's layout: the group function, its call, FISHTank's own check
+    body = [line for line in text.splitlines() if not line.startswith(";")]
+    assert (body[0], *body[-3:]) == ("def mvSetParams", "end", "@mvSetParams", "@_mvCheckParams")
+    assert text.startswith("; a line\\nthat breaks\n")  # no header text leaves its comment
 
 
 def test_bad_versions_and_materials_are_refused():
@@ -147,3 +172,47 @@ def test_the_ball_and_bond_lists_read_back_as_the_specimen_and_its_engine_bonds(
     for column, row in (("tensile_strength_Pa", Bond.TEN), ("cohesion_Pa", Bond.COH)):
         np.testing.assert_array_equal(table[:, BOND_COLUMNS.index(column)], state.bonds.table[row, p])
     np.testing.assert_allclose(gap, -state.bonds.table[Bond.REF_OVERLAP, p], rtol=0, atol=1e-18)
+
+
+CAMPAIGN_3D = """
+[rock]
+name = "granite 3D"
+density_kg_m3 = 2630
+[targets.ucs]
+E_GPa = 41.5
+[specimen]
+dimensions = 3
+rmin_mm = 0.75
+width_mm = 12
+height_mm = 24
+seed = 7
+install_gap = 0.4
+pressure_mpa = 0.2
+[search]
+bounds = { E_c = [10, 30] }
+"""
+
+def test_a_finished_3d_campaign_exports_both_files_with_its_own_values(tmp_path, cli, save_finished):
+    from rockcal.campaign.outputs.export import calibration_in
+    from rockcal.pfc.parameters import pfc_parameters
+    from rockcal.pfc.vessel_file import vessel_values
+
+    out = save_finished(tmp_path / "campaign", CAMPAIGN_3D, PARAMS, {"E_c": 62.0})
+    (tmp_path / "pfc").mkdir()
+    run = cli("export", out, "--to", tmp_path / "pfc" / PARAMETER_FILE)
+    assert run.returncode == 0, run.stderr
+    calibrated = calibration_in(out)  # read back from the store as the export read it
+    assert calibrated.specimen.dimensions == 3 and calibrated.specimen.seed == 7
+    written = read_fish((tmp_path / "pfc" / PARAMETER_FILE).read_text())
+    expected = pfc_parameters(calibrated)
+    assert written.keys() == expected.keys() and written["pk_seed"] == 10007
+    for name, value in expected.items():  # each float to the 15 digits written
+        assert written[name] == (pytest.approx(value, rel=1e-14) if isinstance(value, float) else value), name
+    assert written["pbm_emod"] == 62e9 and written["pbm_igap"] == pytest.approx(0.4 * 0.75e-3, rel=1e-14)
+    vessel = read_fish((tmp_path / "pfc" / VESSEL_FILE).read_text())
+    assert vessel == pytest.approx(vessel_values(calibrated.specimen), rel=1e-14)
+    assert (vessel["mv_H"], vessel["mv_W"]) == (24e-3, 12e-3)
+    # the parameter file cannot take the vessel file's name: one line, exit 2, nothing overwritten
+    clash = cli("export", out, "--to", tmp_path / "pfc" / VESSEL_FILE)
+    assert clash.returncode == 2 and len(clash.stderr.strip().splitlines()) == 1 and "--to" in clash.stderr
+    assert read_fish((tmp_path / "pfc" / VESSEL_FILE).read_text()) == vessel

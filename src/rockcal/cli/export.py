@@ -30,7 +30,8 @@ class FishTank(str, Enum):
 def export(
     out: Path = typer.Argument(..., help="Output folder of a finished campaign."),
     format: Format = typer.Option(Format.pfc_fish, "--format", help="pfc-fish: FISHTank mpParams-style data file; pfc-python: a PFC Python script; json."),
-    to: Optional[Path] = typer.Option(None, "--to", help="File to write (default: stdout)."),
+    to: Optional[Path] = typer.Option(None, "--to", help="File to write (default: stdout); a 3D "
+                                    "calibration's pfc-fish writes FISHTank's vessel, mvParams.p3dat, beside it."),
     fishtank: FishTank = typer.Option(FishTank.pfc6, "--fishtank", help="The PFC version whose FISHTank reads the "
                                       "file: its cm_matType codes (flat-jointed: 3 in PFC 5's fistPkg25, 4 in "
                                       "PFC 6's; 7: numbered as 6)."),
@@ -38,16 +39,23 @@ def export(
     """The identified micro-parameters under PFC FISHTank's names (pbm_emod, ...), in SI units;
     a clumped material's clump template too."""
     from rockcal.campaign.outputs.export import calibration_in
+    from rockcal.materials import material_of
     from rockcal.pfc.calibrated import for_fishtank
-    from rockcal.pfc.formats import WRITERS
+    from rockcal.pfc.formats import WRITERS, companion_files, write_export
+    from rockcal.pfc.header import PFC4_NOT_IN_FISHTANK, takes_pfc4_contacts
 
     calibrated = for_fishtank(calibration_in(out), fishtank.value)
-    text = WRITERS[format.value](calibrated)
+    notes = []
     if to is None:
-        typer.echo(text, nl=False)
-        return
-    _write(to, text)
-    Console(stderr=True).print(f"wrote {escape(str(to))}")
+        typer.echo(WRITERS[format.value](calibrated), nl=False)
+        notes += [f"not written: {name}, which --to FOLDER/FILE writes beside FILE"
+                  for name in companion_files(format.value, calibrated)]
+    else:
+        notes.append("wrote " + " and ".join(map(str, write_export(to, format.value, calibrated))))
+    if takes_pfc4_contacts(calibrated.specimen, material_of(calibrated.params).name):
+        notes.append(f"calibrated with PFC 3.x/4.0's contacts (contact_stiffness = \"pfc4\"): {PFC4_NOT_IN_FISHTANK}")
+    for note in notes:
+        Console(stderr=True).print(escape(note), soft_wrap=True)
 
 
 def export_specimen(
@@ -76,12 +84,3 @@ def export_specimen(
     Console(stderr=True).print(f"wrote {escape(str(paths[0]))} ({specimen.n_particles} balls) and {escape(str(paths[1]))} "
                                f"({len(specimen.bonds)} bonds)")
 
-
-def _write(path: Path, text: str) -> None:
-    """Write the export whole or not at all (a link at `path` is replaced, not followed)."""
-    from rockcal.output_files import write_atomic
-
-    try:
-        write_atomic(path, text)
-    except OSError as exc:
-        raise InputError("--to", f"cannot write {path}: {exc.strerror}") from None

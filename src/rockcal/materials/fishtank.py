@@ -33,6 +33,9 @@ FLAT_JOINTED = MATERIAL_TYPES[DEFAULT_FISHTANK]["flat-jointed"]
 # the common group's properties that are a material's parameters: PFC property -> (name, unit)
 COMMON_PROPERTIES = {"cm_localDampFac": ("damping", None), "cm_densityVal": ("density", None)}
 SI = {None: None, "GPa": GPa, "MPa": MPa, "mm": MM}
+# FISHTank's lowest packing seed (`pk_seed`, ft.fis: at least 10000); a calibration's packing
+# seed s is FISHTank's FIRST_PK_SEED + s
+FIRST_PK_SEED = 10000
 
 
 def fishtank_version(value, field: str = "--fishtank") -> int:
@@ -93,7 +96,9 @@ def common_pfc(params, specimen, kind: str, fishtank: int | None = None) -> dict
     2 R_min x ratio, of disks (cm_shape 0) or of clumps of one template (cm_shape 1,
     cm_ctName: FISHTank's `clump distribute diameter` takes the sizes as equivalent diameters,
     as rockcal's genesis does), the grains' own density (cm_densityCode 0: rockcal's density
-    is the grains'), packing by grain scaling (pk_procCode 1)."""
+    is the grains'), packing by grain scaling (pk_procCode 1) from the packing seed FIRST_PK_SEED
+    + the specimen's seed (PFC's random numbers are not rockcal's: a packing of the same
+    statistics, not the same grains)."""
     rmin_m = specimen.rmin_mm * MM
     shape = grain_template(specimen)
     grains = {"cm_shape": 0} if shape is None else {"cm_shape": 1, "cm_ctName": template_name(shape)}
@@ -106,6 +111,7 @@ def common_pfc(params, specimen, kind: str, fishtank: int | None = None) -> dict
         "cm_Dup": 2 * rmin_m * specimen.radius_ratio,
         "cm_Vfrac": 1.0,
         "cm_Dmult": 1.0,
+        "pk_seed": FIRST_PK_SEED + specimen.seed,
         "pk_Pm": specimen.pressure_mpa * MPa,
         "pk_procCode": 1,
         "pk_nc": specimen.cloud_porosity,

@@ -1,12 +1,15 @@
 """The comments heading a PFC file of a calibration: where it came from (`origin_lines`), the
-FISHTank it targets and what its values mean in PFC2D (`notes_2d`) or PFC3D (`notes_3d`); each
-line in printable ASCII (`comment_text`), so that no user text (a rock's name, a folder) leaves
-its comment and becomes code."""
+FISHTank it targets and what its values mean in PFC2D (`notes_2d`) or PFC3D (`notes_3d`), its
+packing seed (`seed_line`) and, calibrated with PFC 3.x/4.0's contacts, that FISHTank cannot
+give them (`pfc4_lines`, which the first screen says too); each line in printable ASCII
+(`comment_text`), so that no user text (a rock's name, a folder) leaves its comment and becomes
+code."""
 
 from __future__ import annotations
 
-from rockcal.materials.fishtank import FISHTANKS, MATERIAL_TYPES, grain_template, template_name
-from rockcal.params import GPa, MicroParams
+from rockcal.materials import PARALLEL_BOND, material_of
+from rockcal.materials.fishtank import FIRST_PK_SEED, FISHTANKS, MATERIAL_TYPES, grain_template, template_name
+from rockcal.params import GPa
 from rockcal.pfc.calibrated import Calibrated, fishtank_of, in_3d
 
 # What a file says it targets in each dimension: where, and the FISHTank materials it can be
@@ -19,8 +22,14 @@ PFC3D_NOTES = (
      "area pi Rbar^2, I = pi Rbar^4 / 4, J = pi Rbar^4 / 2"),
     "pbm_mcf: the bending moment in the bond's normal stress, the twisting moment in its shear stress",
     "pk_nc: the 3D grain cloud's porosity (FISHTank's 3D default 0.35); cm_Dlo, cm_Dup: sphere diameters",
-    "the vessel (mvParams.p3dat) is not set here: rockcal packs a cuboid and carves the specimen from it",
+    ("the vessel, the UCS specimen's cylinder: mvParams.p3dat, which rockcal export --to "
+     "FOLDER/mpParams.p3dat writes beside this file"),
 )
+# Why a calibration with PFC 3.x/4.0's contacts (contact_stiffness = "pfc4") does not carry
+# over to PFC 5+: FISHTank's linear groups set kn, ks by the deformability method only
+PFC4_NOT_IN_FISHTANK = ("no FISHTank file (PFC 5+) reproduces these contacts: FISHTank sets kn only as "
+                        "PFC 5's 2 min(R) t E_c / (R_A + R_B), softer between unequal grains; for a model "
+                        'to run in PFC 5+, calibrate with contact_stiffness = "pfc5"')
 
 
 def comment_text(text: str) -> str:
@@ -36,9 +45,37 @@ def header_lines(calibrated: Calibrated) -> list[str]:
 
 
 def header_of(calibrated: Calibrated) -> list[str]:
-    """The header's lines as written (not yet made safe): the origin, then the dimension's notes."""
+    """The header's lines as written (not yet made safe): the origin, the dimension's notes,
+    the packing seed."""
     notes = notes_3d(fishtank_of(calibrated)) if in_3d(calibrated) else notes_2d(calibrated)
-    return origin_lines(calibrated) + notes
+    return origin_lines(calibrated) + notes + [seed_line(calibrated.specimen)]
+
+
+def seed_line(specimen) -> str:
+    """What the packing seed pk_seed is: FISHTank's first seed + the calibration's."""
+    return (f"pk_seed: FISHTank's first seed {FIRST_PK_SEED} + the calibration's packing seed "
+            f"{specimen.seed}; PFC's random numbers are not rockcal's, so it packs grains of the same "
+            "statistics, not the same grains (rockcal export-specimen lists those)")
+
+
+def takes_pfc4_contacts(specimen, model: str) -> bool:
+    """A calibration whose contacts are PFC 3.x/4.0's: a parallel-bonded material (the flat
+    joint's are PFC 5's) with contact_stiffness "pfc4" (2D only)."""
+    return specimen.contact_stiffness == "pfc4" and model == PARALLEL_BOND.name
+
+
+def pfc4_lines(calibrated: Calibrated) -> list[str]:
+    """Calibrated with PFC 3.x/4.0's contacts: their kn, ks, and that this file does not give
+    them to PFC 5+ (`PFC4_NOT_IN_FISHTANK`); none otherwise."""
+    params = calibrated.params
+    if not takes_pfc4_contacts(calibrated.specimen, material_of(params).name):
+        return []
+    kn = params.E_c * GPa
+    ks = kn / params.kn_ks
+    return [f"contacts as calibrated: PFC 3.x/4.0's (contact_stiffness = \"pfc4\"): kn = t E_c = {kn:.6g} "
+            f"N/m, ks = {ks:.6g} N/m at every contact whatever the radii (in PFC 3.x/4.0 ball kn "
+            f"{2 * kn:.6g}, ks {2 * ks:.6g} N/m, in series)",
+            "NOTE: " + PFC4_NOT_IN_FISHTANK + " (pbm_emod, lnm_emod below: E_c in that formula)"]
 
 
 def origin_lines(calibrated: Calibrated) -> list[str]:
@@ -70,15 +107,7 @@ def target_line(version: int, dimensions: int) -> str:
 
 def notes_2d(calibrated: Calibrated) -> list[str]:
     """What the 2D export's values mean in PFC: the contacts, the target FISHTank, the grains."""
-    lines = []
-    if calibrated.specimen.contact_stiffness == "pfc4" and isinstance(calibrated.params, MicroParams):
-        kn = calibrated.params.E_c * GPa
-        ks = kn / calibrated.params.kn_ks
-        lines.append(f"contacts as PFC 3.x/4.0: ball kn {2 * kn:.6g} N/m, ks {2 * ks:.6g} N/m (kn = t E_c "
-                     f"per contact whatever the radii; in PFC 5+ set the contacts' kn {kn:.6g}, ks "
-                     f"{ks:.6g} N/m directly); pbm_emod below is PFC 5+'s deformability method, "
-                     "softer by 2 min(R)/(R_A + R_B) between unequal grains")
-    lines.append(target_line(fishtank_of(calibrated), 2))
+    lines = [*pfc4_lines(calibrated), target_line(fishtank_of(calibrated), 2)]
     shape = grain_template(calibrated.specimen)
     if shape is None:
         lines.append("2D: disks of unit thickness; SI units")

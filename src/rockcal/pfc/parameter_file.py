@@ -23,8 +23,8 @@ PFC3D as in PFC2D (its own `mpParams.p3dat` examples), but in PFC3D they mean
 - no `pfc4` contacts: the 3D engine has PFC 5's deformability method only.
 
 A rock's PFC3D values differ from its PFC2D ones (Potyondy & Cundall 2004 calibrated Lac du
-Bonnet granite in both). The vessel (FISHTank's `mvParams.p3dat`: `mv_shape`, `mv_H`, `mv_W`,
-`mv_D`) is not in the file: rockcal packs a cuboid and carves its cylinders and disks from it.
+Bonnet granite in both). The vessel is FISHTank's other file, `mvParams.p3dat` (`vessel_file`),
+which `write_p3dat` writes beside it.
 """
 
 from __future__ import annotations
@@ -36,8 +36,10 @@ from rockcal.materials import material_of
 from rockcal.materials.fishtank import DEFAULT_FISHTANK, fishtank_version
 from rockcal.output_files import atomic_path
 from rockcal.pfc.calibrated import Calibrated, fishtank_of, in_3d
-from rockcal.pfc.header import comment_text, header_of, notes_3d, origin_lines
+from rockcal.pfc.fish_value import fish_value
+from rockcal.pfc.header import comment_text, header_of, notes_3d, origin_lines, seed_line
 from rockcal.pfc.parameters import SIZE_ARRAYS, UNITS, clump_templates, pfc3d_parameters, pfc_parameters
+from rockcal.pfc.vessel_file import VESSEL_FILE, to_vessel_fish
 
 PARAMETER_FILE = "mpParams.p3dat"  # FISHTank's name for PFC3D's: a project runs `call mpParams.p3dat`
 
@@ -56,23 +58,28 @@ def to_fish(calibrated: Calibrated) -> str:
 def to_fish_3d(params, settings, *, fishtank: int = DEFAULT_FISHTANK,
                header: Iterable[str] = ()) -> str:
     """FISHTank's parameter file for PFC3D (`mpParams.p3dat`): `header`'s lines (e.g. where
-    the calibration came from), the target FISHTank and PFC3D's meanings (`header.notes_3d`) as
-    comments, then the 2D file's groups (`fish_groups`) and FISHTank's own check."""
+    the calibration came from), the target FISHTank, PFC3D's meanings (`header.notes_3d`) and
+    the packing seed as comments, then the 2D file's groups (`fish_groups`) and FISHTank's own
+    check."""
     version = fishtank_version(fishtank)
     values = pfc3d_parameters(params, settings, version)
-    return fish_file([*header, *notes_3d(version)], values, material_of(params).pfc_group)
+    comments = [*header, *notes_3d(version), seed_line(settings)]
+    return fish_file(comments, values, material_of(params).pfc_group)
 
 
 def write_p3dat(folder: Path, params, settings, *, fishtank: int = DEFAULT_FISHTANK,
-                header: Iterable[str] = ()) -> Path:
-    """Write `to_fish_3d` to `folder`/mpParams.p3dat (atomically); its path."""
+                header: Iterable[str] = ()) -> tuple[Path, Path]:
+    """Write `to_fish_3d` to `folder`/mpParams.p3dat and the vessel (`vessel_file`) to
+    `folder`/mvParams.p3dat, each atomically; their paths."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    path = folder / PARAMETER_FILE
-    text = to_fish_3d(params, settings, fishtank=fishtank, header=header)
-    with atomic_path(path) as tmp:
-        Path(tmp).write_text(text, encoding="ascii")
-    return path
+    header = list(header)
+    texts = {PARAMETER_FILE: to_fish_3d(params, settings, fishtank=fishtank, header=header),
+             VESSEL_FILE: to_vessel_fish(settings, header)}
+    for name, text in texts.items():
+        with atomic_path(folder / name) as tmp:
+            Path(tmp).write_text(text, encoding="ascii")
+    return folder / PARAMETER_FILE, folder / VESSEL_FILE
 
 
 def fish_file(comments: Iterable[str], values: dict, group: str, templates: dict | None = None) -> str:
@@ -114,17 +121,3 @@ def fish_groups(values: dict, group: str) -> list[str]:
             *(assign(name) for name in values if not name.startswith(("cm_", "pk_"))),
             "end", f"@{group}", "", "@_mpCheckAllParams", ""]
     return out
-
-
-def fish_value(value) -> str:
-    """A value as FISH reads it: a string quoted, a boolean and an integer as one, a float to
-    15 significant digits (a double's own precision: no 8190300.000000001 from a product) and
-    always with a point or an exponent, so FISH reads a float."""
-    if isinstance(value, str):
-        return f"'{value}'"
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int):
-        return str(value)
-    text = f"{float(value):.15g}"
-    return text if any(c in text for c in ".en") else text + ".0"

@@ -34,6 +34,7 @@ from rockcal.specimens.specimen import stored_packing
 from rockcal.labtests.kind import all_settings
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.materials import material
+from rockcal.pfc.header import PFC4_NOT_IN_FISHTANK, takes_pfc4_contacts
 
 REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
 # the embedded granite campaign's mean full-size UCS run (one thread, two at a time on idle
@@ -287,7 +288,8 @@ def _main_process_s(campaign: Campaign) -> float:
 
 
 def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
-    """The lines of the first screen: specimens, stages and run counts, expected time."""
+    """The lines of the first screen: specimens, stages and run counts, PFC 3.x/4.0's contacts
+    (which no FISHTank file reproduces), expected time."""
     s = campaign.specimen
     sizes = {test: specimen_size(test, s) for test in campaign.tests()}
     runs: dict[str, int] = {}
@@ -308,6 +310,9 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
     retry = retry_line(store)
     if retry:
         lines.append(retry)
+    if takes_pfc4_contacts(s, campaign.material.model):
+        lines.append(f"contacts: PFC 3.x/4.0's (contact_stiffness = \"pfc4\", kn = t E_c whatever the radii); "
+                     + PFC4_NOT_IN_FISHTANK)
     if workers:
         times, measured = run_times(campaign, store, sizes)
         basis = ("the mean of this store's UCS runs" if measured else
