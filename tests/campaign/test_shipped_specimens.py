@@ -44,9 +44,9 @@ def test_the_first_screen_names_the_specimens_to_make_first(tmp_path):
     loaded, text = load_campaign(None)
     granite = planned(loaded)
     ready = describe(granite, RunStore(tmp_path / "a"), workers=2)[-1]
-    assert ready.endswith("every specimen is ready (cached, or shipped with rockcal)")
+    assert "every specimen is ready (cached, or shipped with rockcal); the " in ready
     other = planned(parse_campaign(text.replace("seed = 1", "seed = 7"), tmp_path))
     made = specimens_to_make(other)
     assert made == specimens(other)  # another packing seed: none is shipped
     lines = describe(other, RunStore(tmp_path / "b"), workers=2)
-    assert f"plus first the genesis of {len(made)} specimens (UCS 50 x 100 mm, beam 220 x 50 mm)" in lines[-1]
+    assert f"first the genesis of {len(made)} specimens (UCS 50 x 100 mm, beam 220 x 50 mm), about" in lines[-1]

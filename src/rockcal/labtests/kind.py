@@ -20,6 +20,7 @@ from rockcal.errors import InputError
 from rockcal.materials import check_dimensions, material
 
 GENESIS = tuple(Genesis.model_fields)  # install_gap, cloud_porosity, pressure_mpa
+PACKING_SETTINGS = {"rmin_mm", "radius_ratio", "seed", *GENESIS}  # what a random packing is made of
 # Settings added after runs were stored, with the value the engine had before them: a run's
 # key names one only where it differs from that, so the runs stored before keep their keys.
 LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02, "brazilian_loading": "flat",
@@ -222,9 +223,11 @@ class LabTest:
                     radius_ratio=s["radius_ratio"], seed=s["seed"], genesis=genesis_of(s),
                     grain_shape=s.get("grain_shape", DEFAULT_SHAPE))
 
-    def packing_file(self, specimen_settings) -> str:
-        """The file name (in the specimen cache) of the packing this test's specimen is cut
-        from, 2D or 3D."""
+    def packing_file(self, specimen_settings) -> str | None:
+        """The file name (in the specimen cache) of the random packing this test's specimen is
+        cut from, 2D or 3D; None for a test whose settings make no such packing."""
+        if not PACKING_SETTINGS <= set(self.settings):
+            return None
         p = self.packing(specimen_settings)
         vessel = self.outline(self.settings_of(specimen_settings)).vessel_mm
         if vessel is None:

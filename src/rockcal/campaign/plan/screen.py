@@ -79,7 +79,7 @@ def specimens(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
     found = {}
     for _, spec in planned_runs(campaign):
         settings = _settings_of(campaign, spec)
-        found.setdefault(packing_file(spec.kind, settings), (spec.kind, settings))
+        found.setdefault(packing_file(spec.kind, settings) or spec.key, (spec.kind, settings))
     return list(found.values())
 
 
@@ -90,8 +90,8 @@ def _settings_of(campaign: Campaign, spec: RunSpec) -> SpecimenSettings:
                                                 if k in fields})
 
 
-def packing_file(test: str, settings: SpecimenSettings) -> str:
-    """The file name of the packing a test's specimen is cut from."""
+def packing_file(test: str, settings: SpecimenSettings) -> str | None:
+    """The file name of the packing a test's specimen is cut from (None: it makes none)."""
     return lab_test(test).packing_file(settings)
 
 
@@ -99,7 +99,7 @@ def specimens_to_make(campaign: Campaign) -> list[tuple[str, SpecimenSettings]]:
     """The campaign's specimens whose packing is neither in the cache nor shipped with rockcal:
     their genesis comes first."""
     return [(test, settings) for test, settings in specimens(campaign)
-            if stored_packing(packing_file(test, settings)) is None]
+            if (name := packing_file(test, settings)) is not None and stored_packing(name) is None]
 
 
 def genesis_times(campaign: Campaign) -> list[tuple[str, float]]:

@@ -15,8 +15,8 @@ from rockcal.specimens.specimen import stored_packing
 Progress = Callable[[int, int], None]  # progress(packings made, packings to make)
 
 
-def packing_file(spec: RunSpec) -> str:
-    """The file name of the packing a run's specimen is cut from."""
+def packing_file(spec: RunSpec) -> str | None:
+    """The file name of the packing a run's specimen is cut from (None: it makes none)."""
     return lab_test(spec.kind).packing_file(SimpleNamespace(**all_settings(dict(spec.specimen))))
 
 
@@ -26,7 +26,7 @@ def new_packings(specs: Iterable[RunSpec]) -> list[RunSpec]:
     found: dict[str, RunSpec] = {}
     for spec in specs:
         name = packing_file(spec)
-        if name not in found and stored_packing(name) is None:
+        if name is not None and name not in found and stored_packing(name) is None:
             found[name] = spec
     return list(found.values())
 
