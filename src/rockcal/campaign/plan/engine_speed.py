@@ -33,7 +33,13 @@ from rockcal.materials.parallel_bond import make_params, new_state
 # a full-size specimen's do
 LATTICE_MM = (40.0, 40.0, 0.25)
 STEPS = 100
-ROUNDS = 9
+# the lattice is made anew LATTICES times, ROUNDS runs each: one lattice's arrays may land where
+# every step of it runs a third slower (seen in about one process in five), as a run's seldom do
+LATTICES = 3
+# the engine's first step takes longer than this only where numba compiles it (about half a
+# minute; loading it from numba's cache takes a second or two)
+COMPILED_S = 8.0
+ROUNDS = 4
 
 
 class Probe(NamedTuple):
@@ -42,35 +48,40 @@ class Probe(NamedTuple):
     ms_per_step: float  # processor time: the engine's speed on a core of its own
     cores: int  # the cores this process may run on
     busy_cores: float  # the cores other processes ask for, more than `cores` on a crowded machine
+    compiled_here: bool  # numba's cache did not hold the engine: this install's first run
 
 
 @functools.cache
 def probe() -> Probe:
     """The engine's processor time per step on the probe lattice at the granite's default
     parameters, its disks moving slightly, on one thread: the least of ROUNDS runs of STEPS
-    steps (ms); and the cores other work asks for meanwhile: the mean of its tasks ready to
+    steps on each of LATTICES lattices (ms); and the cores other work asks for meanwhile: the mean of its tasks ready to
     run, counted before each round (`dem.cores.others_runnable`), or what the rounds' wall
     time over their processor time says, if more (`others_from_wall`)."""
     spec = hexagonal(*LATTICE_MM, limited=False)  # the probe, not a user's specimen
-    state = new_state(spec.pos, spec.radius, spec.bonds, make_params({}))
-    state.particles.vel[:] = np.random.default_rng(0).normal(0, 1e-4, spec.pos.shape)
     threads = numba.get_num_threads()
     numba.set_num_threads(1)
     try:
-        advance(state, 1)  # compiles the engine, or loads it from numba's cache
         best, others = np.inf, []
         wall, processor = time.perf_counter(), time.process_time()
-        for _ in range(ROUNDS):
-            others.append(cores.others_runnable())
-            started = time.process_time()
-            advance(state, STEPS)
-            best = min(best, time.process_time() - started)
+        for lattice in range(LATTICES):
+            state = new_state(spec.pos, spec.radius, spec.bonds, make_params({}))
+            state.particles.vel[:] = np.random.default_rng(0).normal(0, 1e-4, spec.pos.shape)
+            advance(state, 1)  # the first compiles the engine, or loads it from numba's cache
+            if lattice == 0:
+                compiled_here = time.perf_counter() - wall > COMPILED_S
+                wall, processor = time.perf_counter(), time.process_time()
+            for _ in range(ROUNDS):
+                others.append(cores.others_runnable())
+                started = time.process_time()
+                advance(state, STEPS)
+                best = min(best, time.process_time() - started)
         slower = (time.perf_counter() - wall) / max(time.process_time() - processor, 1e-9)
     finally:
         numba.set_num_threads(threads)
     mine = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
     runnable = 0.0 if None in others else float(np.mean(others))
-    return Probe(1e3 * best / STEPS, mine, max(runnable, others_from_wall(slower, mine)))
+    return Probe(1e3 * best / STEPS, mine, max(runnable, others_from_wall(slower, mine)), compiled_here)
 
 
 # a probe up to this much slower in wall time than in processor time may just have been

@@ -22,8 +22,8 @@ import os
 import numpy as np
 
 from rockcal.campaign.input.config import Campaign, SpecimenSettings
-from rockcal.campaign.plan.cost import WORK_EXPONENT, genesis_s, specimen_size, time_factor
-from rockcal.campaign.plan.engine_speed import busy_cores, probe_ms_per_step
+from rockcal.campaign.plan.cost import FIRST_RUN_COMPILE_S, WORK_EXPONENT, genesis_s, specimen_size, time_factor
+from rockcal.campaign.plan.engine_speed import busy_cores, probe, probe_ms_per_step
 from rockcal.campaign.plan.route import route_of
 from rockcal.campaign.runs.retries import holds, retry_line
 from rockcal.campaign.procedure.points import packings_of
@@ -273,10 +273,18 @@ def _share(processes: int) -> float:
 
 
 def expected_s(campaign: Campaign, store, workers: int) -> float:
-    """The campaign's expected wall time: the genesis of the packings to make, its stages' runs
-    and the main process's own work."""
+    """The campaign's expected wall time: what is left to compile on an install's first run,
+    the genesis of the packings to make, its stages' runs and the main process's own work."""
     total = sum(seconds for _, seconds in stage_times(campaign, store, workers).values())
-    return genesis_wall_s(campaign, workers) + total + _main_process_s(campaign)
+    return compile_s(campaign) + genesis_wall_s(campaign, workers) + total + _main_process_s(campaign)
+
+
+def compile_s(campaign: Campaign) -> float:
+    """What the workers still compile, s, where the probe found numba's cache without the
+    engine (an install's first run); 0 on later runs."""
+    if not probe().compiled_here:
+        return 0.0
+    return FIRST_RUN_COMPILE_S[campaign.specimen.dimensions] * probe_ms_per_step() * _share(1)
 
 
 def _main_process_s(campaign: Campaign) -> float:
@@ -368,11 +376,14 @@ def _runs_text(campaign: Campaign, test: str) -> str:
 def _genesis(campaign: Campaign, workers: int) -> str:
     """The expected time's first part in words: the genesis of the packings not yet made, or
     that every one is ready."""
+    compiling = (f"first compiling the engine (this install's first run), about {_duration(compile_s(campaign))}, "
+                 if compile_s(campaign) else "")
     made = genesis_times(campaign)
     if not made:
-        return "every specimen is ready (cached, or shipped with rockcal); "
+        return compiling + "every specimen is ready (cached, or shipped with rockcal); "
     texts = sorted({text for text, _ in made})
-    return (f"first the genesis of {len(made)} specimen{'s' if len(made) > 1 else ''} ({', '.join(texts)}), "
+    return (compiling + f"{'then' if compiling else 'first'} the genesis of {len(made)} "
+            f"specimen{'s' if len(made) > 1 else ''} ({', '.join(texts)}), "
             f"about {_duration(genesis_wall_s(campaign, workers))}, then ")
 
 
