@@ -62,20 +62,23 @@ def calibrate(
     if dry_run:
         _print_dry_run(campaign, out, workers or os.cpu_count() or 1, note, as_json, resume, wait)
         return
-    result, html, began = _run_campaign(campaign, text, note, out, as_json,
+    result, html, bars = _run_campaign(campaign, text, note, out, as_json,
                                         dict(resume=resume, wait=wait, on_waiting=_waiting,
                                              how=dict(workers=workers, scheduler=scheduler, time_limit_s=time_limit_s,
                                                       tls=tls, threads=threads)))
-    timing = {"stage_began_s": {stage: round(t - started, 1) for stage, t in began.items()},
+    expected_s, planned_at = bars.expected
+    timing = {"stage_began_s": {stage: round(t - started, 1) for stage, t in bars.began.items()},
+              "expected_s": round(expected_s, 1), "planned_at_s": round(planned_at - started, 1),
               "elapsed_s": round(time.perf_counter() - started, 1)}
     _print_summary(result, html, as_json, timing)
 
 
 def _run_campaign(campaign, text: str, note: str | None, out: Path, as_json: bool, options: dict):
     """Run the campaign in OUT (`campaign.job.run_in_folder` with `options`), with its first
-    screen and bars; its result, its report and when each stage began (`time.perf_counter`)."""
+    screen and bars; its result, its report and its bars (`_stage_progress`: when each stage
+    began, the first screen's expected time and when it was made)."""
     from rockcal.campaign.job import run_in_folder
-    from rockcal.campaign.plan.screen import genesis_times, genesis_wall_s, stage_runs, stage_times
+    from rockcal.campaign.plan.screen import expected_s, genesis_times, genesis_wall_s, stage_runs, stage_times
     from rockcal.campaign.procedure.points import CalibrationFailed
 
     bars = []
@@ -84,9 +87,11 @@ def _run_campaign(campaign, text: str, note: str | None, out: Path, as_json: boo
         if not as_json:
             _print_plan(campaign, store, executor, note)
         workers = getattr(executor, "workers", 1)
+        expected = (expected_s(campaign, store, workers), time.perf_counter())
         times = stage_times(campaign, store, workers)
         genesis = (len(genesis_times(campaign)), genesis_wall_s(campaign, workers))
         bars.append(_stage_progress(as_json, stage_runs(campaign), times, genesis))
+        bars[0].expected = expected
         executor.on_live, executor.on_genesis = bars[0].live, bars[0].genesis
         return bars[0]
 
@@ -95,7 +100,7 @@ def _run_campaign(campaign, text: str, note: str | None, out: Path, as_json: boo
     except CalibrationFailed as exc:
         print(f"rockcal: calibration failed: {exc}", file=sys.stderr)
         raise typer.Exit(1)
-    return result, html, bars[0].began
+    return result, html, bars[0]
 
 
 def _cluster_options(scheduler: str | None, ca_file, cert, key):
@@ -146,6 +151,8 @@ def _print_plan(campaign, store, executor, note: str | None) -> None:
     console.print(f"[bold]Calibrating {escape(campaign.rock.name)}[/]" + (" [yellow](quick look)[/]" if note else ""))
     if note:
         console.print(f"  {note}", highlight=False, markup=False)
+    console.print("  measuring this machine's engine speed: a second or two (half a minute on this "
+                  "install's first run, which compiles the engine)", highlight=False, markup=False)
     for line in describe(campaign, store, getattr(executor, "workers", None)):
         console.print("  " + line, highlight=False, markup=False)
     if getattr(executor, "security_source", ""):
@@ -234,6 +241,7 @@ class _stage_progress:
         self.batches: dict[str, list[list[int]]] = {}
         self.tasks: dict[str, int] = {}
         self.began: dict[str, float] = {}  # when each stage began (time.perf_counter)
+        self.expected = (0.0, time.perf_counter())  # the first screen's expected time (s) and when made
 
     def live(self, lines: list[str]) -> None:
         """Show what the running tests read now, a line each below the bars."""
