@@ -168,6 +168,8 @@ class StageLines:
         self._print(f"Calibrating {campaign.rock.name}" + (" (quick look)" if note else ""))
         for line in ([note] if note else []) + describe(campaign, store, getattr(executor, "workers", None)):
             self._print("  " + line)
+        if hasattr(executor, "on_genesis"):  # the packings the cache lacks, made first
+            executor.on_genesis = lambda made, total: self("genesis (packings)", made, total)
 
     def __enter__(self):
         return self
