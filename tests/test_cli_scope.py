@@ -25,3 +25,18 @@ def test_a_test_without_3d_is_refused_in_one_line(rockcal, test, tmp_path):
     assert run.stderr == (f"rockcal: error: {test}: no 3D implementation yet (3D has ucs, brazilian, "
                           "biaxial: confined (square prism, polyaxial walls))\n")
     assert not (tmp_path / "out").exists()
+
+
+def test_each_command_says_what_its_options_are_in_its_dimensions(rockcal):
+    """--width-mm is the UCS cylinder's diameter in 3D and the confined prism's side; the direct
+    tension prism, 2D only, has no 3D word; kn is given in 2D and 3D; the Python export is 2D's."""
+    def help_of(*command):
+        return " ".join(rockcal(*command, "--help").stdout.split())
+
+    ucs, biaxial, tension = (help_of("simulate", test) for test in ("ucs", "biaxial", "direct-tension"))
+    assert "Specimen width, mm (in 3D the cylinder's diameter)." in ucs
+    assert "Specimen width, mm (in 3D the square prism's side)." in biaxial and "cylinder's diameter" not in biaxial
+    assert "cylinder" not in tension and "Prism width W, mm." in tension
+    assert "UCS specimen height" not in ucs + biaxial + tension
+    assert ("pfc5: 2 min(R) t E_c / (R_A + R_B) in 2D, t = 1 m; pi min(R)^2 E_c / (R_A + R_B) in 3D" in ucs)
+    assert "pfc-python: a PFC2D Python script (2D only)" in help_of("export")

@@ -194,12 +194,14 @@ def confined_curves(runs: list[tuple[dict, np.ndarray]], path: Path, title: str)
 
 
 def load_displacement(curve, path: Path, title: str, rig=None) -> None:
-    """Load (kN per m of thickness) against displacement (mm), peak marked (a test's curve
-    figure takes its `rig`; this one does not read it)."""
+    """Load against displacement (mm), peak marked; the load in the `rig`'s unit (kN per m of
+    thickness in 2D, kN in 3D: `rockcal.labtests.rig.Rig.load_unit`; no rig: 2D's)."""
+    unit = "kN/m" if rig is None else rig.load_unit
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.plot(curve[:, 0], curve[:, 1])
-    _mark_peak(ax, curve[:, 0], curve[:, 1], "peak {:.2f} kN/m")
-    _finish(fig, ax, "displacement (mm)", "load (kN per m of thickness)", title, path)
+    _mark_peak(ax, curve[:, 0], curve[:, 1], f"peak {{:.2f}} {unit}")
+    _finish(fig, ax, "displacement (mm)", "load (kN per m of thickness)" if unit == "kN/m" else f"load ({unit})",
+            title, path)
 
 
 def _mark_peak(ax, x, y, label: str) -> None:

@@ -29,7 +29,7 @@ from rockcal.materials.parallel_bond import make_params
 GRANITE = make_params({"E_c": 62, "kn_ks": 2.5, "sigma_c": 175, "tau_c": 175,
                        "sigma_c_cv": 0.23, "tau_c_cv": 0.23, "mu": 0.5, "density": 2630})
 ELASTIC = make_params({"E_c": 20, "Ebar_c": 40, "kn_ks": 2.5, "sigma_c": 1e5, "tau_c": 1e5})
-LOAD = 1  # the curve's load column, kN per m of the disk's thickness
+LOAD = 1  # the curve's load column, kN (a 2D slab's: kN per m of its thickness)
 
 
 def tensile_strength_MPa(load_N: float, diameter_m: float, thickness_m: float) -> float:
@@ -77,21 +77,41 @@ def test_an_elastic_lattice_disk_is_loaded_alike_top_and_bottom_and_linearly():
     disk = lattice_disk(9, 4, 1e-3)
     result = simulate_brazilian(ELASTIC, disk, max_strain=2e-3)
     assert result.n_broken_tension + result.n_broken_shear == 0
-    closure, load = result.curve[:, 0], result.curve[:, LOAD] * 8e-3  # kN
+    closure, load = result.curve[:, 0], result.curve[:, LOAD]
     assert closure[-1] >= 2e-3 * 18.0  # stopped at the largest closure: no peak, no fall
     assert int(np.argmax(load)) == len(load) - 1
     # sigma_t from the peak load and the nominal D x t
     assert result.sigma_t_MPa == pytest.approx(2 * 1e3 * load.max() / (np.pi * 18e-3 * 8e-3) / 1e6, rel=1e-12)
     assert result.diameter_mm == pytest.approx(18.0)
-    assert result.P_max_kN_per_m == pytest.approx(load.max() / 8e-3, rel=1e-12)
     each = platen_loads(ELASTIC, disk, 2e-3 * 18e-3)
     assert np.array_equal(each[:, 0], closure)  # the test's run
+    # the peak load is the platens' force in kN (N / 1000), the disk's whole thickness's
+    assert result.P_max_kN == pytest.approx(each[:, 1:].mean(axis=1).max(), rel=1e-12)
     loaded = load > 0.2 * load[-1]
     bottom, top = each[loaded, 1], each[loaded, 2]
     assert np.abs(bottom - top).max() < 1e-4 * load[-1]  # equilibrium: the same load on both
     half = np.argmin(np.abs(closure - 0.5 * closure[-1]))
     # linear: the same secant stiffness at half and at the full closure
     assert load[half] / closure[half] == pytest.approx(load[-1] / closure[-1], rel=2e-3)
+
+
+def test_a_3d_brazilian_reports_its_load_in_kN_and_2d_per_m_of_thickness():
+    """A 3D run's peak load, curve and reading are in kN, and its stored runs of the load per m
+    are run again (a 3D revision of its own); a 2D run's keep kN per m and their keys."""
+    from rockcal.campaign.runs.spec import ENGINE, run_spec
+    from rockcal.labtests.brazilian import TEST
+    from rockcal.labtests.specimen_settings import SpecimenSettings
+
+    units = {d: {r.name: r.unit for r in TEST.of_dimensions(d).responses} for d in (2, 3)}
+    assert units[3]["P_max_kN"] == "kN" and "P_max_kN_per_m" not in units[3]
+    assert units[2]["P_max_kN_per_m"] == "kN/m" and "P_max_kN" not in units[2]
+    assert TEST.of_dimensions(3).curve_columns[1] == "load_kN"
+    assert TEST.of_dimensions(3).reading(0.1, 2.5) == "0.100 mm, 2.50 kN"
+    assert TEST.of_dimensions(2).reading(0.1, 2.5) == "0.100 mm, 2.50 kN/m"
+    engine = {d: run_spec("brazilian", SpecimenSettings(dimensions=d, disk_diameter_mm=50.0), {}).engine
+              for d in (2, 3)}
+    assert engine[2] == f"{ENGINE}, brazilian test revision 2"
+    assert engine[3].startswith(f"{ENGINE}, brazilian test revision 3, 3D engine")
 
 
 def test_a_bearing_strip_is_a_softer_column_in_series_with_the_platen():
@@ -165,7 +185,7 @@ def test_bad_loadings_and_disks_are_refused(disk):
 
 def test_a_small_disk_peaks_and_stops_past_the_peak_as_in_2D(disk):
     result = simulate_brazilian(GRANITE, disk)
-    closure, load = result.curve[:, 0], result.curve[:, LOAD] * 8e-3  # kN
+    closure, load = result.curve[:, 0], result.curve[:, LOAD]
     peak = int(np.argmax(load))
     assert 0 < peak < len(load) - 1
     # the flat platens' stop rule: the load fallen below POST_PEAK_FRACTION of the peak with the

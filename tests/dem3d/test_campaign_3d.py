@@ -265,7 +265,7 @@ DISK = {"dimensions": 3, "disk_diameter_mm": 14.0, "rmin_mm": 0.5, "brazilian_lo
 @pytest.mark.slow  # a genesis and a small 3D Brazilian run: about 10 s
 def test_the_brazilian_kind_runs_the_3d_test_on_a_disk():
     """The Brazilian kind in 3D is `simulate_brazilian` on a disk D x D/2: sigma_t = 2 P /
-    (pi D t) with the load per metre of its thickness, the spheres and cracks in 3D; a 3D run
+    (pi D t) with its load in kN, the spheres and cracks in 3D; a 3D run
     is keyed by its dimensions."""
     from rockcal.labtests.brazilian import TEST as BRAZILIAN
     from rockcal.labtests.brazilian import simulate_brazilian
@@ -276,7 +276,8 @@ def test_the_brazilian_kind_runs_the_3d_test_on_a_disk():
     result = BRAZILIAN.run(as_params(PARAMS), disk, s, None)
     alone = simulate_brazilian(as_params(PARAMS), disk, loading="strips")
     assert result.sigma_t_MPa == alone.sigma_t_MPa and result.split == alone.split
-    assert result.sigma_t_MPa == pytest.approx(2e-3 * result.P_max_kN_per_m / (np.pi * disk.size_m[0]), rel=1e-12)
+    assert result.sigma_t_MPa == pytest.approx(2e-3 * result.P_max_kN / (np.pi * disk.size_m[0] * disk.size_m[1]),
+                                               rel=1e-12)
     assert result.positions.shape == (disk.n_particles, 3)
     assert sum(len(c) for c in result.cracks.values()) == result.n_broken_tension + result.n_broken_shear
     assert dict(run_spec("brazilian", SpecimenSettings(**DISK), PARAMS).specimen)["dimensions"] == 3

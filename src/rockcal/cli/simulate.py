@@ -99,8 +99,8 @@ def _setting_options(test: LabTest) -> dict:
         shown = True  # a default that differs in 3D: each dimension's
         if setting in DEFAULTS_3D and "dimensions" in test.settings:
             shown = f"{getattr(default, 'value', default)} in 2D, {DEFAULTS_3D[setting]} with --dimensions 3"
-        options[setting] = (kind, typer.Option(default, flag_of(test, setting), help=info.description,
-                                               show_default=shown))
+        text = dict(test.setting_help).get(setting, info.description)
+        options[setting] = (kind, typer.Option(default, flag_of(test, setting), help=text, show_default=shown))
     if "dimensions" not in test.settings:  # told in one line: no 3D implementation yet
         options["dimensions"] = (int, typer.Option(2, hidden=True))
     if test.hexagonal is not None:
@@ -127,6 +127,7 @@ def simulate(test: LabTest, options: dict) -> None:
         test.check_dimensions(dimensions, chosen.name)
     series, values = _series(test, options)
     settings = _checked_settings(test, options)
+    test = test.of_dimensions(dimensions)  # its responses as a run in these dimensions reports them
     run = {"params": params.key(), "contact_stiffness": settings.get("contact_stiffness")}
     if chosen.name != DEFAULT_MATERIAL:
         run["model"] = chosen.name

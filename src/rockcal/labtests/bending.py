@@ -326,7 +326,7 @@ TEST = LabTest(
     defaults=(("stop_fraction", POST_PEAK_FRACTION),),
     settings=(*BEAM_SETTINGS.values(), "rmin_mm", "radius_ratio", "seed", *GENESIS,
               "stop_fraction", "contact_stiffness", "grain_shape"),  # grain_shape last: kind.LATER_SETTINGS
-    check=_check, make=_specimen, run=_run, reading=load_reading,
+    check=_check, make=_specimen, run=_run, reading=load_reading("kN/m"),
     outline=lambda s: Outline(f"beam {s['beam_length_mm']:g} x {s['beam_height_mm']:g} mm",
                               s["beam_length_mm"], s["beam_height_mm"]),
     revision=8)  # part of every stored bending run's key: raise it when the test's numbers change

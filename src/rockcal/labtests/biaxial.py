@@ -320,6 +320,8 @@ TEST = LabTest(
     check=_check, make=_specimen, run=_run,
     reading=lambda strain, q_MPa: f"strain {100 * strain:.3f} %, q {q_MPa:.1f} MPa",
     outline=_outline,
+    setting_help=(("width_mm", "Specimen width, mm (in 3D the square prism's side)."),
+                  ("height_mm", "Specimen height, mm.")),
     # the full-size granite's confined runs at sigma3 0, 5, 10, 20 MPa took 1.0, 1.8, 1.7 and
     # 2.2 x its UCS run (the seating, and a higher peak further on)
     time_factor=lambda s: 1.7,

@@ -10,16 +10,16 @@ load for a while without splitting the disk). The jaws close at the same speed; 
 the strips', stops as a lab's at the first fall below loading.PAST_PEAK_FRACTION of the peak that
 left a crack across the disk's middle (`broken_through`): the jaws and the strips hold the
 pieces and would load them on.
-Tensile strength sigma_t = 2 P / (pi D t) (ISRM 1978; ASTM D3967) with P the peak load per metre
-of thickness; `split` says whether the disk split through its centre (`central_split`) or not
+Tensile strength sigma_t = 2 P / (pi D t) (ISRM 1978; ASTM D3967) with P the peak load (per
+metre of the slab's unit thickness t in 2D); `split` says whether the disk split through its centre (`central_split`) or not
 (crushed at a contact, or split off the centre).
 
 The test is one procedure in 2D and 3D, over the rig of the disk's dimension (`rig.rig_for`):
 with the setting `dimensions` 3 (PFC3D) the disk is D thick D / 2 (ISRM's ratio), its axis
 horizontal along y, loaded along z between the flat platens or the strips (the curved jaws
 are 2D's alone), carved from a D x t x D cuboid packing (`specimens3d.specimen.random_disk`);
-its load is the platens' force in N, reported per metre of its thickness beside the 2D
-test's, and a crack counts over the disk's thickness (`crack_share`).
+its load is the platens' force, reported in kN (P_max_kN; per metre of thickness in 2D,
+P_max_kN_per_m), and a crack counts over the disk's thickness (`crack_share`).
 
 What the loading decides: a bare platen or jaw first bears on the one to three grains of the
 rim that stand out (the rim is rough by a grain, far more than the contacts' overlap), so the
@@ -116,14 +116,24 @@ STRIP_THICKNESS_PER_DIAMETER = 0.01
 
 @dataclass
 class BrazilianResult(LabResult):
-    """Responses of a Brazilian test; its curve's columns: platen closure mm, load kN per m."""
+    """Responses of a Brazilian test, 2D or 3D (`BrazilianResult2D`, `BrazilianResult3D` add the
+    peak load); its curve's columns: platen closure mm, load (kN per m of thickness in 2D, kN in 3D)."""
 
     sigma_t_MPa: float
-    P_max_kN_per_m: float
     displacement_at_peak_mm: float
     diameter_mm: float
     split: float  # 1.0: the disk split through its centre; 0.0: crushed at a contact or split off it
     peak_cracks: dict = field(repr=False)  # the bonds broken by just after the peak, by mode
+
+
+@dataclass
+class BrazilianResult2D(BrazilianResult):
+    P_max_kN_per_m: float  # per m of the slab's unit thickness
+
+
+@dataclass
+class BrazilianResult3D(BrazilianResult):
+    P_max_kN: float
 
 
 def check_disk(diameter_mm: float, rmin_mm: float, radius_ratio: float) -> None:
@@ -219,7 +229,8 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen=None,
     "strips" (the flat platens with a bearing strip of `strip_modulus_GPa` and
     `strip_thickness_mm`, None: STRIP_THICKNESS_PER_DIAMETER x D, on each; `rig.BearingStrip`);
     contact_stiffness: PFC's convention for kn ("pfc5" or "pfc4", `dem.simulate`; None: the
-    engine's default); progress(closure_mm, load_kN_per_m) is called as the test goes.
+    engine's default); progress(closure_mm, load) is called as the test goes, the load in kN
+    per m of thickness (2D) or kN (3D).
     """
     started = time.perf_counter()
     params = as_params(params)
@@ -231,7 +242,7 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen=None,
     if loading == "isrm" and rig.jaws is None:
         raise InputError("loading", f"must be one of {', '.join(LOADINGS_3D)} in 3D, got {loading!r}")
     disk = rig.disk(specimen)
-    diameter, per_m = disk.diameter_m, 1.0 / disk.thickness_m  # loads per metre of thickness
+    diameter = disk.diameter_m
     strip, squeeze = None, 0.0  # the strips, and how far they may close the platens at most
     if loading == "strips":
         strip = BearingStrip(strip_modulus_GPa, strip_thickness_mm if strip_thickness_mm is not None
@@ -270,20 +281,21 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen=None,
     schedule = Loading(RAMP_STEPS_PER_ROW * loader.rows, LOCALISED_DAMAGE)
     curve = load_to_failure(loader, schedule, read, failed, max_strain * diameter + squeeze,
                             full_speed_past_peak=True,
-                            progress=progress and (lambda mm, kN: progress(mm, kN * per_m)))
+                            progress=progress)
     k = int(np.argmax(curve[:, 1]))
     P_max = 1e3 * curve[k, 1]
     modes, where = state.breaks()
     if loading != "flat" or after_peak is None:  # the jaws and the strips stop just after the peak
         after_peak = modes
     cracks = measure.cracks(after_peak, where)
-    return BrazilianResult(
+    result = dict(
         sigma_t_MPa=2 * P_max / (np.pi * diameter * disk.thickness_m) / 1e6,
-        P_max_kN_per_m=P_max / 1e3 * per_m,
         displacement_at_peak_mm=float(curve[k, 0]), diameter_mm=1e3 * diameter,
         split=float(central_split(np.vstack(list(cracks.values())), disk, grain)),
-        peak_cracks=cracks, curve=np.column_stack([curve[:, 0], curve[:, 1] * per_m]),
-        **run_fields(state, specimen, started))
+        peak_cracks=cracks, curve=curve, **run_fields(state, specimen, started))
+    if rig.dimensions == 3:
+        return BrazilianResult3D(P_max_kN=P_max / 1e3, **result)
+    return BrazilianResult2D(P_max_kN_per_m=P_max / 1e3, **result)
 
 
 def _check(s: dict) -> None:
@@ -347,6 +359,13 @@ class BrazilianValues(LabValues):
     sigma_t_MPa: float = Field(gt=0, description="Brazilian tensile strength σ_t = 2P/(πDt), MPa.")
 
 
+RESPONSES = (Response("sigma_t_MPa", "MPa", label="tensile strength sigma_t"),
+             Response("P_max_kN_per_m", "kN/m", target=False, label="peak load"),
+             Response("displacement_at_peak_mm", "mm", target=False, label="platen closure at peak"),
+             Response("split", "", target=False, label="split through the centre (1) or not (0)"))
+RESPONSES_3D = tuple(Response("P_max_kN", "kN", target=False, label="peak load") if r.name == "P_max_kN_per_m"
+                     else r for r in RESPONSES)
+
 # A disk's run time between bearing strips over a UCS run's of the same work: the platens close
 # several times further to the peak (the strips' squeeze), at the slowest loading from the first
 # break; between bare platens the disk takes about its work's time.
@@ -360,15 +379,15 @@ TEST = LabTest(
     help="Brazilian test of a disk between flat platens, flat platens with bearing strips or ISRM's "
          "curved jaws (--loading): "
          "sigma_t = 2P/(pi D t), load-closure curve, whether the disk split through its centre.",
-    responses=(Response("sigma_t_MPa", "MPa", label="tensile strength sigma_t"),
-               Response("P_max_kN_per_m", "kN/m", target=False, label="peak load"),
-               Response("displacement_at_peak_mm", "mm", target=False, label="platen closure at peak"),
-               Response("split", "", target=False, label="split through the centre (1) or not (0)")),
+    responses=RESPONSES,
     curve_columns=("displacement_mm", "load_kN_per_m"), plot="load_displacement",
     flags=(("disk_diameter_mm", "diameter_mm"), ("brazilian_loading", "loading")),
     # brazilian_loading, grain_shape, dimensions and strip_modulus_gpa last: at their defaults
     # ("flat", "ball", 2, 1: kind.LATER_SETTINGS) a run's key leaves them out
     settings=("disk_diameter_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "contact_stiffness",
               "brazilian_loading", "grain_shape", "dimensions", "strip_modulus_gpa"),
-    check=_check, make=_specimen, run=_run, reading=load_reading, outline=_outline,
+    check=_check, make=_specimen, run=_run, reading=load_reading("kN/m"), outline=_outline,
+    # a 3D disk has a thickness: its load in kN, and the 3D runs stored with it per m run again
+    changes_3d=(("responses", RESPONSES_3D), ("curve_columns", ("displacement_mm", "load_kN")),
+                ("reading", load_reading("kN")), ("revision", 3)),
     revision=2)  # part of every stored Brazilian run's key: raise it when the test's numbers change

@@ -142,4 +142,5 @@ TEST = LabTest(
     reading=lambda strain, stress_MPa: f"strain {100 * strain:.4f} %, {stress_MPa:.2f} MPa",
     outline=lambda s: Outline(f"direct tension {s['width_mm']:g} x {s['height_mm']:g} mm",
                               s["width_mm"], s["height_mm"]),
+    setting_help=(("width_mm", "Prism width W, mm."), ("height_mm", "Prism height, mm, along the pull.")),
     curve_columns=CURVE_COLUMNS, own_settings=(GRIP,), plot="tension_curve")

@@ -6,7 +6,7 @@ Each test module declares its kind as `TEST`; `rockcal.labtests.registry` lists 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Callable
 
 from rockcal.materials.clump_templates import DEFAULT_SHAPE
@@ -148,6 +148,8 @@ class LabTest:
     plot: str | None = None  # the `rockcal.plots` function of (curve, path, title, rig) that draws it
     flags: tuple[tuple[str, str], ...] = ()  # (setting, its CLI flag's name) where they differ
     defaults: tuple[tuple[str, Any], ...] = ()  # (setting, its default for this test alone)
+    # (setting, its help in this test's command) where the campaign key's, shared by tests, says other
+    setting_help: tuple[tuple[str, str], ...] = ()
     hexagonal: Callable[[dict], Any] | None = None  # its specimen as a hexagonal lattice, if it has one
     help: str = ""  # what `rockcal simulate <name>` does, in a line
     own_settings: tuple[Setting, ...] = ()  # settings it brings beyond the campaign file's [specimen]
@@ -155,10 +157,21 @@ class LabTest:
     combined_responses: tuple[Response, ...] = ()  # what `combine` gives
     series_figures: tuple[SeriesFigure, ...] = ()  # figures of a series' runs together
     strength: str = ""  # the response that is its strength (a crack figure's title); "": the first
+    # what a 3D run reports otherwise (a load in kN, not kN per m of thickness): (field, its
+    # value in 3D) pairs, such as `responses`, `curve_columns`, `reading`, `revision`, that
+    # `of_dimensions(3)` takes
+    changes_3d: tuple[tuple[str, Any], ...] = ()
 
     def __post_init__(self):
         if self.lab_values is not None:
             self.lab_values.kind = self  # its section reads its targets here, not by name
+
+    def of_dimensions(self, dimensions: int) -> LabTest:
+        """The test as a run in `dimensions` reports it: with `changes_3d` in 3D (its campaign
+        file section, `lab_values`, stays this test's: one for both)."""
+        if dimensions != 3 or not self.changes_3d:
+            return self
+        return replace(self, **dict(self.changes_3d), changes_3d=(), lab_values=None)
 
     @property
     def strength_response(self) -> Response:
@@ -280,9 +293,9 @@ def genesis_of(settings: dict) -> Genesis:
     return Genesis(**{name: settings[name] for name in GENESIS})
 
 
-def load_reading(displacement_mm: float, load_kN_per_m: float) -> str:
-    """A running load-displacement test's reading in words."""
-    return f"{displacement_mm:.3f} mm, {load_kN_per_m:.2f} kN/m"
+def load_reading(unit: str) -> Callable[[float, float], str]:
+    """A running load-displacement test's reading in words, its load in `unit` (kN/m, kN)."""
+    return lambda displacement_mm, load: f"{displacement_mm:.3f} mm, {load:.2f} {unit}"
 
 
 def all_settings(key_settings: dict) -> dict:

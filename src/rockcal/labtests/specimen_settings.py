@@ -35,8 +35,9 @@ class SpecimenSettings(Genesis):
     rmin_mm: float = Field(0.25, gt=0, description="Smallest particle radius R_min, mm: the resolution.")
     radius_ratio: float = Field(1.65, ge=1, le=10, description="Largest / smallest radius; radii are uniform between.")
     seed: int = Field(1, ge=0, description="Packing seed; other packings (intervals, validation beams) take seed + 1, ...")
-    width_mm: float = Field(50.0, gt=0, description="UCS specimen width, mm (in 3D the cylinder's diameter).")
-    height_mm: float = Field(100.0, gt=0, description="UCS specimen height, mm.")
+    width_mm: float = Field(50.0, gt=0, description="Width of the UCS, confined and direct tension specimens, mm "
+                            "(in 3D the UCS cylinder's diameter and the confined square prism's side).")
+    height_mm: float = Field(100.0, gt=0, description="Height of the UCS, confined and direct tension specimens, mm.")
     beam_length_mm: float = Field(220.0, gt=0, description="Notched beam length, mm.")
     beam_height_mm: float = Field(50.0, gt=0, description="Notched beam depth W, mm.")
     notch_mm: float = Field(18.0, gt=0, description="Notch depth a, mm, from the beam's lower edge at mid-span.")
@@ -51,8 +52,9 @@ class SpecimenSettings(Genesis):
     stop_fraction: float = Field(POST_PEAK_FRACTION, gt=0, lt=1, description="UCS and bending runs stop once past "
                                  "the peak the load is below this fraction of it (PFC's ct_loadFac).")
     contact_stiffness: Literal[CONTACT_STIFFNESS] = Field(DEFAULT_CONTACT_STIFFNESS, description="A contact's kn "
-                                                          "from E_c as PFC 3.x/4.0 (pfc4: t E_c) or PFC 5+ (pfc5: "
-                                                          "2 min(R) t E_c / (R_A + R_B)) computes it.")
+                                                          "from E_c as PFC 3.x/4.0 (pfc4, 2D only: t E_c) or PFC 5+ "
+                                                          "(pfc5: 2 min(R) t E_c / (R_A + R_B) in 2D, t = 1 m; "
+                                                          "pi min(R)^2 E_c / (R_A + R_B) in 3D) computes it.")
     # left out of a record at its default, as out of a run's key (`kind.LATER_SETTINGS`)
     max_axial_strain: float = Field(DEFAULT_MAX_AXIAL_STRAIN, gt=0, le=0.5,
                                     exclude_if=lambda v: v == DEFAULT_MAX_AXIAL_STRAIN,

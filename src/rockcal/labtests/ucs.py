@@ -243,6 +243,8 @@ TEST = LabTest(
               "stop_fraction", "contact_stiffness", "max_axial_strain", "grain_shape",
               "dimensions"),  # the later settings last, at their defaults out of a run's key
     strength="ucs_MPa",
+    setting_help=(("width_mm", "Specimen width, mm (in 3D the cylinder's diameter)."),
+                  ("height_mm", "Specimen height, mm.")),
     plot="stress_strain",
     hexagonal=_hexagonal,
     check=_check, make=_specimen, run=_run,

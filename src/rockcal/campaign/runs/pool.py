@@ -94,13 +94,15 @@ def execute(spec: RunSpec, time_limit_s: float | None = None, snapshots_in: Path
             raise RunTimedOut(f"stopped after the run's wall-time limit of {time_limit_s:g} s")
         if _live is not None and now - last >= LIVE_INTERVAL_S:
             last = now
-            _live.put((spec.key, spec.kind, float(x), float(y), run_s()))
+            _live.put((spec.key, spec.kind, dimensions, float(x), float(y), run_s()))
 
+    settings = all_settings(dict(spec.specimen))
+    dimensions = settings["dimensions"]
     try:
-        test = lab_test(spec.kind)
+        test = lab_test(spec.kind).of_dimensions(dimensions)
         specimen = specimen_of(spec.kind, spec.specimen)
         with snapshots.kept_in(snapshots_in, spec.key):
-            r = test.run(params_of(spec), specimen, all_settings(dict(spec.specimen)), watch)
+            r = test.run(params_of(spec), specimen, settings, watch)
             earlier_s = snapshots.earlier_s()
         responses = test.responses_of(r) | {
             "n_broken_tension": r.n_broken_tension, "n_broken_shear": r.n_broken_shear,
@@ -180,8 +182,8 @@ def _init_worker(cores: int, busy, live, live_interval_s: float, threads: int | 
 
 def live_lines(readings: dict[str, tuple]) -> list[str]:
     """A line per running test: its title, short key, latest reading and time so far."""
-    return [f"{lab_test(kind).title} {key[:6]}: {lab_test(kind).reading(x, y)}, {elapsed:.0f} s"
-            for key, (kind, x, y, elapsed) in readings.items()]
+    return [f"{lab_test(kind).title} {key[:6]}: {lab_test(kind).of_dimensions(dimensions).reading(x, y)}, "
+            f"{elapsed:.0f} s" for key, (kind, dimensions, x, y, elapsed) in readings.items()]
 
 
 class _Shown:

@@ -65,7 +65,8 @@ def run_spec(kind: str, specimen_settings, params: dict, model: str = DEFAULT_MA
     test = lab_test(kind)
     settings = test.key_settings(specimen_settings) | (own or {})
     full = material(model).make(params).key() | ({} if model == DEFAULT_MATERIAL else {"model": model})
-    engine = ENGINE if test.revision == 1 else f"{ENGINE}, {kind} test revision {test.revision}"
+    revision = test.of_dimensions(settings.get("dimensions", 2)).revision
+    engine = ENGINE if revision == 1 else f"{ENGINE}, {kind} test revision {revision}"
     if settings.get("dimensions") == 3:  # a 3D run (keyed by `dimensions` too): the 3D engine's
         engine += f", 3D engine {ENGINE_VERSION_3D}, 3D specimen generator {GENERATOR_VERSION_3D}"
     if settings.get("grain_shape", DEFAULT_SHAPE) != DEFAULT_SHAPE:  # a clumped run: of the clumps' genesis

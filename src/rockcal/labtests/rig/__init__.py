@@ -66,7 +66,8 @@ class Rig:
     `Loader` with `area_m2`, `thickness_m`, `strain()`, `closure_m()`, `zero()`), `side_walls(platens,
     specimen, target_Pa)`, `gauge(specimen, state)` and `check_gauges(specimen)`;
     `lateral_strains`, the lateral strains a volumetric strain takes (2D's areal strain one, a
-    3D specimen's two); `disk(specimen)` a Brazilian disk's `Disk`; `jaws` ISRM's curved
+    3D specimen's two); `disk(specimen)` a Brazilian disk's `Disk`; `load_unit`, the unit of a
+    loader's load / 1000 (kN per m of the 2D slab's thickness, kN in 3D); `jaws` ISRM's curved
     jaws, where the dimension has them."""
 
     dimensions: int
@@ -76,13 +77,15 @@ class Rig:
     check_gauges: Callable
     lateral_strains: int
     disk: Callable
+    load_unit: str
     jaws: Callable | None = None
 
 
 def rig_for(specimen) -> Rig:
     """The rig of the specimen's dimension (`specimen.dimensions`)."""
     if specimen.dimensions == 2:
-        return Rig(2, Platens, SideWalls, Gauge, check_gauges, lateral_strains=1, disk=disk_of, jaws=Jaws)
+        return Rig(2, Platens, SideWalls, Gauge, check_gauges, lateral_strains=1, disk=disk_of,
+                   load_unit="kN/m", jaws=Jaws)
     # the 3D rig, and with it the 3D engine's kernels: loaded for a 3D run alone
     from rockcal.labtests.rig.gauge_3d import Gauge3D
     from rockcal.labtests.rig.gauge_3d import check_gauges as check_gauges_3d
@@ -90,4 +93,5 @@ def rig_for(specimen) -> Rig:
     from rockcal.labtests.rig.platens_3d import disk_of as disk_of_3d
     from rockcal.labtests.rig.sides_3d import SideWalls3D
 
-    return Rig(3, Platens3D, SideWalls3D, Gauge3D, check_gauges_3d, lateral_strains=2, disk=disk_of_3d)
+    return Rig(3, Platens3D, SideWalls3D, Gauge3D, check_gauges_3d, lateral_strains=2, disk=disk_of_3d,
+               load_unit="kN")
