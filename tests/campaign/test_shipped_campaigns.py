@@ -136,3 +136,13 @@ def test_the_narrow_gap_3d_granite_differs_from_the_3d_granite_only_in_its_gap_a
     assert narrow.search.fixed == default.search.fixed
     assert narrow.rock.model_copy(update={"name": default.rock.name}) == default.rock
     assert all(narrow.search.bounds[k][1] >= default.search.bounds[k][1] for k in default.search.bounds)
+
+
+@pytest.mark.parametrize("page, heading, shown", [
+    ("docs/tutorial.md", "## 2. The campaign file", "docs/campaigns/tutorial.toml"),
+    ("docs/reference/campaign-file.md", "## An example", "src/rockcal/campaign/input/granite.toml")])
+def test_a_page_shows_its_campaign_file_as_the_file_is(page, heading, shown):
+    """The tutorial's campaign and the campaign file's example are written out on their pages
+    (so GitHub shows them too): each is its file, word for word."""
+    after = (ROOT / page).read_text().split(heading, 1)[1]
+    assert re.search(r"```toml\n(.*?)```", after, flags=re.S).group(1) == (ROOT / shown).read_text()
