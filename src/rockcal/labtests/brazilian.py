@@ -10,15 +10,15 @@ load for a while without splitting the disk). The jaws close at the same speed; 
 the strips', stops as a lab's at the first fall below loading.PAST_PEAK_FRACTION of the peak that
 left a crack across the disk's middle (`broken_through`): the jaws and the strips hold the
 pieces and would load them on.
-Tensile strength sigma_t = 2 P / (pi D t) (ISRM 1978; ASTM D3967) with P the peak load (per
-metre of the slab's unit thickness t in 2D); `split` says whether the disk split through its centre (`central_split`) or not
-(crushed at a contact, or split off the centre).
+Tensile strength sigma_t = 2 P / (pi D t) (ISRM 1978; ASTM D3967) with P the peak load (in 2D
+per metre of the slab's unit thickness t); `split` says whether the disk split through its
+centre (`central_split`) or not (crushed at a contact, or split off the centre).
 
 The test is one procedure in 2D and 3D, over the rig of the disk's dimension (`rig.rig_for`):
 with the setting `dimensions` 3 (PFC3D) the disk is D thick D / 2 (ISRM's ratio), its axis
 horizontal along y, loaded along z between the flat platens or the strips (the curved jaws
 are 2D's alone), carved from a D x t x D cuboid packing (`specimens3d.specimen.random_disk`);
-its load is the platens' force, reported in kN (P_max_kN; per metre of thickness in 2D,
+its load is the platens' force, reported in kN (P_max_kN; 2D's in kN per metre of thickness,
 P_max_kN_per_m), and a crack counts over the disk's thickness (`crack_share`).
 
 What the loading decides: a bare platen or jaw first bears on the one to three grains of the
@@ -128,11 +128,15 @@ class BrazilianResult(LabResult):
 
 @dataclass
 class BrazilianResult2D(BrazilianResult):
-    P_max_kN_per_m: float  # per m of the slab's unit thickness
+    """A 2D disk's: its peak load per metre of the slab's unit thickness."""
+
+    P_max_kN_per_m: float
 
 
 @dataclass
 class BrazilianResult3D(BrazilianResult):
+    """A 3D disk's: its peak load, over its whole thickness."""
+
     P_max_kN: float
 
 
