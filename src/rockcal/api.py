@@ -71,8 +71,8 @@ class Calibration:
     def export(self, format: str = "pfc-fish", to: str | Path | None = None, fishtank: int = 6) -> Path:
         """Write the identified parameters under PFC FISHTank's names, as `rockcal export OUT
         --format FORMAT --to TO --fishtank N` does: "pfc-fish" (a FISHTank mpParams data file),
-        "pfc-python" (a PFC Python script) or "json"; `to` by default OUT/mpParams.p2dat (a 3D
-        calibration's: PFC3D's mpParams.p3dat; .py, .json); `fishtank` the PFC version whose
+        "pfc-python" (a PFC2D Python script, 2D only) or "json"; `to` by default
+        OUT/mpParams.p2dat (a 3D calibration's: PFC3D's mpParams.p3dat; .py, .json); `fishtank` the PFC version whose
         FISHTank reads it (5, 6 or 7); a 3D calibration's FISH file has FISHTank's vessel,
         mvParams.p3dat, written beside it. Returns the path of the file asked for."""
         from rockcal.pfc.calibrated import for_fishtank, in_3d

@@ -29,8 +29,9 @@ class FishTank(str, Enum):
 
 def export(
     out: Path = typer.Argument(..., help="Output folder of a finished campaign."),
-    format: Format = typer.Option(Format.pfc_fish, "--format", help="pfc-fish: FISHTank's mpParams data file (mpParams.dat in 2D, mpParams.p3dat in 3D); "
-                                "pfc-python: a PFC2D Python script (2D only); json."),
+    format: Format = typer.Option(Format.pfc_fish, "--format", help="pfc-fish: FISHTank's mpParams data file "
+                                  "(mpParams.p2dat in 2D, mpParams.p3dat in 3D); pfc-python: a PFC2D Python "
+                                  "script (2D only); json."),
     to: Optional[Path] = typer.Option(None, "--to", help="File to write (default: stdout); a 3D "
                                     "calibration's pfc-fish writes FISHTank's vessel, mvParams.p3dat, beside it."),
     fishtank: FishTank = typer.Option(FishTank.pfc6, "--fishtank", help="The PFC version whose FISHTank reads the "
