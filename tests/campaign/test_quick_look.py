@@ -96,6 +96,6 @@ def test_the_report_and_json_of_a_quick_look_say_so(tmp_path):
     store = RunStore(tmp_path / "out")
     page = write_report(result, store, tmp_path / "out").read_text()
     store.close()
-    assert "<h1>Quick look at tiny</h1>" in page and html.escape(note) in page
+    assert "<h1>Quick look at tiny (2D)</h1>" in page and html.escape(note) in page
     full = result.model_copy(update={"quick_look": None})
     assert summary(full)["quick_look"] is None and "quick_look" not in full.to_json()
