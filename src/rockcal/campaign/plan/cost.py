@@ -22,11 +22,11 @@ WORK_EXPONENT = 1.1
 # does (every step moves every grain; a taller vessel takes more steps to settle), in seconds per
 # grain-row per ms of the engine probe's step (`engine_speed`): 2D balls, 3D spheres
 GENESIS_S_PER_WORK = {2: 4.3e-4, 3: 2.2e-3}
+GENESIS_CLUMPS = 1.3  # a clumped packing's genesis over a ball packing's of as many grains
 # What is left to compile once the probe has compiled the 2D engine on an install's first run
 # (numba's cache then holds it for every later run): the 2D tests' own loops, or the 3D engine and
 # its genesis, s per ms of the probe's step
 FIRST_RUN_COMPILE_S = {2: 20.0, 3: 190.0}
-GENESIS_CLUMPS = 1.3  # a clumped packing's genesis over a ball packing's of as many grains
 
 # a 3D UCS run's time per sphere and row over a 2D run's per disk and row on one machine, from
 # the 3D granite campaign's runs at the default installation gap (docs/concepts/pfc3d.md): a

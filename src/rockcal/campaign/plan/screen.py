@@ -10,9 +10,11 @@ Brazilian disk between bearing strips about six times, and a flat-jointed materi
 twice a parallel-bonded one's (`Material.slower_than_parallel_bond`).
 A stage runs in rounds of one run per worker; the runs of a last, short round share the
 cores (a run alone on two cores goes LONE_RUN_SPEED_UP times faster than one of two at once).
-Beside other work (the cores it asks for during the probe) the runs get their share of the
-cores, and a lone run no more cores than the others leave free. The main process's own work,
-the searches for the parameters' intervals and the report, comes on top, with its share too.
+Beside other work (the cores it asks for during the probe, past the cores if need be) the runs
+get their share of the cores, and a lone run no more cores than the others leave free. The
+genesis of the packings the cache lacks comes first (`cost.genesis_s`, one packing per worker at
+a time), and on an install's first run what the workers still compile; the main process's own
+work, the searches for the parameters' intervals and the report, comes on top, with its share too.
 """
 
 from __future__ import annotations
@@ -223,7 +225,8 @@ def dry_run(campaign: Campaign, store, workers: int) -> dict:
     return {"rock": campaign.rock.name, "workers": workers, "stages": plan,
             "runs": sum(runs for runs, _ in walls.values()),
             "specimens_to_make": len(genesis_times(campaign)), "genesis_expected_s": round(genesis, 1),
-            "expected_s": round(genesis + sum(wall for _, wall in walls.values()) + _main_process_s(campaign), 1),
+            "expected_s": round(compile_s(campaign) + genesis + sum(wall for _, wall in walls.values())
+                                + _main_process_s(campaign), 1),
             "ucs_runs_time": round(ucs_runs_time(campaign, store), 1), "route": _route_data(campaign, store, workers)}
 
 
