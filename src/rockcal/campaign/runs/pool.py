@@ -18,7 +18,7 @@ from __future__ import annotations
 import os
 import signal
 import time
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, as_completed, wait
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from functools import lru_cache
@@ -306,8 +306,11 @@ class Executor:
             with sigint_blocked():
                 futures = [self._get_pool().submit(prepare, spec) for spec in specs]
             show(0, len(specs))
-            for done, _ in enumerate(as_completed(futures), 1):
-                show(done, len(specs))
+            pending = set(futures)
+            while pending:  # in short waits, as the runs': a Ctrl-C is taken between them
+                finished, pending = wait(pending, timeout=LIVE_INTERVAL_S, return_when=FIRST_COMPLETED)
+                if finished:
+                    show(len(specs) - len(pending), len(specs))
         except BaseException:  # a Ctrl-C
             self._stop_now()
             raise
