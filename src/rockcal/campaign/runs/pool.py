@@ -259,6 +259,9 @@ class Executor:
         pool, self._pool = self._pool, None
         if pool is None:
             return
+        # the queue of tasks' feeder thread may be blocked on a pipe that no stopped worker
+        # reads: not waited for, or the pool's shutdown, and Python's exit, wait for ever
+        pool._call_queue.cancel_join_thread()
         for process in list((pool._processes or {}).values()):
             process.terminate()
         pool.shutdown(wait=False, cancel_futures=True)
