@@ -31,7 +31,7 @@ TIME_STEP_SAFETY = 0.8
 @dataclass
 class State:
     """A bonded sphere model: spheres, bonds (the first pairs of the neighbour list), the
-    neighbour list, the law constants, local damping, time step and planar walls (none
+    neighbour list, the law constants, local damping, time step and walls (planes, a cylinder; none
     unless given: `walls`)."""
 
     spheres: Spheres
