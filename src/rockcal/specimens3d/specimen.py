@@ -1,6 +1,8 @@
-"""3D specimens made by PFC's material genesis: a cuboid packed in a cuboid vessel, or a
-cylinder carved out of one (a cuboid packing of the cylinder's diameter squared by its height,
-the spheres whose centres lie inside the cylinder kept, then those left without a bond dropped).
+"""3D specimens made by PFC's material genesis: a cuboid packed in a cuboid vessel, a cylinder
+carved out of one (a cuboid packing of the cylinder's diameter squared by its height, the
+spheres whose centres lie inside the cylinder kept, then those left without a bond dropped), or
+a cylinder packed in a cylindrical vessel (`packed_cylinder`: the triaxial cell's, whose
+surface is its vessel's wall).
 
 As in 2D (`rockcal.specimens.specimen`), a specimen is geometry (centres, radii, bonded pairs) plus
 one uniform draw per bond and strength; packings are kept on disk in 2D's cache folder, under
@@ -22,7 +24,7 @@ from rockcal.specimens.packing import check_packing_pressure
 from rockcal.specimens.specimen import STRENGTH_STREAM, _one_maker, cache_dir
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D, floaters, install_bonds, sphere_contacts
 from rockcal.dem3d.neighbours import SpheresScattered, spatial_order
-from rockcal.specimens3d.packing import pack_cuboid
+from rockcal.specimens3d.packing import pack_vessel
 from rockcal.dem3d.vectors import cubes
 from rockcal.errors import InputError, fields_named
 from rockcal.output_files import atomic_path
@@ -121,7 +123,7 @@ def cloud_spheres(volume_mm3: float, rmin_mm: float, radius_ratio: float, cloud_
 
 # The loosest cloud the 3D genesis packs: a solid fraction of 0.55, the random loose packing of
 # spheres (Onoda & Liniger 1990, 0.555). The genesis drops the cloud's spheres at their own size
-# (shrunk to jamming, never grown: `packing.pack_cuboid`), so a looser cloud has no contact
+# (shrunk to jamming, never grown: `packing.pack_vessel`), so a looser cloud has no contact
 # network to carry P_m; its floater rounds then grow single spheres far past R_max, and the
 # packing goes unstable (spheres leave the vessel, the neighbour grid outgrows memory).
 MAX_CLOUD_POROSITY_3D = 0.45
@@ -174,6 +176,27 @@ def carve_cylinder(cuboid: Specimen3D) -> Specimen3D:
     x, _, z = cuboid.size_m
     inside = np.hypot(cuboid.pos[:, 0] - x / 2, cuboid.pos[:, 1] - x / 2) <= x / 2
     return _carved(cuboid, inside, "cylinder", (x, x, z))
+
+
+def packed_cylinder(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float = 1.65,
+                    seed: int = 1, genesis: Genesis | None = None, cache: bool = True) -> Specimen3D:
+    """A cylinder of diameter `width_mm`, `height_mm` tall, packed by the 3D genesis in a
+    cylindrical vessel of its size, as FISHTank's cylindrical material vessel packs it (its
+    packing kept on disk unless `cache` is False). Its side is the vessel's smooth wall, which a
+    triaxial cell's rigid wall bears on all round; a carved cylinder's side is rough by a
+    sphere's radius, and a rigid wall holding sigma3 on it touches a few outermost spheres
+    alone (4 of a 10 x 20 mm cylinder's 500), which confines it no more than no wall."""
+    genesis = genesis or DEFAULT_GENESIS_3D
+    check_size(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity, genesis.pressure_mpa)
+    vessel = np.array([width_mm, width_mm, height_mm]) * 1e-3
+    pos, radius, pressure, left = packing(vessel, rmin_mm * 1e-3, radius_ratio, seed, genesis, cache,
+                                          cylinder=True)
+    bonds = install_bonds(pos, radius, genesis.install_gap * rmin_mm * 1e-3)
+    label = (f"cylinder {width_mm:g}x{height_mm:g} mm packed in its cell, Rmin {rmin_mm:g} mm "
+             f"x{radius_ratio:g}, gap {genesis.install_gap:g} Rmin, seed {seed}")
+    draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
+    return Specimen3D(pos, radius, bonds, "cylinder", tuple(vessel), label, draws, pressure, left,
+                      rmin_mm, genesis.install_gap)
 
 
 def random_cuboid(sides_mm, rmin_mm: float, radius_ratio: float = 1.65, seed: int = 1,
@@ -253,20 +276,21 @@ def _carved(cuboid: Specimen3D, inside: np.ndarray, shape: str, size_m) -> Speci
                    bond_draws=cuboid.bond_draws[kept])
 
 
-def packing(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesis, cache: bool):
-    """The packed vessel's centres and radii (m), pressure reached (MPa) and floaters left:
-    from the cache, or made (and kept if `cache`)."""
+def packing(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesis, cache: bool,
+            cylinder: bool = False):
+    """The packed vessel's (or the `cylinder` inscribed in it) centres and radii (m), pressure
+    reached (MPa) and floaters left: from the cache, or made (and kept if `cache`)."""
     def make():
         try:
-            return pack_cuboid(vessel, rmin, radius_ratio, seed, genesis.cloud_porosity,
-                               genesis.pressure_mpa)
+            return pack_vessel(vessel, rmin, radius_ratio, seed, genesis.cloud_porosity,
+                               genesis.pressure_mpa, cylinder)
         except SpheresScattered as exc:
             raise InputError("cloud_porosity", f"the 3D genesis went unstable ({exc}): lower the cloud "
                                                "porosity or pressure_mpa") from None
 
     if not cache:
         return _ordered(*make())
-    path = cache_dir() / packing_name(vessel, rmin, radius_ratio, seed, genesis)
+    path = cache_dir() / packing_name(vessel, rmin, radius_ratio, seed, genesis, cylinder)
     with _one_maker(path):
         if not path.exists():
             pos, radius, pressure, left = _ordered(*make())
@@ -281,13 +305,17 @@ def _ordered(pos, radius, pressure, left):
     return pos[order], radius[order], pressure, left
 
 
-def packing_name(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesis) -> str:
+def packing_name(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesis,
+                 cylinder: bool = False) -> str:
     """The file a 3D packing is kept in: a hash of what its genesis depends on, as 2D's
-    (`rockcal.specimens.specimen.packing_name`) with the vessel's three sides."""
+    (`rockcal.specimens.specimen.packing_name`) with the vessel's three sides (and its shape
+    where it is the `cylinder` inscribed in them)."""
     key = {"kind": "random_3d", "size_mm": [round(1e3 * float(v), 9) for v in vessel],
            "rmin_mm": round(1e3 * rmin, 9), "radius_ratio": float(radius_ratio),
            "seed": int(seed), "version": GENERATOR_VERSION_3D,
            "cloud_porosity": genesis.cloud_porosity, "pressure_mpa": genesis.pressure_mpa}
+    if cylinder:  # a cuboid's key as it was before cylinders were packed
+        key["vessel"] = "cylinder"
     return hashlib.sha1(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16] + ".npz"
 
 

@@ -22,8 +22,9 @@ The 2D rig holds disks in a slab of unit thickness `THICKNESS_M`, so loads are N
 thickness and an area is a width x THICKNESS_M. The 3D rig (`platens_3d`, `sides_3d`,
 `gauge_3d`) holds spheres: its `Loader`s' `load()` is in N, its platens' `area_m2` the
 specimen's cross-section (pi D^2 / 4 for a cylinder) and `thickness_m` a Brazilian disk's
-length; its side walls confine the four lateral faces of a prism; its gauge's lateral strain
-is the mean of the two widths' (or the diametral) strain. `rig_for(specimen)` gives the parts
+length; its confining vessel is four side walls about a prism (polyaxial) or a cylindrical
+wall about a cylinder (the triaxial cell, `cell_3d`); its gauge's lateral strain is the mean of
+the two widths' (or the diametral) strain. `rig_for(specimen)` gives the parts
 of the specimen's dimension (`Rig`), so a lab test is one procedure in 2D and 3D.
 """
 
@@ -91,7 +92,7 @@ def rig_for(specimen) -> Rig:
     from rockcal.labtests.rig.gauge_3d import check_gauges as check_gauges_3d
     from rockcal.labtests.rig.platens_3d import Platens3D
     from rockcal.labtests.rig.platens_3d import disk_of as disk_of_3d
-    from rockcal.labtests.rig.sides_3d import SideWalls3D
+    from rockcal.labtests.rig.cell_3d import confining_walls
 
-    return Rig(3, Platens3D, SideWalls3D, Gauge3D, check_gauges_3d, lateral_strains=2, disk=disk_of_3d,
+    return Rig(3, Platens3D, confining_walls, Gauge3D, check_gauges_3d, lateral_strains=2, disk=disk_of_3d,
                load_unit="kN")
