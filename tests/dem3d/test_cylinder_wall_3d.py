@@ -1,28 +1,19 @@
-"""The cylindrical wall (`rockcal.dem3d.walls.with_cylinder`) and the triaxial cell built on it
-(`rockcal.labtests.rig.cell_3d`):
+"""The cylindrical wall (`rockcal.dem3d.walls.with_cylinder`), the triaxial cell's (`test_cell_3d`):
 
 - a sphere pressed into the cylinder's inner surface is pushed towards the axis by π E R times
   its overlap, wherever it sits along and around the axis; the wall bears that push as its
   radial force, with no moment on the sphere; the radius grows at its radial speed;
-- the walls' reactions are the same bits on one thread or two;
-- the cell seats a cylinder at sigma3 (platens and cylinder within the seating tolerance) and
-  keeps sigma3 within 1 % while the platens load it.
+- the walls' reactions are the same bits on one thread or two.
 """
 
 import numba
 import numpy as np
 import pytest
-from test_ucs_3d import GRANITE
 from test_walls_3d import DENSITY, E_WALL, LAWS, R
 
 from rockcal.dem3d.neighbours import near_pairs, spatial_order
 from rockcal.dem3d.simulate import advance, assemble_state
 from rockcal.dem3d.walls import Wall, new_walls, no_walls, with_cylinder
-from rockcal.labtests import ucs
-from rockcal.labtests.rig.cell_3d import Cell3D
-from rockcal.labtests.rig.platens_3d import Platens3D
-from rockcal.labtests.rig.sides import SEATING_TOLERANCE
-from rockcal.params import MPa
 
 AXIS = np.array([2.0, -1.0, 2.0]) / 3.0
 RADIUS = 5e-3
@@ -90,21 +81,3 @@ def test_the_cylinder_s_force_is_bit_reproducible_on_one_thread_or_two():
     assert (one.walls.normal_force() > 0).all()
     assert np.array_equal(one.spheres.bodies, two.spheres.bodies)
     assert np.array_equal(one.walls.force, two.walls.force)
-
-
-def test_the_cell_seats_a_cylinder_at_sigma3_and_keeps_it_while_loading(small_cylinder):
-    sigma3 = 10 * MPa
-    platens = Platens3D(small_cylinder, GRANITE, ucs.DENSITY_SCALED_SPEED, side_walls=True)
-    platens.state.scale_density()
-    cell = Cell3D(platens, small_cylinder, sigma3)
-    assert cell.seat() > 0
-    assert np.abs(cell.servo.stresses() / sigma3 - 1).max() < SEATING_TOLERANCE
-    platens.zero()
-    platens.move(1.0)
-    held = []
-    for _ in range(300):
-        cell.update()
-        platens.state.advance(cell.steps)
-        held.append(cell.stress_Pa())
-    assert platens.load() / platens.area_m2 > 2 * sigma3  # loaded past the hydrostatic state
-    assert np.abs(np.array(held) / sigma3 - 1).max() < 0.01

@@ -157,10 +157,11 @@ def test_the_grain_limit_counts_spheres(cli, monkeypatch):
 
 def test_3d_defaults_apply_where_a_setting_is_not_given():
     assert {k: getattr(SpecimenSettings(), k) for k in DEFAULTS_3D} == {"cloud_porosity": 0.09,
-                                                                       "contact_stiffness": "pfc4"}
+                                                                       "contact_stiffness": "pfc4",
+                                                                       "confined_vessel": "prism"}
     in_3d = SpecimenSettings(dimensions=3)
     assert in_3d.cloud_porosity == DEFAULT_GENESIS_3D.cloud_porosity == 0.35
-    assert in_3d.contact_stiffness == "pfc5"
+    assert in_3d.contact_stiffness == "pfc5" and in_3d.confined_vessel == "cylinder"
     assert SpecimenSettings(dimensions=3, cloud_porosity=0.3).cloud_porosity == 0.3
     settings = specimen_settings(UCS, {"dimensions": 3, "width_mm": 7, "height_mm": 14, "rmin_mm": 0.5})
     assert settings["dimensions"] == 3 and settings["cloud_porosity"] == 0.35
