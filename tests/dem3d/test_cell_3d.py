@@ -6,11 +6,13 @@ its cell, `specimens3d.specimen.packed_cylinder`, inside the cylindrical wall of
 - seated hydrostatically at sigma3, the cylinder shortens and narrows alike and its volume
   shrinks by sigma3 / K, K = E / (3 (1 - 2 nu)) of its UCS test;
 - loaded short of its peak, it widens alike along x and along y (symmetric about the axis);
-- sigma1 rises with sigma3; unconfined the test is the UCS test on the cylinder, to the last bit.
+- sigma1 rises with sigma3; unconfined the test is the UCS test on the cylinder, to the last bit;
+- a vessel not known, or the cell in 2D, is refused in one line naming the key, exit 2.
 """
 
 import numpy as np
 import pytest
+from test_input_3d import TINY, calibrate, campaign, one_line
 from test_ucs_3d import GRANITE
 
 from rockcal.labtests import ucs
@@ -93,3 +95,11 @@ def test_sigma1_rises_with_sigma3_and_unconfined_it_is_the_ucs_test(cylinder, ru
     assert sigma1[0] < sigma1[1] < sigma1[2]
     free = simulate_ucs(GRANITE, cylinder)
     assert np.array_equal(free.curve, runs[0.0].curve[:, :4]) and free.ucs_MPa == sigma1[0]
+
+
+def test_a_vessel_not_known_or_a_cell_in_2d_is_refused_in_one_line(cli, tmp_path):
+    one_line(cli("simulate", "biaxial", "--dimensions", "3", *TINY, "--confined-vessel", "box"),
+             "--confined-vessel", "box")
+    one_line(cli("simulate", "biaxial", *TINY, "--confined-vessel", "cylinder"), "--confined-vessel", "3D")
+    targets = "[targets.biaxial]\nconfinement_mpa = [0, 5]\nphi_deg = 40.0"
+    one_line(calibrate(cli, tmp_path, campaign(targets, confined_vessel='"box"')), "specimen.confined_vessel")
