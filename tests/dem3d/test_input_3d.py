@@ -39,7 +39,6 @@ def campaign(targets: str = "", **specimen: str) -> str:
 BRAZILIAN = "[targets.brazilian]\nsigma_t_MPa = 10.0"
 OTHER_TESTS = {  # a test with no 3D implementation, and a [targets] section of it
     "bending": "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0",
-    "direct_tension": "[targets.direct_tension]\nsigma_t_direct_MPa = 8.0",
 }
 TINY = ["--width-mm", "7", "--height-mm", "14", "--rmin-mm", "0.5"]
 

@@ -82,7 +82,7 @@ def new_state(params: BondedParams, specimen, pos=None, radius=None, **options) 
     """The engine state of `specimen` in the material of `params`, of the specimen's dimension
     (`Material.states`): its grains, or `pos` and `radius` (m) with the test's rig after them;
     `options` that dimension's rig options (2D: `simulate.assemble_state`'s walls,
-    wall_active, driven, skin and a parallel bond's `contact_stiffness`; 3D: the walls). A
+    wall_active, driven, skin and a parallel bond's `contact_stiffness`; 3D: the walls and driven). A
     clumped specimen's pebbles are made its rigid clumps (`clump_motion.clump`), the rig's
     particles after them staying balls."""
     chosen = material_of(params)
