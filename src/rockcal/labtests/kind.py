@@ -34,7 +34,8 @@ DIMENSIONS = (2, 3)
 
 
 # the tests with a 3D implementation, in words
-TESTS_3D = "ucs, brazilian, direct_tension, biaxial: confined (a triaxial cell, or a square prism in polyaxial walls)"
+TESTS_3D = ("ucs, brazilian, direct_tension, biaxial: confined (a triaxial cell, or a square prism in "
+            "polyaxial walls)")
 
 
 def in_3d(s: dict) -> bool:

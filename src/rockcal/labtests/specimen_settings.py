@@ -83,8 +83,9 @@ class SpecimenSettings(Genesis):
                     "prism (confined_vessel), the Brazilian test on a disk D x D/2 (parallel bonds and balls "
                     "only; bending is 2D only); in 3D cloud_porosity is 0.35, contact_stiffness pfc5 and "
                     "confined_vessel cylinder unless given.")
+    # in every record: a 3D record without it would read back as the cell
     confined_vessel: Literal["cylinder", "prism"] = Field(
-        "prism", exclude_if=lambda v: v == "prism",
+        "prism",
         description="The 3D confined test's vessel: a cylinder of width_mm diameter packed in a cylindrical cell "
                     "whose wall is servo-controlled to sigma3 (cylinder, the lab's triaxial cell; 3D's default) or a "
                     "square prism between four servo side walls (prism, polyaxial); 2D's is prism alone.")

@@ -7,10 +7,10 @@ polyaxial prism of `sides_3d` has four flat walls).
 The servo is the side walls' (`sides_3d`, `rig.servo`) with the wall's radius for a position:
 its speed, G (sigma - sigma3) plus the integral term, is the radius' rate. The cell's stress is
 the wall's radial pushes summed over its face 2 pi r h, h the platens' span and r the
-specimen's radius: the carved cylinder's surface lies on the nominal diameter D on average
-(`specimens3d.specimen.carve_cylinder`), a sphere's radius inside the wall, which touches its
-outermost spheres; r is D / 2 moved as the wall has since it was built. Seating, the platens'
-face is pi r^2.
+specimen's radius, D / 2 moved as the wall has since it was built (touching the outermost
+spheres); seating, the platens' face is pi r^2. The cylinder is to be packed in its cell
+(`specimens3d.specimen.packed_cylinder`): its side is then the wall's, which bears on it all
+round.
 """
 
 from __future__ import annotations
