@@ -17,10 +17,10 @@ import time
 import numba
 import numpy as np
 
-from rockcal.params import parse_assignments
 from rockcal.labtests.biaxial import simulate_biaxial
 from rockcal.labtests.envelope import envelope_responses
 from rockcal.materials.parallel_bond import make_params
+from rockcal.params import parse_assignments
 from rockcal.specimens3d.specimen import packed_cylinder, random_specimen
 
 GRANITE_3D_POINT = {"E_c": 30.97, "kn_ks": 4.088, "sigma_c": 44.06, "tau_c": 90, "sigma_c_cv": 0.23,

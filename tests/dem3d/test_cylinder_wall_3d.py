@@ -6,12 +6,10 @@
 - the walls' reactions are the same bits on one thread or two.
 """
 
-import numba
 import numpy as np
 import pytest
-from test_walls_3d import DENSITY, E_WALL, LAWS, R
+from test_walls_3d import DENSITY, E_WALL, LAWS, R, squeezed_block
 
-from rockcal.dem3d.neighbours import near_pairs, spatial_order
 from rockcal.dem3d.simulate import advance, assemble_state
 from rockcal.dem3d.walls import Wall, new_walls, no_walls, with_cylinder
 
@@ -48,35 +46,19 @@ def test_the_radius_grows_at_its_radial_speed_and_a_plane_beside_it_is_unchanged
     assert (state.walls.point == 0).all()
 
 
-def squeezed_column(threads):
-    """A bonded, jittered 16 x 16 x 16 block of spheres (two blocks of the engine) between two
-    plates, in a cylinder closing in on it, on `threads` threads."""
-    cap = numba.get_num_threads()
-    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    try:
-        rng = np.random.default_rng(3)
-        grid = np.array([(i, j, k) for k in range(16) for j in range(16) for i in range(16)], float)
-        pos = grid * 2 * R + rng.uniform(-0.03, 0.03, grid.shape) * R
-        pos = pos[spatial_order(pos, 2 * R)]
-        radius = rng.uniform(0.98, 1.02, len(pos)) * R
-        pi, pj = near_pairs(pos, radius, 0.0)
-        low, high = pos.min(axis=0) - R, pos.max(axis=0) + R
-        centre = 0.5 * (low + high)
-        plates = new_walls([(*centre[:2], low[2]), (*centre[:2], high[2])], [(0, 0, 1), (0, 0, -1)], E_WALL)
-        reach = float((np.hypot(*(pos[:, :2] - centre[:2]).T) + radius).max())
-        walls = with_cylinder(plates, centre, (0, 0, 1), reach - 0.5 * R, E_WALL)
-        walls.table[2, Wall.RADIAL_VEL] = -0.5
-        state = assemble_state(pos, radius, np.column_stack([pi, pj]), DENSITY, LAWS,
-                               damping=0.2, ten=20e6, coh=30e6, walls=walls)
-        state.spheres.vel[:] = rng.normal(0, 0.5, pos.shape)
-        advance(state, 200)
-    finally:
-        numba.set_num_threads(cap)
-    return state
+def closing_cylinder(pos, radius):
+    """Two plates at a block's ends and a cylinder about it closing in on it."""
+    low, high = pos.min(axis=0) - R, pos.max(axis=0) + R
+    centre = 0.5 * (low + high)
+    plates = new_walls([(*centre[:2], low[2]), (*centre[:2], high[2])], [(0, 0, 1), (0, 0, -1)], E_WALL)
+    reach = float((np.hypot(*(pos[:, :2] - centre[:2]).T) + radius).max())
+    walls = with_cylinder(plates, centre, (0, 0, 1), reach - 0.5 * R, E_WALL)
+    walls.table[2, Wall.RADIAL_VEL] = -0.5
+    return walls
 
 
 def test_the_cylinder_s_force_is_bit_reproducible_on_one_thread_or_two():
-    one, two = squeezed_column(1), squeezed_column(2)
+    one, two = squeezed_block(1, closing_cylinder), squeezed_block(2, closing_cylinder)
     assert len(one.neighbours.block_starts) == 3
     assert (one.walls.normal_force() > 0).all()
     assert np.array_equal(one.spheres.bodies, two.spheres.bodies)

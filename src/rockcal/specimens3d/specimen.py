@@ -188,15 +188,7 @@ def packed_cylinder(width_mm: float, height_mm: float, rmin_mm: float, radius_ra
     alone (4 of a 10 x 20 mm cylinder's 500), which confines it no more than no wall."""
     genesis = genesis or DEFAULT_GENESIS_3D
     check_size(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity, genesis.pressure_mpa)
-    vessel = np.array([width_mm, width_mm, height_mm]) * 1e-3
-    pos, radius, pressure, left = packing(vessel, rmin_mm * 1e-3, radius_ratio, seed, genesis, cache,
-                                          cylinder=True)
-    bonds = install_bonds(pos, radius, genesis.install_gap * rmin_mm * 1e-3)
-    label = (f"cylinder {width_mm:g}x{height_mm:g} mm packed in its cell, Rmin {rmin_mm:g} mm "
-             f"x{radius_ratio:g}, gap {genesis.install_gap:g} Rmin, seed {seed}")
-    draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
-    return Specimen3D(pos, radius, bonds, "cylinder", tuple(vessel), label, draws, pressure, left,
-                      rmin_mm, genesis.install_gap)
+    return _packed("cylinder", (width_mm, width_mm, height_mm), rmin_mm, radius_ratio, seed, genesis, cache)
 
 
 def random_cuboid(sides_mm, rmin_mm: float, radius_ratio: float = 1.65, seed: int = 1,
@@ -204,15 +196,21 @@ def random_cuboid(sides_mm, rmin_mm: float, radius_ratio: float = 1.65, seed: in
     """A cuboid of sides x, y, z `sides_mm` packed by the 3D genesis (as `random_specimen`'s
     square prism, of any three sides: the Brazilian disk's block is D x t x D); its packing
     kept on disk unless `cache` is False. The sides are checked by the caller."""
-    genesis = genesis or DEFAULT_GENESIS_3D
+    return _packed("cuboid", sides_mm, rmin_mm, radius_ratio, seed, genesis or DEFAULT_GENESIS_3D, cache)
+
+
+def _packed(shape: str, sides_mm, rmin_mm: float, radius_ratio: float, seed: int, genesis: Genesis,
+            cache: bool) -> Specimen3D:
+    """A cuboid of sides `sides_mm`, or the vertical cylinder inscribed in it, packed in a vessel
+    of its own shape and bonded."""
     vessel = np.asarray(sides_mm, float) * 1e-3
     pos, radius, pressure, left = packing(vessel, rmin_mm * 1e-3, radius_ratio, seed, genesis,
-                                          cache)
+                                          cache, cylinder=shape == "cylinder")
     bonds = install_bonds(pos, radius, genesis.install_gap * rmin_mm * 1e-3)
-    label = (f"cuboid {'x'.join(f'{v:g}' for v in sides_mm)} mm, Rmin {rmin_mm:g} mm "
+    label = (f"{shape} {'x'.join(f'{v:g}' for v in sides_mm)} mm, Rmin {rmin_mm:g} mm "
              f"x{radius_ratio:g}, gap {genesis.install_gap:g} Rmin, seed {seed}")
     draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
-    return Specimen3D(pos, radius, bonds, "cuboid", tuple(vessel), label, draws, pressure, left,
+    return Specimen3D(pos, radius, bonds, shape, tuple(vessel), label, draws, pressure, left,
                       rmin_mm, genesis.install_gap)
 
 
