@@ -156,9 +156,11 @@ GRIP = Setting("grip_fraction", GRIP_FRACTION, "", check_grip,
                "grip length / prism height at each end (FISHTank's tt_tg / H), in (0, 0.4]; the "
                "grip reaches at least one mean grain diameter into the prism")
 
+
 def _outline(s: dict) -> Outline:
     if in_3d(s):  # the UCS test's cylinder
-        return replace(ucs.TEST.outline(s), text=f"direct tension cylinder Ø{s['width_mm']:g} x {s['height_mm']:g} mm")
+        text = f"direct tension cylinder Ø{s['width_mm']:g} x {s['height_mm']:g} mm"
+        return replace(ucs.TEST.outline(s), text=text)
     return Outline(f"direct tension {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"], s["height_mm"])
 
 

@@ -81,7 +81,7 @@ class Platens3D:
                     normals.append(tuple(facing * np.eye(3)[a]))
         self.state = new_state(params, specimen, walls=(points, normals))
         if cell:
-            axis = 0.5 * np.asarray(specimen.size_m[:2])  # as `carve_cylinder` cut it
+            axis = 0.5 * np.asarray(specimen.size_m[:2])  # its vessel's, as the genesis packed it
             reach = float((np.hypot(*(pos[:, :2] - axis).T) + radius).max())
             walls = self.state.walls
             self.state.walls = with_cylinder(walls, (*axis, centre[2]), (0, 0, 1), reach,

@@ -114,7 +114,7 @@ class SideWalls3D:
         self.servo.update()
 
     def stresses_Pa(self) -> np.ndarray:
-        """Each confining wall's normal stress (-x, +x, -y, +y), Pa."""
+        """Each confining wall's normal stress (a prism's -x, +x, -y, +y; the cell's cylinder), Pa."""
         return self.servo.stresses()[list(self.walls)]
 
     def stress_Pa(self) -> float:
