@@ -100,7 +100,6 @@ def test_a_test_runs_in_3d_where_it_says_so(name):
 
 
 @pytest.mark.parametrize("key, value, flag, words", [
-    ("brazilian_loading", '"isrm"', "--loading", ("flat or strips",)),
     ("disk_diameter_mm", "13", "--diameter-mm", ("D / 2 thick", "13.2 mm")),  # t 6.5 < 8 R_max
 ])
 def test_a_3d_brazilian_test_it_cannot_run_is_refused(cli, tmp_path, key, value, flag, words):
