@@ -73,7 +73,7 @@ def test_the_three_pebble_core_is_counted_once():
     for c, r in zip(shape.offsets, shape.radii):
         inside |= ((points - c) ** 2).sum(axis=1) < r * r
     counted = np.prod(hi - lo) * inside.mean()
-    assert volume == pytest.approx(counted, rel=3e-3)  # the count's own error: 1e-3; the core: 3e-2
+    assert volume == pytest.approx(counted, rel=3e-3)  # the count's own error: 1e-3; the core: 7e-2
 
 
 def test_the_3d_templates_have_the_2d_names_and_unit_equivalent_radius():

@@ -218,7 +218,7 @@ def _specimen(s: dict):
         from rockcal.specimens3d.specimen import random_specimen
 
         return random_specimen("cuboid", s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"],
-                               s["seed"], genesis_of(s))
+                               s["seed"], genesis_of(s), grain_shape=s.get("grain_shape", "ball"))
     return ucs.TEST.make(s)
 
 

@@ -332,7 +332,8 @@ def _check_3d(s: dict) -> None:
 
 def _specimen(s: dict):
     if in_3d(s):  # a disk D thick D / 2 carved from a cached D x D/2 x D packing of spheres
-        return random_disk(s["disk_diameter_mm"], None, s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
+        return random_disk(s["disk_diameter_mm"], None, s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s),
+                           grain_shape=s.get("grain_shape", DEFAULT_SHAPE))
     return brazilian_disk(s["disk_diameter_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s),
                           s.get("grain_shape", DEFAULT_SHAPE))
 

@@ -58,12 +58,13 @@ class Jaws3D:
         top = jaw_spheres(self.centres[0], offsets, y_from, y_to, sphere)
         bottom = jaw_spheres(self.centres[1], offsets * (1.0, -1.0), y_from, y_to, sphere)
         n = specimen.n_particles
-        body = np.concatenate([np.full(n, -1), np.full(len(top), TOP_JAW), np.full(len(bottom), BOTTOM_JAW)])
-        self.is_top, self.is_bottom = body == TOP_JAW, body == BOTTOM_JAW
+        jaw = np.concatenate([np.full(n, -1), np.full(len(top), TOP_JAW), np.full(len(bottom), BOTTOM_JAW)])
+        self.is_top, self.is_bottom = jaw == TOP_JAW, jaw == BOTTOM_JAW
         self.state = new_state(params, specimen, np.vstack([pos, top, bottom]),
                                np.concatenate([radius, np.full(len(top) + len(bottom), sphere)]),
-                               driven=body >= 0)
-        s = self.state.spheres
+                               driven=jaw >= 0)
+        s, grains = self.state.spheres, self.state.neighbours.clump_of  # a clumped disk's clumps
+        body = jaw if grains is None else np.where(jaw >= 0, grains.max() + 1 + jaw, grains)
         self.state.neighbours = neighbours.update(replace(self.state.neighbours, clump_of=body), s.pos, s.radius)
         self.state.dt = stable_time_step(self.state)
         self.rows = disk.diameter_m / (2 * radius.mean())
