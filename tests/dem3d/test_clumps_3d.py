@@ -156,3 +156,29 @@ def test_two_clumps_colliding_keep_their_momentum():
     assert after_linear == pytest.approx(linear, abs=1e-12 * np.abs(linear).max())
     scale = np.abs(mass[:, None] * np.cross(clumps.pos, clumps.vel)).max()
     assert after_angular == pytest.approx(angular, abs=1e-6 * scale)
+
+
+WEAK_GRANITE = {"E_c": 62, "kn_ks": 2.5, "sigma_c": 50, "tau_c": 50, "sigma_c_cv": 0.23, "tau_c_cv": 0.23,
+                "mu": 0.5, "density": 2630}
+
+
+def test_a_clumped_cylinder_is_whole_clumps_at_the_pressure_and_stronger_than_its_balls(small_cuboid, monkeypatch):
+    """The 3D genesis on two-pebble clumps, from the balls' packing of `conftest.small_cuboid`:
+    each clump of its sphere's volume, settled to P_m; the cylinder carved of whole clumps, no
+    bond within one; its UCS positive and above the same packing's balls' at equal parameters
+    (elongated grains interlock, and each bonds to more neighbours)."""
+    from rockcal.labtests.ucs import simulate_ucs
+    from rockcal.materials.parallel_bond import make_params
+    from rockcal.specimens3d import specimen
+
+    balls = small_cuboid
+    monkeypatch.setattr(specimen, "packing", lambda *args: (balls.pos, balls.radius, balls.pressure_mpa, 0))
+    clumped = specimen.random_specimen("cylinder", 10.0, 20.0, 0.6, seed=3, cache=False, grain_shape="two-pebble")
+    assert clumped.pressure_mpa == pytest.approx(0.1, rel=0.05)
+    counts = np.bincount(clumped.clump_of)
+    assert (counts == 2).all()  # whole clumps, numbered 0..
+    bi, bj = clumped.bonds.T
+    assert (clumped.clump_of[bi] != clumped.clump_of[bj]).all()
+    params = make_params(WEAK_GRANITE)
+    ucs = [simulate_ucs(params, s).ucs_MPa for s in (specimen.carve_cylinder(balls), clumped)]
+    assert 0 < ucs[0] < ucs[1]

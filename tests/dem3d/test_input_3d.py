@@ -119,7 +119,7 @@ def test_the_flat_jointed_material_is_refused_in_3d(cli, tmp_path):
 
 
 @pytest.mark.parametrize("key, value, flag", [
-    ("grain_shape", '"two-pebble"', "--grain-shape"),
+    ("grain_shape", '"cloud"', "--grain-shape"),  # no 3D template
     ("contact_stiffness", '"pfc4"', "--contact-stiffness"),
 ])
 def test_a_2d_only_setting_is_refused_in_3d(cli, tmp_path, key, value, flag):

@@ -29,10 +29,10 @@ from rockcal.materials.clump_templates_3d import ClumpTemplate3D, random_rotatio
 from rockcal.materials.units import GPa, MPa
 from rockcal.specimens.packing import MAX_SERVO_ROUNDS, PACKING_MODULUS_GPA, PRESSURE_TOLERANCE, servo_factor
 from rockcal.specimens3d.genesis import install_bonds
-from rockcal.specimens3d.packing import MAX_SERVO_STEPS, MIN_ROUND_STEPS, PACKING_DENSITY, SERVO_STEPS_PER_ROW, settled_stress
+from rockcal.specimens3d.packing import FLOATER_STEPS_PER_ROW, MAX_FLOATER_STEPS, MIN_ROUND_STEPS, PACKING_DENSITY, settled_stress
 
 CLUMP_STREAM = 3  # the orientations' random stream, beside the packing's seed
-CLUMP_JAMMING_FRACTION = 0.75  # solid fraction the clumps start settling from, above their jamming
+CLUMP_JAMMING_FRACTION = 0.72  # solid fraction the clumps start settling from, above their jamming
 
 
 def clumps_for_spheres(pos, radius, template: ClumpTemplate3D, seed: int):
@@ -62,7 +62,7 @@ def settle_clumps(pos, radius, clump_of, size, pressure_mpa: float):
     clumps = clump(state, clump_of, PACKING_DENSITY)
     unit_radius, unit_offsets = radius.copy(), clumps.offsets.copy()
     rows = size.max() / (2.0 * radius.mean())
-    steps = int(np.clip(SERVO_STEPS_PER_ROW * rows, MIN_ROUND_STEPS, MAX_SERVO_STEPS))
+    steps = int(np.clip(FLOATER_STEPS_PER_ROW * rows, MIN_ROUND_STEPS, MAX_FLOATER_STEPS))  # short rounds: a clump's settling is local
     target = pressure_mpa * MPa
     fraction = float(clumps.inv_mass.size and (1.0 / clumps.inv_mass).sum() / PACKING_DENSITY / np.prod(size))
     scale = (CLUMP_JAMMING_FRACTION / fraction) ** (1.0 / 3.0)
