@@ -211,6 +211,9 @@ def _run(params: BondedParams, specimen, s: dict, progress) -> BiaxialResult:
 def _check(s: dict) -> None:
     ucs.TEST.check(s)  # in 3D: the prism's sides and spheres as the UCS cylinder's
     check_confinement(s["confinement_mpa"])
+    if in_3d(s) and s.get("grain_shape", "ball") != "ball":  # its side walls' servo does not settle them yet
+        raise InputError("grain_shape", f"the 3D confined test's prism is of balls (grain_shape = \"ball\"), got "
+                                        f"{s['grain_shape']!r} with dimensions = 3")
 
 
 def _specimen(s: dict):

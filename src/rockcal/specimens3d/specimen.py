@@ -21,6 +21,8 @@ from rockcal.specimens.genesis import Genesis
 from rockcal.specimens.grain_limit import check_grains
 from rockcal.specimens.packing import check_packing_pressure
 from rockcal.specimens.specimen import STRENGTH_STREAM, _one_maker, cache_dir
+from rockcal.dem.clumps import members
+from rockcal.dem3d.clumps import union_properties
 from rockcal.materials.clump_templates import DEFAULT_SHAPE
 from rockcal.materials.clump_templates_3d import template_3d
 from rockcal.specimens3d.clump_genesis import clump_bonds, clumps_for_spheres, settle_clumps
@@ -73,8 +75,19 @@ class Specimen3D:
         return np.pi / 4 * x * y * z if self.shape in ("cylinder", "disk") else x * y * z
 
     @property
+    def n_grains(self) -> int:
+        """Grains: clumps, or balls."""
+        return self.n_spheres if self.clump_of is None else int(self.clump_of.max()) + 1
+
+    @property
     def porosity(self) -> float:
-        return 1.0 - float(4 / 3 * np.pi * cubes(self.radius).sum()) / self.volume_m3
+        """1 - the grains' volume over the specimen's (a clump's, its pebbles' union)."""
+        if self.clump_of is None:
+            return 1.0 - float(4 / 3 * np.pi * cubes(self.radius).sum()) / self.volume_m3
+        first, pebbles = members(self.clump_of)
+        solid = sum(union_properties(self.pos[own], self.radius[own])[0]
+                    for own in np.split(pebbles, first[1:-1]))
+        return 1.0 - solid / self.volume_m3
 
     def bonds_per_sphere(self) -> float:
         return 2.0 * len(self.bonds) / self.n_spheres
