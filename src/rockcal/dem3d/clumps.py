@@ -8,7 +8,7 @@ union is the pebbles, less each overlapping pair's lens (counted twice in the pe
 what three or more pebbles share (subtracted too often by the lenses). A lens is two spherical
 caps, whose volume and moments are closed forms (`_cap`), so a clump whose pebbles overlap at
 most two at a point (the two-pebble template) is exact; a region three pebbles share (the
-three-pebble template's core) is integrated by the midpoint rule on a grid of TRIPLE_GRID³
+three-pebble template's core) is integrated by the midpoint rule (compiled) on a grid of TRIPLE_GRID³
 points over its bounding box, its weight (k - 1)(k - 2) / 2 at a point in k pebbles making each
 point count once. Every step is a fixed sequence of arithmetic and libm calls: the same numbers
 on any processor.
@@ -43,19 +43,17 @@ def union_properties(centres, radii) -> tuple[float, np.ndarray, np.ndarray]:
 def inertia_tensor(volume: float, centroid: np.ndarray, second: np.ndarray) -> np.ndarray:
     """∫(|r|² 1 - r rᵀ) dV about the centroid, from the second moments about the origin."""
     about = second - volume * np.outer(centroid, centroid)
-    return np.trace(about) * np.eye(3) - about
+    return (about[0, 0] + about[1, 1] + about[2, 2]) * np.eye(3) - about
 
 
-@njit(cache=True, error_model="numpy")
 def _union(centres, radii):
     """Volume, first moment (3,) and second moments (3, 3) of a union of spheres, about a point
     near it (the mean of the centres: the terms stay of the size of the result), then moved to
     the origin."""
     k = radii.shape[0]
     origin = np.zeros(3)
-    for i in range(k):
-        for a in range(3):
-            origin[a] += centres[i, a] / k
+    for i in range(k):  # summed in order, not by numpy's reduction (which rounds by processor)
+        origin += centres[i] / k
     local = centres - origin
     volume = 0.0
     first = np.zeros(3)
@@ -75,13 +73,11 @@ def _union(centres, radii):
     return volume, first + volume * origin, moved_second
 
 
-@njit(cache=True, error_model="numpy", inline="always")
 def _sphere(c, r):
     volume = 4.0 / 3.0 * math.pi * r * r * r
     return volume, volume * c, volume * np.outer(c, c) + 0.2 * volume * r * r * np.eye(3)
 
 
-@njit(cache=True, error_model="numpy")
 def _cap(c, r, n, d):
     """The part of the sphere (centre c, radius r) beyond the plane at distance d (-r <= d <= r)
     from its centre along the unit vector n: its volume, first and second moments. With z the
@@ -103,12 +99,11 @@ def _cap(c, r, n, d):
     return volume, volume * c + along * n, second
 
 
-@njit(cache=True, error_model="numpy")
 def _lens(ci, ri, cj, rj):
     """What spheres i and j share: nothing, the smaller sphere if it lies inside the other, or
     the lens of two caps cut by the plane of their circle of intersection."""
     d = cj - ci
-    distance = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+    distance = math.sqrt(float(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]))
     if distance >= ri + rj:
         return 0.0, np.zeros(3), np.zeros((3, 3))
     if distance <= abs(ri - rj):
