@@ -25,21 +25,13 @@ import numpy as np
 
 from rockcal.dem3d.clumps import union_properties
 from rockcal.errors import InputError
-from rockcal.materials.clump_templates import PEBBLE_SPACING
+from rockcal.materials.clump_templates import PEBBLE_SPACING, ClumpTemplate
 
 
 @dataclass(frozen=True)
-class ClumpTemplate3D:
+class ClumpTemplate3D(ClumpTemplate):
     """A clump's pebbles: `offsets` (k, 3) from its centroid and `radii` (k,), both in units of
     its equivalent radius (module docstring)."""
-
-    name: str
-    offsets: np.ndarray
-    radii: np.ndarray
-
-    @property
-    def n_pebbles(self) -> int:
-        return len(self.radii)
 
     @property
     def extent(self) -> float:

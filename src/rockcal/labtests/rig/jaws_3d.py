@@ -18,7 +18,7 @@ import numpy as np
 
 from rockcal.dem3d import neighbours
 from rockcal.dem3d.simulate import stable_time_step
-from rockcal.labtests.rig.jaws import JAW_HALF_ARC_DEG, JAW_RADIUS_PER_DISK_RADIUS, jaw_offsets, touching_jaw_centre_y
+from rockcal.labtests.rig.jaws import Jaws, JAW_HALF_ARC_DEG, JAW_RADIUS_PER_DISK_RADIUS, jaw_offsets, touching_jaw_centre_y
 from rockcal.labtests.rig.platens import STRAIN_PER_STEP_PER_ROW
 from rockcal.labtests.rig.platens_3d import check_contact_stiffness, disk_of
 from rockcal.materials import new_state
@@ -35,12 +35,14 @@ def jaw_spheres(centre_xz, offsets_xz: np.ndarray, y_from: float, y_to: float, s
     return np.column_stack([x, np.repeat(rows, len(offsets_xz)), z])
 
 
-class Jaws3D:
+class Jaws3D(Jaws):
     """ISRM's curved jaws touching the 3D disk `specimen` from above and below at its centre's
     x: the engine `state` holds the disk's spheres, then the top jaw's (`is_top`) and the bottom
     one's (`is_bottom`); `centres` the jaws' axes' (x, z) and `jaw_radius_m` their radius; the
     `rows` of spheres across the disk, `chunk` steps between readings, the disk's
-    `thickness_m`."""
+    `thickness_m`. They move, bear and close as the 2D jaws (`Jaws`), along z."""
+
+    axis = 2
 
     def __init__(self, specimen, params, rate_factor: float, contact_stiffness: str | None = None):
         check_contact_stiffness(contact_stiffness)
@@ -71,25 +73,4 @@ class Jaws3D:
         self.speed = 0.5 * rate_factor * STRAIN_PER_STEP_PER_ROW / self.rows * diameter / self.state.dt
         self.chunk = max(5, int(self.rows / 8))
         self.thickness_m = disk.thickness_m
-        self.z0 = self._heights()
-
-    def _heights(self) -> tuple[float, float]:
-        """The top and the bottom jaw's mean height, m."""
-        z = self.state.spheres.pos[:, 2]
-        return float(z[self.is_top].mean()), float(z[self.is_bottom].mean())
-
-    def move(self, factor: float) -> None:
-        """Close the jaws at `factor` x the full speed."""
-        vel = self.state.spheres.vel
-        vel[self.is_top, 2] = -self.speed * factor
-        vel[self.is_bottom, 2] = self.speed * factor
-
-    def load(self) -> float:
-        """The force on the jaws along the loaded diameter (mean of the two), N."""
-        force = self.state.spheres.force
-        return float(0.5 * (force[self.is_top, 2].sum() - force[self.is_bottom, 2].sum()))
-
-    def closure_m(self) -> float:
-        """How far the jaws have closed in since the start (both together), m."""
-        top, bottom = self._heights()
-        return (self.z0[0] - top) + (bottom - self.z0[1])
+        self.y0 = self._heights()
