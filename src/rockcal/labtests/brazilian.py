@@ -17,7 +17,8 @@ centre (`central_split`) or not (crushed at a contact, or split off the centre).
 The test is one procedure in 2D and 3D, over the rig of the disk's dimension (`rig.rig_for`):
 with the setting `dimensions` 3 (PFC3D) the disk is D thick D / 2 (ISRM's ratio), its axis
 horizontal along y, loaded along z between the flat platens, the strips or the curved jaws
-(drawn out along its axis: `rig.jaws_3d`), carved from a D x t x D cuboid packing (`specimens3d.specimen.random_disk`);
+(drawn out along its axis: `rig.jaws_3d`), carved from a D x t x D cuboid packing
+(`specimens3d.specimen.random_disk`);
 its load is the platens' force, reported in kN (P_max_kN; 2D's in kN per metre of thickness,
 P_max_kN_per_m), and a crack counts over the disk's thickness (`crack_share`).
 

@@ -33,7 +33,8 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from rockcal.materials import material_of
-from rockcal.materials.fishtank import DEFAULT_FISHTANK, fishtank_version, grain_template, template_name, template_pebbles
+from rockcal.materials.fishtank import (DEFAULT_FISHTANK, fishtank_version, grain_template, template_name,
+                                        template_pebbles)
 from rockcal.output_files import atomic_path
 from rockcal.pfc.calibrated import Calibrated, fishtank_of, in_3d
 from rockcal.pfc.fish_value import fish_value

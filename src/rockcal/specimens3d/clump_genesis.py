@@ -19,6 +19,8 @@ different clumps within the installation gap, pebble to pebble, never two of one
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from rockcal.dem3d.clump_motion import clump
@@ -29,7 +31,8 @@ from rockcal.materials.clump_templates_3d import ClumpTemplate3D, random_rotatio
 from rockcal.materials.units import GPa, MPa
 from rockcal.specimens.packing import MAX_SERVO_ROUNDS, PACKING_MODULUS_GPA, PRESSURE_TOLERANCE, servo_factor
 from rockcal.specimens3d.genesis import install_bonds
-from rockcal.specimens3d.packing import FLOATER_STEPS_PER_ROW, MAX_FLOATER_STEPS, MIN_ROUND_STEPS, PACKING_DENSITY, settled_stress
+from rockcal.specimens3d.packing import (FLOATER_STEPS_PER_ROW, MAX_FLOATER_STEPS, MIN_ROUND_STEPS, PACKING_DENSITY,
+                                         settled_stress)
 
 CLUMP_STREAM = 3  # the orientations' random stream, beside the packing's seed
 CLUMP_JAMMING_FRACTION = 0.72  # solid fraction the clumps start settling from, above their jamming
@@ -62,9 +65,11 @@ def settle_clumps(pos, radius, clump_of, size, pressure_mpa: float):
     clumps = clump(state, clump_of, PACKING_DENSITY)
     unit_radius, unit_offsets = radius.copy(), clumps.offsets.copy()
     rows = size.max() / (2.0 * radius.mean())
-    steps = int(np.clip(FLOATER_STEPS_PER_ROW * rows, MIN_ROUND_STEPS, MAX_FLOATER_STEPS))  # short rounds: a clump's settling is local
+    # the floater rounds' short rounds: a clump settles among its neighbours
+    steps = int(np.clip(FLOATER_STEPS_PER_ROW * rows, MIN_ROUND_STEPS, MAX_FLOATER_STEPS))
     target = pressure_mpa * MPa
-    fraction = float(clumps.inv_mass.size and (1.0 / clumps.inv_mass).sum() / PACKING_DENSITY / np.prod(size))
+    # the grains' solid fraction, summed exactly (numpy's sum rounds by processor)
+    fraction = math.fsum(1.0 / clumps.inv_mass) / PACKING_DENSITY / (size[0] * size[1] * size[2])
     scale = (CLUMP_JAMMING_FRACTION / fraction) ** (1.0 / 3.0)
 
     def resize(scale):

@@ -302,9 +302,9 @@ def _whole_clumps(clump_of):
 
 def clumped_packing(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesis, grain_shape: str,
                     cache: bool, pos, radius):
-    """The balls' packing (`pos`, `radius`, of `packing`'s arguments) with clumps of `grain_shape` in place of its spheres,
-    settled to the pressure (`clump_genesis`): pebble centres, radii, clump numbers and the
-    pressure reached (MPa); from the cache, or made (and kept if `cache`)."""
+    """The balls' packing (`pos`, `radius`, of `packing`'s arguments) with clumps of `grain_shape`
+    in place of its spheres, settled to the pressure (`clump_genesis`): pebble centres, radii,
+    clump numbers and the pressure reached (MPa); from the cache, or made (and kept if `cache`)."""
     def make():
         shape = template_3d(grain_shape)
         centres, radii, clump_of = clumps_for_spheres(pos, radius, shape, seed)

@@ -18,7 +18,8 @@ import numpy as np
 
 from rockcal.dem3d import neighbours
 from rockcal.dem3d.simulate import stable_time_step
-from rockcal.labtests.rig.jaws import Jaws, JAW_HALF_ARC_DEG, JAW_RADIUS_PER_DISK_RADIUS, jaw_offsets, touching_jaw_centre_y
+from rockcal.labtests.rig.jaws import (JAW_HALF_ARC_DEG, JAW_RADIUS_PER_DISK_RADIUS, Jaws, jaw_offsets,
+                                      touching_jaw_centre_y)
 from rockcal.labtests.rig.platens import STRAIN_PER_STEP_PER_ROW
 from rockcal.labtests.rig.platens_3d import check_contact_stiffness, disk_of
 from rockcal.materials import new_state
