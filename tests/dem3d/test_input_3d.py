@@ -99,7 +99,6 @@ def test_a_test_runs_in_3d_where_it_says_so(name):
 
 
 @pytest.mark.parametrize("key, value, flag, words", [
-    ("brazilian_loading", '"isrm"', "--loading", ("flat or strips",)),
     ("disk_diameter_mm", "13", "--diameter-mm", ("D / 2 thick", "13.2 mm")),  # t 6.5 < 8 R_max
 ])
 def test_a_3d_brazilian_test_it_cannot_run_is_refused(cli, tmp_path, key, value, flag, words):
@@ -119,7 +118,7 @@ def test_the_flat_jointed_material_is_refused_in_3d(cli, tmp_path):
 
 
 @pytest.mark.parametrize("key, value, flag", [
-    ("grain_shape", '"two-pebble"', "--grain-shape"),
+    ("grain_shape", '"cloud"', "--grain-shape"),  # no 3D template
     ("contact_stiffness", '"pfc4"', "--contact-stiffness"),
 ])
 def test_a_2d_only_setting_is_refused_in_3d(cli, tmp_path, key, value, flag):
@@ -167,3 +166,14 @@ def test_3d_defaults_apply_where_a_setting_is_not_given():
     with pytest.raises(InputError, match="^contact_stiffness: "):
         specimen_settings(UCS, {"dimensions": 3, "contact_stiffness": "pfc4", "width_mm": 7,
                                 "height_mm": 14, "rmin_mm": 0.5})
+
+
+def test_clumps_are_taken_by_the_3d_ucs_and_brazilian_tests_and_refused_by_the_confined_one():
+    given = {"dimensions": 3, "width_mm": 10.0, "height_mm": 20.0, "rmin_mm": 0.6, "disk_diameter_mm": 16.0,
+             "grain_shape": "two-pebble"}
+    for name in ("ucs", "brazilian"):
+        test = LAB_TESTS[name]
+        test.check(specimen_settings(test, {k: v for k, v in given.items() if k in test.settings}))
+    confined = LAB_TESTS["biaxial"]
+    with pytest.raises(InputError, match="grain_shape"):
+        confined.check(specimen_settings(confined, {k: v for k, v in given.items() if k in confined.settings}))

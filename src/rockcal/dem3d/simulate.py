@@ -5,7 +5,8 @@ differences) and returns to Python only to rebuild the neighbour list. Each step
 pairs' forces block by block in parallel, then the pairs across block borders, then adds the
 walls' pushes and moves the spheres block by block, then moves the walls: the order of every
 sum is fixed by the specimen, so a run's numbers do not depend on the number of threads. SI
-units.
+units. A state whose spheres are pebbles of rigid clumps (`State.clumps`) runs the same steps
+in the clumps' own kernel (`clump_motion`).
 """
 
 from __future__ import annotations
@@ -42,6 +43,7 @@ class State:
     dt: float
     step: int = 0
     walls: planes.Walls = field(default_factory=planes.no_walls)
+    clumps: object = None  # rigid clumps of pebbles (`clump_motion.Clumps3D`), which move them
 
     @property
     def n_spheres(self) -> int:
@@ -129,7 +131,10 @@ def stiffness_sums(state: State) -> tuple[np.ndarray, np.ndarray]:
 
 def stable_time_step(state: State) -> float:
     """Safety × the smallest sqrt(m / k_translational) and sqrt(I / k_rotational) of any free
-    sphere (`stiffness_sums`); inf if no free sphere has a spring."""
+    sphere (`stiffness_sums`); inf if no free sphere has a spring. With clumps, of every clump
+    and ball (`clump_motion.Clumps3D.stable_time_step`)."""
+    if state.clumps is not None:
+        return state.clumps.stable_time_step(state)
     s = state.spheres
     k_trans, k_rot = stiffness_sums(state)
     free = (s.inv_mass > 0) & (k_trans > 0)
@@ -143,7 +148,10 @@ def stable_time_step(state: State) -> float:
 def scale_density(state: State) -> float:
     """Density scaling for quasi-static runs, as the 2D engine (PFC's `timestep scale`): each
     free sphere's mass and inertia set so that its own critical step equals the specimen's,
-    the time step unchanged. Returns the scaled over the true mass of the free spheres."""
+    the time step unchanged. Returns the scaled over the true mass of the free spheres. With
+    clumps, of every clump and ball (`clump_motion.Clumps3D.scale_density`)."""
+    if state.clumps is not None:
+        return state.clumps.scale_density(state)
     s = state.spheres
     k_trans, k_rot = stiffness_sums(state)
     critical_s = state.dt / TIME_STEP_SAFETY
@@ -275,7 +283,9 @@ def _walls_after_step(walls, wall_force, wall_parts, dt):
 def advance(state: State, n_steps: int) -> None:
     """Run n_steps time steps, rebuilding the neighbour list whenever spheres moved enough; on
     numba's threads as the 2D engine (`rockcal.dem.simulate.advance`): at most one per block and,
-    by default, one per free core."""
+    by default, one per free core. With clumps, the clumps' kernel (`clump_motion`)."""
+    if state.clumps is not None:
+        return state.clumps.advance(state, n_steps)
     with engine_threads(len(state.neighbours.block_starts) - 1) as threads:
         done = 0
         s, b = state.spheres, state.bonds

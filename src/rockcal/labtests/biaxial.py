@@ -218,6 +218,9 @@ def _check(s: dict) -> None:
     if not in_3d(s) and s["confined_vessel"] != "prism":
         raise InputError("confined_vessel", f"the 2D confined test is a rectangle between two side walls "
                                             f"(prism); {s['confined_vessel']!r} is a 3D vessel (dimensions = 3)")
+    if in_3d(s) and s.get("grain_shape", "ball") != "ball":  # its side walls' servo does not settle them yet
+        raise InputError("grain_shape", f"the 3D confined test's specimen is of balls (grain_shape = \"ball\"), got "
+                                        f"{s['grain_shape']!r} with dimensions = 3")
 
 
 def _in_cell(s: dict) -> bool:
@@ -229,7 +232,9 @@ def _specimen(s: dict):
         from rockcal.specimens3d.specimen import packed_cylinder, random_specimen
 
         size = (s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
-        return packed_cylinder(*size) if _in_cell(s) else random_specimen("cuboid", *size)
+        if _in_cell(s):
+            return packed_cylinder(*size)
+        return random_specimen("cuboid", *size, grain_shape=s.get("grain_shape", "ball"))
     return ucs.TEST.make(s)
 
 

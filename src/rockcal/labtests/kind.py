@@ -44,13 +44,15 @@ def in_3d(s: dict) -> bool:
 
 
 def check_3d_settings(s: dict) -> None:
-    """None of the 2D engine's settings alone in a 3D test's settings `s` (clumped grains, PFC
-    4's contact stiffness) and R_min at least MIN_RMIN_MM, as in 2D; an InputError naming the
-    setting."""
+    """None of the 2D engine's settings alone in a 3D test's settings `s` (a grain shape with no
+    3D template, PFC 4's contact stiffness) and R_min at least MIN_RMIN_MM, as in 2D; an
+    InputError naming the setting."""
+    from rockcal.materials.clump_templates_3d import GRAIN_SHAPES_3D
+
     check_rmin(s["rmin_mm"])
-    if s.get("grain_shape", DEFAULT_SHAPE) != DEFAULT_SHAPE:
-        raise InputError("grain_shape", f"the 3D engine's grains are balls (grain_shape = "
-                                        f"\"{DEFAULT_SHAPE}\"), got {s['grain_shape']!r} with dimensions = 3")
+    if s.get("grain_shape", DEFAULT_SHAPE) not in GRAIN_SHAPES_3D:
+        raise InputError("grain_shape", f"the 3D engine's grains are {', '.join(GRAIN_SHAPES_3D)}, got "
+                                        f"{s['grain_shape']!r} with dimensions = 3")
     if s["contact_stiffness"] != CONTACT_STIFFNESS_3D:
         raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
                                               f"({CONTACT_STIFFNESS_3D!r}), got {s['contact_stiffness']!r} "
@@ -255,7 +257,7 @@ class LabTest:
         if outline.vessel_mm is None:
             return packing_name(**p)
         return packing_name_3d(tuple(1e-3 * v for v in outline.vessel_mm), 1e-3 * p["rmin_mm"], p["radius_ratio"],
-                               p["seed"], p["genesis"], outline.vessel_cylinder)
+                               p["seed"], p["genesis"], outline.vessel_cylinder, p["grain_shape"])
 
     def responses_of(self, result) -> dict:
         """The declared responses of a test's result, in their declared order."""

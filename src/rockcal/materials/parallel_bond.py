@@ -172,7 +172,8 @@ def laws_3d(params: MicroParams):
 def new_state_3d(pos, radius, specimen, params: MicroParams, *, walls=((), ()), driven=None):
     """A 3D specimen at rest in the material: each bond's strengths drawn at its uniform draws
     (`bond_strengths`), between planar `walls` (points, inward normals) of the walls' modulus
-    (`wall_modulus_pa`); the `driven` spheres (indices) keep the velocity they are given."""
+    (`wall_modulus_pa`); the `driven` spheres (a mask or indices: a rig's) keep the velocity they
+    are given."""
     from rockcal.dem3d.simulate import assemble_state as assemble_3d
     from rockcal.dem3d.walls import new_walls
 

@@ -47,7 +47,7 @@ def header_lines(calibrated: Calibrated) -> list[str]:
 def header_of(calibrated: Calibrated) -> list[str]:
     """The header's lines as written (not yet made safe): the origin, the dimension's notes,
     the packing seed."""
-    notes = notes_3d(fishtank_of(calibrated)) if in_3d(calibrated) else notes_2d(calibrated)
+    notes = notes_3d(fishtank_of(calibrated), calibrated.specimen) if in_3d(calibrated) else notes_2d(calibrated)
     return origin_lines(calibrated) + notes + [seed_line(calibrated.specimen)]
 
 
@@ -121,6 +121,13 @@ def notes_2d(calibrated: Calibrated) -> list[str]:
     return lines
 
 
-def notes_3d(version: int) -> list[str]:
-    """What a PFC3D file's values mean: the target FISHTank, PFC3D's meanings (`PFC3D_NOTES`)."""
-    return [target_line(version, 3), *PFC3D_NOTES]
+def notes_3d(version: int, settings=None) -> list[str]:
+    """What a PFC3D file's values mean: the target FISHTank, PFC3D's meanings (`PFC3D_NOTES`)
+    and, of clumped grains (`settings`' grain_shape), their template."""
+    shape = None if settings is None else grain_template(settings)
+    clumps = [] if shape is None else [
+        f"3D: clumps of {shape.n_pebbles} spheres (template {template_name(shape)}, rockcal's {shape.name!r})",
+        "the template's pebbles: radius, then centre x, y, z, in the template's frame (centroid at the origin, "
+        "lengths in equivalent radii: its equivalent diameter, of a sphere of its volume, is 2);",
+        "its mass properties computed by PFC from the pebbles (pebcalculate), overlaps counted once as rockcal's"]
+    return [target_line(version, 3), *PFC3D_NOTES, *clumps]

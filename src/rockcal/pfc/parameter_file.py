@@ -33,7 +33,8 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from rockcal.materials import material_of
-from rockcal.materials.fishtank import DEFAULT_FISHTANK, fishtank_version
+from rockcal.materials.fishtank import (DEFAULT_FISHTANK, fishtank_version, grain_template, template_name,
+                                        template_pebbles)
 from rockcal.output_files import atomic_path
 from rockcal.pfc.calibrated import Calibrated, fishtank_of, in_3d
 from rockcal.pfc.fish_value import fish_value
@@ -59,12 +60,14 @@ def to_fish_3d(params, settings, *, fishtank: int = DEFAULT_FISHTANK,
                header: Iterable[str] = ()) -> str:
     """FISHTank's parameter file for PFC3D (`mpParams.p3dat`): `header`'s lines (e.g. where
     the calibration came from), the target FISHTank, PFC3D's meanings (`header.notes_3d`) and
-    the packing seed as comments, then the 2D file's groups (`fish_groups`) and FISHTank's own
-    check."""
+    the packing seed as comments, a clumped material's template (`template_command`), then the
+    2D file's groups (`fish_groups`) and FISHTank's own check."""
     version = fishtank_version(fishtank)
     values = pfc3d_parameters(params, settings, version)
-    comments = [*header, *notes_3d(version), seed_line(settings)]
-    return fish_file(comments, values, material_of(params).pfc_group)
+    comments = [*header, *notes_3d(version, settings), seed_line(settings)]
+    shape = grain_template(settings)
+    templates = {} if shape is None else {template_name(shape): template_pebbles(shape)}
+    return fish_file(comments, values, material_of(params).pfc_group, templates)
 
 
 def write_p3dat(folder: Path, params, settings, *, fishtank: int = DEFAULT_FISHTANK,
@@ -92,7 +95,7 @@ def fish_file(comments: Iterable[str], values: dict, group: str, templates: dict
 
 
 def template_command(name: str, pebbles) -> list[str]:
-    """PFC's command creating the clump template `name` of `pebbles` (radius, x, y), its
+    """PFC's command creating the clump template `name` of `pebbles` (radius, x, y; 3D: x, y, z), its
     inertial properties computed from the pebbles as FISHTank's clumped examples do
     (`pebcalculate`): one line per pebble, each number to the last bit."""
     lines = [f"clump template create pebcalculate name {name} pebbles {len(pebbles)} ..."]

@@ -9,7 +9,7 @@ thickness of the 2D model live here and nowhere else in the lab tests.
 - `SideWalls`: the side walls, servo-controlled to a confining stress (confined compression);
   the seating at it, sigma3.
 - `Jaws`: ISRM's curved jaws closing on a disk (Brazilian, `brazilian_loading = "isrm"`); their
-  load and closure, as the platens'.
+  load and closure, as the platens'. In 3D (`jaws_3d`) they are drawn out along the disk's axis.
 - `Pins`: the loading pin and the two supports of three-point bending; the load, the pin's
   displacement. Jaws and pins are rigid arcs of small driven disks (`arc`).
 - `Grips`: rigid grips pulling a prism apart (direct tension); the pull, the strain between
@@ -69,7 +69,7 @@ class Rig:
     `lateral_strains`, the lateral strains a volumetric strain takes (2D's areal strain one, a
     3D specimen's two); `disk(specimen)` a Brazilian disk's `Disk`; `load_unit`, the unit of a
     loader's load / 1000 (kN per m of the 2D slab's thickness, kN in 3D); `jaws` ISRM's curved
-    jaws, where the dimension has them."""
+    jaws."""
 
     dimensions: int
     platens: Callable
@@ -79,7 +79,7 @@ class Rig:
     lateral_strains: int
     disk: Callable
     load_unit: str
-    jaws: Callable | None = None
+    jaws: Callable
 
 
 def rig_for(specimen) -> Rig:
@@ -90,9 +90,10 @@ def rig_for(specimen) -> Rig:
     # the 3D rig, and with it the 3D engine's kernels: loaded for a 3D run alone
     from rockcal.labtests.rig.gauge_3d import Gauge3D
     from rockcal.labtests.rig.gauge_3d import check_gauges as check_gauges_3d
+    from rockcal.labtests.rig.jaws_3d import Jaws3D
     from rockcal.labtests.rig.platens_3d import Platens3D
     from rockcal.labtests.rig.platens_3d import disk_of as disk_of_3d
     from rockcal.labtests.rig.cell_3d import confining_walls
 
     return Rig(3, Platens3D, confining_walls, Gauge3D, check_gauges_3d, lateral_strains=2, disk=disk_of_3d,
-               load_unit="kN")
+               load_unit="kN", jaws=Jaws3D)

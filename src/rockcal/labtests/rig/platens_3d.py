@@ -49,6 +49,13 @@ def disk_of(specimen) -> Disk:
     return Disk(diameter, thickness, centre, 2, thickness / (2 * float(radius.mean())))
 
 
+def check_contact_stiffness(contact_stiffness: str | None) -> None:
+    """The 3D engine's contacts take PFC 5's stiffness alone (None: it)."""
+    if contact_stiffness not in (None, CONTACT_STIFFNESS):
+        raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
+                                              f"({CONTACT_STIFFNESS!r}), got {contact_stiffness!r}")
+
+
 class Platens3D:
     """A specimen between a bottom and a top platen that touch it: the engine `state`, the
     platens' starting heights (m), the `rows` of spheres between them, the `chunk` of steps
@@ -62,9 +69,7 @@ class Platens3D:
 
     def __init__(self, specimen, params, rate_factor: float, contact_stiffness: str | None = None,
                  strip: BearingStrip | None = None, side_walls: bool = False):
-        if contact_stiffness not in (None, CONTACT_STIFFNESS):
-            raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
-                                                  f"({CONTACT_STIFFNESS!r}), got {contact_stiffness!r}")
+        check_contact_stiffness(contact_stiffness)
         pos, radius = specimen.pos, specimen.radius
         self.bottom, self.top = (pos[:, 2] - radius).min(), (pos[:, 2] + radius).max()
         centre = pos.mean(axis=0)
