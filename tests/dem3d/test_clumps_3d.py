@@ -172,7 +172,7 @@ def test_a_clumped_cylinder_is_whole_clumps_at_the_pressure_and_stronger_than_it
     from rockcal.specimens3d import specimen
 
     balls = small_cuboid
-    monkeypatch.setattr(specimen, "packing", lambda *args: (balls.pos, balls.radius, balls.pressure_mpa, 0))
+    monkeypatch.setattr(specimen, "packing", lambda *args, **kwargs: (balls.pos, balls.radius, balls.pressure_mpa, 0))
     clumped = specimen.random_specimen("cylinder", 10.0, 20.0, 0.6, seed=3, cache=False, grain_shape="two-pebble")
     assert clumped.pressure_mpa == pytest.approx(0.1, rel=0.05)
     counts = np.bincount(clumped.clump_of)
