@@ -8,6 +8,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from rockcal.dem3d.laws import INTACT, bond_springs
+
 
 class Bond(IntEnum):
     """Rows of the bonds' table, one column per bond."""
@@ -55,6 +57,21 @@ class Bonds(NamedTuple):
     def contact_shear(self) -> np.ndarray:
         """(n, 3) shear forces of the bonded pairs' linear contacts on i, N."""
         return self.table[Bond.CSX:Bond.CSZ + 1].T
+
+    REPLACES_CONTACT = False  # a bonded pair keeps its linear contact
+
+    def springs(self, rmin, length, laws):
+        """Each bond's springs (`laws.bond_springs`), zero once broken."""
+        intact = self.state == INTACT
+        return tuple(np.where(intact, k, 0.0) for k in bond_springs(rmin, length, laws))
+
+    def take_radii(self, ri, rj) -> None:
+        """The radii of the bonds' spheres (`set_radii`)."""
+        set_radii(self, ri, rj)
+
+    def breaks(self) -> tuple[np.ndarray, np.ndarray]:
+        """How each bond broke (laws.INTACT, BROKEN_TENSION, BROKEN_SHEAR) and where (m)."""
+        return self.state, self.break_xyz
 
 
 def new_bonds(ref_overlap, ten, coh, ri, rj) -> Bonds:
