@@ -35,6 +35,7 @@ specimen and seed serve every parameter set.
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import math
 from dataclasses import dataclass
@@ -89,7 +90,10 @@ class FlatJointParams(BaseModel):
                             description="residual mode: 0 an element broken in shear keeps friction, "
                                         "1 friction and fj_cohres (fj_resmode)")
     fj_fric: float = Field(0.5, ge=0, le=10, description="element friction coefficient (fjm_fric)")
-    fj_nr: int = Field(2, ge=1, le=64, description="elements per flat joint (fjm_Nr)")
+    fj_nr: int = Field(2, ge=1, le=64, description="elements per flat joint in 2D, rings of elements in 3D (fjm_Nr)")
+    # left out of `key()` at its default, so runs stored before it keep their keys
+    fj_nal: int = Field(4, ge=3, le=64, exclude_if=lambda v: v == 4,
+                        description="elements per ring in 3D, circumferential (fjm_Nal; PFC2D has none)")
     fj_rmul: float = Field(1.0, ge=0.1, le=10, description="radius multiplier λ, starting value (fjm_rmulVal)")
     fjm_rmulCode: int = Field(0, ge=0, le=2, json_schema_extra=CODE,
                               description="λ reduction: 0 none, 1 per joint, 2 uniform")
@@ -150,11 +154,12 @@ class FlatJointParams(BaseModel):
 NAMES = tuple(FlatJointParams.model_fields)
 
 # FISHTank's flat-jointed material group, in its order: PFC property -> (rockcal name, unit):
-# fjm_igap is the installation gap as a length, fjm_Nr the elements per joint (2D), fjm_rmulVal λ
+# fjm_igap is the installation gap as a length, fjm_Nr the elements per joint (2D) or rings (3D),
+# fjm_Nal the elements per ring (3D only: FISHTank sets it in PFC3D alone), fjm_rmulVal λ
 PFC_PROPERTIES = {
     "fjm_igap": ("install_gap_mm", "mm"), "fjm_B_frac": ("fjm_B_frac", None),
     "fjm_G_frac": ("fjm_G_frac", None), "fjm_G_m": ("fjm_G_m", "mm"), "fjm_G_sd": ("fjm_G_sd", "mm"),
-    "fjm_Nr": ("fj_nr", None), "fjm_rmulCode": ("fjm_rmulCode", None), "fjm_rmulVal": ("fj_rmul", None),
+    "fjm_Nr": ("fj_nr", None), "fjm_Nal": ("fj_nal", None), "fjm_rmulCode": ("fjm_rmulCode", None), "fjm_rmulVal": ("fj_rmul", None),
     "fjm_emod": ("fj_emod", "GPa"), "fjm_krat": ("fj_kratio", None), "fjm_fric": ("fj_fric", None),
     "fjm_ten_m": ("fj_ten", "MPa"), "fjm_ten_sd": ("fj_ten_sd", "MPa"), "fjm_coh_m": ("fj_coh", "MPa"),
     "fjm_coh_sd": ("fj_coh_sd", "MPa"), "fjm_fa": ("fj_fa", None),
@@ -383,9 +388,12 @@ def pfc_parameters(params: FlatJointParams, specimen,
         logger.warning("fj_cohres %g MPa: FISHTank has no name for the residual cohesion; after the genesis "
                        "set the flat joints' fj_cohres and fj_resmode 1 in PFC 7+", params.fj_cohres)
     ten_sd, coh_sd = params.strength_sds
-    values = params.key() | {"fj_ten_sd": ten_sd, "fj_coh_sd": coh_sd, "track_microstructure": False,
+    values = params.key() | {"fj_nal": params.fj_nal, "fj_ten_sd": ten_sd, "fj_coh_sd": coh_sd,
+                             "track_microstructure": False,
                              "install_gap_mm": specimen.install_gap * specimen.rmin_mm}
-    return common_pfc(params, specimen, "flat-jointed", fishtank) | pfc_values(PFC_PROPERTIES, values)
+    properties = {pfc: name for pfc, name in PFC_PROPERTIES.items()
+                  if pfc != "fjm_Nal" or specimen.dimensions == 3}
+    return common_pfc(params, specimen, "flat-jointed", fishtank) | pfc_values(properties, values)
 
 
 def pair_properties(params: FlatJointParams, specimen) -> dict:
@@ -400,6 +408,44 @@ def _specimen_state(pos, radius, specimen, params, *, contact_stiffness=None, **
     """The material's state on `specimen`; its linear contacts are PFC 5's whatever
     `contact_stiffness` says (a parallel-bonded setting)."""
     return new_state(pos, radius, specimen.bonds, params, joint_draws=specimen.joint_draws, **options)
+
+
+def joint_draws_3d(specimen) -> np.ndarray:
+    """Each flat joint's uniform draws on a 3D specimen (`flatjoint_draws`), seeded by its
+    bonds' own draws, so a specimen always gets the same joints."""
+    digest = hashlib.sha256(np.ascontiguousarray(specimen.bond_draws, float).tobytes()).digest()
+    return flatjoint_draws(len(specimen.bonds), int.from_bytes(digest[:4], "little"))
+
+
+def new_state_3d(pos, radius, specimen, params: FlatJointParams, *, walls=((), ())):
+    """A 3D specimen at rest in the material: PFC3D's flat joints at its bonded pairs
+    (`rockcal.dem3d.flat_joint`; `fj_nr` rings of `fj_nal` sectors), PFC3D's linear contacts
+    (`lnm_*`) elsewhere, between planar `walls` (points, inward normals) of the flat joints'
+    modulus."""
+    from rockcal.dem3d import flat_joint as joints_3d  # the 3D engine: loaded for a 3D run alone
+    from rockcal.dem3d.laws import Laws
+    from rockcal.dem3d.simulate import assemble_state as assemble_3d
+    from rockcal.dem3d.walls import new_walls
+
+    if params.fjm_rmulCode != 0:
+        raise InputError("fjm_rmulCode", f"{params.fjm_rmulCode}: the reduction of λ is PFC2D's; "
+                                         "with dimensions = 3 give fjm_rmulCode = 0")
+    material = flatjointed(pos, radius, specimen.bonds, params, joint_draws_3d(specimen))
+
+    def joints(pos, radius, pi, pj, order):
+        d = pos[pj] - pos[pi]
+        dist = np.sqrt(np.sum(d * d, axis=1))
+        m = material
+        return joints_3d.new_flatjoints_3d(
+            params.fj_nr, params.fj_nal, d / dist[:, None], radius[pi] + radius[pj] - dist,
+            m.kn[order], m.ks[order], m.rmul[order], m.fric, m.tan_fa, m.gap0[order],
+            m.kind[order] == BONDED, m.ten[order, 0], m.coh[order, 0], m.cohres)
+
+    linear = Laws(E_c=params.lnm_emod * GPa, ks_per_kn=1.0 / params.lnm_krat, mu=params.lnm_fric,
+                  Ebar_c=0.0, ksbar_per_knbar=1.0, lam=1.0, tan_phi=0.0, mcf=1.0)
+    points, normals = walls
+    return assemble_3d(pos, radius, specimen.bonds, params.density, linear, damping=params.damping,
+                       walls=new_walls(points, normals, params.fj_emod * GPa), joints=joints)
 
 
 def check_bonded(params: FlatJointParams) -> None:
@@ -424,7 +470,7 @@ MATERIAL = Material(
     name="flatjoint", title="flat-jointed (flat joints + linear contacts)",
     parameters=NAMES, make=make_flatjoint_params, params_type=FlatJointParams,
     pfc_names=pfc_names(PFC_PROPERTIES, NAMES),
-    states={2: _specimen_state},  # PFC2D's; PFC3D's flat joint is not built yet
+    states={2: _specimen_state, 3: new_state_3d},
     pfc_parameters=pfc_parameters, pfc_material_type=FLAT_JOINTED,
     pfc_group="mpSetFJParams", pair_properties=pair_properties, pairs_word="flat joints",
     breaks_word="elements", check_rock=check_bonded,
