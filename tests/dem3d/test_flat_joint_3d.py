@@ -15,7 +15,6 @@ normal so that every vector component takes part.
 import numba
 import numpy as np
 import pytest
-from scipy.integrate import quad
 
 from rockcal.dem3d import flat_joint as fj
 from rockcal.dem3d.laws import Laws
@@ -103,10 +102,12 @@ def test_unbonded_interface_takes_no_tension():
     assert slope(np.array([h[0] for h in push]) @ N, step) == pytest.approx(-KN * AREA, rel=1e-9)
 
 
-def segment(x0, power):
-    """∫ x^power dA over the part x < x0 of the disk of radius R̄."""
-    return quad(lambda x: x**power * 2 * np.sqrt(RB * RB - x * x), -RB, min(x0, RB),
-                epsabs=0.0, epsrel=1e-12)[0]
+def segment(x0):
+    """∫ dA, ∫ x dA and ∫ x² dA over the part x < x0 of the disk of radius R̄ (x0 <= R̄)."""
+    root = np.sqrt(RB * RB - x0 * x0)
+    turn = np.arcsin(x0 / RB) + np.pi / 2
+    return (x0 * root + RB**2 * turn, -2 / 3 * root**3,
+            x0 * (2 * x0 * x0 - RB * RB) * root / 4 + RB**4 * turn / 4)
 
 
 @pytest.mark.parametrize("nr, nal", [(2, 4), (3, 7)])
@@ -125,9 +126,9 @@ def test_half_open_disk_moment_rotation(nr, nal):
     for out in drive(state, spin=0.5 * angle / dt * T, steps=12):
         theta += angle
         # the gap g = -δ + θ x along x = the direction n × T points (`flat_joint`'s gradient)
-        x0 = closure / theta
-        fn = KN * (theta * segment(x0, 1) - closure * segment(x0, 0))
-        moment = KN * (theta * segment(x0, 2) - closure * segment(x0, 1))
+        area, first, second = segment(min(closure / theta, RB))
+        fn = KN * (theta * first - closure * area)
+        moment = KN * (theta * second - closure * first)
         assert out[2] == pytest.approx(fn, rel=1e-6)
         assert out[1] @ T == pytest.approx(moment, rel=1e-6)
     assert theta * RB > 2 * closure  # well open at the end
@@ -215,3 +216,19 @@ def shaken_block():
     state.spheres.vel[:] = rng.normal(0, 6.0, pos.shape)
     state.spheres.spin[:] = rng.normal(0, 2000.0, pos.shape)
     return state
+
+
+def test_a_simple_cubic_prism_reads_the_joints_modulus_and_no_poisson_effect():
+    """The UCS test on a flat-jointed simple-cubic prism: independent columns of joints
+    (k_n A = π E* R / 2 each, the contact replaced), E = π E* / 4 and ν = 0."""
+    from test_ucs_3d import cubic_prism
+
+    from rockcal.labtests.ucs import simulate_ucs
+    from rockcal.materials.flat_joint import make_flatjoint_params
+
+    params = make_flatjoint_params({"fj_emod": 30, "lnm_emod": 10, "fj_kratio": 2.5,
+                                    "fj_ten": 1e5, "fj_coh": 1e5})
+    result = simulate_ucs(params, cubic_prism(4, 1e-3), max_axial_strain=5e-3)
+    assert result.n_broken_tension + result.n_broken_shear == 0
+    assert result.E_GPa == pytest.approx(np.pi * 30 / 4, rel=2e-3)
+    assert abs(result.nu) < 1e-5

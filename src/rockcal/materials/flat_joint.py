@@ -1,12 +1,12 @@
-"""The flat-jointed material: PFC's flat joints (the law: `rockcal.dem.flatjoint`) and linear
-contacts elsewhere. Its parameters with their PFC names, its genesis step, its assignment on a
+"""The flat-jointed material: PFC's flat joints (the law: `rockcal.dem.flatjoint` in 2D,
+`rockcal.dem3d.flat_joint` in 3D) and linear contacts elsewhere. Its parameters with their PFC names, its genesis step, its assignment on a
 packed specimen as FISHTank makes it (`ft.fis`: `_mpAssignFJ`, `_mpAssignFJProps`,
 `_mpFJrmulReduce`, `_mpFJsetMicroStruc`), its engine state and its FISHTank parameters.
 
 1. Every grain pair whose gap is <= the installation gap (`fjm_igap`; rockcal's genesis
    `install_gap` x R_min) gets a flat joint; every other grain pair a linear contact of the
    linear-material group (`lnm_emod`, `lnm_krat`, `lnm_fric`), as do contacts that form later.
-2. Each flat joint: N_r elements (`fjm_Nr`), radius multiplier λ (`fjm_rmulVal`), friction
+2. Each flat joint: N_r elements (`fjm_Nr`; in 3D N_r rings of N_α, `fjm_Nal`), radius multiplier λ (`fjm_rmulVal`), friction
    (`fjm_fric`), tensile strength and cohesion drawn per joint from normal distributions
    truncated at zero (`fjm_ten_m/_sd`, `fjm_coh_m/_sd`: FISHTank redraws negative values; every
    element of a joint gets the joint's draw, since `fj_ten` and `fj_coh` are properties of the
@@ -18,7 +18,7 @@ packed specimen as FISHTank makes it (`ft.fis`: `_mpAssignFJ`, `_mpAssignFJProps
    a face of joint c seen from the grain's centre spans the half-angle α = atan(R̄_c / l_c),
    l_c the distance from the centre to the contact point (FISHTank subtracts half the initial
    gap, which is still 0 at this point); two faces overlap when α_1 + α_2 > β, the angle
-   between their contact directions. Code 0 keeps λ; code 1 visits the grains in turn and,
+   between their contact directions (disks or spheres alike). Code 0 keeps λ; code 1 visits the grains in turn and,
    for each pair of its joints that overlap, multiplies both joints' λ by 0.99 until they do
    not; code 2 multiplies the one λ of all joints by 0.99 until no pair overlaps.
 4. The microstructure: of the n flat joints, round(B n) are bonded (every element bonded,
@@ -28,9 +28,10 @@ packed specimen as FISHTank makes it (`ft.fis`: `_mpAssignFJ`, `_mpAssignFJProps
    uniform draw of each (seeded), so the fractions are met exactly (to rounding), the choice
    is reproducible, and a joint keeps its rank whatever the fractions.
 
-Every random quantity comes from uniform draws per joint (`flatjoint_draws`): strengths and
-gaps are truncated-normal at them (`strengths.truncated_normal`, as the parallel bond's), so one
-specimen and seed serve every parameter set.
+Every random quantity comes from uniform draws per joint (`flatjoint_draws`; a 3D specimen's
+seeded by its bonds' draws, `joint_draws_3d`): strengths and gaps are truncated-normal at them
+(`strengths.truncated_normal`, as the parallel bond's), so one specimen and seed serve every
+parameter set.
 """
 
 from __future__ import annotations
@@ -184,10 +185,24 @@ def _faces_overlap(rbar1, l1, rbar2, l2, beta):
     return math.atan2(rbar1, l1) + math.atan2(rbar2, l2) - beta > 0.0
 
 
+@njit(cache=True, inline="always")
+def _angle_between(v1, v2):
+    """The angle between two vectors (2 or 3 components), from their cross and dot products."""
+    if v1.shape[0] == 2:
+        across = abs(v1[0] * v2[1] - v1[1] * v2[0])
+    else:
+        c0 = v1[1] * v2[2] - v1[2] * v2[1]
+        c1 = v1[2] * v2[0] - v1[0] * v2[2]
+        c2 = v1[0] * v2[1] - v1[1] * v2[0]
+        across = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+    return math.atan2(across, np.sum(v1 * v2))
+
+
 @njit(cache=True)
 def _reduce_rmul(pos, radius, pi, pj, rmul, code):
     """FISHTank's _mpFJrmulReduce on joints (pi, pj) in place: grains in index order, each
-    grain's joints in pair order. Returns the number of reductions."""
+    grain's joints in pair order; disks (pos: n x 2) or spheres (n x 3). Returns the number of
+    reductions."""
     n = pos.shape[0]
     m = pi.shape[0]
     counts = np.zeros(n + 1, np.int64)
@@ -203,32 +218,27 @@ def _reduce_rmul(pos, radius, pi, pj, rmul, code):
         members[fill[pj[c]]] = c
         fill[pj[c]] += 1
     # each joint's contact point (mid-gap) and the smaller radius of its grains
-    cx = np.empty(m)
-    cy = np.empty(m)
+    point = np.empty((m, pos.shape[1]))
     rmin = np.empty(m)
     for c in range(m):
         i = pi[c]
         j = pj[c]
-        dx = pos[j, 0] - pos[i, 0]
-        dy = pos[j, 1] - pos[i, 1]
-        d = math.sqrt(dx * dx + dy * dy)
-        arm = radius[i] + 0.5 * (d - radius[i] - radius[j])
-        cx[c] = pos[i, 0] + dx / d * arm
-        cy[c] = pos[i, 1] + dy / d * arm
+        d = pos[j] - pos[i]
+        dist = math.sqrt(np.sum(d * d))
+        arm = radius[i] + 0.5 * (dist - radius[i] - radius[j])
+        point[c] = pos[i] + d / dist * arm
         rmin[c] = min(radius[i], radius[j])
     reductions = 0
     for b in range(n):
         for a1 in range(start[b], start[b + 1]):
             c1 = members[a1]
-            v1x = cx[c1] - pos[b, 0]
-            v1y = cy[c1] - pos[b, 1]
-            l1 = math.sqrt(v1x * v1x + v1y * v1y)
+            v1 = point[c1] - pos[b]
+            l1 = math.sqrt(np.sum(v1 * v1))
             for a2 in range(a1 + 1, start[b + 1]):
                 c2 = members[a2]
-                v2x = cx[c2] - pos[b, 0]
-                v2y = cy[c2] - pos[b, 1]
-                l2 = math.sqrt(v2x * v2x + v2y * v2y)
-                beta = math.atan2(abs(v1x * v2y - v1y * v2x), v1x * v2x + v1y * v2y)
+                v2 = point[c2] - pos[b]
+                l2 = math.sqrt(np.sum(v2 * v2))
+                beta = _angle_between(v1, v2)
                 while (_faces_overlap(rmul[c1] * rmin[c1], l1, rmul[c2] * rmin[c2], l2, beta)
                        and rmul[c1] > 1e-12 and rmul[c2] > 1e-12):
                     reductions += 1
@@ -427,9 +437,6 @@ def new_state_3d(pos, radius, specimen, params: FlatJointParams, *, walls=((), (
     from rockcal.dem3d.simulate import assemble_state as assemble_3d
     from rockcal.dem3d.walls import new_walls
 
-    if params.fjm_rmulCode != 0:
-        raise InputError("fjm_rmulCode", f"{params.fjm_rmulCode}: the reduction of λ is PFC2D's; "
-                                         "with dimensions = 3 give fjm_rmulCode = 0")
     material = flatjointed(pos, radius, specimen.bonds, params, joint_draws_3d(specimen))
 
     def joints(pos, radius, pi, pj, order):
