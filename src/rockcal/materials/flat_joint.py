@@ -402,7 +402,7 @@ def pfc_parameters(params: FlatJointParams, specimen,
                              "track_microstructure": False,
                              "install_gap_mm": specimen.install_gap * specimen.rmin_mm}
     properties = {pfc: name for pfc, name in PFC_PROPERTIES.items()
-                  if pfc != "fjm_Nal" or specimen.dimensions == 3}
+                  if pfc != "fjm_Nal" or getattr(specimen, "dimensions", 2) == 3}
     return common_pfc(params, specimen, "flat-jointed", fishtank) | pfc_values(properties, values)
 
 
