@@ -56,6 +56,7 @@ from rockcal.dem3d.laws import (
     axpy,
     cross,
     dot,
+    inverse_length_near,
     pair_geometry,
     past_normals,
     plane_rotation,
@@ -80,8 +81,10 @@ JOINT_ROWS = 22
 E_FN, E_FS1, E_FS2, E_MT, E_TEN, E_COH = range(6)
 ELEMENT_ROWS = 6
 # an element's area A, first moment ∫ρ dA in (t₁, t₂) and second moments ∫ρ₁², ∫ρ₂², ∫ρ₁ρ₂,
-# on a disk of unit radius (`unit_moments`: times R̄², R̄³, R̄⁴)
-AREA, C1, C2, J11, J22, J12 = range(6)
+# on a disk of unit radius (`unit_moments`: times R̄², R̄³, R̄⁴); then, for the loop, its
+# centroid in (t₁, t₂) (times R̄) and polar second moment about the centroid (times R̄⁴)
+AREA, C1, C2, J11, J22, J12, X1, X2, POLAR = range(9)
+UNIT_ROWS = 9
 # 5-point Gauss-Legendre nodes and weights on [-1, 1]
 GAUSS_X = np.array([-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
                     0.9061798459386640])
@@ -282,7 +285,6 @@ def update_joint(p, rb, gs, bend1, bend2, ds1, ds2, twist, table, state, element
             j11 = unit[J11, k, s] * r4
             j22 = unit[J22, k, s] * r4
             j12 = unit[J12, k, s] * r4
-            inv_area = 1.0 / area
             bonded = state[p, k, s] == BONDED
             # the linear field over the whole element (bonded, or closed throughout)
             fn = kn * fma(gs, area, fma(a1, m1, a2 * m2))
@@ -290,15 +292,13 @@ def update_joint(p, rb, gs, bend1, bend2, ds1, ds2, twist, table, state, element
             sm2 = kn * fma(gs, m2, fma(j12, a1, j22 * a2))
             fs1 = elements[E_FS1, p, k, s] + ks * fma(area, ds1, -twist * m2)
             fs2 = elements[E_FS2, p, k, s] + ks * fma(area, ds2, twist * m1)
-            polar = j11 + j22 - (m1 * m1 + m2 * m2) * inv_area  # about the centroid
-            mt = elements[E_MT, p, k, s] + ks * polar * twist
-            if bonded:
-                sigma = fn * inv_area
-                if sigma > elements[E_TEN, p, k, s]:
+            mt = elements[E_MT, p, k, s] + ks * unit[POLAR, k, s] * r4 * twist
+            if bonded:  # compared as forces: σ A = F_n, and |F_s| > (c - σ tan φ) A
+                rest = fma(elements[E_COH, p, k, s], area, -fn * tan_fa)
+                if fn > elements[E_TEN, p, k, s] * area:
                     state[p, k, s] = BROKEN_TENSION
                     bonded = False
-                elif np.sqrt(fs1 * fs1 + fs2 * fs2) * inv_area > \
-                        elements[E_COH, p, k, s] - sigma * tan_fa:
+                elif rest < 0.0 or fma(fs1, fs1, fs2 * fs2) > rest * rest:
                     state[p, k, s] = BROKEN_SHEAR
                     bonded = False
                 breaks += 0 if bonded else 1
@@ -326,84 +326,159 @@ def update_joint(p, rb, gs, bend1, bend2, ds1, ds2, twist, table, state, element
             fs2_sum += fs2
             s1_sum += sm1
             s2_sum += sm2
-            mt_sum += fma(m1, fs2, -m2 * fs1) * inv_area + mt
+            mt_sum += fma(fma(unit[X1, k, s], fs2, -unit[X2, k, s] * fs1), rb, mt)
     return fn_sum, fs1_sum, fs2_sum, s1_sum, s2_sum, mt_sum, breaks
 
 
-@bond_phase(FlatJoints3D)
 @njit(cache=True, error_model="numpy")
-def add_flatjoint_forces(first, last, bodies, pi, pj, contact_shear, joints, laws, dt, loads,
-                         into_rows=-1):
-    """Joints first..last-1 between spheres pi[p] and pj[p] (rows of `bodies`): their relative
-    motion over the step at the contact point, turned with the contact plane as the parallel
-    bond's (`laws`), the law (`update_joint`), where each newly broken element broke (its
-    centroid) and their forces and moments added to the spheres' `loads` in pair order, or
-    into rows of their own (`pair_rows`). A bond phase (`rockcal.dem.bonded`): the contacts'
-    shear forces and the law constants are not a flat joint's."""
-    table, state, elements, break_xyz = joints
-    nr, nal = state.shape[1], state.shape[2]
-    unit = np.empty((6, nr, nal))
+def unit_table(nr, nal):
+    """(UNIT_ROWS, N_r, N_α): each element's moments on a disk of unit radius (`AREA` ..
+    `POLAR`)."""
+    unit = np.empty((UNIT_ROWS, nr, nal))
     for k in range(nr):
         for s in range(nal):
             moments = sector_moments(k / nr, (k + 1.0) / nr, 2 * np.pi * s / nal,
                                      2 * np.pi * (s + 1.0) / nal)
             for r in range(6):
                 unit[r, k, s] = moments[r]
-    for p in range(uint64(first), uint64(last)):
+            area, m1, m2, j11, j22 = moments[:5]
+            unit[X1, k, s] = m1 / area
+            unit[X2, k, s] = m2 / area
+            unit[POLAR, k, s] = j11 + j22 - (m1 * m1 + m2 * m2) / area
+    return unit
+
+
+TILE = 64  # joints whose motion is worked out as one vector loop
+# rows of a tile, one column per joint: what is gathered of its spheres (x_j - x_i, v_j - v_i,
+# ω_i, ω_j, R_i, R_j), then its motion (`_motion`): n, t₁, t₂, lever arms, R̄, surface gap,
+# bend-rotation, shear displacement (t₁, t₂) and twist of the step
+(DX, DVX, WIX, WJX) = (0, 3, 6, 9)
+RI, RJ, NX, T1, T2, ARM_I, ARM_J, RB, GS, BEND1, BEND2, DS1, DS2, TWIST = (
+    12, 13, 14, 17, 20, 23, 24, 25, 26, 27, 28, 29, 30, 31)
+TILE_ROWS = 32
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _row3(a, r, q):
+    return (a[r, q], a[r + 1, q], a[r + 2, q])
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _put3(a, r, q, v):
+    a[r, q] = v[0]
+    a[r + 1, q] = v[1]
+    a[r + 2, q] = v[2]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _gather(start, count, bodies, pi, pj, tile):
+    for q in range(uint64(count)):
+        p = uint64(start) + q
         i = uint64(pi[p])
         j = uint64(pj[p])
-        d = (bodies[j, Sphere.X] - bodies[i, Sphere.X], bodies[j, Sphere.Y] - bodies[i, Sphere.Y],
-             bodies[j, Sphere.Z] - bodies[i, Sphere.Z])
-        dv = (bodies[j, Sphere.VX] - bodies[i, Sphere.VX],
-              bodies[j, Sphere.VY] - bodies[i, Sphere.VY],
-              bodies[j, Sphere.VZ] - bodies[i, Sphere.VZ])
-        wi = (bodies[i, Sphere.WX], bodies[i, Sphere.WY], bodies[i, Sphere.WZ])
-        wj = (bodies[j, Sphere.WX], bodies[j, Sphere.WY], bodies[j, Sphere.WZ])
-        ri = bodies[i, Sphere.RADIUS]
-        rj = bodies[j, Sphere.RADIUS]
+        for a in range(3):
+            tile[DX + a, q] = bodies[j, Sphere.X + a] - bodies[i, Sphere.X + a]
+            tile[DVX + a, q] = bodies[j, Sphere.VX + a] - bodies[i, Sphere.VX + a]
+            tile[WIX + a, q] = bodies[i, Sphere.WX + a]
+            tile[WJX + a, q] = bodies[j, Sphere.WX + a]
+        tile[RI, q] = bodies[i, Sphere.RADIUS]
+        tile[RJ, q] = bodies[j, Sphere.RADIUS]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _motion(start, count, table, dt, tile):
+    """The step's motion of joints start..start+count-1 at their contact points, from the
+    tile's gathered data, into the tile: the frame (t₁ turned with the contact plane as the
+    parallel bond's vectors, kept square to n and of unit length), the surface gap and the
+    increments in (t₁, t₂). Without branches, and reading the joints' table only, so that it
+    compiles to vector instructions."""
+    for q in range(uint64(count)):
+        p = uint64(start) + q
+        d = _row3(tile, DX, q)
+        dv = _row3(tile, DVX, q)
+        wi = _row3(tile, WIX, q)
+        wj = _row3(tile, WJX, q)
+        ri = tile[RI, q]
+        rj = tile[RJ, q]
         n, inv_dist, overlap, arm_i, arm_j = pair_geometry(d, ri, rj)
         n_old, n_mid = past_normals(d, dv, inv_dist, dt)
         k, c, inv_opc, cos_t, sin_t = plane_rotation(n_old, n, wi, wj, dt)
         ds = slip(dv, wi, wj, n_mid, n, arm_i, arm_j, dt)
-        # the frame turned with the plane, kept square to n and of unit length
-        t1 = rotate((table[T1X, p], table[T1Y, p], table[T1Z, p]), n, k, c, inv_opc, cos_t, sin_t)
+        t1 = rotate(_row3(table, T1X, p), n, k, c, inv_opc, cos_t, sin_t)
         t1 = axpy(-dot(t1, n), n, t1)
-        t1 = scale(1.0 / np.sqrt(dot(t1, t1)), t1)
+        t1 = scale(inverse_length_near(dot(t1, t1), 1.0), t1)
         t2 = cross(n, t1)
-        table[T1X, p], table[T1Y, p], table[T1Z, p] = t1
         dtheta = ((wj[0] - wi[0]) * dt, (wj[1] - wi[1]) * dt, (wj[2] - wi[2]) * dt)
-        rb = table[RMUL, p] * min(ri, rj)
-        gs = table[GAP0, p] + (table[REF_OVERLAP, p] - overlap)
-        fn, fs1, fs2, s1, s2, mt, broke = update_joint(
-            p, rb, gs, dot(dtheta, t1), dot(dtheta, t2), dot(ds, t1), dot(ds, t2),
-            dot(dtheta, n), table, state, elements, unit)
-        if broke:
-            centre = axpy(arm_i, n, (bodies[i, Sphere.X], bodies[i, Sphere.Y], bodies[i, Sphere.Z]))
-            for ring in range(nr):
-                for s in range(nal):
-                    if state[p, ring, s] != BONDED and state[p, ring, s] != UNBONDED \
-                            and np.isnan(break_xyz[p, ring, s, 0]):
-                        inv_area = 1.0 / unit[AREA, ring, s]
-                        at = axpy(rb * unit[C1, ring, s] * inv_area, t1,
-                                  axpy(rb * unit[C2, ring, s] * inv_area, t2, centre))
-                        for a in range(3):
-                            break_xyz[p, ring, s, a] = at[a]
-        fs = axpy(fs1, t1, scale(fs2, t2))
-        # bending moment S × n: t₁ × n = -t₂, t₂ × n = t₁
-        mb = axpy(s2, t1, scale(-s1, t2))
-        for a in range(3):
-            table[FSX + a, p] = fs[a]
-            table[MBX + a, p] = mb[a]
-        table[FN, p] = fn
-        table[MT, p] = mt
-        moment = axpy(mt, n, mb)
-        n_fs = cross(n, fs)
-        force = axpy(fn, n, fs)
-        mi = axpy(arm_i, n_fs, moment)
-        mj = axpy(arm_j, n_fs, scale(-1.0, moment))
-        i, j = pair_rows(p, i, j, into_rows)
-        for a in range(3):
-            loads[i, Load.FX + a] += force[a]
-            loads[j, Load.FX + a] -= force[a]
-            loads[i, Load.MX + a] += mi[a]
-            loads[j, Load.MX + a] += mj[a]
+        _put3(tile, NX, q, n)
+        _put3(tile, T1, q, t1)
+        _put3(tile, T2, q, t2)
+        tile[ARM_I, q] = arm_i
+        tile[ARM_J, q] = arm_j
+        tile[RB, q] = table[RMUL, p] * min(ri, rj)
+        tile[GS, q] = table[GAP0, p] + (table[REF_OVERLAP, p] - overlap)
+        tile[BEND1, q] = dot(dtheta, t1)
+        tile[BEND2, q] = dot(dtheta, t2)
+        tile[DS1, q] = dot(ds, t1)
+        tile[DS2, q] = dot(ds, t2)
+        tile[TWIST, q] = dot(dtheta, n)
+
+
+@bond_phase(FlatJoints3D)
+@njit(cache=True, error_model="numpy")
+def add_flatjoint_forces(first, last, bodies, pi, pj, contact_shear, joints, laws, dt, loads,
+                         into_rows=-1):
+    """Joints first..last-1 between spheres pi[p] and pj[p] (rows of `bodies`), tile by tile:
+    their motion over the step (`_motion`), the law (`update_joint`), where each newly broken
+    element broke (its centroid) and their forces and moments added to the spheres' `loads` in
+    pair order, or into rows of their own (`pair_rows`). A bond phase (`rockcal.dem.bonded`):
+    the contacts' shear forces and the law constants are not a flat joint's."""
+    table, state, elements, break_xyz = joints
+    nr, nal = state.shape[1], state.shape[2]
+    unit = unit_table(nr, nal)
+    tile = np.empty((TILE_ROWS, TILE))
+    for start in range(first, last, TILE):
+        count = min(TILE, last - start)
+        _gather(start, count, bodies, pi, pj, tile)
+        _motion(start, count, table, dt, tile)
+        for q in range(uint64(count)):
+            p = uint64(start) + q
+            n = _row3(tile, NX, q)
+            t1 = _row3(tile, T1, q)
+            t2 = _row3(tile, T2, q)
+            _put3(table, T1X, p, t1)
+            rb = tile[RB, q]
+            fn, fs1, fs2, s1, s2, mt, broke = update_joint(
+                p, rb, tile[GS, q], tile[BEND1, q], tile[BEND2, q], tile[DS1, q], tile[DS2, q],
+                tile[TWIST, q], table, state, elements, unit)
+            i = uint64(pi[p])
+            j = uint64(pj[p])
+            arm_i = tile[ARM_I, q]
+            if broke:
+                centre = axpy(arm_i, n, (bodies[i, Sphere.X], bodies[i, Sphere.Y],
+                                         bodies[i, Sphere.Z]))
+                for ring in range(nr):
+                    for s in range(nal):
+                        if state[p, ring, s] != BONDED and state[p, ring, s] != UNBONDED \
+                                and np.isnan(break_xyz[p, ring, s, 0]):
+                            at = axpy(rb * unit[X1, ring, s], t1,
+                                      axpy(rb * unit[X2, ring, s], t2, centre))
+                            for a in range(3):
+                                break_xyz[p, ring, s, a] = at[a]
+            fs = axpy(fs1, t1, scale(fs2, t2))
+            # bending moment S × n: t₁ × n = -t₂, t₂ × n = t₁
+            mb = axpy(s2, t1, scale(-s1, t2))
+            _put3(table, FSX, p, fs)
+            _put3(table, MBX, p, mb)
+            table[FN, p] = fn
+            table[MT, p] = mt
+            moment = axpy(mt, n, mb)
+            n_fs = cross(n, fs)
+            force = axpy(fn, n, fs)
+            mi = axpy(arm_i, n_fs, moment)
+            mj = axpy(tile[ARM_J, q], n_fs, scale(-1.0, moment))
+            i, j = pair_rows(p, i, j, into_rows)
+            for a in range(3):
+                loads[i, Load.FX + a] += force[a]
+                loads[j, Load.FX + a] -= force[a]
+                loads[i, Load.MX + a] += mi[a]
+                loads[j, Load.MX + a] += mj[a]
