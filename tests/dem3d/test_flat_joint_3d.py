@@ -191,15 +191,12 @@ def test_same_bits_on_one_thread_or_two():
 
 
 def shaken_block():
-    from rockcal.dem3d.neighbours import near_pairs, spatial_order
+    """`test_reproducible_3d`'s block of 13³ spheres joined by flat joints of 2 x 3 elements,
+    a fifth of them slit, set moving fast enough at random that elements break."""
+    from test_reproducible_3d import jittered_block
 
     rng = np.random.default_rng(7)
-    r = 1e-3
-    grid = np.array([(i, j, k) for k in range(13) for j in range(13) for i in range(13)], float)
-    pos = grid * 2 * r + rng.uniform(-0.03, 0.03, grid.shape) * r
-    pos = pos[spatial_order(pos, 2 * r)]
-    radius = rng.uniform(0.98, 1.04, len(pos)) * r
-    pi, pj = near_pairs(pos, radius, 0.0)
+    pos, radius, pi, pj = jittered_block(rng)
     n = len(pi)
 
     def joints(pos, radius, bi, bj, order):

@@ -1,13 +1,12 @@
 """The bonded pairs' phase of a step, whatever their law: `add_bonded_forces` runs the force
 loop of the bonded-pair state it is given (parallel bonds' `laws.Bonds`, flat joints'
-`flatjoint.FlatJoints`, the 3D engine's `dem3d.bonds.Bonds` and `dem3d.flat_joint.FlatJoints3D`,
-a new law's own). Each law registers its loop for its state's type
+`flatjoint.FlatJoints`, a new law's own). Each law registers its loop for its state's type
 with `bond_phase`; numba picks the loop by that type when it compiles the engine, so the engine
 holds no branch on the material and caches one specialisation per material.
 
 A loop takes (first, last, disks, pi, pj, contact_shear, bonded, law, dt, loads, into_rows):
 it adds the forces and moments of bonded pairs first..last-1 (grains pi[p], pj[p], rows of
-`disks`, or of the 3D engine's `bodies`) to `loads`, or into rows of their own (`laws.pair_rows`), with the pairs' contact
+`disks`) to `loads`, or into rows of their own (`laws.pair_rows`), with the pairs' contact
 shear forces and the law constants (`laws.Laws`) if its law needs them.
 """
 

@@ -87,6 +87,11 @@ def new_bonds(ref_overlap, ten, coh, ri, rj) -> Bonds:
     return bonds
 
 
+def no_bonds() -> Bonds:
+    """No bonds: what the engine is given for a state of flat joints."""
+    return new_bonds(np.empty(0), np.empty(0), np.empty(0), np.empty(0), np.empty(0))
+
+
 def set_radii(bonds: Bonds, ri, rj) -> None:
     """The radii of the bonds' spheres, kept in their table: set anew whenever they change."""
     table = bonds.table

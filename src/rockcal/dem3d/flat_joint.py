@@ -1,7 +1,7 @@
 """PFC3D's flat joint between two spheres (the `flatjoint` contact model of PFC 5-9 in 3D;
 Potyondy 2012): the law of one joint (`update_joint`) and its force loop over the bonded pairs
-(`add_flatjoint_forces`, the bond phase of `FlatJoints3D`, `rockcal.dem.bonded`). The 2D joint
-is `rockcal.dem.flatjoint`; the names and meanings are the same.
+(`add_flatjoint_forces`, which the engine runs on the bonded pairs of a state whose bonds are
+`FlatJoints3D`). The 2D joint is `rockcal.dem.flatjoint`; the names and meanings are the same.
 
 The interface:
 - a flat disk of radius R̄ = λ min(R_i, R_j) (`fj_rmul` = λ, `fj_radius` = R̄) centred at
@@ -49,8 +49,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, uint64
 
-from rockcal.dem.bonded import bond_phase
 from rockcal.dem.laws import pair_rows
+from rockcal.dem3d.forces import TileRow, _gather, _put3, _row3
 from rockcal.dem3d.fused import fma
 from rockcal.dem3d.laws import (
     axpy,
@@ -121,6 +121,11 @@ class FlatJoints3D(NamedTuple):
     def breaks(self) -> tuple[np.ndarray, np.ndarray]:
         """Each element's break (`broken`) and where (its centroid, m; NaN where unbroken)."""
         return self.broken(), self.break_xyz.reshape(-1, 3)
+
+
+def no_flatjoints_3d() -> FlatJoints3D:
+    """No joints: what the engine is given for a state of parallel bonds."""
+    return new_flatjoints_3d(1, 3, np.empty((0, 3)), [], [], [], [], [], [], [], [], [], [])
 
 
 def new_flatjoints_3d(nr: int, nal: int, normal, ref_overlap, kn, ks, rmul, fric, tan_fa, gap0,
@@ -350,39 +355,21 @@ def unit_table(nr, nal):
 
 TILE = 64  # joints whose motion is worked out as one vector loop
 # rows of a tile, one column per joint: what is gathered of its spheres (x_j - x_i, v_j - v_i,
-# ω_i, ω_j, R_i, R_j), then its motion (`_motion`): n, t₁, t₂, lever arms, R̄, surface gap,
-# bend-rotation, shear displacement (t₁, t₂) and twist of the step
-(DX, DVX, WIX, WJX) = (0, 3, 6, 9)
+# ω_i, ω_j in the parallel bonds' rows, `forces.TileRow`; R_i, R_j), then its motion
+# (`_motion`): n, t₁, t₂, lever arms, R̄, surface gap, bend-rotation, shear displacement
+# (t₁, t₂) and twist of the step
+DX, DVX, WIX, WJX = TileRow.DX, TileRow.DVX, TileRow.WIX, TileRow.WJX
 RI, RJ, NX, T1, T2, ARM_I, ARM_J, RB, GS, BEND1, BEND2, DS1, DS2, TWIST = (
     12, 13, 14, 17, 20, 23, 24, 25, 26, 27, 28, 29, 30, 31)
 TILE_ROWS = 32
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _row3(a, r, q):
-    return (a[r, q], a[r + 1, q], a[r + 2, q])
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _put3(a, r, q, v):
-    a[r, q] = v[0]
-    a[r + 1, q] = v[1]
-    a[r + 2, q] = v[2]
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _gather(start, count, bodies, pi, pj, tile):
+def _gather_radii(start, count, bodies, pi, pj, tile):
     for q in range(uint64(count)):
         p = uint64(start) + q
-        i = uint64(pi[p])
-        j = uint64(pj[p])
-        for a in range(3):
-            tile[DX + a, q] = bodies[j, Sphere.X + a] - bodies[i, Sphere.X + a]
-            tile[DVX + a, q] = bodies[j, Sphere.VX + a] - bodies[i, Sphere.VX + a]
-            tile[WIX + a, q] = bodies[i, Sphere.WX + a]
-            tile[WJX + a, q] = bodies[j, Sphere.WX + a]
-        tile[RI, q] = bodies[i, Sphere.RADIUS]
-        tile[RJ, q] = bodies[j, Sphere.RADIUS]
+        tile[RI, q] = bodies[uint64(pi[p]), Sphere.RADIUS]
+        tile[RJ, q] = bodies[uint64(pj[p]), Sphere.RADIUS]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -423,15 +410,12 @@ def _motion(start, count, table, dt, tile):
         tile[TWIST, q] = dot(dtheta, n)
 
 
-@bond_phase(FlatJoints3D)
 @njit(cache=True, error_model="numpy")
-def add_flatjoint_forces(first, last, bodies, pi, pj, contact_shear, joints, laws, dt, loads,
-                         into_rows=-1):
+def add_flatjoint_forces(first, last, bodies, loads, pi, pj, joints, dt, into_rows=-1):
     """Joints first..last-1 between spheres pi[p] and pj[p] (rows of `bodies`), tile by tile:
     their motion over the step (`_motion`), the law (`update_joint`), where each newly broken
     element broke (its centroid) and their forces and moments added to the spheres' `loads` in
-    pair order, or into rows of their own (`pair_rows`). A bond phase (`rockcal.dem.bonded`):
-    the contacts' shear forces and the law constants are not a flat joint's."""
+    pair order, or into rows of their own (`pair_rows`), as `forces.add_bond_forces`."""
     table, state, elements, break_xyz = joints
     nr, nal = state.shape[1], state.shape[2]
     unit = unit_table(nr, nal)
@@ -439,6 +423,7 @@ def add_flatjoint_forces(first, last, bodies, pi, pj, contact_shear, joints, law
     for start in range(first, last, TILE):
         count = min(TILE, last - start)
         _gather(start, count, bodies, pi, pj, tile)
+        _gather_radii(start, count, bodies, pi, pj, tile)
         _motion(start, count, table, dt, tile)
         for q in range(uint64(count)):
             p = uint64(start) + q

@@ -13,9 +13,8 @@ from enum import IntEnum
 import numpy as np
 from numba import njit, uint64
 
-from rockcal.dem.bonded import bond_phase
 from rockcal.dem.laws import pair_rows
-from rockcal.dem3d.bonds import Bond, Bonds
+from rockcal.dem3d.bonds import Bond
 from rockcal.dem3d.laws import (
     BROKEN_SHEAR,
     BROKEN_TENSION,
@@ -101,15 +100,6 @@ def add_bond_forces(first, last, bodies, loads, pi, pj, table, bond_state, break
         _bond_law(start, count, table, bond_state, laws, dt, tile)
         _store(start, count, tile, table)
         _scatter(start, count, bodies, pi, pj, tile, bond_state, break_xyz, loads, into_rows)
-
-
-@bond_phase(Bonds)
-@njit(cache=True, error_model="numpy")
-def add_parallel_bond_forces(first, last, bodies, pi, pj, contact_shear, bonds, laws, dt, loads,
-                             into_rows=-1):
-    """`add_bond_forces` as the bond phase of parallel bonds (`rockcal.dem.bonded`)."""
-    add_bond_forces(first, last, bodies, loads, pi, pj, bonds.table, bonds.state,
-                    bonds.break_xyz, laws, dt, into_rows)
 
 
 @njit(cache=True, error_model="numpy", inline="always")

@@ -17,16 +17,18 @@ import numpy as np
 from numba import njit, prange
 
 from rockcal.dem import border, tasks
-from rockcal.dem.bonded import add_bonded_forces
 from rockcal.dem.simulate import engine_threads
-from rockcal.dem3d import flat_joint, forces, neighbours  # noqa: F401 (their bond phases)
+from rockcal.dem3d import flat_joint, forces, neighbours
 from rockcal.dem3d import walls as planes
-from rockcal.dem3d.bonds import Bonds, new_bonds
+from rockcal.dem3d.bonds import Bonds, new_bonds, no_bonds
 from rockcal.dem3d.laws import INTACT, Laws, contact_springs
 from rockcal.dem3d.state import LOAD_COMPONENTS, Load, Sphere, Spheres, new_spheres
 from rockcal.dem3d.vectors import norms
 
 TIME_STEP_SAFETY = 0.8
+# what the stepping loop is given for the material a state has not
+_NO_BONDS = no_bonds()
+_NO_JOINTS = flat_joint.no_flatjoints_3d()
 
 
 @dataclass
@@ -195,7 +197,7 @@ def _move(first, last, bodies, loads, damping, dt, pos_at_build):
 # numba caches this kernel with the law kernels compiled into it, keyed by this file alone:
 # after editing laws.py or forces.py in a checkout, clear the caches (__pycache__/*.nbi, *.nbc).
 @njit(parallel=True, cache=True, error_model="numpy")
-def _advance(n_steps, bodies, loads, pi, pj, shear, bonded, starts,
+def _advance(n_steps, bodies, loads, pi, pj, shear, bonds, joints, starts,
              bond_offsets, contact_offsets, pos_at_build, half_skin_sq, laws, damping, dt,
              walls, wall_force, threads):
     """Run up to n_steps on up to `threads` threads (at most one per block); stop early when
@@ -210,7 +212,7 @@ def _advance(n_steps, bodies, loads, pi, pj, shear, bonded, starts,
     rows = border.rows(bond_offsets, contact_offsets, LOAD_COMPONENTS)
     workers = max(1, min(threads, blocks))
     for w in prange(workers):
-        model = (bodies, loads, pi, pj, shear, bonded, starts,
+        model = (bodies, loads, pi, pj, shear, bonds, joints, starts,
                  bond_offsets, contact_offsets, pos_at_build, laws, damping, dt, walls,
                  wall_force, wall_parts, rows)
         for s in range(n_steps):
@@ -228,7 +230,7 @@ def _task(r, s, shared, model, moved, half_skin_sq):
     (their forces summed, their move) and the pairs across block borders in halves, into their
     rows (`rockcal.dem.border`); then each block's border and wall forces and motion. False if
     the run stops."""
-    (bodies, loads, pi, pj, shear, bonded, starts, bond_offsets,
+    (bodies, loads, pi, pj, shear, bonds, joints, starts, bond_offsets,
      contact_offsets, pos_at_build, laws, damping, dt, walls, wall_force, wall_parts,
      rows) = model
     blocks = moved.shape[0]
@@ -238,8 +240,8 @@ def _task(r, s, shared, model, moved, half_skin_sq):
         for k in range(numba.uint64(starts[r]), numba.uint64(starts[r + 1])):
             for c in range(6):
                 loads[k, c] = 0.0
-        add_bonded_forces(bond_offsets[r], bond_offsets[r + 1], bodies, pi, pj, shear, bonded,
-                          laws, dt, loads)
+        _bonded_forces(bond_offsets[r], bond_offsets[r + 1], bodies, loads, pi, pj, bonds, joints,
+                       laws, dt)
         forces.add_contact_forces(contact_offsets[r], contact_offsets[r + 1], bodies, loads, pi,
                                   pj, shear, laws, dt)
     elif r < blocks + border.TASKS:
@@ -248,7 +250,7 @@ def _task(r, s, shared, model, moved, half_skin_sq):
             _walls_after_step(walls, wall_force, wall_parts, dt)
         (b0, b1, bond_rows), (c0, c1, contact_rows) = border.task_pairs(task, bond_offsets,
                                                                         contact_offsets, rows)
-        add_bonded_forces(b0, b1, bodies, pi, pj, shear, bonded, laws, dt, rows, bond_rows)
+        _bonded_forces(b0, b1, bodies, rows, pi, pj, bonds, joints, laws, dt, bond_rows)
         forces.add_contact_forces(c0, c1, bodies, rows, pi, pj, shear, laws, dt, contact_rows)
     else:
         b = r - blocks - border.TASKS
@@ -262,6 +264,17 @@ def _task(r, s, shared, model, moved, half_skin_sq):
 
 
 _step = tasks.make_step(_task)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _bonded_forces(first, last, bodies, loads, pi, pj, bonds, joints, laws, dt, into_rows=-1):
+    """The bonded pairs first..last-1: flat joints if the state has them, else parallel bonds.
+    One kernel for both materials: numba compiles the stepping loop once."""
+    if joints.state.shape[0] > 0:
+        flat_joint.add_flatjoint_forces(first, last, bodies, loads, pi, pj, joints, dt, into_rows)
+    else:
+        forces.add_bond_forces(first, last, bodies, loads, pi, pj, bonds.table, bonds.state,
+                               bonds.break_xyz, laws, dt, into_rows)
 
 
 @njit(cache=True)
@@ -288,12 +301,15 @@ def advance(state: State, n_steps: int) -> None:
     by default, one per free core."""
     with engine_threads(len(state.neighbours.block_starts) - 1) as threads:
         done = 0
-        s, b = state.spheres, state.bonds
+        s = state.spheres
+        joints = isinstance(state.bonds, flat_joint.FlatJoints3D)
+        bonds = _NO_BONDS if joints else state.bonds
+        joints = state.bonds if joints else _NO_JOINTS
         while done < n_steps:
             pairs = state.neighbours
             done_now, rebuild = _advance(
-                n_steps - done, s.bodies, s.loads, pairs.pi, pairs.pj, pairs.shear, b,
-                pairs.block_starts, pairs.bond_offsets,
+                n_steps - done, s.bodies, s.loads, pairs.pi, pairs.pj, pairs.shear, bonds,
+                joints, pairs.block_starts, pairs.bond_offsets,
                 pairs.contact_offsets, pairs.pos_at_build, pairs.rebuild_distance_sq,
                 state.laws, state.damping, state.dt, state.walls.table, state.walls.force,
                 threads)
