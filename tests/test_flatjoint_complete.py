@@ -122,10 +122,12 @@ def test_the_residual_changes_nothing_until_an_element_breaks_in_shear():
 # --- the material ----------------------------------------------------------------------------
 
 def test_residual_strength_is_off_by_default_and_keeps_the_store_keys():
-    """At their defaults fj_cohres and fj_resmode are left out of a parameter set's key, so the
-    runs stored before them keep their keys; set, they are in it and reach the joints (Pa)."""
+    """At their defaults fj_cohres and fj_resmode (and the 3D joint's fj_nal) are left out of a
+    parameter set's key, so the runs stored before them keep their keys; set, they are in it
+    and reach the joints (Pa)."""
     default = make_flatjoint_params({})
-    assert set(default.key()) == set(NAMES) - {"fj_cohres", "fj_resmode"}
+    assert set(default.key()) == set(NAMES) - {"fj_cohres", "fj_resmode", "fj_nal"}
+    assert make_flatjoint_params({"fj_nal": 5}).key()["fj_nal"] == 5
     on = make_flatjoint_params({"fj_resmode": 1.0, "fj_cohres": 4.0})
     assert on.key()["fj_resmode"] == 1 and on.key()["fj_cohres"] == 4.0
     pos = np.array([[0.0, 0.0], [2e-3, 0.0]])

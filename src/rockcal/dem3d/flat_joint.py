@@ -96,7 +96,7 @@ class FlatJoints3D(NamedTuple):
     """The state of a set of 3D flat joints of N_r x N_α elements each."""
 
     table: np.ndarray  # (JOINT_ROWS, joints)
-    state: np.ndarray  # (joints, N_r, N_α) int64: BONDED, UNBONDED, BROKEN_TENSION, BROKEN_SHEAR
+    state: np.ndarray  # (joints, N_r, N_α) int64: BONDED, UNBONDED, BROKEN_*
     elements: np.ndarray  # (ELEMENT_ROWS, joints, N_r, N_α)
     break_xyz: np.ndarray  # (joints, N_r, N_α, 3): where each element broke (its centroid), m
 

@@ -195,7 +195,8 @@ def _move(first, last, bodies, loads, damping, dt, pos_at_build):
 
 
 # numba caches this kernel with the law kernels compiled into it, keyed by this file alone:
-# after editing laws.py or forces.py in a checkout, clear the caches (__pycache__/*.nbi, *.nbc).
+# after editing laws.py, forces.py or flat_joint.py in a checkout, clear the caches
+# (__pycache__/*.nbi, *.nbc).
 @njit(parallel=True, cache=True, error_model="numpy")
 def _advance(n_steps, bodies, loads, pi, pj, shear, bonds, joints, starts,
              bond_offsets, contact_offsets, pos_at_build, half_skin_sq, laws, damping, dt,
@@ -302,9 +303,8 @@ def advance(state: State, n_steps: int) -> None:
     with engine_threads(len(state.neighbours.block_starts) - 1) as threads:
         done = 0
         s = state.spheres
-        joints = isinstance(state.bonds, flat_joint.FlatJoints3D)
-        bonds = _NO_BONDS if joints else state.bonds
-        joints = state.bonds if joints else _NO_JOINTS
+        flat = isinstance(state.bonds, flat_joint.FlatJoints3D)
+        bonds, joints = (_NO_BONDS, state.bonds) if flat else (state.bonds, _NO_JOINTS)
         while done < n_steps:
             pairs = state.neighbours
             done_now, rebuild = _advance(

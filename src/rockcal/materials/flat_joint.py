@@ -1,32 +1,33 @@
 """The flat-jointed material: PFC's flat joints (the law: `rockcal.dem.flatjoint` in 2D,
-`rockcal.dem3d.flat_joint` in 3D) and linear contacts elsewhere. Its parameters with their PFC names, its genesis step, its assignment on a
-packed specimen as FISHTank makes it (`ft.fis`: `_mpAssignFJ`, `_mpAssignFJProps`,
-`_mpFJrmulReduce`, `_mpFJsetMicroStruc`), its engine state and its FISHTank parameters.
+`rockcal.dem3d.flat_joint` in 3D) and linear contacts elsewhere. Its parameters with their PFC
+names, its genesis step, its assignment on a packed specimen as FISHTank makes it (`ft.fis`:
+`_mpAssignFJ`, `_mpAssignFJProps`, `_mpFJrmulReduce`, `_mpFJsetMicroStruc`), its engine state
+and its FISHTank parameters.
 
 1. Every grain pair whose gap is <= the installation gap (`fjm_igap`; rockcal's genesis
    `install_gap` x R_min) gets a flat joint; every other grain pair a linear contact of the
    linear-material group (`lnm_emod`, `lnm_krat`, `lnm_fric`), as do contacts that form later.
-2. Each flat joint: N_r elements (`fjm_Nr`; in 3D N_r rings of N_α, `fjm_Nal`), radius multiplier λ (`fjm_rmulVal`), friction
-   (`fjm_fric`), tensile strength and cohesion drawn per joint from normal distributions
-   truncated at zero (`fjm_ten_m/_sd`, `fjm_coh_m/_sd`: FISHTank redraws negative values; every
-   element of a joint gets the joint's draw, since `fj_ten` and `fj_coh` are properties of the
-   contact in PFC), friction angle (`fjm_fa`), the residual cohesion of elements broken in
-   shear (PFC 7+'s `fj_cohres` with `fj_resmode` 1; FISHTank has no name for it), and
-   stiffnesses from the effective modulus and stiffness ratio (`fjm_emod`, `fjm_krat`):
-   k_n = E*/(R_i + R_j), k_s = k_n/κ*, fixed then.
-3. λ is reduced where two flat-joint faces of one grain would overlap (`fjm_rmulCode`):
-   a face of joint c seen from the grain's centre spans the half-angle α = atan(R̄_c / l_c),
-   l_c the distance from the centre to the contact point (FISHTank subtracts half the initial
-   gap, which is still 0 at this point); two faces overlap when α_1 + α_2 > β, the angle
-   between their contact directions (disks or spheres alike). Code 0 keeps λ; code 1 visits the grains in turn and,
-   for each pair of its joints that overlap, multiplies both joints' λ by 0.99 until they do
-   not; code 2 multiplies the one λ of all joints by 0.99 until no pair overlaps.
-4. The microstructure: of the n flat joints, round(B n) are bonded (every element bonded,
-   g_0 = 0), round(G n) gapped (unbonded, g_0 drawn from a normal distribution of mean
-   `fjm_G_m` and sd `fjm_G_sd` truncated at zero) and the rest slit (unbonded, g_0 = 0).
-   FISHTank takes them in the order of PFC's contact list; rockcal ranks the joints by a
-   uniform draw of each (seeded), so the fractions are met exactly (to rounding), the choice
-   is reproducible, and a joint keeps its rank whatever the fractions.
+2. Each flat joint: N_r elements (`fjm_Nr`; in 3D N_r rings of N_α, `fjm_Nal`), radius
+   multiplier λ (`fjm_rmulVal`), friction (`fjm_fric`), tensile strength and cohesion drawn per
+   joint from normal distributions truncated at zero (`fjm_ten_m/_sd`, `fjm_coh_m/_sd`:
+   FISHTank redraws negative values; every element of a joint gets the joint's draw, since
+   `fj_ten` and `fj_coh` are properties of the contact in PFC), friction angle (`fjm_fa`), the
+   residual cohesion of elements broken in shear (PFC 7+'s `fj_cohres` with `fj_resmode` 1;
+   FISHTank has no name for it), and stiffnesses from the effective modulus and stiffness ratio
+   (`fjm_emod`, `fjm_krat`): k_n = E*/(R_i + R_j), k_s = k_n/κ*, fixed then.
+3. λ is reduced where two flat-joint faces of one grain would overlap (`fjm_rmulCode`): a face
+   of joint c seen from the grain's centre spans the half-angle α = atan(R̄_c / l_c), l_c the
+   distance from the centre to the contact point (FISHTank subtracts half the initial gap,
+   which is still 0 at this point); two faces overlap when α_1 + α_2 > β, the angle between
+   their contact directions (disks or spheres alike). Code 0 keeps λ; code 1 visits the grains
+   in turn and, for each pair of its joints that overlap, multiplies both joints' λ by 0.99
+   until they do not; code 2 multiplies the one λ of all joints by 0.99 until no pair overlaps.
+4. The microstructure: of the n flat joints, round(B n) are bonded (every element bonded, g_0 =
+   0), round(G n) gapped (unbonded, g_0 drawn from a normal distribution of mean `fjm_G_m` and
+   sd `fjm_G_sd` truncated at zero) and the rest slit (unbonded, g_0 = 0). FISHTank takes them
+   in the order of PFC's contact list; rockcal ranks the joints by a uniform draw of each
+   (seeded), so the fractions are met exactly (to rounding), the choice is reproducible, and a
+   joint keeps its rank whatever the fractions.
 
 Every random quantity comes from uniform draws per joint (`flatjoint_draws`; a 3D specimen's
 seeded by its bonds' draws, `joint_draws_3d`): strengths and gaps are truncated-normal at them
@@ -91,7 +92,8 @@ class FlatJointParams(BaseModel):
                             description="residual mode: 0 an element broken in shear keeps friction, "
                                         "1 friction and fj_cohres (fj_resmode)")
     fj_fric: float = Field(0.5, ge=0, le=10, description="element friction coefficient (fjm_fric)")
-    fj_nr: int = Field(2, ge=1, le=64, description="elements per flat joint in 2D, rings of elements in 3D (fjm_Nr)")
+    fj_nr: int = Field(2, ge=1, le=64,
+                       description="elements per flat joint in 2D, rings of elements in 3D (fjm_Nr)")
     # left out of `key()` at its default, so runs stored before it keep their keys
     fj_nal: int = Field(4, ge=3, le=64, exclude_if=lambda v: v == 4,
                         description="elements per ring in 3D, circumferential (fjm_Nal; PFC2D has none)")
@@ -160,7 +162,8 @@ NAMES = tuple(FlatJointParams.model_fields)
 PFC_PROPERTIES = {
     "fjm_igap": ("install_gap_mm", "mm"), "fjm_B_frac": ("fjm_B_frac", None),
     "fjm_G_frac": ("fjm_G_frac", None), "fjm_G_m": ("fjm_G_m", "mm"), "fjm_G_sd": ("fjm_G_sd", "mm"),
-    "fjm_Nr": ("fj_nr", None), "fjm_Nal": ("fj_nal", None), "fjm_rmulCode": ("fjm_rmulCode", None), "fjm_rmulVal": ("fj_rmul", None),
+    "fjm_Nr": ("fj_nr", None), "fjm_Nal": ("fj_nal", None), "fjm_rmulCode": ("fjm_rmulCode", None),
+    "fjm_rmulVal": ("fj_rmul", None),
     "fjm_emod": ("fj_emod", "GPa"), "fjm_krat": ("fj_kratio", None), "fjm_fric": ("fj_fric", None),
     "fjm_ten_m": ("fj_ten", "MPa"), "fjm_ten_sd": ("fj_ten_sd", "MPa"), "fjm_coh_m": ("fj_coh", "MPa"),
     "fjm_coh_sd": ("fj_coh_sd", "MPa"), "fjm_fa": ("fj_fa", None),
