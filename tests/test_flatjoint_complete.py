@@ -187,7 +187,7 @@ def test_the_complete_flat_joint_can_be_searched():
     c = campaign("fj_fa = [0, 40], fjm_B_frac = [0.5, 0.7], fjm_G_frac = [0.1, 0.3], fjm_G_m = [0.001, 0.01], "
                  "fjm_G_sd = [0, 0.001], fj_nr = [1, 4], fj_cohres = [0, 10]", "fj_resmode = 1")
     assert set(c.search.bounds) == {"fj_fa", "fjm_B_frac", "fjm_G_frac", "fjm_G_m", "fjm_G_sd", "fj_nr", "fj_cohres"}
-    assert whole_numbers("flatjoint") == {"fj_nr"}  # fjm_rmulCode and fj_resmode pick rules
+    assert whole_numbers("flatjoint") == {"fj_nr", "fj_nal"}  # fjm_rmulCode and fj_resmode pick rules
 
 
 def test_fixed_values_are_checked_with_the_searched_ones_not_their_defaults():
