@@ -65,6 +65,7 @@ from rockcal.dem3d.laws import (
     slip,
 )
 from rockcal.dem3d.state import Load, Sphere
+from rockcal.dem3d.vectors import norms
 
 # PFC's fj_state codes, as the 2D joint's (an element broken in tension or shear is a crack)
 UNBONDED, BROKEN_TENSION, BROKEN_SHEAR, BONDED = 0, 1, 2, 3
@@ -81,7 +82,7 @@ JOINT_ROWS = 22
 E_FN, E_FS1, E_FS2, E_MT, E_TEN, E_COH = range(6)
 ELEMENT_ROWS = 6
 # an element's area A, first moment ∫ρ dA in (t₁, t₂) and second moments ∫ρ₁², ∫ρ₂², ∫ρ₁ρ₂,
-# on a disk of unit radius (`unit_moments`: times R̄², R̄³, R̄⁴); then, for the loop, its
+# on a disk of unit radius (`unit_table`: times R̄², R̄³, R̄⁴); then, for the loop, its
 # centroid in (t₁, t₂) (times R̄) and polar second moment about the centroid (times R̄⁴)
 AREA, C1, C2, J11, J22, J12, X1, X2, POLAR = range(9)
 UNIT_ROWS = 9
@@ -152,21 +153,12 @@ def new_flatjoints_3d(nr: int, nal: int, normal, ref_overlap, kn, ks, rmul, fric
 
 def tangents(normal) -> np.ndarray:
     """A unit vector across each unit normal (rows): the cross product with the axis least
-    along it, normalised."""
+    along it, normalised (`vectors.norms`: the same bits on every processor)."""
     normal = np.atleast_2d(normal)
     axis = np.zeros_like(normal)
     axis[np.arange(len(normal)), np.argmin(np.abs(normal), axis=1)] = 1.0
     t = np.cross(normal, axis)
-    return t / np.sqrt(np.sum(t * t, axis=1))[:, None]
-
-
-def unit_moments(nr: int, nal: int) -> np.ndarray:
-    """(6, N_r, N_α): each element's AREA, C1, C2, J11, J22, J12 on a disk of unit radius."""
-    r0 = np.arange(nr)[:, None] / nr
-    r1 = r0 + 1.0 / nr
-    phi = 2 * np.pi * np.arange(nal + 1) / nal
-    p0, p1 = phi[None, :-1], phi[None, 1:]
-    return np.array(np.broadcast_arrays(*sector_moments.py_func(r0, r1, p0, p1)))
+    return t / norms(t)[:, None]
 
 
 @njit(cache=True, error_model="numpy", inline="always")

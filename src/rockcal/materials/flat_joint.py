@@ -438,13 +438,14 @@ def new_state_3d(pos, radius, specimen, params: FlatJointParams, *, walls=((), (
     from rockcal.dem3d import flat_joint as joints_3d  # the 3D engine: loaded for a 3D run alone
     from rockcal.dem3d.laws import Laws
     from rockcal.dem3d.simulate import assemble_state as assemble_3d
+    from rockcal.dem3d.vectors import norms
     from rockcal.dem3d.walls import new_walls
 
     material = flatjointed(pos, radius, specimen.bonds, params, joint_draws_3d(specimen))
 
     def joints(pos, radius, pi, pj, order):
         d = pos[pj] - pos[pi]
-        dist = np.sqrt(np.sum(d * d, axis=1))
+        dist = norms(d)
         m = material
         return joints_3d.new_flatjoints_3d(
             params.fj_nr, params.fj_nal, d / dist[:, None], radius[pi] + radius[pj] - dist,
