@@ -1,6 +1,7 @@
 """`[specimen] dimensions` and `rockcal simulate ucs --dimensions`: a value other than 2 or 3, a
-3D campaign with a test (bending, direct tension), material or setting the 3D engine does not
-have, and a cylinder or a Brazilian disk too small for its spheres are refused before any run, in one line naming the key, exit 2. The
+3D campaign with a test (bending, direct tension) or setting the 3D engine does not have, a
+flat-jointed material's bad fj_nal, and a cylinder or a Brazilian disk too small for its
+spheres are refused before any run, in one line naming the key, exit 2. The
 settings whose default differs in 3D take the 3D default unless given.
 
 Every case fails while the input is checked (no genesis, no run): the file is quick."""
@@ -108,13 +109,17 @@ def test_a_3d_brazilian_test_it_cannot_run_is_refused(cli, tmp_path, key, value,
     assert calibrate(cli, tmp_path, campaign(BRAZILIAN, dimensions="2", **{key: value})).returncode == 0
 
 
-def test_the_flat_jointed_material_is_refused_in_3d(cli, tmp_path):
+def test_the_flat_jointed_material_is_accepted_in_3d_and_its_bad_values_refused(cli, tmp_path):
     flat = '[material]\nmodel = "flatjoint"'
     box = ("E_c = [15, 25], sigma_c = [30, 50]", "fj_emod = [15, 25], fj_ten = [5, 15]")
-    one_line(calibrate(cli, tmp_path, campaign(flat).replace(*box)), "material.model", "flatjoint",
-             "parallel_bond")
-    assert calibrate(cli, tmp_path, campaign(flat, dimensions="2").replace(*box)).returncode == 0
-    one_line(cli("simulate", "ucs", *TINY, "--dimensions", "3", "--model", "flatjoint"), "--model")
+    run = calibrate(cli, tmp_path, campaign(flat).replace(*box))
+    assert run.returncode == 0, run.stderr
+    for value in ("2", "65", "3.5"):
+        bad = campaign(flat).replace(*box).replace(
+            "fj_ten = [5, 15] }", f"fj_ten = [5, 15] }}\nfixed = {{ fj_nal = {value} }}")
+        one_line(calibrate(cli, tmp_path, bad), "search.fixed.fj_nal")
+        one_line(cli("simulate", "ucs", *TINY, "--dimensions", "3", "--model", "flatjoint",
+                     f"--set=fj_nal={value}"), "fj_nal")
 
 
 @pytest.mark.parametrize("key, value, flag", [

@@ -7,6 +7,8 @@ parallel-bonded material, `mpSetFJParams` for the flat-jointed one, each with th
 material group `lnm_*`), in SI units, and FISHTank's own check `_mpCheckAllParams`. `cm_matType`
 differs between the FISHTanks of PFC 5, 6 and 7 (`--fishtank`, `rockcal.materials.fishtank`).
 
+FISHTank's flat-jointed material reads `fjm_Nal` (the elements of each ring of a joint's disk) in
+PFC3D alone, and `fjm_Nr` there counts the disk's rings (`header.FLAT_JOINT_3D_NOTES`).
 FISHTank's parallel-bonded material reads the same `cm_*`, `pk_*`, `pbm_*` and `lnm_*` names in
 PFC3D as in PFC2D (its own `mpParams.p3dat` examples), but in PFC3D they mean
 (`header.PFC3D_NOTES`, in the file's header too):
@@ -64,7 +66,7 @@ def to_fish_3d(params, settings, *, fishtank: int = DEFAULT_FISHTANK,
     2D file's groups (`fish_groups`) and FISHTank's own check."""
     version = fishtank_version(fishtank)
     values = pfc3d_parameters(params, settings, version)
-    comments = [*header, *notes_3d(version, settings), seed_line(settings)]
+    comments = [*header, *notes_3d(version, material_of(params).pfc_group, settings), seed_line(settings)]
     shape = grain_template(settings)
     templates = {} if shape is None else {template_name(shape): template_pebbles(shape)}
     return fish_file(comments, values, material_of(params).pfc_group, templates)
