@@ -32,7 +32,7 @@ DIMENSIONS = (2, 3)
 
 # the tests with a 3D implementation, in words; the 3D confined test is a square prism between
 # four servo walls, polyaxial, not the 2D biaxial test's two
-TESTS_3D = "ucs, brazilian, biaxial: confined (square prism, polyaxial walls)"
+TESTS_3D = "ucs, brazilian, biaxial: confined (square prism, polyaxial walls), bending, scb"
 
 
 def in_3d(s: dict) -> bool:

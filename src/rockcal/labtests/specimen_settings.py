@@ -78,8 +78,9 @@ class SpecimenSettings(Genesis):
         2, exclude_if=lambda v: v == 2,
         description="2: PFC2D's disks; 3: PFC3D's spheres, the UCS test on a cylinder of width_mm as diameter "
                     "and height_mm tall, the confined test on a square prism of width_mm side, the Brazilian "
-                    "test on a disk D x D/2 (parallel bonds and balls only; bending and direct tension are 2D "
-                    "only); in 3D cloud_porosity is 0.35 and contact_stiffness pfc5 unless given.")
+                    "test on a disk D x D/2, the notched beam as thick as it is deep (parallel bonds and balls "
+                    "only; direct tension is 2D only); in 3D cloud_porosity is 0.35 and contact_stiffness pfc5 "
+                    "unless given.")
 
     @model_validator(mode="before")
     @classmethod

@@ -36,6 +36,13 @@ def strip_modulus_pa(strip: BearingStrip, bare_modulus_pa: float, radius_m: floa
     return float(1.0 / (1.0 / column + 1.0 / bare) / (np.pi * radius_m))
 
 
+def check_contact_stiffness(contact_stiffness: str | None) -> None:
+    """The 3D engine's contacts take PFC 5's stiffness (None: it); an InputError otherwise."""
+    if contact_stiffness not in (None, CONTACT_STIFFNESS):
+        raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
+                                              f"({CONTACT_STIFFNESS!r}), got {contact_stiffness!r}")
+
+
 def disk_of(specimen) -> Disk:
     """A 3D disk (`specimens3d.specimen.random_disk`): the nominal D and t it was carved to, its axis
     along y, loaded along z."""
@@ -59,9 +66,7 @@ class Platens3D:
 
     def __init__(self, specimen, params, rate_factor: float, contact_stiffness: str | None = None,
                  strip: BearingStrip | None = None, side_walls: bool = False):
-        if contact_stiffness not in (None, CONTACT_STIFFNESS):
-            raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
-                                                  f"({CONTACT_STIFFNESS!r}), got {contact_stiffness!r}")
+        check_contact_stiffness(contact_stiffness)
         pos, radius = specimen.pos, specimen.radius
         self.bottom, self.top = (pos[:, 2] - radius).min(), (pos[:, 2] + radius).max()
         centre = pos.mean(axis=0)
