@@ -18,12 +18,12 @@ def test_a_setting_whose_default_differs_in_3d_shows_both(rockcal):
     assert "[default: (pfc4 in 2D, pfc5 with --dimensions 3)]" in text
 
 
-@pytest.mark.parametrize("test", ["bending", "direct-tension"])
+@pytest.mark.parametrize("test", ["direct-tension"])
 def test_a_test_without_3d_is_refused_in_one_line(rockcal, test, tmp_path):
     run = rockcal("simulate", test, "--dimensions", "3", "--out", str(tmp_path / "out"))
     assert run.returncode == 2
     assert run.stderr == (f"rockcal: error: {test}: no 3D implementation yet (3D has ucs, brazilian, "
-                          "biaxial: confined (square prism, polyaxial walls))\n")
+                          "biaxial: confined (square prism, polyaxial walls), bending, scb)\n")
     assert not (tmp_path / "out").exists()
 
 

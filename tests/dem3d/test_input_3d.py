@@ -1,5 +1,5 @@
 """`[specimen] dimensions` and `rockcal simulate ucs --dimensions`: a value other than 2 or 3, a
-3D campaign with a test (bending, direct tension), material or setting the 3D engine does not
+3D campaign with a test (direct tension), material or setting the 3D engine does not
 have, and a cylinder or a Brazilian disk too small for its spheres are refused before any run, in one line naming the key, exit 2. The
 settings whose default differs in 3D take the 3D default unless given.
 
@@ -38,7 +38,6 @@ def campaign(targets: str = "", **specimen: str) -> str:
 
 BRAZILIAN = "[targets.brazilian]\nsigma_t_MPa = 10.0"
 OTHER_TESTS = {  # a test with no 3D implementation, and a [targets] section of it
-    "bending": "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0",
     "direct_tension": "[targets.direct_tension]\nsigma_t_direct_MPa = 8.0",
 }
 TINY = ["--width-mm", "7", "--height-mm", "14", "--rmin-mm", "0.5"]
@@ -93,7 +92,9 @@ def test_a_test_runs_in_3d_where_it_says_so(name):
             test.check_dimensions(3, "parallel_bond")
         return
     test.check_dimensions(3, "parallel_bond")
-    given = {"dimensions": 3, "width_mm": 7.0, "height_mm": 14.0, "rmin_mm": 0.5, "disk_diameter_mm": 16.0}
+    given = {"dimensions": 3, "width_mm": 7.0, "height_mm": 14.0, "rmin_mm": 0.5, "disk_diameter_mm": 16.0,
+             "beam_length_mm": 16.0, "beam_height_mm": 7.0, "notch_mm": 2.1, "notch_width_mm": 1.0, "span_mm": 12.0,
+             "scb_radius_mm": 8.5, "scb_notch_mm": 4.25, "scb_notch_width_mm": 1.0}
     s = specimen_settings(test, {k: v for k, v in given.items() if k in test.settings})
     test.check(s)
     assert test.make(s).dimensions == 3

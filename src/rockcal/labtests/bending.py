@@ -273,34 +273,27 @@ def period_steps(beam: Beam, params: BondedParams, specimen: Specimen | Specimen
     return period_s / dt_s
 
 
-def simulate_bending(params: BondedParams | dict | None = None, specimen: Specimen | Specimen3D | None = None,
-                     beam: Beam = Beam(), *, rate_factor: float = 1.0,
+def load_three_point(params: BondedParams, specimen, beam: Beam, *, rate_factor: float = 1.0,
                      max_displacement_mm: float = DEFAULT_MAX_DISPLACEMENT_MM,
-                     stop_fraction: float = POST_PEAK_FRACTION,
-                     contact_stiffness: str | None = None,
+                     stop_fraction: float = POST_PEAK_FRACTION, contact_stiffness: str | None = None,
                      progress: Callable[[float, float], None] | None = None,
-                     reactions: list | None = None) -> BendingResult:
-    """Run the notched-beam test; defaults: granite parameters, the source's 220 x 50 mm beam.
-
-    `specimen` must be `notched_beam(beam, ...)` (2D) or `notched_beam_3d(beam, ...)` (3D);
-    rate_factor scales the pin speed; the test stops once the load has stayed below
-    stop_fraction x the peak (`CONFIRM_FLEXURAL_PERIODS`); contact_stiffness is PFC's convention
-    for kn ("pfc5" or "pfc4" in 2D, `dem.simulate`; None: the engine's default);
-    progress(displacement_mm, load) is called as the test goes, the load in kN per m of
-    thickness (2D) or kN (3D); `reactions`, a list, gets the two supports' reactions (N per m,
-    or N) at each reading.
-    """
-    started = time.perf_counter()
-    params = as_params(params)
-    beam.check()
+                     reactions: list | None = None):
+    """Load `specimen` in three-point bending until its crack has run (the load has stayed
+    below stop_fraction x the peak, `CONFIRM_FLEXURAL_PERIODS`) over the rig of its dimension:
+    the pin at the middle of `beam`, the supports `beam.span_mm` apart, of `beam.pin_radius_mm`;
+    the beam's flexural period sets the loading's waits. Its curve (pin displacement mm, load
+    kN per m of thickness in 2D, kN in 3D), the pins (`rig.Pins`) and where the first bonds
+    broke. rate_factor scales the pin speed; contact_stiffness is PFC's convention for kn
+    ("pfc5" or "pfc4" in 2D, `dem.simulate`; None: the engine's default); progress(displacement_mm,
+    load) is called as the test goes; `reactions`, a list, gets the two supports' reactions
+    (N per m, or N) at each reading."""
     contact_GPa = getattr(params, params.CONTACT_MODULUS)  # E_c, or the flat joint's lnm_emod
     if contact_GPa <= 0:
-        raise InputError(params.CONTACT_MODULUS, "must be > 0 in the bending test: the pins push through contacts")
+        raise InputError(params.CONTACT_MODULUS, "must be > 0 in a bending test: the pins push through contacts")
     if not 0 < max_displacement_mm <= beam.height_mm:
         raise InputError("max_displacement_mm", f"must be in (0, {beam.height_mm:g}], got "
                          f"{max_displacement_mm}")
     check_stop_fraction(stop_fraction)
-    specimen = specimen or notched_beam(beam)
     rig = rig_for(specimen)
     middle, half_span = 0.5e-3 * beam.length_mm, 0.5e-3 * beam.span_mm
     pin_step = DENSITY_SCALED_SPEED * rate_factor * PIN_STEP_PER_RADIUS * specimen.radius.mean()
@@ -334,12 +327,28 @@ def simulate_bending(params: BondedParams | dict | None = None, specimen: Specim
                       CONFIRM_FLEXURAL_PERIODS * period, intact_speed=INTACT_PIN_SPEED)
     curve = load_to_failure(pins, loading, read, crack_has_run,
                             1e-3 * max_displacement_mm, full_speed_past_peak=True, progress=progress)
+    return curve, pins, first_break
+
+
+def simulate_bending(params: BondedParams | dict | None = None, specimen: Specimen | Specimen3D | None = None,
+                     beam: Beam = Beam(), **options) -> BendingResult:
+    """Run the notched-beam test; defaults: granite parameters, the source's 220 x 50 mm beam.
+
+    `specimen` must be `notched_beam(beam, ...)` (2D) or `notched_beam_3d(beam, ...)` (3D);
+    `options` are `load_three_point`'s: rate_factor, max_displacement_mm, stop_fraction,
+    contact_stiffness, progress, reactions.
+    """
+    started = time.perf_counter()
+    params = as_params(params)
+    beam.check()
+    specimen = specimen or notched_beam(beam)
+    curve, pins, first_break = load_three_point(params, specimen, beam, **options)
     k = int(np.argmax(curve[:, 1]))
     P_max = 1e3 * curve[k, 1]
     K_IC = senb_kic(P_max, 1e-3 * beam.span_mm, 1e-3 * beam.height_mm, 1e-3 * beam.notch_mm, pins.thickness_m)
     result = dict(K_IC_MPa_sqrt_m=K_IC / 1e6, displacement_at_peak_mm=float(curve[k, 0]), curve=curve,
-                  first_break_xy=first_break, **run_fields(state, specimen, started))
-    if rig.dimensions == 3:
+                  first_break_xy=first_break, **run_fields(pins.state, specimen, started))
+    if specimen.dimensions == 3:
         return BendingResult3D(P_max_kN=P_max / 1e3, beam=replace(beam, thickness_mm=float(1e3 * pins.thickness_m)),
                                **result)
     return BendingResult2D(P_max_kN_per_m=P_max / 1e3, beam=beam, **result)
