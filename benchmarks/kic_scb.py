@@ -52,7 +52,8 @@ def main() -> None:
                                   else notched_beam(beam, args.rmin_mm, seed=seed)),
                     lambda spec, rate: simulate_bending(params, spec, beam, rate_factor=rate),
                     "K_IC_MPa_sqrt_m"),
-        "scb": (lambda seed: half_disk_3d(hd, args.rmin_mm, seed=seed) if in_3d else half_disk(hd, args.rmin_mm, seed=seed),
+        "scb": (lambda seed: (half_disk_3d(hd, args.rmin_mm, seed=seed) if in_3d
+                              else half_disk(hd, args.rmin_mm, seed=seed)),
                 lambda spec, rate: simulate_scb(params, spec, hd, rate_factor=rate),
                 "K_IC_scb_MPa_sqrt_m"),
     }

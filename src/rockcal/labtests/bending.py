@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import numpy as np
 from pydantic import Field
@@ -273,7 +273,16 @@ def period_steps(beam: Beam, params: BondedParams, specimen: Specimen | Specimen
     return period_s / dt_s
 
 
-def load_three_point(params: BondedParams, specimen, beam: Beam, *, rate_factor: float = 1.0,
+class Bent(NamedTuple):
+    """A three-point bending run: its peak load (N per m of thickness in 2D, N in 3D), the
+    thickness it is over (m), and the fields every bending test's result has."""
+
+    P_max: float
+    thickness_m: float
+    fields: dict  # displacement_at_peak_mm, curve, first_break_xy and `result.run_fields`
+
+
+def load_three_point(params: BondedParams, specimen, beam: Beam, started: float, *, rate_factor: float = 1.0,
                      max_displacement_mm: float = DEFAULT_MAX_DISPLACEMENT_MM,
                      stop_fraction: float = POST_PEAK_FRACTION, contact_stiffness: str | None = None,
                      progress: Callable[[float, float], None] | None = None,
@@ -281,9 +290,9 @@ def load_three_point(params: BondedParams, specimen, beam: Beam, *, rate_factor:
     """Load `specimen` in three-point bending until its crack has run (the load has stayed
     below stop_fraction x the peak, `CONFIRM_FLEXURAL_PERIODS`) over the rig of its dimension:
     the pin at the middle of `beam`, the supports `beam.span_mm` apart, of `beam.pin_radius_mm`;
-    the beam's flexural period sets the loading's waits. Its curve (pin displacement mm, load
-    kN per m of thickness in 2D, kN in 3D), the pins (`rig.Pins`) and where the first bonds
-    broke. rate_factor scales the pin speed; contact_stiffness is PFC's convention for kn
+    the beam's flexural period sets the loading's waits; `started`, the test's
+    `time.perf_counter()` at its start. Its curve's columns: pin displacement mm, load kN per m
+    of thickness in 2D, kN in 3D. rate_factor scales the pin speed; contact_stiffness is PFC's convention for kn
     ("pfc5" or "pfc4" in 2D, `dem.simulate`; None: the engine's default); progress(displacement_mm,
     load) is called as the test goes; `reactions`, a list, gets the two supports' reactions
     (N per m, or N) at each reading."""
@@ -327,7 +336,10 @@ def load_three_point(params: BondedParams, specimen, beam: Beam, *, rate_factor:
                       CONFIRM_FLEXURAL_PERIODS * period, intact_speed=INTACT_PIN_SPEED)
     curve = load_to_failure(pins, loading, read, crack_has_run,
                             1e-3 * max_displacement_mm, full_speed_past_peak=True, progress=progress)
-    return curve, pins, first_break
+    k = int(np.argmax(curve[:, 1]))
+    return Bent(1e3 * curve[k, 1], pins.thickness_m,
+                dict(displacement_at_peak_mm=float(curve[k, 0]), curve=curve, first_break_xy=first_break,
+                     **run_fields(state, specimen, started)))
 
 
 def simulate_bending(params: BondedParams | dict | None = None, specimen: Specimen | Specimen3D | None = None,
@@ -342,16 +354,12 @@ def simulate_bending(params: BondedParams | dict | None = None, specimen: Specim
     params = as_params(params)
     beam.check()
     specimen = specimen or notched_beam(beam)
-    curve, pins, first_break = load_three_point(params, specimen, beam, **options)
-    k = int(np.argmax(curve[:, 1]))
-    P_max = 1e3 * curve[k, 1]
-    K_IC = senb_kic(P_max, 1e-3 * beam.span_mm, 1e-3 * beam.height_mm, 1e-3 * beam.notch_mm, pins.thickness_m)
-    result = dict(K_IC_MPa_sqrt_m=K_IC / 1e6, displacement_at_peak_mm=float(curve[k, 0]), curve=curve,
-                  first_break_xy=first_break, **run_fields(pins.state, specimen, started))
+    bent = load_three_point(params, specimen, beam, started, **options)
+    K_IC = senb_kic(bent.P_max, 1e-3 * beam.span_mm, 1e-3 * beam.height_mm, 1e-3 * beam.notch_mm, bent.thickness_m)
     if specimen.dimensions == 3:
-        return BendingResult3D(P_max_kN=P_max / 1e3, beam=replace(beam, thickness_mm=float(1e3 * pins.thickness_m)),
-                               **result)
-    return BendingResult2D(P_max_kN_per_m=P_max / 1e3, beam=beam, **result)
+        return BendingResult3D(K_IC_MPa_sqrt_m=K_IC / 1e6, P_max_kN=bent.P_max / 1e3,
+                               beam=replace(beam, thickness_mm=1e3 * bent.thickness_m), **bent.fields)
+    return BendingResult2D(K_IC_MPa_sqrt_m=K_IC / 1e6, P_max_kN_per_m=bent.P_max / 1e3, beam=beam, **bent.fields)
 
 
 # The specimen setting of each of the Beam's fields.

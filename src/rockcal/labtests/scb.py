@@ -33,7 +33,7 @@ from rockcal.labtests.kind import (
     load_reading,
 )
 from rockcal.labtests.lab_values import LabValues
-from rockcal.labtests.result import LabResult, run_fields
+from rockcal.labtests.result import LabResult
 from rockcal.materials import BondedParams, as_params
 from rockcal.materials.clump_templates import DEFAULT_SHAPE
 from rockcal.specimens.carving import cut_bonds, grains, inside_circle, keep_particles, of_particles, \
@@ -191,16 +191,12 @@ def simulate_scb(params: BondedParams | dict | None = None, specimen: Specimen |
     params = as_params(params)
     hd.check()
     specimen = specimen or half_disk(hd)
-    curve, pins, first_break = load_three_point(params, specimen, hd.loading(), **options)
-    k = int(np.argmax(curve[:, 1]))
-    P_max = 1e3 * curve[k, 1]
-    K_IC = scb_kic(P_max, 1e-3 * hd.radius_mm, 1e-3 * hd.notch_mm, 1e-3 * hd.half_span_mm, pins.thickness_m)
-    result = dict(K_IC_scb_MPa_sqrt_m=K_IC / 1e6, displacement_at_peak_mm=float(curve[k, 0]), curve=curve,
-                  first_break_xy=first_break, **run_fields(pins.state, specimen, started))
+    bent = load_three_point(params, specimen, hd.loading(), started, **options)
+    K_IC = scb_kic(bent.P_max, 1e-3 * hd.radius_mm, 1e-3 * hd.notch_mm, 1e-3 * hd.half_span_mm, bent.thickness_m)
     if specimen.dimensions == 3:
-        return ScbResult3D(P_max_kN=P_max / 1e3, half_disk=replace(hd, thickness_mm=float(1e3 * pins.thickness_m)),
-                           **result)
-    return ScbResult2D(P_max_kN_per_m=P_max / 1e3, half_disk=hd, **result)
+        return ScbResult3D(K_IC_scb_MPa_sqrt_m=K_IC / 1e6, P_max_kN=bent.P_max / 1e3,
+                           half_disk=replace(hd, thickness_mm=1e3 * bent.thickness_m), **bent.fields)
+    return ScbResult2D(K_IC_scb_MPa_sqrt_m=K_IC / 1e6, P_max_kN_per_m=bent.P_max / 1e3, half_disk=hd, **bent.fields)
 
 
 # The specimen setting of each of the HalfDisk's fields.

@@ -34,7 +34,8 @@ class Pins:
     smallest radius; the pin moves `step_m` per time step at full speed. The engine `state`
     holds the beam's grains, then the pin's and the supports' disks (`is_pin`, `on_supports`
     each support's, `is_support` both); `rows` of grains across the beam's depth, `chunk`
-    steps between readings, the beam's `thickness_m` (2D's unit thickness). The pin moves along the axis `UP` (y in 2D, z in 3D: `Pins3D`)."""
+    steps between readings, the beam's `thickness_m` (2D's unit thickness). The pin moves
+    along the axis `UP` (y in 2D, z in 3D: `Pins3D`)."""
 
     UP = 1
 
@@ -47,8 +48,8 @@ class Pins:
         supports = [pin_disks((x, touching_centre_y(pos, radius, x, radius_m, above=False)), radius_m,
                               disk, facing_up=True)
                     for x in support_x_m]
-        self.state, (self.is_pin, *on_supports) = with_rigid_parts(specimen, params, [pin, *supports],
-                                                                    contact_stiffness=contact_stiffness or DEFAULT_CONTACT_STIFFNESS)
+        self.state, (self.is_pin, *on_supports) = with_rigid_parts(
+            specimen, params, [pin, *supports], contact_stiffness=contact_stiffness or DEFAULT_CONTACT_STIFFNESS)
         self._start(on_supports, step_m, specimen.height_m / (2 * radius.mean()))
         self.thickness_m = THICKNESS_M
 

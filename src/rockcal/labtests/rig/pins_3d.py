@@ -38,7 +38,7 @@ class Pins3D(Pins):
                  radius_m: float, step_m: float, contact_stiffness: str | None = None):
         check_contact_stiffness(contact_stiffness)
         pos, radius = specimen.pos, specimen.radius
-        xz, sphere, thickness = pos[:, [0, 2]], radius.min(), specimen.size_m[1]
+        xz, sphere, thickness = pos[:, [0, 2]], radius.min(), float(specimen.size_m[1])
         parts = [pin_spheres((pin_x_m, touching_centre_y(xz, radius, pin_x_m, radius_m, above=True)),
                              radius_m, sphere, False, thickness)]
         parts += [pin_spheres((x, touching_centre_y(xz, radius, x, radius_m, above=False)), radius_m,
