@@ -116,6 +116,11 @@ class Beam:
         if self.pin_radius_mm is None:
             object.__setattr__(self, "pin_radius_mm", PIN_RADIUS_MM * self.height_mm / 50.0)
 
+    @property
+    def thickness_3d_mm(self) -> float:
+        """A 3D beam's thickness: its own, or its depth."""
+        return self.height_mm if self.thickness_mm is None else self.thickness_mm
+
     def check(self) -> None:
         """Reject geometry no test can be run on, naming the setting."""
         for name in ("length_mm", "height_mm", "notch_mm", "notch_width_mm", "span_mm",
@@ -136,11 +141,6 @@ class Beam:
         if self.notch_width_mm >= self.span_mm - 2 * self.pin_radius_mm:
             raise InputError("notch_width_mm", f"must be narrower than the span between the "
                              f"supports, got {self.notch_width_mm:g} mm")
-
-
-def thickness_3d_mm(beam: Beam) -> float:
-    """A 3D beam's thickness, mm: its own, or its depth."""
-    return beam.height_mm if beam.thickness_mm is None else beam.thickness_mm
 
 
 def check_beam(beam: Beam, rmin_mm: float, radius_ratio: float) -> None:
@@ -207,8 +207,8 @@ def notched_beam_3d(beam: Beam = Beam(), rmin_mm: float = 0.75, radius_ratio: fl
     the 3D genesis (`random_cuboid`, cached), with the notch carved through its thickness out
     of the middle of its bottom face (or, for width 0, cut into it: `specimens3d.specimen.notched`)."""
     check_beam_3d(beam, rmin_mm, radius_ratio, genesis)
-    thickness = thickness_3d_mm(beam)
-    prism = random_cuboid((beam.length_mm, thickness, beam.height_mm), rmin_mm, radius_ratio, seed, genesis)
+    prism = random_cuboid((beam.length_mm, beam.thickness_3d_mm, beam.height_mm), rmin_mm, radius_ratio, seed,
+                          genesis)
     beam_3d = notched(prism, 0.5e-3 * beam.length_mm, 1e-3 * beam.notch_width_mm, 1e-3 * beam.notch_mm)
     return replace(beam_3d, label=f"{prism.label}, notch {beam.notch_mm:g} x {beam.notch_width_mm:g} mm")
 
@@ -216,7 +216,7 @@ def notched_beam_3d(beam: Beam = Beam(), rmin_mm: float = 0.75, radius_ratio: fl
 def check_beam_3d(beam: Beam, rmin_mm: float, radius_ratio: float, genesis: Genesis | None = None) -> None:
     """Reject a 3D beam its spheres cannot fill or no test can be run on, naming the Beam's
     field (the packing's sides are the beam's length, thickness and depth)."""
-    thickness = thickness_3d_mm(beam)
+    thickness = beam.thickness_3d_mm
     if not (np.isfinite(thickness) and thickness > 0):
         raise InputError("thickness_mm", f"must be a finite number > 0, got {thickness}")
     beam.check()

@@ -174,7 +174,8 @@ def check_half_disk_3d(hd: HalfDisk, rmin_mm: float, radius_ratio: float, genesi
     if not (np.isfinite(hd.thickness_3d_mm) and hd.thickness_3d_mm > 0):
         raise InputError("thickness_mm", f"must be a finite number > 0, got {hd.thickness_3d_mm}")
     genesis = genesis or DEFAULT_GENESIS_3D
-    with fields_named({"width_mm": "radius_mm", "height_mm": "radius_mm"}):
+    derived = {"thickness_mm": "radius_mm"} if hd.thickness_mm is None else {}  # B of 0.8 R
+    with fields_named({"width_mm": "radius_mm", "height_mm": "radius_mm"} | derived):
         check_vessel((2 * hd.radius_mm, hd.thickness_3d_mm, hd.radius_mm), rmin_mm, radius_ratio,
                      genesis.cloud_porosity, genesis.pressure_mpa)
 
