@@ -18,16 +18,6 @@ def test_a_setting_whose_default_differs_in_3d_shows_both(rockcal):
     assert "[default: (pfc4 in 2D, pfc5 with --dimensions 3)]" in text
 
 
-@pytest.mark.parametrize("test", ["bending"])
-def test_a_test_without_3d_is_refused_in_one_line(rockcal, test, tmp_path):
-    run = rockcal("simulate", test, "--dimensions", "3", "--out", str(tmp_path / "out"))
-    assert run.returncode == 2
-    assert run.stderr == (f"rockcal: error: {test}: no 3D implementation yet (3D has ucs, brazilian, "
-                          "direct_tension, biaxial: confined (a triaxial cell, or a square prism in polyaxial "
-                          "walls))\n")
-    assert not (tmp_path / "out").exists()
-
-
 def test_each_command_says_what_its_options_are_in_its_dimensions(rockcal):
     """--width-mm is the UCS and direct tension cylinders' diameter in 3D, and the confined
     cylinder's or prism's; kn is given in 2D and 3D; the Python export is 2D's."""

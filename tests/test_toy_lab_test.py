@@ -16,6 +16,7 @@ from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.store import RunStore
 from rockcal.specimens.specimen import hexagonal
 from rockcal.labtests import registry
+from rockcal.errors import InputError
 from rockcal.labtests.kind import LabTest, Outline, Response
 from rockcal.labtests.result import LabResult
 from rockcal.labtests.ucs import simulate_ucs
@@ -105,3 +106,11 @@ def test_a_campaign_whose_targets_conflict_ends_with_a_verdict_naming_them(toy, 
     assert conflict.least_error == pytest.approx(2 / (1 / 18 + 1 / 25) / 18 - 1, abs=0.02)  # at E_c = 20.9
     assert record.verdict.unreachable == {}
     assert len(record.verdict.trade_off.errors) >= 5  # the samples, checks and verifications seen
+
+
+def test_a_test_without_the_dimensions_setting_is_refused_in_3d_naming_it():
+    """A plug-in test whose settings lack `dimensions` has no 3D implementation: 3D is refused
+    naming the test (the built-in tests all run in 3D)."""
+    TOY.check_dimensions(2, "parallel_bond")
+    with pytest.raises(InputError, match="toy: no 3D implementation yet"):
+        TOY.check_dimensions(3, "parallel_bond")

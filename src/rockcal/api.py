@@ -298,7 +298,7 @@ def _plain(value, path: list[str], depth: int = 0):
 
 def simulate(test: str, params: dict | None = None, *, model: str | None = None, packing: str = "random",
              **settings):
-    """One run of the lab test `test` ("ucs", "brazilian", "bending", "biaxial",
+    """One run of the lab test `test` ("ucs", "brazilian", "bending", "biaxial", "scb",
     "direct_tension", or as the command line spells it, "direct-tension") with the
     micro-parameters `params` of `model` (default: the parallel bond; the others at their
     defaults) on a specimen of `settings` (the campaign file's [specimen] keys and the test's

@@ -10,6 +10,7 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import EllipseCollection  # noqa: E402
+from matplotlib.patches import Wedge  # noqa: E402
 
 from rockcal.labtests.damage import VOLUMETRIC_NAME, crack_strain, crack_stresses, volumetric_strain  # noqa: E402
 from rockcal.labtests.envelope import check_peaks, fit_hoek_brown, fit_mohr_coulomb  # noqa: E402
@@ -66,9 +67,12 @@ def plane_view(xyz, plane: str) -> np.ndarray:
 
 def outline(shape: str, size_m, plane: str):
     """A 3D specimen's outline on `plane` in mm (`specimens3d.specimen.Specimen3D`: its `shape` fills
-    the box [0, size] in x, y and z): a circle where the shape is round, else a rectangle."""
+    the box [0, size] in x, y and z): a circle (a half disk's half) where the shape is round,
+    else a rectangle."""
     across, up = (1e3 * size_m[AXIS[c]] for c in plane)
     style = dict(fill=False, edgecolor="0.3", linewidth=1.0)
+    if shape == "half_disk" and plane == "xz":  # standing on its flat side
+        return Wedge((across / 2, 0), across / 2, 0, 180, **style)
     if ROUND_IN.get(shape) == plane:
         return plt.Circle((across / 2, up / 2), across / 2, **style)
     return plt.Rectangle((0, 0), across, up, **style)

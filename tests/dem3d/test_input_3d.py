@@ -1,7 +1,7 @@
 """`[specimen] dimensions` and `rockcal simulate ucs --dimensions`: a value other than 2 or 3, a
-3D campaign with a test (bending, direct tension) or setting the 3D engine does not have, a
-flat-jointed material's bad fj_nal, and a cylinder or a Brazilian disk too small for its
-spheres are refused before any run, in one line naming the key, exit 2. The
+3D campaign with a setting the 3D engine does not have, a flat-jointed material's bad fj_nal,
+and a cylinder or a Brazilian disk too small for its spheres are refused before any run, in
+one line naming the key, exit 2. The
 settings whose default differs in 3D take the 3D default unless given.
 
 Every case fails while the input is checked (no genesis, no run): the file is quick."""
@@ -38,9 +38,6 @@ def campaign(targets: str = "", **specimen: str) -> str:
 
 
 BRAZILIAN = "[targets.brazilian]\nsigma_t_MPa = 10.0"
-OTHER_TESTS = {  # a test with no 3D implementation, and a [targets] section of it
-    "bending": "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0",
-}
 TINY = ["--width-mm", "7", "--height-mm", "14", "--rmin-mm", "0.5"]
 
 
@@ -73,16 +70,6 @@ def test_dimensions_other_than_2_or_3_are_refused(cli, tmp_path, value):
     one_line(cli("simulate", "ucs", *TINY, "--dimensions", value.strip('"')), "--dimensions")
 
 
-@pytest.mark.parametrize("test", sorted(OTHER_TESTS))
-def test_a_test_without_a_3d_implementation_is_refused(cli, tmp_path, test):
-    one_line(calibrate(cli, tmp_path, campaign(OTHER_TESTS[test])), f"targets.{test}", "no 3D implementation")
-    # a validation check only is run too: refused alike
-    checked = f"{OTHER_TESTS[test]}\n[validation]\ntests = [{test!r}]"
-    one_line(calibrate(cli, tmp_path, campaign(checked)), f"targets.{test}", "no 3D implementation")
-    # the same campaign in 2D is valid
-    assert calibrate(cli, tmp_path, campaign(OTHER_TESTS[test], dimensions="2")).returncode == 0
-
-
 @pytest.mark.parametrize("name", list(LAB_TESTS))
 def test_a_test_runs_in_3d_where_it_says_so(name):
     """A test accepts 3D exactly where it has the setting `dimensions`, and there its specimen
@@ -93,7 +80,9 @@ def test_a_test_runs_in_3d_where_it_says_so(name):
             test.check_dimensions(3, "parallel_bond")
         return
     test.check_dimensions(3, "parallel_bond")
-    given = {"dimensions": 3, "width_mm": 7.0, "height_mm": 14.0, "rmin_mm": 0.5, "disk_diameter_mm": 16.0}
+    given = {"dimensions": 3, "width_mm": 7.0, "height_mm": 14.0, "rmin_mm": 0.5, "disk_diameter_mm": 16.0,
+             "beam_length_mm": 16.0, "beam_height_mm": 7.0, "notch_mm": 2.1, "notch_width_mm": 1.0, "span_mm": 12.0,
+             "scb_radius_mm": 8.5, "scb_notch_mm": 4.25, "scb_notch_width_mm": 1.0}
     s = specimen_settings(test, {k: v for k, v in given.items() if k in test.settings})
     test.check(s)
     assert test.make(s).dimensions == 3

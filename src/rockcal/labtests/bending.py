@@ -5,13 +5,20 @@ Supports and loading pin are rigid cylinders (radius PIN_RADIUS_MM at full size)
 small driven disks on their surface (`rockcal.labtests.rig.pins`). The supports stay put; the
 pin moves down at a quasi-static speed on the density-scaled beam. Loads are per metre of
 thickness (PFC2D convention).
+
+The test is one procedure in 2D and 3D, over the rig of the beam's dimension (`rig.rig_for`):
+with the setting `dimensions` 3 (PFC3D) the beam is a prism as thick as it is deep (`Beam`'s
+`thickness_mm`), carved from a cuboid packing of spheres with a straight-through notch
+(`notched_beam_3d`), between cylindrical pins along its thickness (`rig.pins_3d`); its load is
+in N over the whole thickness, reported in kN (P_max_kN), and K_IC is the same beam formula
+with that thickness.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
-from typing import Callable
+from dataclasses import dataclass, field, replace
+from typing import Callable, NamedTuple
 
 import numpy as np
 from pydantic import Field
@@ -19,8 +26,9 @@ from pydantic import Field
 from rockcal.specimens.carving import cut_bonds, grains, keep_particles, of_particles, outside_rectangle
 from rockcal.materials.clump_templates import DEFAULT_SHAPE
 from rockcal.specimens.genesis import Genesis
-from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
+from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D
 from rockcal.specimens.specimen import Specimen, check_geometry, random_packing
+from rockcal.specimens3d.specimen import Specimen3D, check_vessel, notched, random_cuboid
 from rockcal.errors import InputError, fields_named
 from rockcal.labtests.kic import senb_kic
 from rockcal.labtests.kind import (
@@ -28,8 +36,10 @@ from rockcal.labtests.kind import (
     LabTest,
     Outline,
     Response,
+    check_3d_settings,
     check_grain_cloud,
     genesis_of,
+    in_3d,
     load_reading,
 )
 from rockcal.labtests.lab_values import LabValues
@@ -42,7 +52,7 @@ from rockcal.labtests.loading import (
     load_to_failure,
 )
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.labtests.rig import Pins
+from rockcal.labtests.rig import rig_for
 from rockcal.labtests.rig.pins import touching_centre_y
 from rockcal.materials import BondedParams, as_params
 
@@ -90,7 +100,9 @@ DENSITY_SCALED_SPEED = 1.15
 @dataclass(frozen=True)
 class Beam:
     """Geometry of the notched beam and its supports (mm); a notch of width 0 is a cut (the
-    bonds across the notch line removed), the sharp crack of the K formula."""
+    bonds across the notch line removed), the sharp crack of the K formula. A 3D beam is
+    `thickness_mm` thick (None: as thick as it is deep); a 2D beam has the slab's unit
+    thickness."""
 
     length_mm: float = 220.0
     height_mm: float = 50.0
@@ -98,10 +110,16 @@ class Beam:
     notch_width_mm: float = 2.0
     span_mm: float = 160.0
     pin_radius_mm: float | None = None  # None: PIN_RADIUS_MM scaled with the depth (5 mm at 50 mm)
+    thickness_mm: float | None = None  # a 3D beam's (None: the depth)
 
     def __post_init__(self):
         if self.pin_radius_mm is None:
             object.__setattr__(self, "pin_radius_mm", PIN_RADIUS_MM * self.height_mm / 50.0)
+
+    @property
+    def thickness_3d_mm(self) -> float:
+        """A 3D beam's thickness: its own, or its depth."""
+        return self.height_mm if self.thickness_mm is None else self.thickness_mm
 
     def check(self) -> None:
         """Reject geometry no test can be run on, naming the setting."""
@@ -135,18 +153,33 @@ def check_beam(beam: Beam, rmin_mm: float, radius_ratio: float) -> None:
 
 @dataclass
 class BendingResult(LabResult):
-    """Responses of a notched-beam three-point bending test; its curve's columns: pin displacement
-    mm, load kN per m."""
+    """Responses of a notched-beam three-point bending test, 2D or 3D (`BendingResult2D`,
+    `BendingResult3D` add the peak load); its curve's columns: pin displacement mm, load (kN
+    per m of thickness in 2D, kN in 3D)."""
 
     K_IC_MPa_sqrt_m: float
-    P_max_kN_per_m: float
     displacement_at_peak_mm: float
     beam: Beam
-    first_break_xy: np.ndarray = field(repr=False)  # where the first bonds broke (m)
+    first_break_xy: np.ndarray = field(repr=False)  # where the first bonds broke (m; 3D: x, y, z)
 
     @property
     def notch_tip_m(self) -> tuple[float, float]:
+        """The notch tip seen from the front (along the beam, up), m."""
         return 0.5e-3 * self.beam.length_mm, 1e-3 * self.beam.notch_mm
+
+
+@dataclass
+class BendingResult2D(BendingResult):
+    """A 2D beam's: its peak load per metre of the slab's unit thickness."""
+
+    P_max_kN_per_m: float
+
+
+@dataclass
+class BendingResult3D(BendingResult):
+    """A 3D beam's: its peak load, over its whole thickness."""
+
+    P_max_kN: float
 
 
 def notched_beam(beam: Beam = Beam(), rmin_mm: float = 0.25, radius_ratio: float = 1.65,
@@ -168,9 +201,36 @@ def notched_beam(beam: Beam = Beam(), rmin_mm: float = 0.25, radius_ratio: float
     return keep_particles(spec, keep, label)
 
 
+def notched_beam_3d(beam: Beam = Beam(), rmin_mm: float = 0.75, radius_ratio: float = 1.65, seed: int = 1,
+                    genesis: Genesis | None = None) -> Specimen3D:
+    """The 3D beam: a prism of the beam's length (x), thickness (y) and depth (z) packed by
+    the 3D genesis (`random_cuboid`, cached), with the notch carved through its thickness out
+    of the middle of its bottom face (or, for width 0, cut into it: `specimens3d.specimen.notched`)."""
+    check_beam_3d(beam, rmin_mm, radius_ratio, genesis)
+    prism = random_cuboid((beam.length_mm, beam.thickness_3d_mm, beam.height_mm), rmin_mm, radius_ratio, seed,
+                          genesis)
+    beam_3d = notched(prism, 0.5e-3 * beam.length_mm, 1e-3 * beam.notch_width_mm, 1e-3 * beam.notch_mm)
+    return replace(beam_3d, label=f"{prism.label}, notch {beam.notch_mm:g} x {beam.notch_width_mm:g} mm")
+
+
+def check_beam_3d(beam: Beam, rmin_mm: float, radius_ratio: float, genesis: Genesis | None = None) -> None:
+    """Reject a 3D beam its spheres cannot fill or no test can be run on, naming the Beam's
+    field (the packing's sides are the beam's length, thickness and depth)."""
+    thickness = beam.thickness_3d_mm
+    if not (np.isfinite(thickness) and thickness > 0):
+        raise InputError("thickness_mm", f"must be a finite number > 0, got {thickness}")
+    beam.check()
+    genesis = genesis or DEFAULT_GENESIS_3D
+    with fields_named({"width_mm": "length_mm"}):
+        check_vessel((beam.length_mm, thickness, beam.height_mm), rmin_mm, radius_ratio, genesis.cloud_porosity,
+                     genesis.pressure_mpa)
+
+
 def rig_circles(beam: Beam, pos: np.ndarray, radius: np.ndarray) -> list[tuple[float, float, float]]:
     """The pin and the two supports touching the beam's grains `pos`, `radius` (m) before the
-    test, as circles (x, y, radius; m), as the test places them."""
+    test, as circles (x, y, radius; m), as the test places them (a 3D beam's seen from the
+    front, x and z)."""
+    pos = pos[:, [0, -1]]
     r = 1e-3 * beam.pin_radius_mm
     middle, half_span = 0.5e-3 * beam.length_mm, 0.5e-3 * beam.span_mm
     pin = (middle, touching_centre_y(pos, radius, middle, r, above=True), r)
@@ -179,14 +239,14 @@ def rig_circles(beam: Beam, pos: np.ndarray, radius: np.ndarray) -> list[tuple[f
 
 
 def crack_reach(beam: Beam, broken_xy: np.ndarray) -> float:
-    """How far up the ligament the crack has run: the highest broken bond (m) within half a
-    ligament of the notch line, as a fraction of the ligament (0 at the notch tip, 1 at the
-    beam's top)."""
+    """How far up the ligament the crack has run: the highest broken bond (m; x, y in 2D, x,
+    y, z in 3D: along, then up last) within half a ligament of the notch plane, as a fraction
+    of the ligament (0 at the notch tip, 1 at the beam's top)."""
     ligament = 1e-3 * (beam.height_mm - beam.notch_mm)
     near = broken_xy[np.abs(broken_xy[:, 0] - 0.5e-3 * beam.length_mm) <= 0.5 * ligament]
     if not len(near):
         return 0.0
-    return float(np.clip((near[:, 1].max() - 1e-3 * beam.notch_mm) / ligament, 0.0, 1.0))
+    return float(np.clip((near[:, -1].max() - 1e-3 * beam.notch_mm) / ligament, 0.0, 1.0))
 
 
 def wave_speed_m_per_s(params: BondedParams, porosity: float, mass_scale: float = 1.0) -> float:
@@ -206,44 +266,51 @@ def flexural_period_s(beam: Beam, wave_speed_m_per_s: float) -> float:
     return 2.0 * np.sqrt(12.0) * span_m**2 / (np.pi * depth_m * wave_speed_m_per_s)
 
 
-def period_steps(beam: Beam, params: BondedParams, specimen: Specimen, dt_s: float,
+def period_steps(beam: Beam, params: BondedParams, specimen: Specimen | Specimen3D, dt_s: float,
                  mass_scale: float = 1.0) -> float:
     """The beam's first flexural period in steps (its grains' masses scaled by mass_scale)."""
     period_s = flexural_period_s(beam, wave_speed_m_per_s(params, specimen.porosity, mass_scale))
     return period_s / dt_s
 
 
-def simulate_bending(params: BondedParams | dict | None = None, specimen: Specimen | None = None,
-                     beam: Beam = Beam(), *, rate_factor: float = 1.0,
-                     max_displacement_mm: float = DEFAULT_MAX_DISPLACEMENT_MM,
-                     stop_fraction: float = POST_PEAK_FRACTION,
-                     contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
-                     progress: Callable[[float, float], None] | None = None) -> BendingResult:
-    """Run the notched-beam test; defaults: granite parameters, the source's 220 x 50 mm beam.
+class Bent(NamedTuple):
+    """A three-point bending run: its peak load (N per m of thickness in 2D, N in 3D), the
+    thickness it is over (m), and the fields every bending test's result has."""
 
-    `specimen` must be `notched_beam(beam, ...)`; rate_factor scales the pin speed; the test
-    stops once the load has stayed below stop_fraction x the peak (`CONFIRM_FLEXURAL_PERIODS`);
-    contact_stiffness is PFC's convention for kn ("pfc5" or "pfc4", `dem.simulate`);
-    progress(displacement_mm, load_kN_per_m) is called as the test goes.
-    """
-    started = time.perf_counter()
-    params = as_params(params)
-    beam.check()
+    P_max: float
+    thickness_m: float
+    fields: dict  # displacement_at_peak_mm, curve, first_break_xy and `result.run_fields`
+
+
+def load_three_point(params: BondedParams, specimen, beam: Beam, started: float, *, rate_factor: float = 1.0,
+                     max_displacement_mm: float = DEFAULT_MAX_DISPLACEMENT_MM,
+                     stop_fraction: float = POST_PEAK_FRACTION, contact_stiffness: str | None = None,
+                     progress: Callable[[float, float], None] | None = None,
+                     reactions: list | None = None):
+    """Load `specimen` in three-point bending until its crack has run (the load has stayed
+    below stop_fraction x the peak, `CONFIRM_FLEXURAL_PERIODS`) over the rig of its dimension:
+    the pin at the middle of `beam`, the supports `beam.span_mm` apart, of `beam.pin_radius_mm`;
+    the beam's flexural period sets the loading's waits; `started`, the test's
+    `time.perf_counter()` at its start. Its curve's columns: pin displacement mm, load kN per m
+    of thickness in 2D, kN in 3D. rate_factor scales the pin speed; contact_stiffness is PFC's convention for kn
+    ("pfc5" or "pfc4" in 2D, `dem.simulate`; None: the engine's default); progress(displacement_mm,
+    load) is called as the test goes; `reactions`, a list, gets the two supports' reactions
+    (N per m, or N) at each reading."""
     contact_GPa = getattr(params, params.CONTACT_MODULUS)  # E_c, or the flat joint's lnm_emod
     if contact_GPa <= 0:
-        raise InputError(params.CONTACT_MODULUS, "must be > 0 in the bending test: the pins push through contacts")
+        raise InputError(params.CONTACT_MODULUS, "must be > 0 in a bending test: the pins push through contacts")
     if not 0 < max_displacement_mm <= beam.height_mm:
         raise InputError("max_displacement_mm", f"must be in (0, {beam.height_mm:g}], got "
                          f"{max_displacement_mm}")
     check_stop_fraction(stop_fraction)
-    specimen = specimen or notched_beam(beam)
+    rig = rig_for(specimen)
     middle, half_span = 0.5e-3 * beam.length_mm, 0.5e-3 * beam.span_mm
     pin_step = DENSITY_SCALED_SPEED * rate_factor * PIN_STEP_PER_RADIUS * specimen.radius.mean()
-    pins = Pins(specimen, params, middle, (middle - half_span, middle + half_span),
-                1e-3 * beam.pin_radius_mm, pin_step, contact_stiffness)
+    pins = rig.pins(specimen, params, middle, (middle - half_span, middle + half_span),
+                    1e-3 * beam.pin_radius_mm, pin_step, contact_stiffness)
     state = pins.state
-    mass_scale = scale_density(state)
-    first_break = np.empty((0, 2))
+    mass_scale = state.scale_density()
+    first_break = np.empty((0, rig.dimensions))
     period = period_steps(beam, params, specimen, state.dt, mass_scale)
     touch_load = pins.contact_load(contact_GPa)
     touched = False
@@ -255,6 +322,8 @@ def simulate_bending(params: BondedParams | dict | None = None, specimen: Specim
             first_break = where[mode > 0]
         displacement = pins.displacement_m()
         load = pins.load()
+        if reactions is not None:
+            reactions.append(pins.reactions())
         if not touched and load > touch_load:  # the pin hits the beam: it rings
             touched = True
             loading.wait(state.step, TOUCH_FLEXURAL_PERIODS * period)
@@ -268,11 +337,29 @@ def simulate_bending(params: BondedParams | dict | None = None, specimen: Specim
     curve = load_to_failure(pins, loading, read, crack_has_run,
                             1e-3 * max_displacement_mm, full_speed_past_peak=True, progress=progress)
     k = int(np.argmax(curve[:, 1]))
-    P_max = 1e3 * curve[k, 1]
-    K_IC = senb_kic(P_max, 1e-3 * beam.span_mm, 1e-3 * beam.height_mm, 1e-3 * beam.notch_mm)
-    return BendingResult(K_IC_MPa_sqrt_m=K_IC / 1e6, P_max_kN_per_m=P_max / 1e3,
-                         displacement_at_peak_mm=float(curve[k, 0]), beam=beam, curve=curve,
-                         first_break_xy=first_break, **run_fields(state, specimen, started))
+    return Bent(1e3 * curve[k, 1], pins.thickness_m,
+                dict(displacement_at_peak_mm=float(curve[k, 0]), curve=curve, first_break_xy=first_break,
+                     **run_fields(state, specimen, started)))
+
+
+def simulate_bending(params: BondedParams | dict | None = None, specimen: Specimen | Specimen3D | None = None,
+                     beam: Beam = Beam(), **options) -> BendingResult:
+    """Run the notched-beam test; defaults: granite parameters, the source's 220 x 50 mm beam.
+
+    `specimen` must be `notched_beam(beam, ...)` (2D) or `notched_beam_3d(beam, ...)` (3D);
+    `options` are `load_three_point`'s: rate_factor, max_displacement_mm, stop_fraction,
+    contact_stiffness, progress, reactions.
+    """
+    started = time.perf_counter()
+    params = as_params(params)
+    beam.check()
+    specimen = specimen or notched_beam(beam)
+    bent = load_three_point(params, specimen, beam, started, **options)
+    K_IC = senb_kic(bent.P_max, 1e-3 * beam.span_mm, 1e-3 * beam.height_mm, 1e-3 * beam.notch_mm, bent.thickness_m)
+    if specimen.dimensions == 3:
+        return BendingResult3D(K_IC_MPa_sqrt_m=K_IC / 1e6, P_max_kN=bent.P_max / 1e3,
+                               beam=replace(beam, thickness_mm=1e3 * bent.thickness_m), **bent.fields)
+    return BendingResult2D(K_IC_MPa_sqrt_m=K_IC / 1e6, P_max_kN_per_m=bent.P_max / 1e3, beam=beam, **bent.fields)
 
 
 # The specimen setting of each of the Beam's fields.
@@ -286,20 +373,32 @@ def beam_of(settings: dict) -> Beam:
 
 
 def _check(s: dict) -> None:
+    if in_3d(s):  # a prism as thick as it is deep
+        check_3d_settings(s)
+        with fields_named(BEAM_SETTINGS | {"thickness_mm": "beam_height_mm"}):
+            return check_beam_3d(beam_of(s), s["rmin_mm"], s["radius_ratio"], genesis_of(s))
     with fields_named(BEAM_SETTINGS):
         check_beam(beam_of(s), s["rmin_mm"], s["radius_ratio"])
     check_grain_cloud(s["beam_length_mm"], s["beam_height_mm"], s)
 
 
-def _specimen(s: dict) -> Specimen:
+def _specimen(s: dict) -> Specimen | Specimen3D:
+    if in_3d(s):
+        return notched_beam_3d(beam_of(s), s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
     return notched_beam(beam_of(s), s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s),
                         s.get("grain_shape", DEFAULT_SHAPE))
 
 
-def _run(params: BondedParams, specimen: Specimen, s: dict, progress) -> BendingResult:
+def _run(params: BondedParams, specimen, s: dict, progress) -> BendingResult:
     return simulate_bending(params, specimen, beam_of(s), stop_fraction=s["stop_fraction"],
                             contact_stiffness=s["contact_stiffness"], progress=progress)
 
+
+def _outline(s: dict) -> Outline:
+    length, depth = s["beam_length_mm"], s["beam_height_mm"]
+    if in_3d(s):
+        return Outline(f"beam {length:g} x {depth:g} x {depth:g} mm", length, depth, vessel_mm=(length, depth, depth))
+    return Outline(f"beam {length:g} x {depth:g} mm", length, depth)
 
 
 class BendingValues(LabValues):
@@ -313,21 +412,27 @@ class BendingValues(LabValues):
     span_mm: float = Field(160.0, gt=0, description="The lab bar's support span S, mm.")
 
 
+RESPONSES = (Response("K_IC_MPa_sqrt_m", "MPa·m^0.5", label="K_IC"),
+             Response("P_max_kN_per_m", "kN/m", target=False, label="peak load"),
+             Response("displacement_at_peak_mm", "mm", target=False, label="pin displacement at peak"))
+RESPONSES_3D = tuple(Response("P_max_kN", "kN", target=False, label="peak load") if r.name == "P_max_kN_per_m"
+                     else r for r in RESPONSES)
+
 TEST = LabTest(
     lab_values=BendingValues,
     time_factor=lambda s: 1.75,  # its steps grow with span² / height, not with its rows
     name="bending", title="bending",
     help="Three-point bending of a notched beam: peak load, load-displacement curve, K_IC.",
-    responses=(Response("K_IC_MPa_sqrt_m", "MPa·m^0.5", label="K_IC"),
-               Response("P_max_kN_per_m", "kN/m", target=False, label="peak load"),
-               Response("displacement_at_peak_mm", "mm", target=False, label="pin displacement at peak")),
+    responses=RESPONSES,
     curve_columns=("displacement_mm", "load_kN_per_m"), plot="load_displacement",
     flags=(("beam_length_mm", "length_mm"), ("beam_height_mm", "height_mm")),
     defaults=(("stop_fraction", POST_PEAK_FRACTION),),
+    # grain_shape and dimensions last: at their defaults (kind.LATER_SETTINGS) out of a run's key
     settings=(*BEAM_SETTINGS.values(), "rmin_mm", "radius_ratio", "seed", *GENESIS,
-              "stop_fraction", "contact_stiffness", "grain_shape"),  # grain_shape last: kind.LATER_SETTINGS
-    check=_check, make=_specimen, run=_run, reading=load_reading("kN/m"),
-    outline=lambda s: Outline(f"beam {s['beam_length_mm']:g} x {s['beam_height_mm']:g} mm",
-                              s["beam_length_mm"], s["beam_height_mm"]),
+              "stop_fraction", "contact_stiffness", "grain_shape", "dimensions"),
+    check=_check, make=_specimen, run=_run, reading=load_reading("kN/m"), outline=_outline,
+    # a 3D beam has a thickness: its load in kN
+    changes_3d=(("responses", RESPONSES_3D), ("curve_columns", ("displacement_mm", "load_kN")),
+                ("reading", load_reading("kN")), ("revision", 1)),
     revision=8)  # part of every stored bending run's key: raise it when the test's numbers change
 # (what changed in each revision: CHANGELOG.md)

@@ -84,3 +84,21 @@ def senb_kic(pmax_N_per_m: float, span_m: float, height_m: float, notch_m: float
                          f"got {1e3 * notch_m:g} mm for a {1e3 * height_m:g} mm beam")
     sigma_N = 3 * pmax_N_per_m * span_m / (2 * thickness_m * height_m**2)
     return sigma_N * math.sqrt(height_m) * senb_k(notch_m / height_m, span_m / height_m)
+
+
+def scb_y(a_over_R: float, S_over_R: float) -> float:
+    """Dimensionless K of the semi-circular bend specimen (ISRM's suggested method, Kuruppu,
+    Obara, Ayatollahi, Chong & Funatsu 2014, Rock Mech. Rock Eng. 47:267-274, their fit to
+    finite elements for 0.5 <= S/R <= 0.8): Y' = -1.297 + 9.516 (S/R) - (0.47 + 16.457 (S/R))
+    beta + (1.071 + 34.401 (S/R)) beta^2, beta = a/R; S is each support's distance from the
+    centre."""
+    s, b = S_over_R, a_over_R
+    return -1.297 + 9.516 * s - (0.47 + 16.457 * s) * b + (1.071 + 34.401 * s) * b**2
+
+
+def scb_kic(pmax_N: float, radius_m: float, notch_m: float, half_span_m: float, thickness_m: float = 1.0) -> float:
+    """K_IC = Y' P_max sqrt(pi a) / (2 R B) of a semi-circular bend specimen (radius R, edge
+    notch a, supports at +-S, thickness B; ISRM 2014, `scb_y`); P over `thickness_m` (a 2D
+    specimen's load per metre of thickness, B = 1 m)."""
+    y = scb_y(notch_m / radius_m, half_span_m / radius_m)
+    return y * pmax_N * math.sqrt(math.pi * notch_m) / (2 * radius_m * thickness_m)

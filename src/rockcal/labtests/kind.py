@@ -35,7 +35,7 @@ DIMENSIONS = (2, 3)
 
 # the tests with a 3D implementation, in words
 TESTS_3D = ("ucs, brazilian, direct_tension, biaxial: confined (a triaxial cell, or a square prism in "
-            "polyaxial walls)")
+            "polyaxial walls), bending, scb")
 
 
 def in_3d(s: dict) -> bool:

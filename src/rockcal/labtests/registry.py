@@ -5,7 +5,7 @@ test is a module declaring its `TEST` (`rockcal.labtests.kind.LabTest`) and one 
 from __future__ import annotations
 
 from rockcal.errors import InputError
-from rockcal.labtests import bending, biaxial, brazilian, direct_tension, ucs
+from rockcal.labtests import bending, biaxial, brazilian, direct_tension, scb, ucs
 from rockcal.labtests.kind import LabTest
 
 LAB_TESTS: dict[str, LabTest] = {test.name: test for test in (
@@ -14,6 +14,7 @@ LAB_TESTS: dict[str, LabTest] = {test.name: test for test in (
     brazilian.TEST,
     biaxial.TEST,
     direct_tension.TEST,
+    scb.TEST,
 )}
 # The test every parameter set runs first: its runs count the campaign's budget, its readings
 # come whole with the responses, its specimen describes the material.

@@ -47,6 +47,17 @@ class SpecimenSettings(Genesis):
                                   "are removed (a sharp crack).")
     span_mm: float = Field(160.0, gt=0, description="Distance S between the beam's supports, mm.")
     disk_diameter_mm: float = Field(50.0, gt=0, description="Diameter of the Brazilian test's disk, mm.")
+    # the semi-circular bend's (ISRM 2014), left out of a record at their defaults as LATER_SETTINGS are
+    scb_radius_mm: float = Field(50.0, gt=0, exclude_if=lambda v: v == 50.0,
+                                 description="Radius R of the semi-circular bend specimen, mm.")
+    scb_notch_mm: float = Field(25.0, gt=0, exclude_if=lambda v: v == 25.0,
+                                description="Notch length a of the semi-circular bend specimen, mm, up from the "
+                                            "middle of its flat side: 0.4-0.6 R (ISRM).")
+    scb_span_ratio: float = Field(0.8, gt=0, exclude_if=lambda v: v == 0.8,
+                                  description="S/R of the semi-circular bend: each support S from the notch, "
+                                              "0.5-0.8 (ISRM).")
+    scb_notch_width_mm: float = Field(2.0, ge=0, exclude_if=lambda v: v == 2.0,
+                                      description="Notch width of the semi-circular bend specimen, mm; 0 is a cut.")
     bending_seeds: int = Field(1, ge=1, le=MAX_PACKINGS, description="The validation K_IC is the mean over this many packings of the "
                                "beam (seed, seed + 1, ...).")
     strain: Literal["gauge", "platen"] = Field(DEFAULT_STRAIN, description="Axial strain of the UCS test read on the "
@@ -80,8 +91,8 @@ class SpecimenSettings(Genesis):
         2, exclude_if=lambda v: v == 2,
         description="2: PFC2D's disks; 3: PFC3D's spheres, the UCS and direct tension tests on a cylinder of "
                     "width_mm as diameter and height_mm tall, the confined test in a triaxial cell or on a square "
-                    "prism (confined_vessel), the Brazilian test on a disk D x D/2 (parallel bonds and balls "
-                    "only; bending is 2D only); in 3D cloud_porosity is 0.35, contact_stiffness pfc5 and "
+                    "prism (confined_vessel), the Brazilian test on a disk D x D/2, the notched beam as "
+                    "thick as it is deep; in 3D cloud_porosity is 0.35, contact_stiffness pfc5 and "
                     "confined_vessel cylinder unless given.")
     # in every record: a 3D record without it would read back as the cell
     confined_vessel: Literal["cylinder", "prism"] = Field(

@@ -38,15 +38,17 @@ from rockcal.output_files import atomic_path
 GENERATOR_VERSION_3D = 4
 CLUMP_GENESIS_VERSION_3D = 1  # part of a clumped packing's key: raise it when `clump_genesis` changes
 SHAPES = ("cylinder", "cuboid")
+ROUND = ("cylinder", "disk", "half_disk")  # pi/4 of their box: a half disk's is D x t x D/2
 
 
 @dataclass(frozen=True)
 class Specimen3D:
     """Sphere centres (m), radii (m) and bonded pairs (i < j); a `shape` of `size_m`: a
     cylinder (diameter, diameter, height) about the vertical line through its centre, a
-    cuboid (x, y, z sides), standing on z = 0, or a disk (diameter, thickness, diameter) about
-    the horizontal line along y through its centre (`carve_disk`). bond_draws: each bond's uniform draws in
-    [0, 1) for its tensile strength and cohesion."""
+    cuboid (x, y, z sides), standing on z = 0, a disk (diameter, thickness, diameter) about
+    the horizontal line along y through its centre (`carve_disk`), or a half disk (diameter,
+    thickness, radius), that disk's lower half standing on its flat side (`carve_half_disk`).
+    bond_draws: each bond's uniform draws in [0, 1) for its tensile strength and cohesion."""
 
     pos: np.ndarray
     radius: np.ndarray
@@ -74,7 +76,7 @@ class Specimen3D:
     @property
     def volume_m3(self) -> float:
         x, y, z = self.size_m
-        return np.pi / 4 * x * y * z if self.shape in ("cylinder", "disk") else x * y * z
+        return np.pi / 4 * x * y * z if self.shape in ROUND else x * y * z
 
     @property
     def n_grains(self) -> int:
@@ -288,6 +290,33 @@ def random_disk(diameter_mm: float = 20.0, thickness_mm: float | None = None, rm
                            genesis, cache, grain_shape)
     disk = carve_disk(cuboid)
     return replace(disk, label=f"{cuboid.label}, disk D {diameter_mm:g} x t {thickness_mm:g} mm")
+
+
+def carve_half_disk(cuboid: Specimen3D) -> Specimen3D:
+    """The half disk of a D x t x D/2 cuboid: its spheres whose centres lie within D / 2 of
+    the line along y through the middle of its bottom face (the disk's axis; its flat side
+    on z = 0), less those the cut leaves without a bond; centres, as `carve_disk`."""
+    d, t, _ = cuboid.size_m
+    inside = np.hypot(cuboid.pos[:, 0] - d / 2, cuboid.pos[:, 2]) <= d / 2
+    return _carved(cuboid, inside, "half_disk", (d, t, d / 2))
+
+
+def notched(specimen: Specimen3D, middle_m: float, width_m: float, depth_m: float) -> Specimen3D:
+    """The specimen with a straight-through notch (along y) up from its bottom face at x =
+    `middle_m`, `width_m` wide and `depth_m` deep: the spheres that overlap it removed (and
+    those left without a bond), as the 2D notch's disks; of width 0, a cut: the bonds that
+    cross the plane x = `middle_m` below z = `depth_m` removed, every sphere kept."""
+    pos, radius = specimen.pos, specimen.radius
+    if width_m == 0:
+        i, j = specimen.bonds.T
+        dx_i, dx_j = pos[i, 0] - middle_m, pos[j, 0] - middle_m
+        crosses = dx_i * dx_j < 0
+        along = np.divide(dx_i, dx_i - dx_j, out=np.zeros(len(i)), where=crosses)
+        kept = ~(crosses & (pos[i, 2] + along * (pos[j, 2] - pos[i, 2]) < depth_m))
+        return replace(specimen, bonds=specimen.bonds[kept], bond_draws=specimen.bond_draws[kept])
+    dx = np.maximum(np.abs(pos[:, 0] - middle_m) - width_m / 2, 0.0)
+    dz = np.maximum(pos[:, 2] - depth_m, 0.0)
+    return _carved(specimen, dx**2 + dz**2 >= radius**2, specimen.shape, specimen.size_m)
 
 
 def _carved(cuboid: Specimen3D, inside: np.ndarray, shape: str, size_m) -> Specimen3D:

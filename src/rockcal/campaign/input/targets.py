@@ -64,7 +64,7 @@ class ValidationTests(Section):
     parameters (default: bending); the others are calibrated against."""
 
     tests: list[str] = Field(["bending"], description="Tests given in [targets] that are checks only, run at the "
-                             "identified parameters: bending, brazilian, biaxial, direct_tension.")
+                             "identified parameters: bending, brazilian, biaxial, direct_tension, scb.")
 
     @field_validator("tests")
     @classmethod

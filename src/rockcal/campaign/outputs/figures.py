@@ -187,10 +187,12 @@ def _bending_cracks(result: CalibrationResult, store: RunStore, path: Path) -> s
         beams = 0 if validation is None else len(validation.seeds)
         which = f"packing {seed}" + ("" if beams == 0 else ", the validation's beam" if beams == 1
                                      else f", the first of the validation's {beams} beams")
-        broken = run.cracks[:, :2]
+        broken = run.cracks[:, :-1]  # the position's columns, less the mode
+        peak = (f"{run.responses['P_max_kN_per_m']:.3g} kN/m" if "P_max_kN_per_m" in run.responses
+                else f"{run.responses['P_max_kN']:.3g} kN")
         heading = (f"Notched beam at the identified parameters, {which}:\nK_IC "
-                   f"{run.responses['K_IC_MPa_sqrt_m']:.3g} MPa·m^0.5, peak {run.responses['P_max_kN_per_m']:.3g} "
-                   f"kN/m; the crack's tip at {crack_reach(beam, broken):.0%} of the ligament\n"
+                   f"{run.responses['K_IC_MPa_sqrt_m']:.3g} MPa·m^0.5, peak {peak}; "
+                   f"the crack's tip at {crack_reach(beam, broken):.0%} of the ligament\n"
                    f"broken bonds on the undeformed beam, with the pin and the supports")
         return heading, rig_circles(beam, specimen.pos, specimen.radius)
 

@@ -10,8 +10,10 @@ thickness of the 2D model live here and nowhere else in the lab tests.
   the seating at it, sigma3.
 - `Jaws`: ISRM's curved jaws closing on a disk (Brazilian, `brazilian_loading = "isrm"`); their
   load and closure, as the platens'. In 3D (`jaws_3d`) they are drawn out along the disk's axis.
-- `Pins`: the loading pin and the two supports of three-point bending; the load, the pin's
-  displacement. Jaws and pins are rigid arcs of small driven disks (`arc`).
+- `Pins`: the loading pin and the two supports of three-point bending; the load, each
+  support's reaction, the pin's displacement. Jaws and pins are rigid arcs of small driven
+  disks (`arc`); the 3D pins (`pins_3d`) are cylinders along the specimen's thickness, rows
+  of those arcs' spheres.
 - `Grips`: rigid grips pulling a prism apart (direct tension); the pull, the strain between
   them, the loaded area.
 - `Gauge`: the specimen's own axial and lateral strains, from the grains along its sides.
@@ -69,7 +71,8 @@ class Rig:
     `lateral_strains`, the lateral strains a volumetric strain takes (2D's areal strain one, a
     3D specimen's two); `disk(specimen)` a Brazilian disk's `Disk`; `load_unit`, the unit of a
     loader's load / 1000 (kN per m of the 2D slab's thickness, kN in 3D); `jaws` ISRM's curved
-    jaws."""
+    jaws; `pins(specimen, params, pin_x_m, support_x_m, radius_m,
+    step_m, contact_stiffness)` three-point bending's pin and supports (a `Loader`)."""
 
     dimensions: int
     platens: Callable
@@ -80,20 +83,22 @@ class Rig:
     disk: Callable
     load_unit: str
     jaws: Callable
+    pins: Callable
 
 
 def rig_for(specimen) -> Rig:
     """The rig of the specimen's dimension (`specimen.dimensions`)."""
     if specimen.dimensions == 2:
         return Rig(2, Platens, SideWalls, Gauge, check_gauges, lateral_strains=1, disk=disk_of,
-                   load_unit="kN/m", jaws=Jaws)
+                   load_unit="kN/m", jaws=Jaws, pins=Pins)
     # the 3D rig, and with it the 3D engine's kernels: loaded for a 3D run alone
     from rockcal.labtests.rig.gauge_3d import Gauge3D
     from rockcal.labtests.rig.gauge_3d import check_gauges as check_gauges_3d
     from rockcal.labtests.rig.jaws_3d import Jaws3D
+    from rockcal.labtests.rig.pins_3d import Pins3D
     from rockcal.labtests.rig.platens_3d import Platens3D
     from rockcal.labtests.rig.platens_3d import disk_of as disk_of_3d
     from rockcal.labtests.rig.cell_3d import confining_walls
 
     return Rig(3, Platens3D, confining_walls, Gauge3D, check_gauges_3d, lateral_strains=2, disk=disk_of_3d,
-               load_unit="kN", jaws=Jaws3D)
+               load_unit="kN", jaws=Jaws3D, pins=Pins3D)

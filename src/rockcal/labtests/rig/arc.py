@@ -27,10 +27,11 @@ def arc_disks(centre, arc_m: float, from_rad: float, to_rad: float, disk_m: floa
     return np.column_stack([centre[0] + arc_m * cos, centre[1] + arc_m * sin])
 
 
-def with_rigid_parts(specimen: Specimen, params, parts: list[np.ndarray], contact_stiffness: str,
+def with_rigid_parts(specimen: Specimen, params, parts: list[np.ndarray], **options,
                      ) -> tuple[State, list[np.ndarray]]:
     """The engine state of the specimen's grains followed by the driven disks (of its smallest
-    radius) centred at each of `parts`, in order; each part's mask over the state's particles."""
+    radius; spheres in 3D) centred at each of `parts`, in order, with the state's `options`
+    (`materials.new_state`); each part's mask over the state's particles."""
     n, disk = specimen.n_particles, specimen.radius.min()
     rigid = np.vstack(parts)
     masks, start = [], n
@@ -41,5 +42,5 @@ def with_rigid_parts(specimen: Specimen, params, parts: list[np.ndarray], contac
         start += len(part)
     state = new_state(params, specimen, np.vstack([specimen.pos, rigid]),
                       np.concatenate([specimen.radius, np.full(len(rigid), disk)]),
-                      driven=np.any(masks, axis=0), contact_stiffness=contact_stiffness)
+                      driven=np.any(masks, axis=0), **options)
     return state, masks

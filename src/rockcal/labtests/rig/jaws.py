@@ -70,7 +70,7 @@ class Jaws:
                               0.5 * diameter * math.sin(math.radians(JAW_HALF_ARC_DEG)))
         self.state, (self.is_top, self.is_bottom) = with_rigid_parts(
             specimen, params, [self.centres[0] + offsets, self.centres[1] + offsets * (1.0, -1.0)],
-            contact_stiffness)
+            contact_stiffness=contact_stiffness)
         self.rows = diameter / (2 * radius.mean())
         self.speed = 0.5 * rate_factor * STRAIN_PER_STEP_PER_ROW / self.rows * diameter / self.state.dt
         self.chunk = max(5, int(self.rows / 8))

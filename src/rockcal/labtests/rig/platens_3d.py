@@ -38,6 +38,13 @@ def strip_modulus_pa(strip: BearingStrip, bare_modulus_pa: float, radius_m: floa
     return float(1.0 / (1.0 / column + 1.0 / bare) / (np.pi * radius_m))
 
 
+def check_contact_stiffness(contact_stiffness: str | None) -> None:
+    """The 3D engine's contacts take PFC 5's stiffness (None: it); an InputError otherwise."""
+    if contact_stiffness not in (None, CONTACT_STIFFNESS):
+        raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
+                                              f"({CONTACT_STIFFNESS!r}), got {contact_stiffness!r}")
+
+
 def disk_of(specimen) -> Disk:
     """A 3D disk (`specimens3d.specimen.random_disk`): the nominal D and t it was carved to, its axis
     along y, loaded along z."""
