@@ -47,7 +47,9 @@ packings = 4
     assert "about 12940 grains" in lines[0]
     assert lines[1] == ("stages: sensitivity 9, samples and checks 14, verification 1 a round (2 when the "
                         "surrogate has a second optimum), packings and validation 5: 29 runs, plus a second "
-                        "optimum's run and more rounds if needed (at most 80 UCS runs)")
+                        "optimum's run and more rounds if needed (at most 80 UCS runs); where the targets leave a "
+                        "parameter not pinned, identifiability up to 10 runs (about 12 UCS runs' time) name the "
+                        "lab test that would pin it")
     assert lines[-1].startswith("expected: about ") and "27 UCS and 2 bending runs" in lines[-1]
 
 

@@ -14,7 +14,8 @@ from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.outputs.figures import FIGURES
 from rockcal.campaign.outputs.report import write_report
-from rockcal.campaign.procedure.result import BendingValidation, CalibrationResult, Check, FailedRun
+from rockcal.campaign.procedure.result import (BendingValidation, CalibrationResult, Check, FailedRun, Identifiability,
+                                              ParameterRange, SpreadOfTest)
 from rockcal.campaign.runs.store import RunStore
 from rockcal.labtests.bending import RUN_ON_FRACTION
 
@@ -55,7 +56,9 @@ packings = 2
 draws = 20
 '''
 
-ALL_PNGS = {name for _, name, _, _ in FIGURES}
+# the set that meets the sheet is drawn for an accepted campaign only (this one is not):
+# `test_identifiability_is_shown`
+ALL_PNGS = {name for _, name, _, _ in FIGURES} - {"meeting_set.png"}
 
 
 @pytest.fixture(scope="module")
@@ -166,7 +169,7 @@ def test_missing_pieces_are_noted_not_raised(campaign):
     assert "No sensitivity study" in page
     # without a beam the campaign's page has no bending section and no beam's figures
     assert "bending" not in page.lower() and "beam" not in page
-    assert "No intervals" in page
+    assert "No intervals" in page and "Not judged: no verified point was accepted" in page
     assert "<td>samples</td><td>RunTimedOut: stopped after 5 s</td>" in page
 
 
@@ -183,7 +186,7 @@ def test_failed_validation_and_unknown_runs_leave_figures_out(campaign):
         ({"trade_off.png"} if record.verdict else set())  # read off the runs seen, not the iterations
     assert {p.name for p in path.parent.glob("*.png")} == drawn
     assert "wall-time limit of 60 s" in page
-    assert page.count("class='note'") == len(ALL_PNGS) - len(drawn) + 1  # 1: the validation note
+    assert page.count("class='note'") == len(FIGURES) - len(drawn) + 1  # 1: the validation note
 
 
 def test_the_record_reads_back_as_the_result(campaign):
@@ -206,3 +209,24 @@ def test_weights_and_other_validation_checks_are_shown(campaign):
     assert page.count("<h3>Validation: Brazilian test</h3>") == 2 and "disk D 50 mm" in page
     assert "<td>sigma_t_MPa</td><td>9</td><td>9.45</td><td>+5.0 %</td>" in page
     assert "The run failed: ValueError: no reading" in page
+
+
+def test_identifiability_is_shown(campaign):
+    record, store, folder = campaign
+    found = Identifiability(
+        bands={"nu": (0.19, 0.21), "ucs_MPa": (23.5, 26.5)}, pinned_share=0.25,
+        ranges={"E_c": ParameterRange(low=19.0, high=21.0, share=0.05, pinned=True),
+                "sigma_c": ParameterRange(low=25.0, high=55.0, share=0.75, pinned=False)},
+        set_points=[[20.0, 25.0], [19.0, 40.0], [21.0, 55.0]], points=[{"E_c": 20.0, "sigma_c": 25.0},
+                                                                      {"E_c": 21.0, "sigma_c": 55.0}],
+        end_errors=[{"nu": 0.01, "ucs_MPa": -0.02}, None],
+        tests=[SpreadOfTest(test="brazilian", response="sigma_t_MPa", label="measure the Brazilian strength",
+                          values=[4.0, 6.0], spread=0.4, score=0.4)],
+        runs=4, text="the sheet does not pin sigma_c (25–55, 75 % of its box): measure the Brazilian strength")
+    path = write_report(record.model_copy(update={"identifiability": found}), store, folder / "pinned")
+    page = path.read_text(encoding="utf-8")
+    assert "meeting_set.png" in {p.name for p in path.parent.glob("*.png")}
+    assert "<h3>Identifiability</h3><p>The sheet does not pin sigma_c" in page
+    assert "<td>sigma_c</td><td>25</td><td>55</td><td>75 %</td><td>no</td>" in page
+    assert "these bands: nu 0.19–0.21, ucs_MPa 23.5–26.5" in page
+    assert "<td>1</td><td>measure the Brazilian strength</td><td>sigma_t_MPa</td><td>40 %</td>" in page

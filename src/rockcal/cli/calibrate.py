@@ -247,6 +247,10 @@ class _stage_progress:
         """Show what the running tests read now, a line each below the bars."""
         self.bar.lines = lines
 
+    def note(self, text: str) -> None:
+        """Print a step's warning above the bars (a parameter the targets barely see)."""
+        self.bar.console.print(f"[yellow]warning:[/] {escape(text)}")
+
     def genesis(self, made: int, total: int) -> None:
         """Show the packings a batch has made of those it makes before its runs."""
         if "genesis" not in self.tasks:
@@ -337,7 +341,20 @@ def summary(result: CalibrationResult) -> dict:
         "intervals": None if u is None else {n: i.to_dict() for n, i in u.intervals.items()},
         "verdict": None if result.verdict is None else result.verdict.text,
         "at_bounds": result.at_bounds or [],
+        "identifiability": identifiability_summary(result.identifiability),
     }
+
+
+def identifiability_summary(found) -> dict | None:
+    """What `--json` prints of the identifiability stage: each parameter's range and verdict,
+    the tests ranked and the sentence (None: not accepted, so not judged)."""
+    if found is None:
+        return None
+    return {"bands": found.bands, "pinned_share": found.pinned_share,
+            "ranges": {n: r.model_dump() for n, r in found.ranges.items()},
+            "tests": [{"test": t.test, "response": t.response, "spread": t.spread, "label": t.label}
+                      for t in found.tests],
+            "runs": found.runs, "text": found.text}
 
 
 def _print_summary(result: CalibrationResult, html: Path, as_json: bool, timing: dict) -> None:
@@ -356,10 +373,13 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool, timing:
     for column in ("", "value", "target", "error"):
         table.add_column(column)
     intervals = s["intervals"] or {}
+    ranges = (s["identifiability"] or {}).get("ranges", {})
     for name, value in s["identified"].items():
-        i = intervals.get(name)
+        i, r = intervals.get(name), ranges.get(name)
         spread = "" if i is None else f"  (5–95 %: {i['p5']:.4g}–{i['p95']:.4g}" + (
             ")" if i["pinned"] else ", not pinned down)")
+        if r is not None and not r["pinned"]:
+            spread += f"  (not pinned by the sheet: {r['low']:.4g}–{r['high']:.4g})"
         table.add_row(name, f"{value:.4g}{spread}", "", "")
     for test, names in s["target_tests"].items():
         for name in names:
@@ -382,6 +402,8 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool, timing:
     console.print(table)
     if s["verdict"]:
         console.print(f"[red]verdict:[/] {escape(s['verdict'])}")
+    if s["identifiability"]:
+        console.print(f"identifiability: {escape(s['identifiability']['text'])}")
     if s["quick_look"]:
         console.print(f"[yellow]{escape(s['quick_look'])}[/]")
     for warning in [s["warning"], *s["at_bounds"]]:

@@ -24,10 +24,12 @@ import os
 import numpy as np
 
 from rockcal.campaign.input.config import Campaign, SpecimenSettings
-from rockcal.campaign.plan.cost import FIRST_RUN_COMPILE_S, WORK_EXPONENT, genesis_s, specimen_size, time_factor
+from rockcal.campaign.plan.cost import (FIRST_RUN_COMPILE_S, WORK_EXPONENT, genesis_s, relative_time, specimen_size,
+                                       time_factor)
 from rockcal.campaign.plan.engine_speed import busy_cores, probe, probe_ms_per_step
 from rockcal.campaign.plan.route import route_of
 from rockcal.campaign.runs.retries import holds, retry_line
+from rockcal.campaign.procedure.pinning import IDENTIFIABILITY, most_runs
 from rockcal.campaign.procedure.points import packings_of
 from rockcal.campaign.procedure.steps import (STEPS, VERIFICATION, planning_state, series_values,
                                               verified_at_most)
@@ -227,7 +229,13 @@ def dry_run(campaign: Campaign, store, workers: int) -> dict:
             "specimens_to_make": len(genesis_times(campaign)), "genesis_expected_s": round(genesis, 1),
             "expected_s": round(compile_s(campaign) + genesis + sum(wall for _, wall in walls.values())
                                 + _main_process_s(campaign), 1),
-            "ucs_runs_time": round(ucs_runs_time(campaign, store), 1), "route": _route_data(campaign, store, workers)}
+            "ucs_runs_time": round(ucs_runs_time(campaign, store), 1), "route": _route_data(campaign, store, workers),
+            "identifiability_at_most": _identifiability_data(campaign)}
+
+
+def _identifiability_data(campaign: Campaign) -> dict:
+    runs, ucs_runs = identifiability_cost(campaign)
+    return {"runs": runs, "ucs_runs_time": round(ucs_runs, 1)}
 
 
 def ucs_runs_time(campaign: Campaign, store) -> float:
@@ -356,7 +364,22 @@ def _stages_text(campaign: Campaign) -> str:
     others = "" if candidates == 1 else f"a second optimum's {point} and " if candidates == 2 else \
         f"other optima's {point} and "
     return (f"{listed}: {sum(runs.values())} runs, plus {others}more rounds if needed "
-            f"(at most {campaign.acceptance.max_dem_runs} UCS runs)")
+            f"(at most {campaign.acceptance.max_dem_runs} UCS runs)" + _identifiability_text(campaign))
+
+
+def identifiability_cost(campaign: Campaign) -> tuple[int, float]:
+    """The identifiability stage's DEM runs at most (where the sheet leaves a parameter not
+    pinned: none is planned) and their time in UCS runs' (`cost.relative_time`)."""
+    tests = most_runs(campaign)
+    return len(tests), sum(relative_time(campaign, test) for test in tests)
+
+
+def _identifiability_text(campaign: Campaign) -> str:
+    runs, ucs_runs = identifiability_cost(campaign)
+    if not runs:
+        return ""
+    return (f"; where the targets leave a parameter not pinned, {IDENTIFIABILITY} up to {runs} runs "
+            f"(about {ucs_runs:.0f} UCS runs' time) name the lab test that would pin it")
 
 
 def _other_optima(point_runs: int, candidates: int) -> str:

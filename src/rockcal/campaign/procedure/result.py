@@ -58,6 +58,8 @@ class Sensitivity(_Part):
     ranking: dict[str, list[str]]
     chosen: list[str]
     rmin_mm: float | None = _absent()  # R_min of its runs, where coarser than the campaign's
+    # the searched parameters whose effect on every target is below the tolerance
+    unseen: list[str] | None = _absent()
 
 
 class Samples(_Part):
@@ -179,6 +181,46 @@ class Verdict(_Part):
     text: str
 
 
+class ParameterRange(_Part):
+    """A searched parameter's range over the points that meet the sheet, the share of its
+    search box it spans, and whether the sheet pins it (that share at most `pinned_share`)."""
+
+    low: float
+    high: float
+    share: float
+    pinned: bool
+    dem: bool = False  # its ends read in the DEM (`inverse.identifiability.within_bands`), not on the surrogate
+
+
+class SpreadOfTest(_Part):
+    """A lab test the sheet lacks (or a reading of a test it has, `ucs` for CI and CD), its
+    response at each end (None: the run failed), their spread (max - min over |mean|) and its
+    rank's score: spread per lab work."""
+
+    test: str
+    response: str
+    label: str  # what to measure, in words
+    values: list[float | None]
+    spread: float
+    score: float
+
+
+class Identifiability(_Part):
+    """Which searched parameters the sheet pins (`rockcal.inverse.identifiability`): the bands
+    of predicted responses that meet it, a sample of the points in them, their ranges, the DEM runs at the ends of those not pinned (the
+    calibrated tests' errors there, each other test's spread), the tests ranked and in words."""
+
+    bands: dict[str, tuple[float, float]]  # each target's: the tolerance or spread, with the surrogate's error
+    pinned_share: float
+    ranges: dict[str, ParameterRange]
+    set_points: list[list[float]]  # a sample of the set (the figure)
+    points: list[Values]  # the ends run in the DEM: of the widest range not pinned
+    end_errors: list[Values | None]  # the calibrated tests' relative errors at each end (None: failed)
+    tests: list[SpreadOfTest]  # ranked, best first
+    runs: int  # DEM runs asked for (those the store held included)
+    text: str
+
+
 AT_BOUND = 0.01  # a parameter within this share of its search box from a bound is on it
 
 
@@ -245,6 +287,7 @@ class CalibrationResult(_Part):
     executed_runs: int | None = _absent()  # by this call of `rockcal calibrate`
     quick_look: str | None = _absent()  # what the quick look (`--quick`) was; None: the calibration
     at_bounds: list[str] | None = _absent()  # identified parameters on their search bound (`on_bounds`)
+    identifiability: Identifiability | None = _absent()  # when accepted: which parameters the sheet pins
 
     def responses_by_test(self) -> dict[str, list[str]]:
         """The target responses of each lab test calibrated against."""

@@ -44,6 +44,7 @@ class CampaignState:
     final: dict = field(default_factory=dict)  # the last step's parts of the result
     planning: bool = False  # the first screen's state: points found by searching are stand-ins
     pending: Round | None = None  # a round's points whose UCS runs met the tolerance ([acceptance] ucs_first)
+    notes: tuple[str, ...] = ()  # warnings the steps leave for the screen as they go
 
     @property
     def names(self) -> list[str]:
