@@ -33,13 +33,12 @@ class Interval:
                 "pinned": self.pinned}
 
 
-def interval(values: np.ndarray, low: float, high: float, wide: float = WIDE) -> Interval:
-    """The 5-95 % range of one parameter's draws inside its search box [low, high]; pinned when
-    it spans at most `wide` of the box and few draws sit at a bound."""
+def interval(values: np.ndarray, low: float, high: float) -> Interval:
+    """The 5-95 % range of one parameter's draws inside its search box [low, high]."""
     p5, p50, p95 = np.percentile(values, [5, 50, 95])
     edge = AT_BOUND * (high - low)
     at_bound = float(np.mean((values <= low + edge) | (values >= high - edge)))
-    pinned = (p95 - p5) <= wide * (high - low) and at_bound < BOUND_SHARE
+    pinned = (p95 - p5) <= WIDE * (high - low) and at_bound < BOUND_SHARE
     return Interval(float(p5), float(p50), float(p95), at_bound, bool(pinned))
 
 
@@ -63,10 +62,10 @@ def draw_targets(targets: dict[str, float], spread: dict, scatter: dict[str, flo
 
 def parameter_intervals(solve: Callable[[dict[str, float]], np.ndarray], targets: dict[str, float],
                         spread: dict, scatter: dict[str, float], box: np.ndarray,
-                        names: list[str], *, draws: int = 200, seed: int = 1, wide: float = WIDE) -> dict:
+                        names: list[str], *, draws: int = 200, seed: int = 1) -> dict:
     """Solve the inverse problem (`solve`: targets -> parameters in the box) for each drawn
     target set; the intervals of each parameter, the draws and the targets behind them."""
     drawn = draw_targets(targets, spread, scatter, draws, seed)
     x = np.array([solve({r: float(v[i]) for r, v in drawn.items()}) for i in range(draws)])
-    return {"intervals": {n: interval(x[:, k], *box[k], wide).to_dict() for k, n in enumerate(names)},
+    return {"intervals": {n: interval(x[:, k], *box[k]).to_dict() for k, n in enumerate(names)},
             "samples": x.tolist(), "drawn_targets": {r: v.tolist() for r, v in drawn.items()}}

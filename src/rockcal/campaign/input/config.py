@@ -220,8 +220,7 @@ class IdentifiabilitySettings(Section):
 
     pinned_share: float = Field(PINNED_SHARE, gt=0, le=1, description="A searched parameter is pinned by the sheet "
                                 "when its range over the points that meet every target (within the tolerance, or "
-                                "the lab's spread where wider) spans at most this share of its search box; an "
-                                "interval pins its parameter alike.")
+                                "the lab's spread where wider) spans at most this share of its search box.")
     runs: bool = Field(True, description=f"Run the lab tests the sheet lacks, and the calibrated ones, at the "
                        f"{MAX_ENDS} ends of the widest range not pinned, to name the test that would pin it.")
     tests: list[str] | None = Field(None, description="The lab tests the ranking may name (default: every test "

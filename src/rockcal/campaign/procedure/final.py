@@ -39,7 +39,7 @@ def uncertainty_of(state, packings: list, specs: list, done: dict, surrogate, pr
         seeds=[settings.seed for settings, _ in packings], run_keys=[spec.key for spec in specs],
         packing_responses=ok, scatter=scatter, spread=goals.spread, draws=u.draws,
         **parameter_intervals(solve, goals.targets, goals.spread, scatter, state.box, state.names,
-                              draws=u.draws, seed=u.seed, wide=campaign.identifiability.pinned_share))
+                              draws=u.draws, seed=u.seed))
 
 
 def curve_fit_of(state, identified: dict) -> CurveFit | None:
