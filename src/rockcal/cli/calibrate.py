@@ -213,10 +213,12 @@ class _stage_progress:
     done of those planned (`plan.stage_runs`, the first screen's count).
 
     A stage's runs are those planned, or more when its batches have more to run (a
-    verification round that verifies a second optimum, another round): the counts only grow.
-    A run the store held when its batch began counts toward the stage's planned runs, never
-    beyond them: it may be a run of an earlier stage (the identified point's first packing is
-    its verification run), so a campaign as planned ends at the count the first screen gave.
+    verification round that verifies a second optimum, another round): the counts only grow
+    while the campaign runs. A run the store held when its batch began counts toward the
+    stage's planned runs, never beyond them: it may be a run of an earlier stage (the identified
+    point's first packing is its verification run), so a campaign as planned ends at the count
+    the first screen gave. A planned stage that never began when the campaign ends (the
+    identifiability stage, where the sheet pins every parameter) leaves the count then.
 
     The genesis of the packings a batch needs, before its runs, has a bar of its own (packings
     made / to make), and weighs in the campaign's bar by its expected time (`genesis`: the
@@ -267,7 +269,11 @@ class _stage_progress:
         self.bar.start()
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, exc_type, *exc):
+        if exc_type is None:
+            self.planned = {stage: n for stage, n in self.planned.items() if stage in self.batches}
+            self.to_do = {}
+            self._update_campaign()
         self.bar.stop()
 
     def __call__(self, stage: str, done: int, total: int) -> None:
@@ -288,11 +294,11 @@ class _stage_progress:
         self._update_campaign()
 
     def _runs(self, stage: str) -> tuple[int, int]:
-        """A begun stage's runs and those still to do: the planned runs, or its first batch's
-        runs to do if more, with the runs to do of its later batches."""
-        to_do = [total - held for held, _, total in self.batches[stage]]
+        """A begun stage's runs and those still to do: the planned runs, or its batches' runs
+        to do if more."""
+        to_do = sum(total - held for held, _, total in self.batches[stage])
         left = sum(total - done for _, done, total in self.batches[stage])
-        return max(self.planned[stage], to_do[0]) + sum(to_do[1:]), left
+        return max(self.planned[stage], to_do), left
 
     def _update_campaign(self) -> None:
         run_s = self.run_s.get
@@ -350,8 +356,9 @@ def identifiability_summary(found) -> dict | None:
     the tests ranked and the sentence (None: not accepted, so not judged)."""
     if found is None:
         return None
-    return {"bands": found.bands, "pinned_share": found.pinned_share,
+    return {"bands": found.bands, "surrogate_error": found.surrogate_error, "pinned_share": found.pinned_share,
             "ranges": {n: r.model_dump() for n, r in found.ranges.items()},
+            "end_runs": [r.model_dump() for r in found.end_runs],
             "tests": [{"test": t.test, "response": t.response, "spread": t.spread, "label": t.label}
                       for t in found.tests],
             "runs": found.runs, "text": found.text}

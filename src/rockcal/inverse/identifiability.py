@@ -1,7 +1,7 @@
 """Which parameters a lab sheet pins: the set of points of the search box whose predicted
 responses all lie in their targets' bands (the acceptance tolerance, or the lab's spread where
-wider, with the surrogate's own error added), sampled by hit-and-run walks, and each
-parameter's range over it against its box.
+wider, with the surrogate's own error near the accepted point added), sampled by hit-and-run
+walks, and each parameter's range over it against its box.
 
 A parameter whose range over the set spans at most `pinned_share` of its box is pinned by the
 sheet; one whose range spans more is not: points that far apart meet every target alike, and
@@ -21,7 +21,7 @@ STEPS = 120
 LINE_POINTS = 24
 SHORTEST_LINE = 0.02  # of the box: the walks also try short lines, which thin sets need
 KEPT = 400  # points of the set kept in the record (its figure)
-MAX_ENDS = 2  # points run in the DEM at most: the two ends of the widest range not pinned
+END_SLAB = 0.05  # of a range: the points this near its extreme may be its end (`ends_of`)
 
 Predict = Callable[[np.ndarray], dict]
 
@@ -29,7 +29,7 @@ Predict = Callable[[np.ndarray], dict]
 def bands(targets: dict[str, float], tolerance: float, spread: dict, surrogate_error: dict | None) -> dict:
     """Each target's band of predicted values that meet it: within `tolerance` (relative) of
     it or, where wider, within the lab's spread (a [min, max], or an sd: 2 sd either side),
-    widened on both sides by the surrogate's largest relative error at its check points."""
+    widened on both sides by the surrogate's relative error (`surrogate_error`, None: not)."""
     found = {}
     for r, t in targets.items():
         low, high = t - tolerance * abs(t), t + tolerance * abs(t)
@@ -98,31 +98,22 @@ def parameter_ranges(points: np.ndarray, box: np.ndarray, names: list[str], pinn
     return ranges
 
 
-def ends_of(points: np.ndarray, names: list[str], ranges: dict[str, dict], most: int) -> list[np.ndarray]:
-    """The points of the set nearest the two ends of each range it does not pin (the widest
-    first), at most `most` of them: where the sheet leaves the model freest."""
-    loose = sorted((k for k, n in enumerate(names) if not ranges[n]["pinned"]),
-                   key=lambda k: -ranges[names[k]]["share"])
-    chosen = []
-    for k in loose:
-        for end in (ranges[names[k]]["low"], ranges[names[k]]["high"]):
-            row = points[np.argmin(np.abs(points[:, k] - end))]
-            if len(chosen) < most and not any(np.array_equal(row, other) for other in chosen):
-                chosen.append(row)
-    return chosen
+def in_bands(responses: dict, band: dict[str, tuple[float, float]]) -> bool:
+    """Whether every response lies in its band."""
+    return all(low <= responses[r] <= high for r, (low, high) in band.items())
 
 
-def within_bands(at_point: dict, at_end: dict, band: dict[str, tuple[float, float]]) -> float:
-    """How far from a point whose responses lie in their bands (`at_point`) towards another
-    (`at_end`) they stay in them, read linearly between the two (0 to 1): where the DEM puts
-    the end of a range the surrogate gave."""
-    share = 1.0
-    for r, (low, high) in band.items():
-        v0, v1 = at_point[r], at_end[r]
-        for edge in (low, high):
-            if (v1 - edge) * (v0 - edge) < 0:  # the edge lies between the two
-                share = min(share, (edge - v0) / (v1 - v0))
-    return max(0.0, share)
+def ends_of(points: np.ndarray, k: int, start: np.ndarray, box: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The points of the set at the low and the high end of parameter k's range over it: of
+    those within END_SLAB of the range from each extreme, the one nearest `start` in the
+    other parameters (box-normalised), so that an end differs from it in k most of all."""
+    span = np.ptp(points[:, k])
+    others = np.linalg.norm(np.delete((points - start) / (box[:, 1] - box[:, 0]), k, axis=1), axis=1)
+    ends = []
+    for extreme in (points[:, k].min(), points[:, k].max()):
+        near = np.flatnonzero(np.abs(points[:, k] - extreme) <= END_SLAB * span)
+        ends.append(points[near[np.argmin(others[near])]])
+    return ends[0], ends[1]
 
 
 def kept(points: np.ndarray, seed: int = 0) -> np.ndarray:

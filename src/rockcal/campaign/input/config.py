@@ -28,7 +28,7 @@ from rockcal.user_files import read_user_text
 from rockcal.specimens.genesis import make_genesis
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.inverse.arrays import design
-from rockcal.inverse.identifiability import MAX_ENDS, PINNED_SHARE
+from rockcal.inverse.identifiability import PINNED_SHARE
 from rockcal.labtests.registry import LAB_TESTS, PRIMARY_TEST, lab_test
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
 
@@ -221,8 +221,9 @@ class IdentifiabilitySettings(Section):
     pinned_share: float = Field(PINNED_SHARE, gt=0, le=1, description="A searched parameter is pinned by the sheet "
                                 "when its range over the points that meet every target (within the tolerance, or "
                                 "the lab's spread where wider) spans at most this share of its search box.")
-    runs: bool = Field(True, description=f"Run the lab tests the sheet lacks, and the calibrated ones, at the "
-                       f"{MAX_ENDS} ends of the widest range not pinned, to name the test that would pin it.")
+    runs: bool = Field(True, description="Read the widest range not pinned in the DEM (the calibrated tests at "
+                       "its two ends) and run the lab tests the sheet lacks there, to name the test that would pin "
+                       "it.")
     tests: list[str] | None = Field(None, description="The lab tests the ranking may name (default: every test "
                                     "the campaign's dimension and material can run that [targets] lacks).")
 

@@ -248,9 +248,9 @@ FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
      "spread and the model's scatter over packings; +: the identified point.", _parameter_draws),
     ("Identifiability", "meeting_set.png",
      "The points whose predicted responses meet every target (within its tolerance, or the lab's spread "
-     "where wider), pair by pair; +: the "
-     "identified point. A parameter they spread over more than its pinned share of the box is not pinned "
-     "by the sheet.", _meeting_set),
+     "where wider, plus the surrogate's error at the verified points), pair by pair; +: the identified point. "
+     "A parameter they spread over more than its pinned share of the box is not pinned by the sheet, unless "
+     "its range read in the DEM is narrower.", _meeting_set),
     ("Stress–strain curve", "stress_strain.png",
      "UCS test at the identified parameters; the measured curve when one was given; CI (onset of "
      "cracking) and CD (reversal of the volumetric strain) dotted.", _stress_strain),

@@ -142,29 +142,39 @@ def _parameters(result: CalibrationResult) -> str:
 
 
 def _identifiability(result: CalibrationResult) -> str:
-    """Which parameters the sheet pins, and the tests it lacks ranked by how much they would
-    narrow the set (none when the campaign was not accepted)."""
+    """Which parameters the sheet pins, the DEM runs at the ends of the range read there, and
+    the tests it lacks ranked by how much they vary between the ends kept (none when the
+    campaign was not accepted)."""
     found = result.identifiability
     if found is None:
         return ""
-    basis = ("their range over the points whose responses the surrogate predicts in these bands: "
+    basis = ("Ranges: over the points whose responses the surrogate predicts in these bands: "
              + ", ".join(f"{r} {_num(low)}–{_num(high)}" for r, (low, high) in found.bands.items())
-             + " (each target's tolerance, or the lab's spread where wider, plus the surrogate's largest error "
-             "at its check points)")
+             + " (each target's tolerance, or the lab's spread where wider, plus the surrogate's error at the "
+             "verified points: " + ", ".join(f"{r} {100 * e:.1f} %" for r, e in found.surrogate_error.items())
+             + "); a range read in the DEM lies between the ends whose runs met the sheet.")
     text = f"<h3>Identifiability</h3><p>{html.escape(found.text[0].upper() + found.text[1:])}</p>"
-    text += _table(["parameter", "low", "high", "share of its box", f"pinned (≤ {100 * found.pinned_share:g} %)"],
-                   [[n, _num(r.low), _num(r.high), f"{100 * r.share:.0f} %", "yes" if r.pinned else "no"]
+    text += _table(["parameter", "low", "high", "share of its box", f"pinned (≤ {100 * found.pinned_share:g} %)",
+                    "read in the DEM"],
+                   [[n, _num(r.low), _num(r.high), f"{100 * r.share:.0f} %", "yes" if r.pinned else "no",
+                     "—" if r.verified_ends is None else f"ends met: {', '.join(r.verified_ends) or 'none'}"]
                     for n, r in found.ranges.items()])
-    text += f"<p>{html.escape('Ranges: ' + basis + '.')}</p>"
+    text += f"<p>{html.escape(basis)}</p>"
+    if found.end_runs:
+        targets = list(found.bands)
+        text += _table(["end", *result.parameters, *targets, "met the sheet"],
+                       [[r.side, *(_num(r.point[n]) for n in result.parameters),
+                         *(_pct(None if r.errors is None else r.errors[t]) for t in targets), "yes" if r.met else "no"]
+                        for r in found.end_runs])
     if found.tests:
-        text += _table(["rank", "what to measure", "response", "spread across the points", "values"],
+        text += _table(["rank", "what to measure", "response", "spread between the ends", "values"],
                        [[k + 1, t.label, t.response, f"{100 * t.spread:.0f} %",
                          ", ".join(_num(v) for v in t.values)] for k, t in enumerate(found.tests)])
         work = ", ".join(f"{'a reading of the UCS tests done' if t == PRIMARY_TEST else lab_test(t).title} {w:g}"
                          for t, w in LAB_WORK.items())
         text += "<p>" + html.escape(
-            f"Each test ran at the {len(found.points)} ends of the widest range not pinned, where the calibrated "
-            f"tests ran too ({found.runs} DEM runs); ranked by its spread per run of lab work ({work}).") + "</p>"
+            f"Each test ran at the {len(found.points)} ends kept ({found.runs} DEM runs in this stage); ranked by "
+            f"its spread per run of lab work ({work}).") + "</p>"
     return text
 
 

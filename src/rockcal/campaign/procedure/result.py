@@ -189,7 +189,20 @@ class ParameterRange(_Part):
     high: float
     share: float
     pinned: bool
-    dem: bool = False  # its ends read in the DEM (`inverse.identifiability.within_bands`), not on the surrogate
+    # read in the DEM: the sides ("low", "high") whose end met the sheet there, the accepted
+    # point standing for a side whose runs all missed it (None: read on the surrogate)
+    verified_ends: list[str] | None = None
+
+
+class EndRun(_Part):
+    """The calibrated tests' DEM runs at a trial end of the range the DEM reads: its side,
+    the point, the responses' relative errors against the targets (None: a run failed) and
+    whether they met the sheet (each within its tolerance, or the lab's spread where wider)."""
+
+    side: str
+    point: Values
+    errors: Values | None
+    met: bool
 
 
 class SpreadOfTest(_Part):
@@ -207,17 +220,19 @@ class SpreadOfTest(_Part):
 
 class Identifiability(_Part):
     """Which searched parameters the sheet pins (`rockcal.inverse.identifiability`): the bands
-    of predicted responses that meet it, a sample of the points in them, their ranges, the DEM runs at the ends of those not pinned (the
-    calibrated tests' errors there, each other test's spread), the tests ranked and in words."""
+    of predicted responses that meet it, a sample of the points in them and their ranges; the
+    DEM runs at the ends of the widest range not pinned (`end_runs`), the ends kept
+    (`points`), each lacking test's spread between them, the tests ranked and in words."""
 
-    bands: dict[str, tuple[float, float]]  # each target's: the tolerance or spread, with the surrogate's error
+    bands: dict[str, tuple[float, float]]  # each target's: the tolerance or spread, with `surrogate_error`
+    surrogate_error: Values  # the surrogate's relative error at the verified points, near the accepted one
     pinned_share: float
     ranges: dict[str, ParameterRange]
     set_points: list[list[float]]  # a sample of the set (the figure)
-    points: list[Values]  # the ends run in the DEM: of the widest range not pinned
-    end_errors: list[Values | None]  # the calibrated tests' relative errors at each end (None: failed)
+    end_runs: list[EndRun]  # in the order they ran
+    points: list[Values]  # the ends kept, where the lacking tests ran (none: no test ranked)
     tests: list[SpreadOfTest]  # ranked, best first
-    runs: int  # DEM runs asked for (those the store held included)
+    runs: int  # DEM runs the stage asked for that no earlier stage ran
     text: str
 
 

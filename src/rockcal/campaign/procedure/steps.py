@@ -10,7 +10,8 @@ runs it needs and how to fold their results into the next state (`Runs`). `calib
 the runs to the executor it is given (serial, process pool or Dask) and folds; the first screen
 (`rockcal.campaign.plan.screen`) asks the same steps for their runs at the planning state
 (`planning_state`), so what is planned is what runs (but for a verification round's other
-optima and further rounds, which the first screen names: `verification_runs`). Each parameter
+optima and further rounds, and the identifiability stage's bisections, which the first screen
+names: `verification_runs`, `pinning`). Each parameter
 set runs every lab test calibrated against (a test with a series, such as confined compression
 at several confinements, one run per value, folded by the test's `combine`), and their
 responses make one dict: the steps see one forward model whatever the tests behind it.
@@ -38,7 +39,7 @@ from rockcal.campaign.procedure.points import (CalibrationFailed, first_packing,
 from rockcal.campaign.procedure.rounding import rounded, rounded_rows, stand_in
 from rockcal.campaign.procedure.state import CampaignState, Round
 from rockcal.campaign.procedure.verdict import verdict_of
-from rockcal.campaign.procedure.pinning import IDENTIFIABILITY, pinning_runs
+from rockcal.campaign.procedure.pinning import IDENTIFIABILITY, pinning_runs, planned_runs
 from rockcal.campaign.procedure.final import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
 from rockcal.inverse import RBFSurrogate, Objective, design, latin_hypercube, range_analysis
 from rockcal.inverse.multifidelity import CorrectedSurrogate
@@ -484,13 +485,14 @@ def validation_seeds(campaign: Campaign, test: str) -> list[int]:
 # -- step 5: identifiability ------------------------------------------------------------------
 
 def identifiability_runs(state: CampaignState) -> Runs:
-    """After an accepted point (none planned: `pinning.most_runs` bounds them): which searched
-    parameters the sheet pins, the DEM runs at the ends of those it does not and the tests
-    the sheet lacks ranked (`pinning`)."""
-    if state.planning or state.accepted is None:
+    """At an accepted point: which searched parameters the sheet pins, a batch at a time
+    (`pinning`): the DEM runs at the ends of the widest range not pinned, then the lacking
+    tests' there. The plan: both ends meet the sheet at their first runs (`planned_runs`)."""
+    if state.planning:
+        return Runs(planned_runs(state), _not_folded)
+    if state.accepted is None:
         return Runs([], lambda results, progress: state)
-    specs, fold = pinning_runs(state, _judged(state))
-    return Runs(specs, fold)
+    return Runs(*pinning_runs(state, _judged))
 
 
 # -- the list ----------------------------------------------------------------------------------
@@ -501,7 +503,7 @@ STEPS: tuple[Step, ...] = (
     Step(SAMPLES_AND_CHECKS, sample_runs),
     Step(VERIFICATION, verification_runs, again=lambda state: not state.settled),
     Step(PACKINGS_AND_VALIDATION, final_runs),
-    Step(IDENTIFIABILITY, identifiability_runs),
+    Step(IDENTIFIABILITY, identifiability_runs, again=lambda state: state.narrowing is not None),
 )
 
 
