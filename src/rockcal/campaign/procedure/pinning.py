@@ -192,6 +192,7 @@ def _end_runs(state: CampaignState) -> tuple[list[RunSpec], Callable]:
         next_ = tuple(None if row is None or side in settled else _halfway(state, row, x0)
                       for side, row in zip(SIDES, n.next))
         found_now = n.found.model_copy(update={"end_runs": end_runs})
+        # the calibration's run budget (dem_runs) counts none of the stage's runs
         return replace(new, dem_runs=state.dem_runs,
                        narrowing=replace(n, found=found_now, next=next_, keys=n.keys + tuple(s.key for s in specs)))
 
