@@ -278,23 +278,25 @@ def text_of(found: Identifiability, campaign) -> str:
     tolerance = campaign.acceptance.tolerance
     loose = {n: r for n, r in found.ranges.items() if not r.pinned}
     read = next((n for n, r in found.ranges.items() if r.verified_ends is not None), None)
-    dem = "" if read is None else f" ({read}'s range read in the DEM: {_ends_text(found, read)})"
-    if not loose:
+    if loose:
+        listed = ", ".join(f"{n} {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box, "
+                           + ("on the surrogate" if r.verified_ends is None else f"read in the DEM: {_ends_text(found)}")
+                           + ")" for n, r in loose.items())
+        text = f"the sheet does not pin {' and '.join(loose)}: the points that meet it range over {listed}"
+    else:
         widest = max(r.share for r in found.ranges.values())
-        return (f"the sheet pins every searched parameter: among the points that meet your sheet, each ranges "
-                f"over at most {100 * widest:.0f} % of its search box{dem}.")
-    listed = ", ".join(f"{n} {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box"
-                       + ("" if r.verified_ends is None else f"; read in the DEM: {_ends_text(found, n)}") + ")"
-                       for n, r in loose.items())
-    text = f"the sheet does not pin {' and '.join(loose)}: the points that meet your sheet range over {listed}"
+        text = (f"the sheet pins every searched parameter: among the points that meet it, each ranges over at most "
+                f"{100 * widest:.0f} % of its search box")
     if read is not None and read not in loose:
-        text += dem
+        r = found.ranges[read]
+        text += (f"; {read}'s range, read in the DEM, is {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box: "
+                 f"{_ends_text(found)})")
     useful = [t for t in found.tests if t.spread > 2 * tolerance]
     if useful:
         best = useful[0]
-        return (text + f". {best.label[0].upper()}{best.label[1:]}: it varies {100 * best.spread:.0f} % across the "
+        return (text + f". {best.label[0].upper()}{best.label[1:]}: it varies {100 * best.spread:.0f} % between the "
                 f"ends; add it to [targets] and resume (--resume keeps the runs done).")
-    if not campaign.identifiability.runs:
+    if loose and not campaign.identifiability.runs:
         return text + ". [identifiability] runs = false: no lab test was run to name one that would pin it."
     if read is None or read not in loose:
         return text + "."
@@ -304,9 +306,10 @@ def text_of(found: Identifiability, campaign) -> str:
             "parameter.")
 
 
-def _ends_text(found: Identifiability, name: str) -> str:
-    """Which ends of a range read in the DEM met the sheet there, and its runs, in words."""
-    ends, runs = found.ranges[name].verified_ends, len(found.end_runs)
+def _ends_text(found: Identifiability) -> str:
+    """Which ends of the range read in the DEM met the sheet there, and its runs, in words."""
+    ends = next(r.verified_ends for r in found.ranges.values() if r.verified_ends is not None)
+    runs = len(found.end_runs)
     if len(ends) == 2:
         return f"both ends met the sheet, {runs} runs"
     if ends:
