@@ -224,8 +224,10 @@ class IdentifiabilitySettings(Section):
     runs: bool = Field(True, description="Read the widest range not pinned in the DEM (the calibrated tests at "
                        "its two ends) and run the lab tests the sheet lacks there, to name the test that would pin "
                        "it.")
-    tests: list[str] | None = Field(None, description="The lab tests the ranking may name (default: every test "
-                                    "the campaign's dimension and material can run that [targets] lacks).")
+    tests: list[str] | None = Field(None, description="The lab tests the ranking runs at the ends, whatever "
+                                    "they cost (\"ucs\": the CI and CD of its runs there). Default: CI and CD, and "
+                                    "each test [targets] lacks whose two runs take at most a UCS run's time on a "
+                                    "packing rockcal ships.")
 
     @field_validator("tests")
     @classmethod
