@@ -14,8 +14,7 @@ from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.outputs.figures import FIGURES
 from rockcal.campaign.outputs.report import write_report
-from rockcal.campaign.procedure.result import (BendingValidation, CalibrationResult, Check, EndRun, FailedRun,
-                                              Identifiability, ParameterRange, SpreadOfTest)
+from rockcal.campaign.procedure.result import BendingValidation, CalibrationResult, Check, FailedRun
 from rockcal.campaign.runs.store import RunStore
 from rockcal.labtests.bending import RUN_ON_FRACTION
 
@@ -57,7 +56,7 @@ draws = 20
 '''
 
 # the set that meets the sheet is drawn for an accepted campaign only (this one is not):
-# `test_identifiability_is_shown`
+# tests/campaign/test_identifiability.py draws it
 ALL_PNGS = {name for _, name, _, _ in FIGURES} - {"meeting_set.png"}
 
 
@@ -210,28 +209,3 @@ def test_weights_and_other_validation_checks_are_shown(campaign):
     assert "<td>sigma_t_MPa</td><td>9</td><td>9.45</td><td>+5.0 %</td>" in page
     assert "The run failed: ValueError: no reading" in page
 
-
-def test_identifiability_is_shown(campaign):
-    record, store, folder = campaign
-    found = Identifiability(
-        bands={"nu": (0.19, 0.21), "ucs_MPa": (23.5, 26.5)}, surrogate_error={"nu": 0.0, "ucs_MPa": 0.04},
-        pinned_share=0.25,
-        ranges={"E_c": ParameterRange(low=19.0, high=21.0, share=0.05, pinned=True),
-                "sigma_c": ParameterRange(low=25.0, high=55.0, share=0.75, pinned=False, verified_ends=["low"])},
-        set_points=[[20.0, 25.0], [19.0, 40.0], [21.0, 55.0]],
-        end_runs=[EndRun(side="low", point={"E_c": 20.0, "sigma_c": 25.0}, errors={"nu": 0.01, "ucs_MPa": -0.02},
-                         met=True),
-                  EndRun(side="high", point={"E_c": 21.0, "sigma_c": 58.0}, errors=None, met=False)],
-        points=[{"E_c": 20.0, "sigma_c": 25.0}, {"E_c": 21.0, "sigma_c": 55.0}],
-        tests=[SpreadOfTest(test="brazilian", response="sigma_t_MPa", label="measure the Brazilian strength",
-                            values=[4.0, 6.0], spread=0.4, score=0.4)],
-        runs=4, text="the sheet does not pin sigma_c (25–55, 75 % of its box): measure the Brazilian strength")
-    path = write_report(record.model_copy(update={"identifiability": found}), store, folder / "pinned")
-    page = path.read_text(encoding="utf-8")
-    assert "meeting_set.png" in {p.name for p in path.parent.glob("*.png")}
-    assert "<h3>Identifiability</h3><p>The sheet does not pin sigma_c" in page
-    assert "<td>sigma_c</td><td>25</td><td>55</td><td>75 %</td><td>no</td><td>ends met: low</td>" in page
-    assert "these bands: nu 0.19–0.21, ucs_MPa 23.5–26.5" in page and "ucs_MPa 4.0 %" in page
-    assert "<td>low</td><td>20</td><td>25</td><td>+1.0 %</td><td>-2.0 %</td><td>yes</td>" in page
-    assert "<td>high</td><td>21</td><td>58</td><td>—</td><td>—</td><td>no</td>" in page
-    assert "<td>1</td><td>measure the Brazilian strength</td><td>sigma_t_MPa</td><td>40 %</td>" in page
