@@ -110,8 +110,11 @@ class Calibration:
 
 
 def _warnings(result) -> list[str]:
-    """The summary's warnings: each parameter on its search bound."""
-    return [f"warning: {line}" for line in result.at_bounds or []]
+    """The summary's warnings: each parameter on its search bound; which parameters the sheet
+    pins and the test that would pin the others."""
+    found = result.identifiability
+    return [f"warning: {line}" for line in result.at_bounds or []] + \
+        ([f"identifiability: {found.text}"] if found else [])
 
 
 def _verdict(result) -> str:
@@ -184,6 +187,10 @@ class StageLines:
         if done == total and (stage, done, total) not in self.told:
             self.told.add((stage, done, total))
             self._print(f"{stage}: {done}/{total} done, {time.perf_counter() - self.began[stage]:.0f} s")
+
+    def note(self, text: str) -> None:
+        """A step's warning (a parameter the targets barely see), as it comes."""
+        self._print(f"warning: {text}")
 
     @staticmethod
     def _print(line: str) -> None:

@@ -347,9 +347,11 @@ def calibrated_curve(curve, measured, path: Path, title: str, lateral_strains: i
     _finish(fig, ax, "strain (%)  (lateral shown negative)", "axial stress (MPa)", title, path)
 
 
-def parameter_draws(samples, names: list[str], bounds: dict, identified: dict, path: Path) -> None:
-    """Corner plot of the parameters solved for each drawn target set: histograms on the
-    diagonal, pairs below it, the search box as the axes' limits and the identified point."""
+def parameter_draws(samples, names: list[str], bounds: dict, identified: dict, path: Path,
+                    title: str = "Identified parameters, one point per drawn target set") -> None:
+    """Corner plot of points in parameter space (the parameters solved for each drawn target
+    set, the points that meet the sheet): histograms on the diagonal, pairs below it, the
+    search box as the axes' limits and the identified point."""
     x = np.asarray(samples, float)
     n = len(names)
     fig, axes = plt.subplots(n, n, figsize=(2.6 * n, 2.6 * n), squeeze=False)
@@ -373,7 +375,7 @@ def parameter_draws(samples, names: list[str], bounds: dict, identified: dict, p
                 ax.set_xlabel(names[j], fontsize=8)
             if j == 0 and i > 0:
                 ax.set_ylabel(names[i], fontsize=8)
-    fig.suptitle("Identified parameters, one point per drawn target set", fontsize=10)
+    fig.suptitle(title, fontsize=10)
     _save(fig, path)
 
 

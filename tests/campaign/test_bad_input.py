@@ -146,6 +146,13 @@ CAMPAIGNS = [  # (case, campaign text, the key the error must name)
      "specimen.disk_diameter_mm"),
     ("too few draws", CAMPAIGN + "[uncertainty]\ndraws = 2\n", "uncertainty.draws"),
     ("no packings", CAMPAIGN + "[uncertainty]\npackings = 0\n", "uncertainty.packings"),
+    ("pinned share 0", CAMPAIGN + "[identifiability]\npinned_share = 0\n", "identifiability.pinned_share"),
+    ("pinned share over 1", CAMPAIGN + "[identifiability]\npinned_share = 1.5\n", "identifiability.pinned_share"),
+    ("runs not a bool", CAMPAIGN + "[identifiability]\nruns = 3\n", "identifiability.runs"),
+    ("unknown test to rank", CAMPAIGN + '[identifiability]\ntests = ["tilt"]\n', "identifiability.tests"),
+    ("a test to rank 3D lacks", edit("[specimen]", "[specimen]\ndimensions = 3") +
+     '[identifiability]\ntests = ["bending"]\n', "identifiability.tests"),
+    ("unknown identifiability key", CAMPAIGN + "[identifiability]\nshare = 0.2\n", "identifiability.share"),
 ]
 OPTIONS = [  # (case, extra arguments, the option the error must name first)
     ("negative workers", ["--workers", "-1"], "--workers"),

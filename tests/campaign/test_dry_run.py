@@ -1,8 +1,9 @@
 """The first screen plans from the procedure's own steps: on a campaign that settles in its
 first verification round, the runs `rockcal calibrate --dry-run` plans for each stage and test
 are the runs the campaign then executes, with one candidate per round and with two, where the
-surrogate's second optimum adds its runs to the verification (a synthetic forward model: no
-DEM); the dry run writes nothing."""
+surrogate's second optimum adds its runs to the verification, and the identifiability stage's
+ends meet the sheet at their first runs, as planned (a synthetic forward model: no DEM); the
+dry run writes nothing."""
 
 import json
 
@@ -10,7 +11,7 @@ import pytest
 
 from rockcal.campaign.input.config import parse_campaign
 from rockcal.campaign.plan.planned import planned
-from rockcal.campaign.plan.screen import stages
+from rockcal.campaign.plan.screen import identifiability_cost, stages
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.spec import RunResult
 from rockcal.cli import app
@@ -74,8 +75,10 @@ def test_the_plan_is_what_runs(tmp_path, candidates):
     assert record.accepted and len({it.loop for it in record.iterations}) == 1  # settled in the first round
     assert len(record.iterations) == candidates
     # the plan counts the search's optimum; a second optimum's runs come on top of it
+    # E alone leaves sigma_c free: the identifiability stage runs at the two ends of its range
     assert [(stage, test, n * candidates if stage == "verification" else n) for stage, test, n in stages(campaign)] \
         == [(stage, test, n) for (stage, test), n in recorder.executed.items()]
+    assert not record.identifiability.ranges["sigma_c"].pinned and len(record.identifiability.end_runs) == 2
 
 
 def test_the_dry_run_prints_the_plan_and_writes_nothing(tmp_path, capsys, monkeypatch):
@@ -94,3 +97,6 @@ def test_the_dry_run_prints_the_plan_and_writes_nothing(tmp_path, capsys, monkey
     assert plan["runs"] == sum(n for _, _, n in expected)
     assert plan["stages"]["packings and validation"]["tests"]["bending"]["packings"] == 2
     assert plan["expected_s"] > 0
+    (runs, most), times = identifiability_cost(planned(parse_campaign(campaign_file.read_text(), tmp_path)))
+    assert plan["identifiability"] == {"runs": [runs, most], "ucs_runs_time": [round(t, 1) for t in times]}
+    assert runs == plan["stages"]["identifiability"]["runs"] and most > runs

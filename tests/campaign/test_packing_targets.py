@@ -67,10 +67,13 @@ def test_a_target_over_three_packings_recovers_the_parameters_of_their_mean(tmp_
     assert record.accepted
     assert record.identified["sigma_c"] == pytest.approx(TRUE["sigma_c"], rel=0.01)
     assert record.verified["ucs_MPa_std"] == pytest.approx(0.06 * 3 * record.identified["sigma_c"], rel=0.01)
-    samples, verifications = executor.seeds[:14], executor.seeds[14:-6]
+    ends = 3 * len(record.identifiability.end_runs)  # the identifiability stage's, last, on the three packings
+    seeds = executor.seeds[:len(executor.seeds) - ends]
+    samples, verifications = seeds[:14], seeds[14:-6]
     assert samples == [1] * 14  # the surrogate's runs, on packing 1 only
     assert len(verifications) >= 3 and verifications == [1, 2, 3] * (len(verifications) // 3)
-    assert sorted(executor.seeds[-6:]) == [1, 2, 3, 4, 5, 6]  # the intervals' two disjoint sets of three
+    assert sorted(seeds[-6:]) == [1, 2, 3, 4, 5, 6]  # the intervals' two disjoint sets of three
+    assert executor.seeds[len(seeds):] == [1, 2, 3] * (ends // 3)
 
 
 def test_a_target_on_one_packing_recovers_that_packings_bias(tmp_path):
@@ -82,7 +85,7 @@ def test_the_first_screen_counts_every_packing(tmp_path):
     """Three packings make a verified point dear: one is verified a round (`plan.route`)."""
     campaign = planned(parse_campaign(campaign_text(packings=3), tmp_path))
     assert stages(campaign) == [("samples and checks", "ucs", 14), ("verification", "ucs", 3),
-                                ("packings and validation", "ucs", 3)]
+                                ("packings and validation", "ucs", 3), ("identifiability", "ucs", 6)]
     assert sorted(s.seed for _, s in specimens(campaign)) == [1, 2, 3, 4, 5, 6]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=None)
     assert lines[1].endswith("each parameter set runs UCS (verified on 3 packings, their mean; "

@@ -213,10 +213,12 @@ class _stage_progress:
     done of those planned (`plan.stage_runs`, the first screen's count).
 
     A stage's runs are those planned, or more when its batches have more to run (a
-    verification round that verifies a second optimum, another round): the counts only grow.
-    A run the store held when its batch began counts toward the stage's planned runs, never
-    beyond them: it may be a run of an earlier stage (the identified point's first packing is
-    its verification run), so a campaign as planned ends at the count the first screen gave.
+    verification round that verifies a second optimum, another round): the counts only grow
+    while the campaign runs. A run the store held when its batch began counts toward the
+    stage's planned runs, never beyond them: it may be a run of an earlier stage (the identified
+    point's first packing is its verification run), so a campaign as planned ends at the count
+    the first screen gave. A planned stage that never began when the campaign ends (the
+    identifiability stage, where the sheet pins every parameter) leaves the count then.
 
     The genesis of the packings a batch needs, before its runs, has a bar of its own (packings
     made / to make), and weighs in the campaign's bar by its expected time (`genesis`: the
@@ -247,6 +249,10 @@ class _stage_progress:
         """Show what the running tests read now, a line each below the bars."""
         self.bar.lines = lines
 
+    def note(self, text: str) -> None:
+        """Print a step's warning above the bars (a parameter the targets barely see)."""
+        self.bar.console.print(f"[yellow]warning:[/] {escape(text)}")
+
     def genesis(self, made: int, total: int) -> None:
         """Show the packings a batch has made of those it makes before its runs."""
         if "genesis" not in self.tasks:
@@ -263,7 +269,11 @@ class _stage_progress:
         self.bar.start()
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, exc_type, *exc):
+        if exc_type is None:
+            self.planned = {stage: n for stage, n in self.planned.items() if stage in self.batches}
+            self.to_do = {}
+            self._update_campaign()
         self.bar.stop()
 
     def __call__(self, stage: str, done: int, total: int) -> None:
@@ -284,11 +294,11 @@ class _stage_progress:
         self._update_campaign()
 
     def _runs(self, stage: str) -> tuple[int, int]:
-        """A begun stage's runs and those still to do: the planned runs, or its first batch's
-        runs to do if more, with the runs to do of its later batches."""
-        to_do = [total - held for held, _, total in self.batches[stage]]
+        """A begun stage's runs and those still to do: the planned runs, or its batches' runs
+        to do if more."""
+        to_do = sum(total - held for held, _, total in self.batches[stage])
         left = sum(total - done for _, done, total in self.batches[stage])
-        return max(self.planned[stage], to_do[0]) + sum(to_do[1:]), left
+        return max(self.planned[stage], to_do), left
 
     def _update_campaign(self) -> None:
         run_s = self.run_s.get
@@ -337,7 +347,21 @@ def summary(result: CalibrationResult) -> dict:
         "intervals": None if u is None else {n: i.to_dict() for n, i in u.intervals.items()},
         "verdict": None if result.verdict is None else result.verdict.text,
         "at_bounds": result.at_bounds or [],
+        "identifiability": identifiability_summary(result.identifiability),
     }
+
+
+def identifiability_summary(found) -> dict | None:
+    """What `--json` prints of the identifiability stage: each parameter's range and verdict,
+    the tests ranked and the sentence (None: not accepted, so not judged)."""
+    if found is None:
+        return None
+    return {"bands": found.bands, "surrogate_error": found.surrogate_error, "pinned_share": found.pinned_share,
+            "ranges": {n: r.model_dump() for n, r in found.ranges.items()},
+            "end_runs": [r.model_dump() for r in found.end_runs],
+            "tests": [{"test": t.test, "response": t.response, "spread": t.spread, "label": t.label}
+                      for t in found.tests],
+            "runs": found.runs, "text": found.text}
 
 
 def _print_summary(result: CalibrationResult, html: Path, as_json: bool, timing: dict) -> None:
@@ -356,10 +380,13 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool, timing:
     for column in ("", "value", "target", "error"):
         table.add_column(column)
     intervals = s["intervals"] or {}
+    ranges = (s["identifiability"] or {}).get("ranges", {})
     for name, value in s["identified"].items():
-        i = intervals.get(name)
+        i, r = intervals.get(name), ranges.get(name)
         spread = "" if i is None else f"  (5–95 %: {i['p5']:.4g}–{i['p95']:.4g}" + (
             ")" if i["pinned"] else ", not pinned down)")
+        if r is not None and not r["pinned"]:
+            spread += f"  (not pinned by the sheet: {r['low']:.4g}–{r['high']:.4g})"
         table.add_row(name, f"{value:.4g}{spread}", "", "")
     for test, names in s["target_tests"].items():
         for name in names:
@@ -382,6 +409,8 @@ def _print_summary(result: CalibrationResult, html: Path, as_json: bool, timing:
     console.print(table)
     if s["verdict"]:
         console.print(f"[red]verdict:[/] {escape(s['verdict'])}")
+    if s["identifiability"]:
+        console.print(f"identifiability: {escape(s['identifiability']['text'])}")
     if s["quick_look"]:
         console.print(f"[yellow]{escape(s['quick_look'])}[/]")
     for warning in [s["warning"], *s["at_bounds"]]:

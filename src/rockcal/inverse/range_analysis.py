@@ -57,6 +57,12 @@ class RangeAnalysis:
                 picked.update(f for f in ranked if self.effects[response][f].R >= threshold * top)
         return [f for f in self.factors if f in picked]
 
+    def unseen(self, targets: dict[str, float], tolerance: float, factors: list[str]) -> list[str]:
+        """The `factors` whose range R on every response is below `tolerance` of its target
+        (response: value): the targets barely see them, and a calibration will not pin them."""
+        return [f for f in factors if f in self.factors and
+                all(self.effects[r][f].R < tolerance * abs(t) for r, t in targets.items())]
+
     def to_dict(self, threshold: float | None = None) -> dict:
         """{"responses": {response: {factor: {"levels", "K", "k", "R"}}},
         "ranking": {response: [factors by decreasing R]}, "chosen": [factors]}."""

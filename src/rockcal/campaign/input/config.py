@@ -28,7 +28,8 @@ from rockcal.user_files import read_user_text
 from rockcal.specimens.genesis import make_genesis
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.inverse.arrays import design
-from rockcal.labtests.registry import PRIMARY_TEST, lab_test
+from rockcal.inverse.identifiability import PINNED_SHARE
+from rockcal.labtests.registry import LAB_TESTS, PRIMARY_TEST, lab_test
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
 
 RESPONSES = lab_test(PRIMARY_TEST).targets  # what the primary (UCS) test gives and the calibration can fit
@@ -214,6 +215,29 @@ class UncertaintySettings(Section):
     seed: int = Field(1, ge=0, description="Seed of the draws.")
 
 
+class IdentifiabilitySettings(Section):
+    """Which parameters the lab sheet pins, and which lab test it lacks would pin the others."""
+
+    pinned_share: float = Field(PINNED_SHARE, gt=0, le=1, description="A searched parameter is pinned by the sheet "
+                                "when its range over the points that meet every target (within the tolerance, or "
+                                "the lab's spread where wider) spans at most this share of its search box.")
+    runs: bool = Field(True, description="Read the widest range not pinned in the DEM (the calibrated tests at "
+                       "its two ends) and run the lab tests the sheet lacks there, to name the test that would pin "
+                       "it.")
+    tests: list[str] | None = Field(None, description="The lab tests the ranking runs at the ends, whatever "
+                                    "they cost (\"ucs\": the CI and CD of its runs there). Default: CI and CD, and "
+                                    "each test [targets] lacks whose two runs take at most a UCS run's time on a "
+                                    "packing rockcal ships.")
+
+    @field_validator("tests")
+    @classmethod
+    def _tests(cls, tests):
+        for name in tests or []:
+            if name not in LAB_TESTS:
+                raise ValueError(f"no lab test named {name!r}; known: {', '.join(LAB_TESTS)}")
+        return tests
+
+
 class MaterialChoice(Section):
     """[material]: the bonded material the campaign calibrates (`rockcal.materials`)."""
 
@@ -243,6 +267,7 @@ class Campaign(Section):
     optimizer: Optimizer = Optimizer()
     acceptance: Acceptance = Acceptance()
     uncertainty: UncertaintySettings = UncertaintySettings()
+    identifiability: IdentifiabilitySettings = IdentifiabilitySettings()
     validation: ValidationTests = ValidationTests()
 
     @model_validator(mode="after")
@@ -373,6 +398,11 @@ def _check_dimensions(campaign: Campaign) -> None:
         except InputError as exc:
             key = "material.model" if exc.field == "model" else f"targets.{test}"
             raise ValueError(f"{key}: {exc.problem}") from None
+    for test in campaign.identifiability.tests or []:
+        try:
+            lab_test(test).check_dimensions(campaign.specimen.dimensions, campaign.material.model)
+        except InputError as exc:
+            raise ValueError(f"identifiability.tests: {exc.problem}") from None
 
 
 DEFAULT_ROCK = "granite"

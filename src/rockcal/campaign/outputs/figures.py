@@ -220,6 +220,15 @@ def _parameter_draws(result: CalibrationResult, store: RunStore, path: Path) -> 
     return None
 
 
+def _meeting_set(result: CalibrationResult, store: RunStore, path: Path) -> str | None:
+    found = result.identifiability
+    if found is None:
+        return "Not judged: no verified point was accepted."
+    plots.parameter_draws(found.set_points, result.parameters, result.bounds, result.identified, path,
+                          "Points whose predicted responses meet every target (on the surrogate)")
+    return None
+
+
 NO_VALIDATION = "No notched beam in this campaign (no [targets.bending])."
 Figure = Callable[[CalibrationResult, RunStore, Path], "str | None"]
 FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
@@ -239,6 +248,11 @@ FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
     ("Parameter intervals", "parameter_draws.png",
      "Each point: the parameters the surrogate gives for one target set drawn from the lab's "
      "spread and the model's scatter over packings; +: the identified point.", _parameter_draws),
+    ("Identifiability", "meeting_set.png",
+     "The points whose predicted responses meet every target (within its tolerance, or the lab's spread "
+     "where wider, plus the surrogate's error at the verified points), pair by pair; +: the identified point. "
+     "A parameter they spread over more than its pinned share of the box is not pinned by the sheet, unless "
+     "its range read in the DEM is narrower.", _meeting_set),
     ("Stress–strain curve", "stress_strain.png",
      "UCS test at the identified parameters; the measured curve when one was given; CI (onset of "
      "cracking) and CD (reversal of the volumetric strain) dotted.", _stress_strain),

@@ -16,7 +16,8 @@ from rockcal.campaign.input.config import SpecimenSettings
 from rockcal.campaign.outputs.figures import draw, figures_of
 from rockcal.campaign.procedure.result import CalibrationResult, SurrogateCheck
 from rockcal.campaign.runs.store import RunStore
-from rockcal.labtests.registry import lab_test
+from rockcal.campaign.procedure.pinning import LAB_WORK
+from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.output_files import write_atomic
 
 REPORT_NAME = "report.html"
@@ -140,6 +141,43 @@ def _parameters(result: CalibrationResult) -> str:
     return table
 
 
+def _identifiability(result: CalibrationResult) -> str:
+    """Which parameters the sheet pins, the DEM runs at the ends of the range read there, and
+    the tests it lacks ranked by how much they vary between the ends kept (none when the
+    campaign was not accepted)."""
+    found = result.identifiability
+    if found is None:
+        return ""
+    basis = ("Ranges: over the points whose responses the surrogate predicts in these bands: "
+             + ", ".join(f"{r} {_num(low)}–{_num(high)}" for r, (low, high) in found.bands.items())
+             + " (each target's tolerance, or the lab's spread where wider, plus the surrogate's error at the "
+             "verified points: " + ", ".join(f"{r} {100 * e:.1f} %" for r, e in found.surrogate_error.items())
+             + "); a range read in the DEM lies between the ends whose runs met the sheet.")
+    text = f"<h3>Identifiability</h3><p>{html.escape(found.text[0].upper() + found.text[1:])}</p>"
+    text += _table(["parameter", "low", "high", "share of its box", f"pinned (≤ {100 * found.pinned_share:g} %)",
+                    "read in the DEM"],
+                   [[n, _num(r.low), _num(r.high), f"{100 * r.share:.0f} %", "yes" if r.pinned else "no",
+                     "—" if r.verified_ends is None else f"ends met: {', '.join(r.verified_ends) or 'none'}"]
+                    for n, r in found.ranges.items()])
+    text += f"<p>{html.escape(basis)}</p>"
+    if found.end_runs:
+        targets = list(found.bands)
+        text += _table(["end", *result.parameters, *targets, "met the sheet"],
+                       [[r.side, *(_num(r.point[n]) for n in result.parameters),
+                         *(_pct(None if r.errors is None else r.errors[t]) for t in targets), "yes" if r.met else "no"]
+                        for r in found.end_runs])
+    if found.tests:
+        text += _table(["rank", "what to measure", "response", "spread between the ends", "values"],
+                       [[k + 1, t.label, t.response, f"{100 * t.spread:.0f} %",
+                         ", ".join(_num(v) for v in t.values)] for k, t in enumerate(found.tests)])
+        work = ", ".join(f"{'a reading of the UCS tests done' if t == PRIMARY_TEST else lab_test(t).title} {w:g}"
+                         for t, w in LAB_WORK.items())
+        text += "<p>" + html.escape(
+            f"Each test ran at the {len(found.points)} ends kept ({found.runs} DEM runs in this stage); ranked by "
+            f"its spread per run of lab work ({work}).") + "</p>"
+    return text
+
+
 def _validation(result: CalibrationResult) -> str:
     """Simulated K_IC against the lab's, or why there is none; the P_max/K_IC warning."""
     v = result.validation
@@ -249,7 +287,7 @@ def write_report(result: CalibrationResult, store: RunStore, out: Path) -> Path:
     page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>rockcal calibration — {rock}"
             f"</title><style>{CSS}</style></head><body><h1>{_title(result)}</h1>{_quick_look(result)}"
             f"\n<h2>Summary</h2>{_overview(result)}\n<h3>Responses</h3>{_responses(result)}"
-            f"\n<h3>Identified parameters</h3>{_parameters(result)}"
+            f"\n<h3>Identified parameters</h3>{_parameters(result)}{_identifiability(result)}"
             f"{_bending(result)}\n{_checks(result)}"
             f"\n{_failed(result)}"
             f"\n{figures}\n</body></html>\n")

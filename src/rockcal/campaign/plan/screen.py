@@ -24,10 +24,12 @@ import os
 import numpy as np
 
 from rockcal.campaign.input.config import Campaign, SpecimenSettings
-from rockcal.campaign.plan.cost import FIRST_RUN_COMPILE_S, WORK_EXPONENT, genesis_s, specimen_size, time_factor
+from rockcal.campaign.plan.cost import (FIRST_RUN_COMPILE_S, WORK_EXPONENT, genesis_s, relative_time, specimen_size,
+                                       time_factor)
 from rockcal.campaign.plan.engine_speed import busy_cores, probe, probe_ms_per_step
 from rockcal.campaign.plan.route import route_of
 from rockcal.campaign.runs.retries import holds, retry_line
+from rockcal.campaign.procedure.pinning import IDENTIFIABILITY, bisection_tests
 from rockcal.campaign.procedure.points import packings_of
 from rockcal.campaign.procedure.steps import (STEPS, VERIFICATION, planning_state, series_values,
                                               verified_at_most)
@@ -175,12 +177,13 @@ def stage_rounds(runs: int, workers: int, cores: int | None = None) -> float:
 def test_times(campaign: Campaign, store) -> dict[tuple[str, str], tuple[int, float]]:
     """(stage, test): the runs still to do and their time on one worker, s (a stage on coarser
     grains: its runs' time scaled from the campaign specimen's by their work)."""
-    sizes = {test: specimen_size(test, campaign.specimen) for test in campaign.tests()}
+    planned = stages(campaign, store)
+    sizes = {test: specimen_size(test, campaign.specimen) for test in [PRIMARY_TEST, *(t for _, t, _ in planned)]}
     times, _ = run_times(campaign, store, sizes)
     specimen = {step.stage: step.specimen(campaign) for step in STEPS}
     return {(stage, test): (n, n * times[test] * (specimen_size(test, specimen[stage])[2] / sizes[test][2])
                             ** WORK_EXPONENT)
-            for stage, test, n in stages(campaign, store)}
+            for stage, test, n in planned}
 
 
 def stage_times(campaign: Campaign, store, workers: int) -> dict[str, tuple[int, float]]:
@@ -227,7 +230,14 @@ def dry_run(campaign: Campaign, store, workers: int) -> dict:
             "specimens_to_make": len(genesis_times(campaign)), "genesis_expected_s": round(genesis, 1),
             "expected_s": round(compile_s(campaign) + genesis + sum(wall for _, wall in walls.values())
                                 + _main_process_s(campaign), 1),
-            "ucs_runs_time": round(ucs_runs_time(campaign, store), 1), "route": _route_data(campaign, store, workers)}
+            "ucs_runs_time": round(ucs_runs_time(campaign, store), 1), "route": _route_data(campaign, store, workers),
+            IDENTIFIABILITY: _identifiability_data(campaign)}
+
+
+def _identifiability_data(campaign: Campaign) -> dict:
+    """The identifiability stage's runs and their time in UCS runs', [planned, at most]."""
+    runs, ucs_runs = identifiability_cost(campaign)
+    return {"runs": list(runs), "ucs_runs_time": [round(t, 1) for t in ucs_runs]}
 
 
 def ucs_runs_time(campaign: Campaign, store) -> float:
@@ -347,16 +357,34 @@ def _stages_text(campaign: Campaign) -> str:
     """The stages and their runs as planned, and what may add to them: a verification round
     plans the search's optimum (the point it always verifies); it verifies up to [acceptance]
     candidates - 1 more where the surrogate has other distinct optima, and more rounds follow
-    while no verified point passes."""
+    while no verified point passes; the identifiability stage's ends may be pulled in."""
     runs, candidates = stage_runs(campaign), verified_at_most(campaign)
     listed = ", ".join(f"{name} {n}" + _resolution(campaign, name)
                        + (" a round" + _other_optima(n, candidates) if name == VERIFICATION else "")
+                       + (_identifiability_text(campaign) if name == IDENTIFIABILITY else "")
                        for name, n in runs.items())
     point = "run" if runs.get(VERIFICATION) == 1 else "runs"
     others = "" if candidates == 1 else f"a second optimum's {point} and " if candidates == 2 else \
         f"other optima's {point} and "
     return (f"{listed}: {sum(runs.values())} runs, plus {others}more rounds if needed "
             f"(at most {campaign.acceptance.max_dem_runs} UCS runs)")
+
+
+def identifiability_cost(campaign: Campaign) -> tuple[tuple[int, int], tuple[float, float]]:
+    """The identifiability stage's DEM runs, as planned (both ends meet the sheet at their
+    first runs) and at most (each end pulled in `pinning.BISECTIONS` times), and their time
+    in UCS runs' (`cost.relative_time`); a sheet that pins every parameter runs none."""
+    planned = [spec.kind for stage, spec in planned_runs(campaign) if stage == IDENTIFIABILITY]
+    most = planned + bisection_tests(campaign) if planned else []
+    return (len(planned), len(most)), tuple(sum(relative_time(campaign, t) for t in tests)
+                                            for tests in (planned, most))
+
+
+def _identifiability_text(campaign: Campaign) -> str:
+    """The identifiability stage's runs as a range, in words."""
+    (planned, most), (planned_time, most_time) = identifiability_cost(campaign)
+    return (f" to {most} (about {planned_time:.0f} to {most_time:.0f} UCS runs' time; none where the sheet "
+            "pins every parameter)")
 
 
 def _other_optima(point_runs: int, candidates: int) -> str:

@@ -150,7 +150,8 @@ def folded(state: CampaignState, stage: str, points: list[Point], results: list[
     state = replace(state, dem_runs=state.dem_runs + tuple(k for k in dict.fromkeys(primary)
                                                             if k not in state.dem_runs),
                     failed_runs=state.failed_runs + tuple(failed),
-                    specimen_description=state.specimen_description or _description(state, points, per_point))
+                    specimen_description=_description(state, points, per_point)
+                    if state.specimen_description is None else state.specimen_description)
     if failed and all(r is None for r in responses):
         raise CalibrationFailed(f"every forward run of stage '{stage}' failed; first: {failed[0].message}")
     return state, responses

@@ -58,6 +58,8 @@ class Sensitivity(_Part):
     ranking: dict[str, list[str]]
     chosen: list[str]
     rmin_mm: float | None = _absent()  # R_min of its runs, where coarser than the campaign's
+    # the searched parameters whose effect on every target is below the tolerance
+    unseen: list[str] | None = _absent()
 
 
 class Samples(_Part):
@@ -179,6 +181,61 @@ class Verdict(_Part):
     text: str
 
 
+class ParameterRange(_Part):
+    """A searched parameter's range over the points that meet the sheet, the share of its
+    search box it spans, and whether the sheet pins it (that share at most `pinned_share`)."""
+
+    low: float
+    high: float
+    share: float
+    pinned: bool
+    # read in the DEM: the sides ("low", "high") whose end met the sheet there, the accepted
+    # point standing for a side whose runs all missed it (None: read on the surrogate)
+    verified_ends: list[str] | None = None
+
+
+class EndRun(_Part):
+    """The calibrated tests' DEM runs at a trial end of the range the DEM reads: its side,
+    the point, the responses' relative errors against the targets (None: a run failed) and
+    whether they met the sheet (each within its tolerance, or the lab's spread where wider)."""
+
+    side: str
+    point: Values
+    errors: Values | None
+    met: bool
+
+
+class SpreadOfTest(_Part):
+    """A lab test the sheet lacks (or a reading of a test it has, `ucs` for CI and CD), its
+    response at each end (None: the run failed), their spread (max - min over |mean|) and its
+    rank's score: spread per lab work."""
+
+    test: str
+    response: str
+    label: str  # what to measure, in words
+    values: list[float | None]
+    spread: float
+    score: float
+
+
+class Identifiability(_Part):
+    """Which searched parameters the sheet pins (`rockcal.inverse.identifiability`): the bands
+    of predicted responses that meet it, a sample of the points in them and their ranges; the
+    DEM runs at the ends of the widest range not pinned (`end_runs`), the ends kept
+    (`points`), each lacking test's spread between them, the tests ranked and in words."""
+
+    bands: dict[str, tuple[float, float]]  # each target's: the tolerance or spread, with `surrogate_error`
+    surrogate_error: Values  # the surrogate's relative error at the verified points, near the accepted one
+    pinned_share: float
+    ranges: dict[str, ParameterRange]
+    set_points: list[list[float]]  # a sample of the set (the figure)
+    end_runs: list[EndRun]  # in the order they ran
+    points: list[Values]  # the ends kept, where the lacking tests ran (none: no test ranked)
+    tests: list[SpreadOfTest]  # ranked, best first
+    runs: int  # DEM runs the stage asked for that no earlier stage ran
+    text: str
+
+
 AT_BOUND = 0.01  # a parameter within this share of its search box from a bound is on it
 
 
@@ -245,6 +302,7 @@ class CalibrationResult(_Part):
     executed_runs: int | None = _absent()  # by this call of `rockcal calibrate`
     quick_look: str | None = _absent()  # what the quick look (`--quick`) was; None: the calibration
     at_bounds: list[str] | None = _absent()  # identified parameters on their search bound (`on_bounds`)
+    identifiability: Identifiability | None = _absent()  # when accepted: which parameters the sheet pins
 
     def responses_by_test(self) -> dict[str, list[str]]:
         """The target responses of each lab test calibrated against."""

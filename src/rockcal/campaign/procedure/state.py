@@ -4,6 +4,7 @@ of `steps` reads and adds to, and a verification round's points (`Round`)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -13,6 +14,9 @@ from rockcal.campaign.procedure.points import CalibrationFailed
 from rockcal.campaign.procedure.result import FailedRun, Iteration, Samples, Sensitivity, SurrogateCheck
 from rockcal.campaign.procedure.rounding import stand_in
 from rockcal.inverse import RBFSurrogate
+
+if TYPE_CHECKING:
+    from rockcal.campaign.procedure.pinning import Narrowing
 
 
 @dataclass(frozen=True)
@@ -44,6 +48,8 @@ class CampaignState:
     final: dict = field(default_factory=dict)  # the last step's parts of the result
     planning: bool = False  # the first screen's state: points found by searching are stand-ins
     pending: Round | None = None  # a round's points whose UCS runs met the tolerance ([acceptance] ucs_first)
+    notes: tuple[str, ...] = ()  # warnings the steps leave for the screen as they go
+    narrowing: Narrowing | None = None  # the identifiability stage between its batches
 
     @property
     def names(self) -> list[str]:

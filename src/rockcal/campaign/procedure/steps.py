@@ -2,14 +2,16 @@
 analysis), coarse Latin hypercube samples (multi-fidelity, when asked for), Latin hypercube
 samples and the surrogate's checks, the search on the surrogate and
 its DEM verification (a loop, until a verified point is accepted), then the packings and
-validation runs at the identified point (the parameters' intervals, the curve fit, the checks).
+validation runs at the identified point (the parameters' intervals, the curve fit, the checks),
+and last, at an accepted point, which parameters the sheet pins and which test would pin the others.
 
 A step is a function of the results so far (`state.CampaignState`) that returns the forward
 runs it needs and how to fold their results into the next state (`Runs`). `calibrate` passes
 the runs to the executor it is given (serial, process pool or Dask) and folds; the first screen
 (`rockcal.campaign.plan.screen`) asks the same steps for their runs at the planning state
 (`planning_state`), so what is planned is what runs (but for a verification round's other
-optima and further rounds, which the first screen names: `verification_runs`). Each parameter
+optima and further rounds, and the identifiability stage's bisections, which the first screen
+names: `verification_runs`, `pinning`). Each parameter
 set runs every lab test calibrated against (a test with a series, such as confined compression
 at several confinements, one run per value, folded by the test's `combine`), and their
 responses make one dict: the steps see one forward model whatever the tests behind it.
@@ -37,6 +39,7 @@ from rockcal.campaign.procedure.points import (CalibrationFailed, first_packing,
 from rockcal.campaign.procedure.rounding import rounded, rounded_rows, stand_in
 from rockcal.campaign.procedure.state import CampaignState, Round
 from rockcal.campaign.procedure.verdict import verdict_of
+from rockcal.campaign.procedure.pinning import IDENTIFIABILITY, pinning_runs, planned_runs
 from rockcal.campaign.procedure.final import KIC_TEST, checks_of, curve_fit_of, uncertainty_of, validation_of
 from rockcal.inverse import RBFSurrogate, Objective, design, latin_hypercube, range_analysis
 from rockcal.inverse.multifidelity import CorrectedSurrogate
@@ -84,9 +87,10 @@ class Step:
 
 def calibrate(campaign: Campaign, executor, progress: Progress | None = None) -> CalibrationResult:
     """Run the campaign's steps with `executor` (its `run(specs, progress)` returns results in
-    order); returns what the campaign found."""
+    order); returns what the campaign found. A note a step leaves in the state (a parameter the
+    targets barely see) goes to `progress.note(text)` as soon as the step is done, if it has one."""
     progress = progress or (lambda stage, done, total: None)
-    state = start(campaign)
+    state, told = start(campaign), 0
     for step in STEPS:
         while True:
             runs = step.runs(state)
@@ -95,6 +99,9 @@ def calibrate(campaign: Campaign, executor, progress: Progress | None = None) ->
             state = runs.fold(results, progress)
             if not step.again(state):
                 break
+        for note in state.notes[told:]:
+            getattr(progress, "note", lambda text: None)(note)
+        told = len(state.notes)
     return result_of(state)
 
 
@@ -151,14 +158,22 @@ def sensitivity_runs(state: CampaignState) -> Runs:
         names = list(state.goals.targets)
         table = _fill_failed({r: [None if v is None else v[r] for v in responses] for r in names})
         analysis = range_analysis({f: np.array([row[f] for row in rows]) for f in rows[0]}, table)
+        bounds, fixed = search_space(campaign, analysis.chosen(settings.threshold))
+        unseen = analysis.unseen(state.goals.targets, campaign.acceptance.tolerance, list(bounds))
         study = Sensitivity(array=settings.array, runs=rows, run_responses=responses,
                             imputed_runs=[i for i, v in enumerate(responses) if v is None],
                             rmin_mm=specimen.rmin_mm if specimen != campaign.specimen else None,
-                            **analysis.to_dict(settings.threshold))
-        bounds, fixed = search_space(campaign, analysis.chosen(settings.threshold))
-        return replace(new, bounds=bounds, fixed=fixed, sensitivity=study)
+                            unseen=unseen or None, **analysis.to_dict(settings.threshold))
+        notes = tuple(unseen_note(name, campaign.acceptance.tolerance) for name in unseen)
+        return replace(new, bounds=bounds, fixed=fixed, sensitivity=study, notes=new.notes + notes)
 
     return Runs(point_specs(state, points), fold)
+
+
+def unseen_note(name: str, tolerance: float) -> str:
+    """The warning of a searched parameter the targets barely see (`RangeAnalysis.unseen`)."""
+    return (f"{name}'s effect on every target is below the tolerance (±{100 * tolerance:g} %) in the sensitivity "
+            "runs: these targets will not pin it")
 
 
 # -- step 2: coarse samples (multi-fidelity), samples, surrogate and its check -------------------
@@ -467,6 +482,19 @@ def validation_seeds(campaign: Campaign, test: str) -> list[int]:
     return seed_list(s.seed, max(packings_of(campaign, test), getattr(s, f"{test}_seeds", 1)))
 
 
+# -- step 5: identifiability ------------------------------------------------------------------
+
+def identifiability_runs(state: CampaignState) -> Runs:
+    """At an accepted point: which searched parameters the sheet pins, a batch at a time
+    (`pinning`): the DEM runs at the ends of the widest range not pinned, then the lacking
+    tests' there. The plan: both ends meet the sheet at their first runs (`planned_runs`)."""
+    if state.planning:
+        return Runs(planned_runs(state), _not_folded)
+    if state.accepted is None:
+        return Runs([], lambda results, progress: state)
+    return Runs(*pinning_runs(state, _judged))
+
+
 # -- the list ----------------------------------------------------------------------------------
 
 STEPS: tuple[Step, ...] = (
@@ -475,6 +503,7 @@ STEPS: tuple[Step, ...] = (
     Step(SAMPLES_AND_CHECKS, sample_runs),
     Step(VERIFICATION, verification_runs, again=lambda state: not state.settled),
     Step(PACKINGS_AND_VALIDATION, final_runs),
+    Step(IDENTIFIABILITY, identifiability_runs, again=lambda state: state.narrowing is not None),
 )
 
 

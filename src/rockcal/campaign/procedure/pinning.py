@@ -1,0 +1,318 @@
+"""The identifiability stage, after an accepted point's packings and validation: which searched
+parameters the lab sheet pins, and which lab test it lacks would pin the others.
+
+On the surrogate of every run, the points whose predicted responses meet every target
+(`rockcal.inverse.identifiability`: each within the tolerance, or the lab's spread where wider,
+plus the surrogate's error at the verified points) give each parameter's range. That set is an
+outer bound, so the widest range it does not pin is read in the DEM: the calibrated tests run
+at its two ends; an end whose runs miss the sheet (the bands without the surrogate's error) is
+pulled halfway towards the accepted point and run again, at most BISECTIONS times. The range
+kept lies between the ends that met the sheet (the accepted point on a side where none did),
+and decides that parameter's verdict. Each lab test the sheet lacks runs at the two ends kept,
+ranked by how much its response varies between them per run of lab work: the test that would
+pin the parameter."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Callable
+
+import numpy as np
+
+from rockcal.campaign.plan.cost import relative_time
+from rockcal.campaign.procedure.points import CalibrationFailed, folded, point_specs, spec_of
+from rockcal.campaign.procedure.result import EndRun, Identifiability, ParameterRange, SpreadOfTest
+from rockcal.campaign.procedure.rounding import rounded, stand_in
+from rockcal.campaign.runs.spec import RunSpec
+from rockcal.errors import InputError
+from rockcal.inverse.identifiability import (bands, ends_of, in_bands, kept, meeting_set, meets,
+                                             parameter_ranges)
+from rockcal.labtests.registry import LAB_TESTS, PRIMARY_TEST, lab_test
+from rockcal.specimens.grain_limit import check_grains, expected_grains
+from rockcal.specimens.specimen import SHIPPED_DIR
+
+if TYPE_CHECKING:
+    from rockcal.campaign.procedure.state import CampaignState
+
+IDENTIFIABILITY = "identifiability"  # the stage's name
+SIDES = ("low", "high")  # the two ends of the range the DEM reads
+BISECTIONS = 2  # times an end that misses the sheet is pulled halfway towards the accepted point
+CONFINEMENT_MPA = 10.0  # a confined test the sheet lacks runs at this confinement
+# a test not named in [identifiability] tests runs only where its two runs cost at most this
+# many UCS runs and rockcal ships its packing (a genesis takes longer than the runs): the stage
+# stays the ends' runs of the calibrated tests and little more, a small part of the campaign
+MOST_UCS_RUNS = 1.0
+# a test's lab work against a Brazilian disk's (its specimens' making, its rig): the ranking
+# divides each test's spread by it; the UCS test's CI and CD are readings of tests already done
+LAB_WORK = {PRIMARY_TEST: 0.5, "brazilian": 1.0, "bending": 1.5, "biaxial": 2.0, "direct_tension": 2.0}
+READINGS = {"ci_MPa": "read the crack initiation stress (CI) of your UCS tests",
+            "cd_MPa": "read the crack damage stress (CD) of your UCS tests"}
+ADVICE = {"brazilian": "Brazilian (indirect tensile) strength", "direct_tension": "direct tensile strength",
+          "biaxial": f"strength confined at {CONFINEMENT_MPA:g} MPa",
+          "bending": "fracture toughness K_IC (notched-beam bending)"}
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """A response the ranking may name: a lab test the sheet lacks (its strength, at `own`
+    settings) or a reading of the UCS test the sheet has not given."""
+
+    test: str
+    response: str
+    own: dict
+    label: str
+
+
+def candidates(campaign) -> list[Candidate]:
+    """[identifiability] tests, else every test the campaign's dimension and material can run on
+    its specimen settings that costs little (`_cheap`), that it does not calibrate against (a
+    validation check's included: the user has its value); and the UCS test's CI and CD where
+    they are no target."""
+    named, calibrated = campaign.identifiability.tests, campaign.target_sections()
+    targets = {r for section in calibrated.values() for r in section.measured()}
+    found = [Candidate(PRIMARY_TEST, r, {}, label) for r, label in READINGS.items()
+             if r not in targets and (named is None or PRIMARY_TEST in named)]
+    for test, kind in LAB_TESTS.items():
+        if test == PRIMARY_TEST or test in calibrated or (named is not None and test not in named):
+            continue
+        own = {kind.series.name: CONFINEMENT_MPA} if kind.series else {}
+        if not _runs_here(kind, campaign, own) or (named is None and not _cheap(campaign, test)):
+            continue
+        what = ADVICE.get(test, f"{kind.title} {kind.strength_response.name}")
+        label = (f"calibrate against the {what} you have ([validation] tests names it a check only)"
+                 if test in campaign.validation_tests() else f"measure the {what}")
+        found.append(Candidate(test, kind.strength_response.name, own, label))
+    return found
+
+
+def _cheap(campaign, test: str) -> bool:
+    """Whether a test's runs at the two ends take at most MOST_UCS_RUNS UCS runs' time on a
+    packing rockcal ships (the campaign's seed's)."""
+    name = lab_test(test).packing_file(campaign.specimen)
+    shipped = name is None or (SHIPPED_DIR / name).exists()
+    return shipped and len(SIDES) * relative_time(campaign, test) <= MOST_UCS_RUNS
+
+
+def _runs_here(kind, campaign, own: dict) -> bool:
+    """Whether the test runs in the campaign's dimension and material, on a specimen its
+    specimen settings make (in 2D, within the grain limit; a 3D test's check counts them)."""
+    s = campaign.specimen
+    try:
+        kind.check_dimensions(s.dimensions, campaign.material.model)
+        kind.check(kind.settings_of(s) | own)
+        if s.dimensions == 2:
+            p = kind.packing(s)
+            check_grains(kind.name, kind.title, expected_grains(p["width_mm"], p["height_mm"], p["rmin_mm"],
+                                                                p["radius_ratio"], p["genesis"].cloud_porosity))
+    except InputError:
+        return False
+    return True
+
+
+@dataclass(frozen=True)
+class Narrowing:
+    """The stage between its batches of runs: the record as the surrogate's set gives it, the
+    parameter whose range the DEM reads, the DEM runs at its ends so far and each side's point
+    to run next (None: settled, by a run that met the sheet or by its last bisection)."""
+
+    found: Identifiability
+    name: str
+    next: tuple[dict | None, dict | None]
+    keys: tuple[str, ...] = ()  # of the runs asked for so far
+
+
+def pinning_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec], Callable]:
+    """The stage's next batch at an accepted point and the fold that records what it says:
+    the ends' runs of the calibrated tests while a side is not settled, then the lacking
+    tests' at the ends kept (`Identifiability` in the state's `final`; `judged(state)`: the
+    surrogate of every run)."""
+    if state.narrowing is None:
+        found, points = surrogate_set(state, judged(state))
+        loose = {n: r for n, r in found.ranges.items() if not r.pinned}
+        if not loose or not state.campaign.identifiability.runs:
+            done = found.model_copy(update={"text": text_of(found, state.campaign)})
+            return [], lambda results, progress: replace(state, final=state.final | {"identifiability": done})
+        name = max(loose, key=lambda n: loose[n].share)
+        start = np.array([state.identified()[n] for n in state.names])
+        ends = [dict(zip(state.names, rounded(row, state.whole)))
+                for row in ends_of(points, state.names.index(name), start, state.box)]
+        state = replace(state, narrowing=Narrowing(found, name, tuple(ends)))
+    if any(row is not None for row in state.narrowing.next):
+        return _end_runs(state)
+    return _ranking_runs(state)
+
+
+def surrogate_set(state: CampaignState, surrogate) -> tuple[Identifiability, np.ndarray]:
+    """The record as the surrogate gives it and the points that meet every target within its
+    band with the surrogate's error at the verified points (`surrogate_error`): each
+    parameter's range over them."""
+    campaign, names, box = state.campaign, state.names, state.box
+    error = surrogate_error(state)
+    band = bands(state.goals.targets, campaign.acceptance.tolerance, state.goals.spread, error)
+    start = np.array([state.identified()[n] for n in names])
+    points = meeting_set(meets(surrogate.predict, band), box, start, seed=campaign.surrogate.seed)
+    points = points if len(points) else start[None]  # the surrogate misses the sheet: the verified point
+    share = campaign.identifiability.pinned_share
+    ranges = {n: ParameterRange(**r) for n, r in parameter_ranges(points, box, names, share).items()}
+    return Identifiability(bands=band, surrogate_error=error, pinned_share=share, ranges=ranges,
+                           set_points=kept(points).tolist(), end_runs=[], points=[], tests=[], runs=0,
+                           text=""), points
+
+
+def surrogate_error(state: CampaignState) -> dict[str, float]:
+    """Each target's largest relative error of the surrogate's predictions at the verified
+    points (before their runs trained it): its error near the accepted point, where the
+    verification loop's points lie."""
+    pairs = [(it.predicted, it.verified) for it in state.iterations if it.verified is not None]
+    return {r: max((abs(p[r] / v[r] - 1) for p, v in pairs if r in p and r in v and v[r]), default=0.0)
+            for r in state.goals.targets}
+
+
+def _end_runs(state: CampaignState) -> tuple[list[RunSpec], Callable]:
+    """The calibrated tests' runs at each side's next point (on their packings, as a verified
+    point's), and the fold that settles a side whose runs met the sheet or pulls its point
+    halfway towards the accepted point."""
+    n, campaign = state.narrowing, state.campaign
+    pending = [(side, row) for side, row in zip(SIDES, n.next) if row is not None]
+    points = [(campaign.specimen, row) for _, row in pending]
+    specs = point_specs(state, points, means=True)
+    sheet = bands(state.goals.targets, campaign.acceptance.tolerance, state.goals.spread, None)
+    x0 = state.identified()
+
+    def fold(results, progress):
+        try:
+            new, found = folded(state, IDENTIFIABILITY, points, results, means=True)
+        except CalibrationFailed:  # every run failed: the sides' next points
+            new, found = state, [None] * len(points)
+        runs = [EndRun(side=side, point=row, errors=_errors(state.goals.targets, v),
+                       met=v is not None and in_bands(v, sheet)) for (side, row), v in zip(pending, found)]
+        end_runs = n.found.end_runs + runs
+        tried = {side: sum(r.side == side for r in end_runs) for side in SIDES}
+        settled = {r.side: r for r in runs if r.met or tried[r.side] > BISECTIONS}
+        next_ = tuple(None if row is None or side in settled else _halfway(state, row, x0)
+                      for side, row in zip(SIDES, n.next))
+        found_now = n.found.model_copy(update={"end_runs": end_runs})
+        # the calibration's run budget (dem_runs) counts none of the stage's runs
+        return replace(new, dem_runs=state.dem_runs,
+                       narrowing=replace(n, found=found_now, next=next_, keys=n.keys + tuple(s.key for s in specs)))
+
+    return specs, fold
+
+
+def _halfway(state: CampaignState, row: dict, x0: dict) -> dict:
+    return dict(zip(state.names, rounded(np.array([(row[n] + x0[n]) / 2 for n in state.names]), state.whole)))
+
+
+def _errors(targets: dict[str, float], responses: dict | None) -> dict | None:
+    return None if responses is None else {r: responses[r] / t - 1 for r, t in targets.items()}
+
+
+def _ranking_runs(state: CampaignState) -> tuple[list[RunSpec], Callable]:
+    """The range the DEM read (between the ends that met the sheet, the accepted point on a
+    side where none did), each lacking test's runs at its two ends where it is not pinned,
+    and the fold that ranks them and records the stage."""
+    n, campaign = state.narrowing, state.campaign
+    x0 = state.identified()
+    met = {r.side: r.point for r in n.found.end_runs if r.met}
+    ends = [met.get(side, x0) for side in SIDES]
+    low, high = sorted(end[n.name] for end in ends)
+    box_low, box_high = state.bounds[n.name]
+    share = (high - low) / (box_high - box_low)
+    read = ParameterRange(low=low, high=high, share=share, pinned=share <= n.found.pinned_share,
+                          verified_ends=[side for side in SIDES if side in met])
+    tests = [] if read.pinned else candidates(campaign)
+    asked = [(c, [spec_of(state, c.test, campaign.specimen, row, c.own) for row in ends]) for c in tests]
+    specs = list({spec.key: spec for _, runs in asked for spec in runs}.values())
+    keys = set(n.keys) | {spec.key for spec in specs}
+
+    def fold(results, progress):
+        done = dict(zip((spec.key for spec in specs), results))
+        ranked = sorted((_spread(c, [done[spec.key] for spec in runs]) for c, runs in asked), key=lambda t: -t.score)
+        found = n.found.model_copy(update={"ranges": n.found.ranges | {n.name: read}, "points": ends if tests else [],
+                                           "tests": ranked, "runs": len(keys - set(state.dem_runs))})
+        found = found.model_copy(update={"text": text_of(found, campaign)})
+        return replace(state, narrowing=None, final=state.final | {"identifiability": found})
+
+    return specs, fold
+
+
+def planned_runs(state: CampaignState) -> list[RunSpec]:
+    """The stage's runs as the first screen plans them (the planning state): both ends of the
+    first searched parameter's range meet the sheet at their first runs, and each lacking test
+    runs there; none with [identifiability] runs = false."""
+    campaign = state.campaign
+    if not campaign.identifiability.runs:
+        return []
+    x = stand_in(state.box, state.whole)
+    ends = [dict(zip(state.names, rounded(np.r_[state.box[0, k], x[1:]], state.whole))) for k in (0, 1)]
+    specs = point_specs(state, [(campaign.specimen, row) for row in ends], means=True)
+    specs += [spec_of(state, c.test, campaign.specimen, row, c.own) for c in candidates(campaign) for row in ends]
+    return list({spec.key: spec for spec in specs}.values())
+
+
+def bisection_tests(campaign) -> list[str]:
+    """The test of each run the ends' bisections may add to the planned runs, at most."""
+    if not campaign.identifiability.runs:
+        return []
+    per_point = [test for test, s in campaign.target_sections().items()
+                 for _ in range(max(1, len(s.series())) * s.packings)]
+    return len(SIDES) * BISECTIONS * per_point
+
+
+def _spread(candidate: Candidate, results: list) -> SpreadOfTest:
+    """A candidate's response at each point (None where its run failed) and their spread."""
+    values = [_number(r.responses.get(candidate.response)) if r.status == "ok" else None for r in results]
+    ok = [v for v in values if v is not None]
+    spread = float((max(ok) - min(ok)) / abs(np.mean(ok))) if len(ok) > 1 and np.mean(ok) != 0 else 0.0
+    return SpreadOfTest(test=candidate.test, response=candidate.response, label=candidate.label, values=values,
+                        spread=spread, score=spread / LAB_WORK.get(candidate.test, 1.0))
+
+
+def _number(value) -> float | None:
+    """A response's value, None where the run gave none (a CI no crack marked)."""
+    return float(value) if isinstance(value, (int, float)) and np.isfinite(value) else None
+
+
+def text_of(found: Identifiability, campaign) -> str:
+    """What the stage found, in a sentence or two."""
+    tolerance = campaign.acceptance.tolerance
+    loose = {n: r for n, r in found.ranges.items() if not r.pinned}
+    read = next((n for n, r in found.ranges.items() if r.verified_ends is not None), None)
+    if loose:
+        listed = ", ".join(f"{n} {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box, "
+                           + ("on the surrogate" if r.verified_ends is None else f"read in the DEM: {_ends_text(found)}")
+                           + ")" for n, r in loose.items())
+        text = f"the sheet does not pin {' and '.join(loose)}: the points that meet it range over {listed}"
+    else:
+        widest = max(r.share for r in found.ranges.values())
+        text = (f"the sheet pins every searched parameter: among the points that meet it, each ranges over at most "
+                f"{100 * widest:.0f} % of its search box")
+    if read is not None and read not in loose:
+        r = found.ranges[read]
+        text += (f"; {read}'s range, read in the DEM, is {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box: "
+                 f"{_ends_text(found)})")
+    useful = [t for t in found.tests if t.spread > 2 * tolerance]
+    if useful:
+        best = useful[0]
+        return (text + f". {best.label[0].upper()}{best.label[1:]}: it varies {100 * best.spread:.0f} % between the "
+                f"ends; add it to [targets] and resume (--resume keeps the runs done).")
+    if loose and not campaign.identifiability.runs:
+        return text + ". [identifiability] runs = false: no lab test was run to name one that would pin it."
+    if read is None or read not in loose:
+        return text + "."
+    ran = ", ".join(dict.fromkeys(t.response for t in found.tests)) or "none"
+    return (text + f". No response run at the ends ({ran}) varies more than ±{100 * tolerance:g} % between them: "
+            "name dearer tests in [identifiability] tests, or narrow the search box with what you know of the "
+            "parameter.")
+
+
+def _ends_text(found: Identifiability) -> str:
+    """Which ends of the range read in the DEM met the sheet there, and its runs, in words."""
+    ends = next(r.verified_ends for r in found.ranges.values() if r.verified_ends is not None)
+    runs = len(found.end_runs)
+    if len(ends) == 2:
+        return f"both ends met the sheet, {runs} runs"
+    if ends:
+        other = "high" if ends == ["low"] else "low"
+        return f"its {ends[0]} end met the sheet, its {other} end is the accepted point, {runs} runs"
+    return f"no end met the sheet, {runs} runs: the accepted point alone"
