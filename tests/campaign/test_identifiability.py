@@ -183,8 +183,8 @@ def test_the_first_screen_plans_the_stage_with_both_ends_meeting_the_sheet_at_on
     most = 2 + 2 * pinning.BISECTIONS
     assert identifiability_cost(campaign) == ((2, most), (pytest.approx(2.0), pytest.approx(most)))
     store = RunStore(tmp_path / "out")
-    assert f"identifiability 2 to {most} (about 2 to {most} UCS runs' time; none where the sheet pins every " \
-           "parameter)" in describe(campaign, store, workers=None)[1]
+    assert f"identifiability 2 to {most} a range it reads in the DEM (about 2 to {most} UCS runs' time; " \
+           "the widest range not pinned first" in describe(campaign, store, workers=None)[1]
     named = planned(parse_campaign(campaign_text() + NAMED, tmp_path))
     assert identifiability_cost(named)[0] == (2 + 2 * 4, most + 2 * 4)  # and the four other tests at each end
     off = planned(parse_campaign(campaign_text() + "[identifiability]\nruns = false\n", tmp_path))

@@ -46,8 +46,9 @@ packings = 4
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=2)
     assert "about 12940 grains" in lines[0]
     assert lines[1] == ("stages: sensitivity 9, samples and checks 14, verification 1 a round (2 when the "
-                        "surrogate has a second optimum), packings and validation 5, identifiability 2 to 6 (about "
-                        "2 to 6 UCS runs' time; none where the sheet pins every parameter): 31 runs, plus a second "
+                        "surrogate has a second optimum), packings and validation 5, identifiability 2 to 6 a range it "
+                        "reads in the DEM (about 2 to 6 UCS runs' time; the widest range not pinned first, the next "
+                        "where the DEM pins it; none where the sheet pins every parameter): 31 runs, plus a second "
                         "optimum's run and more rounds if needed (at most 80 UCS runs)")
     assert lines[-1].startswith("expected: about ") and "29 UCS and 2 bending runs" in lines[-1]
 

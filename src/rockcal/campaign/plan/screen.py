@@ -383,8 +383,9 @@ def identifiability_cost(campaign: Campaign) -> tuple[tuple[int, int], tuple[flo
 def _identifiability_text(campaign: Campaign) -> str:
     """The identifiability stage's runs as a range, in words."""
     (planned, most), (planned_time, most_time) = identifiability_cost(campaign)
-    return (f" to {most} (about {planned_time:.0f} to {most_time:.0f} UCS runs' time; none where the sheet "
-            "pins every parameter)")
+    return (f" to {most} a range it reads in the DEM (about {planned_time:.0f} to {most_time:.0f} UCS runs' time; "
+            "the widest range not pinned first, the next where the DEM pins it; none where the sheet pins "
+            "every parameter)")
 
 
 def _other_optima(point_runs: int, candidates: int) -> str:

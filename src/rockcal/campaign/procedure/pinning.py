@@ -4,13 +4,14 @@ parameters the lab sheet pins, and which lab test it lacks would pin the others.
 On the surrogate of every run, the points whose predicted responses meet every target
 (`rockcal.inverse.identifiability`: each within the tolerance, or the lab's spread where wider,
 plus the surrogate's error at the verified points) give each parameter's range. That set is an
-outer bound, so the widest range it does not pin is read in the DEM: the calibrated tests run
-at its two ends; an end whose runs miss the sheet (the bands without the surrogate's error) is
-pulled halfway towards the accepted point and run again, at most BISECTIONS times. The range
-kept lies between the ends that met the sheet (the accepted point on a side where none did),
-and decides that parameter's verdict. Each lab test the sheet lacks runs at the two ends kept,
-ranked by how much its response varies between them per run of lab work: the test that would
-pin the parameter."""
+outer bound, so the ranges it does not pin are read in the DEM, widest first: the calibrated
+tests run at a range's two ends; an end whose runs miss the sheet (the bands without the
+surrogate's error) is pulled halfway towards the accepted point and run again, at most
+BISECTIONS times. The range kept lies between the ends that met the sheet (the accepted point
+on a side where none did), and decides that parameter's verdict; where the DEM pins it, the
+next range not pinned is read. Each lab test the sheet lacks runs at the two ends of the first
+range the DEM leaves not pinned, ranked by how much its response varies between them per run
+of lab work: the test that would pin the parameter."""
 
 from __future__ import annotations
 
@@ -44,12 +45,13 @@ CONFINEMENT_MPA = 10.0  # a confined test the sheet lacks runs at this confineme
 MOST_UCS_RUNS = 1.0
 # a test's lab work against a Brazilian disk's (its specimens' making, its rig): the ranking
 # divides each test's spread by it; the UCS test's CI and CD are readings of tests already done
-LAB_WORK = {PRIMARY_TEST: 0.5, "brazilian": 1.0, "bending": 1.5, "biaxial": 2.0, "direct_tension": 2.0}
+LAB_WORK = {PRIMARY_TEST: 0.5, "brazilian": 1.0, "bending": 1.5, "scb": 1.0, "biaxial": 2.0, "direct_tension": 2.0}
 READINGS = {"ci_MPa": "read the crack initiation stress (CI) of your UCS tests",
             "cd_MPa": "read the crack damage stress (CD) of your UCS tests"}
 ADVICE = {"brazilian": "Brazilian (indirect tensile) strength", "direct_tension": "direct tensile strength",
           "biaxial": f"strength confined at {CONFINEMENT_MPA:g} MPa",
-          "bending": "fracture toughness K_IC (notched-beam bending)"}
+          "bending": "fracture toughness K_IC (notched-beam bending)",
+          "scb": "fracture toughness K_IC (semi-circular bend)"}
 
 
 @dataclass(frozen=True)
@@ -119,6 +121,7 @@ class Narrowing:
     name: str
     next: tuple[dict | None, dict | None]
     keys: tuple[str, ...] = ()  # of the runs asked for so far
+    first: int = 0  # the first of found.end_runs at this parameter's ends
 
 
 def pinning_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec], Callable]:
@@ -126,20 +129,35 @@ def pinning_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec],
     the ends' runs of the calibrated tests while a side is not settled, then the lacking
     tests' at the ends kept (`Identifiability` in the state's `final`; `judged(state)`: the
     surrogate of every run)."""
-    if state.narrowing is None:
+    n = state.narrowing
+    if n is None:
         found, points = surrogate_set(state, judged(state))
-        loose = {n: r for n, r in found.ranges.items() if not r.pinned}
-        if not loose or not state.campaign.identifiability.runs:
+        if _widest_unread(found) is None or not state.campaign.identifiability.runs:
             done = found.model_copy(update={"text": text_of(found, state.campaign)})
             return [], lambda results, progress: replace(state, final=state.final | {"identifiability": done})
-        name = max(loose, key=lambda n: loose[n].share)
-        start = np.array([state.identified()[n] for n in state.names])
-        ends = [dict(zip(state.names, rounded(row, state.whole)))
-                for row in ends_of(points, state.names.index(name), start, state.box)]
-        state = replace(state, narrowing=Narrowing(found, name, tuple(ends)))
-    if any(row is not None for row in state.narrowing.next):
-        return _end_runs(state)
-    return _ranking_runs(state)
+        state = _narrowing(state, found, points, ())
+    elif all(row is None for row in n.next):
+        read = _read_range(state)
+        found = n.found.model_copy(update={"ranges": n.found.ranges | {n.name: read}})
+        if not read.pinned or _widest_unread(found) is None:
+            return _ranking_runs(replace(state, narrowing=replace(n, found=found)), read)
+        state = _narrowing(state, found, surrogate_set(state, judged(state))[1], n.keys)
+    return _end_runs(state)
+
+
+def _widest_unread(found: Identifiability) -> str | None:
+    """The parameter of the widest range not pinned that the DEM has not read (None: none)."""
+    loose = {n: r for n, r in found.ranges.items() if not r.pinned and r.verified_ends is None}
+    return max(loose, key=lambda n: loose[n].share) if loose else None
+
+
+def _narrowing(state: CampaignState, found: Identifiability, points: np.ndarray, keys: tuple) -> CampaignState:
+    """The state reading the widest unread range not pinned in the DEM next: its two ends."""
+    name = _widest_unread(found)
+    start = np.array([state.identified()[n] for n in state.names])
+    ends = [dict(zip(state.names, rounded(row, state.whole)))
+            for row in ends_of(points, state.names.index(name), start, state.box)]
+    return replace(state, narrowing=Narrowing(found, name, tuple(ends), keys, first=len(found.end_runs)))
 
 
 def surrogate_set(state: CampaignState, surrogate) -> tuple[Identifiability, np.ndarray]:
@@ -187,7 +205,7 @@ def _end_runs(state: CampaignState) -> tuple[list[RunSpec], Callable]:
         runs = [EndRun(side=side, point=row, errors=_errors(state.goals.targets, v),
                        met=v is not None and in_bands(v, sheet)) for (side, row), v in zip(pending, found)]
         end_runs = n.found.end_runs + runs
-        tried = {side: sum(r.side == side for r in end_runs) for side in SIDES}
+        tried = {side: sum(r.side == side for r in end_runs[n.first:]) for side in SIDES}
         settled = {r.side: r for r in runs if r.met or tried[r.side] > BISECTIONS}
         next_ = tuple(None if row is None or side in settled else _halfway(state, row, x0)
                       for side, row in zip(SIDES, n.next))
@@ -207,19 +225,30 @@ def _errors(targets: dict[str, float], responses: dict | None) -> dict | None:
     return None if responses is None else {r: responses[r] / t - 1 for r, t in targets.items()}
 
 
-def _ranking_runs(state: CampaignState) -> tuple[list[RunSpec], Callable]:
-    """The range the DEM read (between the ends that met the sheet, the accepted point on a
-    side where none did), each lacking test's runs at its two ends where it is not pinned,
-    and the fold that ranks them and records the stage."""
-    n, campaign = state.narrowing, state.campaign
-    x0 = state.identified()
-    met = {r.side: r.point for r in n.found.end_runs if r.met}
-    ends = [met.get(side, x0) for side in SIDES]
+def _ends_read(state: CampaignState) -> tuple[dict, list[dict]]:
+    """The sides whose end met the sheet in the DEM (their points) and the two ends kept (the
+    accepted point on a side where none did), at the parameter being read."""
+    n = state.narrowing
+    met = {r.side: r.point for r in n.found.end_runs[n.first:] if r.met}
+    return met, [met.get(side, state.identified()) for side in SIDES]
+
+
+def _read_range(state: CampaignState) -> ParameterRange:
+    """The range the DEM read: between the ends kept (`_ends_read`)."""
+    n = state.narrowing
+    met, ends = _ends_read(state)
     low, high = sorted(end[n.name] for end in ends)
     box_low, box_high = state.bounds[n.name]
     share = (high - low) / (box_high - box_low)
-    read = ParameterRange(low=low, high=high, share=share, pinned=share <= n.found.pinned_share,
+    return ParameterRange(low=low, high=high, share=share, pinned=share <= n.found.pinned_share,
                           verified_ends=[side for side in SIDES if side in met])
+
+
+def _ranking_runs(state: CampaignState, read: ParameterRange) -> tuple[list[RunSpec], Callable]:
+    """Each lacking test's runs at the two ends of the range the DEM `read` where it is not
+    pinned, and the fold that ranks them and records the stage."""
+    n, campaign = state.narrowing, state.campaign
+    ends = _ends_read(state)[1]
     tests = [] if read.pinned else candidates(campaign)
     asked = [(c, [spec_of(state, c.test, campaign.specimen, row, c.own) for row in ends]) for c in tests]
     specs = list({spec.key: spec for _, runs in asked for spec in runs}.values())
