@@ -170,8 +170,8 @@ def test_a_surrogate_set_too_wide_is_narrowed_by_the_dem_to_ends_that_meet_the_s
     assert max(set_points) - min(set_points) > 2 * (sigma.high - sigma.low)  # narrowed by the DEM
     assert 0.95 * TRUE["sigma_c"] <= sigma.low <= TRUE["sigma_c"] <= sigma.high <= 1.05 * TRUE["sigma_c"]
     assert found.tests == [] and found.runs == 6 and found.text.startswith("the sheet pins every searched parameter")
-    assert f"; sigma_c's range, read in the DEM, is {sigma.low:.4g}–{sigma.high:.4g}" in found.text
-    assert found.text.endswith("both ends met the sheet, 6 runs).")
+    assert f"; read in the DEM, sigma_c's range is {sigma.low:.4g}–{sigma.high:.4g}" in found.text
+    assert found.text.endswith("both ends met the sheet) (6 runs).")
 
 
 def test_the_first_screen_plans_the_stage_with_both_ends_meeting_the_sheet_at_once(tmp_path):

@@ -306,20 +306,22 @@ def text_of(found: Identifiability, campaign) -> str:
     """What the stage found, in a sentence or two."""
     tolerance = campaign.acceptance.tolerance
     loose = {n: r for n, r in found.ranges.items() if not r.pinned}
-    read = next((n for n, r in found.ranges.items() if r.verified_ends is not None), None)
+    read = [n for n, r in found.ranges.items() if r.verified_ends is not None]
+    runs = f"{len(found.end_runs)} runs"
     if loose:
         listed = ", ".join(f"{n} {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box, "
-                           + ("on the surrogate" if r.verified_ends is None else f"read in the DEM: {_ends_text(found)}")
-                           + ")" for n, r in loose.items())
+                           + ("on the surrogate" if r.verified_ends is None else
+                              f"read in the DEM: {_ends_text(r)}, {runs}") + ")" for n, r in loose.items())
         text = f"the sheet does not pin {' and '.join(loose)}: the points that meet it range over {listed}"
     else:
         widest = max(r.share for r in found.ranges.values())
         text = (f"the sheet pins every searched parameter: among the points that meet it, each ranges over at most "
                 f"{100 * widest:.0f} % of its search box")
-    if read is not None and read not in loose:
-        r = found.ranges[read]
-        text += (f"; {read}'s range, read in the DEM, is {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box: "
-                 f"{_ends_text(found)})")
+    pinned_read = [n for n in read if n not in loose]
+    if pinned_read:
+        text += "; read in the DEM, " + "; ".join(
+            f"{n}'s range is {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box: {_ends_text(r)})"
+            for n, r in ((n, found.ranges[n]) for n in pinned_read)) + f" ({runs})"
     useful = [t for t in found.tests if t.spread > 2 * tolerance]
     if useful:
         best = useful[0]
@@ -327,7 +329,7 @@ def text_of(found: Identifiability, campaign) -> str:
                 f"ends; add it to [targets] and resume (--resume keeps the runs done).")
     if loose and not campaign.identifiability.runs:
         return text + ". [identifiability] runs = false: no lab test was run to name one that would pin it."
-    if read is None or read not in loose:
+    if not any(n in loose for n in read):
         return text + "."
     ran = ", ".join(dict.fromkeys(t.response for t in found.tests)) or "none"
     return (text + f". No response run at the ends ({ran}) varies more than ±{100 * tolerance:g} % between them: "
@@ -335,13 +337,12 @@ def text_of(found: Identifiability, campaign) -> str:
             "parameter.")
 
 
-def _ends_text(found: Identifiability) -> str:
-    """Which ends of the range read in the DEM met the sheet there, and its runs, in words."""
-    ends = next(r.verified_ends for r in found.ranges.values() if r.verified_ends is not None)
-    runs = len(found.end_runs)
+def _ends_text(read: ParameterRange) -> str:
+    """Which ends of a range read in the DEM met the sheet there, in words."""
+    ends = read.verified_ends
     if len(ends) == 2:
-        return f"both ends met the sheet, {runs} runs"
+        return "both ends met the sheet"
     if ends:
         other = "high" if ends == ["low"] else "low"
-        return f"its {ends[0]} end met the sheet, its {other} end is the accepted point, {runs} runs"
-    return f"no end met the sheet, {runs} runs: the accepted point alone"
+        return f"its {ends[0]} end met the sheet, its {other} end is the accepted point"
+    return "no end met the sheet: the accepted point alone"
