@@ -150,8 +150,6 @@ CAMPAIGNS = [  # (case, campaign text, the key the error must name)
     ("pinned share over 1", CAMPAIGN + "[identifiability]\npinned_share = 1.5\n", "identifiability.pinned_share"),
     ("runs not a bool", CAMPAIGN + "[identifiability]\nruns = 3\n", "identifiability.runs"),
     ("unknown test to rank", CAMPAIGN + '[identifiability]\ntests = ["tilt"]\n', "identifiability.tests"),
-    ("a test to rank 3D lacks", edit("[specimen]", "[specimen]\ndimensions = 3") +
-     '[identifiability]\ntests = ["bending"]\n', "identifiability.tests"),
     ("unknown identifiability key", CAMPAIGN + "[identifiability]\nshare = 0.2\n", "identifiability.share"),
 ]
 OPTIONS = [  # (case, extra arguments, the option the error must name first)

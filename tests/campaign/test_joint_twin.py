@@ -55,6 +55,8 @@ iterations = 60
 [acceptance]
 tolerance = 0.01
 max_dem_runs = 40
+[identifiability]
+runs = false
 """
 
 
