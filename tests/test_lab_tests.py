@@ -15,7 +15,8 @@ from rockcal.labtests.registry import LAB_TESTS, lab_test
 
 # small specimens of every test, and a value of each test's series where it has one
 SMALL = SpecimenSettings(rmin_mm=0.4, width_mm=8, height_mm=16, disk_diameter_mm=10, beam_length_mm=44,
-                         beam_height_mm=10, notch_mm=3.6, notch_width_mm=0.8, span_mm=32)
+                         beam_height_mm=10, notch_mm=3.6, notch_width_mm=0.8, span_mm=32, scb_radius_mm=10,
+                         scb_notch_mm=5, scb_notch_width_mm=0.8)
 PARAMS = {"E_c": 20.0, "kn_ks": 2.0, "sigma_c": 40.0, "tau_c": 60.0}
 
 

@@ -61,6 +61,8 @@ iterations = 60
 [acceptance]
 tolerance = 0.02
 max_dem_runs = 24
+[identifiability]
+runs = false  # this twin is about its route; the stage has its own tests
 """
 
 

@@ -68,6 +68,8 @@ iterations = 60
 [acceptance]
 tolerance = 0.01
 max_dem_runs = 30
+[identifiability]
+runs = false  # this twin is about its route; the stage has its own tests
 """
 
 

@@ -33,6 +33,8 @@ coarse_samples = 20
 [acceptance]
 tolerance = 0.03
 max_dem_runs = 40
+[identifiability]
+runs = false  # this twin is about its route; the stage has its own tests
 """
 SINGLE_FIDELITY_RUNS = 19  # the same twin with 15 full-resolution samples: 15 + 3 checks + 1 verification
 

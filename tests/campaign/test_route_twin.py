@@ -52,6 +52,8 @@ fixed = {{ tau_c = {FIXED["tau_c"]!r}, mu = {FIXED["mu"]!r} }}
 [acceptance]
 tolerance = 0.03
 max_dem_runs = 40
+[identifiability]
+runs = false  # this twin is about its route; the stage has its own tests
 """
 
 
