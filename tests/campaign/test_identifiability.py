@@ -119,7 +119,7 @@ def test_a_parameter_no_target_sees_is_not_pinned_and_the_brazilian_test_would_p
     assert found.tests[0].test == "brazilian" and found.tests[0].spread > 0.5
     in_2d = {"sigma_t_direct_MPa", "K_IC_MPa_sqrt_m"} if route != "3D" else set()  # tests 3D lacks
     assert {t.response for t in found.tests} == {"sigma_t_MPa", "sigma1_MPa", "ci_MPa", "cd_MPa"} | in_2d
-    assert f"does not pin {named['tau_c']}" in found.text and "read in the DEM: both ends met the sheet, 2 runs" \
+    assert f"does not pin {named['tau_c']}" in found.text and "read in the DEM: both ends met the sheet) (2 runs in the DEM)" \
         in found.text and "Measure the Brazilian" in found.text
     assert found.runs == 2 * (1 + 2 + len(in_2d)) and executor.kinds.count("brazilian") == 2
     told = summary(record)["identifiability"]
@@ -171,7 +171,7 @@ def test_a_surrogate_set_too_wide_is_narrowed_by_the_dem_to_ends_that_meet_the_s
     assert 0.95 * TRUE["sigma_c"] <= sigma.low <= TRUE["sigma_c"] <= sigma.high <= 1.05 * TRUE["sigma_c"]
     assert found.tests == [] and found.runs == 6 and found.text.startswith("the sheet pins every searched parameter")
     assert f"; read in the DEM, sigma_c's range is {sigma.low:.4g}–{sigma.high:.4g}" in found.text
-    assert found.text.endswith("both ends met the sheet) (6 runs).")
+    assert found.text.endswith("both ends met the sheet) (6 runs in the DEM).")
 
 
 def test_the_first_screen_plans_the_stage_with_both_ends_meeting_the_sheet_at_once(tmp_path):

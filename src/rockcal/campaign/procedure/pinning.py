@@ -307,11 +307,10 @@ def text_of(found: Identifiability, campaign) -> str:
     tolerance = campaign.acceptance.tolerance
     loose = {n: r for n, r in found.ranges.items() if not r.pinned}
     read = [n for n, r in found.ranges.items() if r.verified_ends is not None]
-    runs = f"{len(found.end_runs)} runs"
     if loose:
         listed = ", ".join(f"{n} {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box, "
                            + ("on the surrogate" if r.verified_ends is None else
-                              f"read in the DEM: {_ends_text(r)}, {runs}") + ")" for n, r in loose.items())
+                              f"read in the DEM: {_ends_text(r)}") + ")" for n, r in loose.items())
         text = f"the sheet does not pin {' and '.join(loose)}: the points that meet it range over {listed}"
     else:
         widest = max(r.share for r in found.ranges.values())
@@ -321,7 +320,9 @@ def text_of(found: Identifiability, campaign) -> str:
     if pinned_read:
         text += "; read in the DEM, " + "; ".join(
             f"{n}'s range is {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box: {_ends_text(r)})"
-            for n, r in ((n, found.ranges[n]) for n in pinned_read)) + f" ({runs})"
+            for n, r in ((n, found.ranges[n]) for n in pinned_read))
+    if read:
+        text += f" ({len(found.end_runs)} runs in the DEM)"
     useful = [t for t in found.tests if t.spread > 2 * tolerance]
     if useful:
         best = useful[0]
