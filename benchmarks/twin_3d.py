@@ -65,6 +65,14 @@ def main() -> None:
         print(f"{name:8s} true {value:8.4g}  found {found:8.4g}  {100 * (found / value - 1):+6.2f} %")
     print("errors at the identified point:",
           ", ".join(f"{k} {100 * v:+.2f} %" for k, v in record.errors.items()))
+    found = record.identifiability
+    if found is not None:  # which parameters the twin's sheet pins, and whether each range holds the truth
+        for name, r in found.ranges.items():
+            holds = "holds" if r.low <= true[name] <= r.high else "misses"
+            print(f"{name:8s} {'pinned' if r.pinned else 'not pinned'}: {r.low:.4g}-{r.high:.4g} "
+                  f"({100 * r.share:.0f} % of its box, {'the surrogate' if r.verified_ends is None else 'DEM'}), "
+                  f"{holds} the truth")
+        print("identifiability:", found.text)
 
 
 if __name__ == "__main__":
