@@ -27,7 +27,7 @@ from rockcal.dem3d.vectors import cubes
 from rockcal.errors import InputError, fields_named
 from rockcal.output_files import atomic_path
 
-GENERATOR_VERSION_3D = 4
+GENERATOR_VERSION_3D = 5
 SHAPES = ("cylinder", "cuboid")
 
 
