@@ -30,7 +30,7 @@ from rockcal.dem3d.vectors import norms
 from rockcal.labtests.ucs import simulate_ucs
 from rockcal.materials.parallel_bond import make_params
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D, pair_gaps
-from rockcal.specimens3d.packing import pack_cuboid
+from rockcal.specimens3d.packing import pack_vessel
 from rockcal.specimens3d.specimen import expected_spheres, random_specimen
 
 GRANITE_3D = {"E_c": 62, "kn_ks": 2.5, "sigma_c": 175, "tau_c": 175, "sigma_c_cv": 0.23,
@@ -61,7 +61,7 @@ def stats(sizes, seeds) -> None:
         rows = []
         for seed in seeds:
             started = time.perf_counter()
-            pos, radius, pressure, left = pack_cuboid(size, rmin * 1e-3, 1.65, seed, g.cloud_porosity,
+            pos, radius, pressure, left = pack_vessel(size, rmin * 1e-3, 1.65, seed, g.cloud_porosity,
                                                       g.pressure_mpa)
             seconds = time.perf_counter() - started
             row = packing_stats(pos, radius, size, rmin * 1e-3)
@@ -97,7 +97,7 @@ def coefficient(sizes, seed) -> None:
         for diameter, height, rmin in sizes:
             size = np.array([diameter, diameter, height]) * 1e-3
             started = time.process_time()
-            pack_cuboid(size, rmin * 1e-3, 1.65, seed, g.cloud_porosity, g.pressure_mpa)
+            pack_vessel(size, rmin * 1e-3, 1.65, seed, g.cloud_porosity, g.pressure_mpa)
             seconds = time.process_time() - started
             work = expected_spheres(diameter, height, rmin, 1.65, g.cloud_porosity) * height / (rmin * 2.65)
             print(f"{diameter:g} x {diameter:g} x {height:g} mm, R_min {rmin:g}: genesis {seconds:.1f} s "

@@ -166,12 +166,13 @@ def test_halving_the_pulling_rate_changes_a_clumped_prisms_sigma_t_little(clumpe
 
 
 def test_a_ball_run_keeps_its_key_and_a_clumped_run_has_its_own():
-    """grain_shape is the test's last setting: at "ball" out of a run's key, which is the one
-    of the settings before it (a clumped campaign's direct tension runs were on balls)."""
+    """grain_shape and dimensions are the test's last settings: at "ball" and 2 out of a run's
+    key, which is the one of the settings before them (a clumped campaign's direct tension runs
+    were on balls)."""
     before = ("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", "install_gap", "cloud_porosity",
               "pressure_mpa", "grip_fraction", "contact_stiffness")
     test = lab_test("direct_tension")
-    assert test.settings == (*before, "grain_shape")
+    assert test.settings == (*before, "grain_shape", "dimensions")
     values = test.settings_of(SpecimenSettings())
     ball = run_spec("direct_tension", SpecimenSettings(), {})
     old = RunSpec("direct_tension", tuple((name, values[name]) for name in before), ball.params, ball.engine)

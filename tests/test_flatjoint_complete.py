@@ -122,10 +122,12 @@ def test_the_residual_changes_nothing_until_an_element_breaks_in_shear():
 # --- the material ----------------------------------------------------------------------------
 
 def test_residual_strength_is_off_by_default_and_keeps_the_store_keys():
-    """At their defaults fj_cohres and fj_resmode are left out of a parameter set's key, so the
-    runs stored before them keep their keys; set, they are in it and reach the joints (Pa)."""
+    """At their defaults fj_cohres and fj_resmode (and the 3D joint's fj_nal) are left out of a
+    parameter set's key, so the runs stored before them keep their keys; set, they are in it
+    and reach the joints (Pa)."""
     default = make_flatjoint_params({})
-    assert set(default.key()) == set(NAMES) - {"fj_cohres", "fj_resmode"}
+    assert set(default.key()) == set(NAMES) - {"fj_cohres", "fj_resmode", "fj_nal"}
+    assert make_flatjoint_params({"fj_nal": 5}).key()["fj_nal"] == 5
     on = make_flatjoint_params({"fj_resmode": 1.0, "fj_cohres": 4.0})
     assert on.key()["fj_resmode"] == 1 and on.key()["fj_cohres"] == 4.0
     pos = np.array([[0.0, 0.0], [2e-3, 0.0]])
@@ -185,7 +187,7 @@ def test_the_complete_flat_joint_can_be_searched():
     c = campaign("fj_fa = [0, 40], fjm_B_frac = [0.5, 0.7], fjm_G_frac = [0.1, 0.3], fjm_G_m = [0.001, 0.01], "
                  "fjm_G_sd = [0, 0.001], fj_nr = [1, 4], fj_cohres = [0, 10]", "fj_resmode = 1")
     assert set(c.search.bounds) == {"fj_fa", "fjm_B_frac", "fjm_G_frac", "fjm_G_m", "fjm_G_sd", "fj_nr", "fj_cohres"}
-    assert whole_numbers("flatjoint") == {"fj_nr"}  # fjm_rmulCode and fj_resmode pick rules
+    assert whole_numbers("flatjoint") == {"fj_nr", "fj_nal"}  # fjm_rmulCode and fj_resmode pick rules
 
 
 def test_fixed_values_are_checked_with_the_searched_ones_not_their_defaults():

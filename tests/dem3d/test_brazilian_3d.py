@@ -23,6 +23,7 @@ from rockcal.labtests.brazilian import simulate_brazilian
 from rockcal.labtests.loading import (LOCALISED_DAMAGE, PAST_PEAK_FRACTION, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       load_to_failure)
 from rockcal.labtests.rig import BearingStrip, Disk
+from rockcal.labtests.rig.jaws_3d import Jaws3D
 from rockcal.labtests.rig.platens_3d import BOTTOM, TOP, Platens3D, strip_modulus_pa
 from rockcal.materials.parallel_bond import make_params
 
@@ -114,6 +115,30 @@ def test_a_3d_brazilian_reports_its_load_in_kN_and_2d_per_m_of_thickness():
     assert engine[3].startswith(f"{ENGINE}, brazilian test revision 3, 3D engine")
 
 
+def test_isrm_jaws_are_curved_rows_of_spheres_that_bear_alike_top_and_bottom():
+    """ISRM's jaws on an elastic lattice disk: faces of radius 1.5 R across the disk's whole
+    thickness; the two jaws bear the same load along z, and the sideways forces on each cancel
+    (the disk is symmetric about the loaded diameter)."""
+    disk = lattice_disk(9, 4, 1e-3)
+    jaws = Jaws3D(disk, ELASTIC, 1.0)
+    s = jaws.state.spheres
+    assert jaws.jaw_radius_m == pytest.approx(1.5 * 9e-3)
+    for is_jaw, (x, z) in ((jaws.is_top, jaws.centres[0]), (jaws.is_bottom, jaws.centres[1])):
+        reach = np.hypot(s.pos[is_jaw, 0] - x, s.pos[is_jaw, 2] - z) - s.radius[is_jaw]
+        assert reach == pytest.approx(jaws.jaw_radius_m, rel=1e-12)  # the face, radius 1.5 R
+        y = s.pos[is_jaw, 1]
+        assert y.min() <= 0.0 and y.max() >= 8e-3  # across the disk's thickness
+    result = simulate_brazilian(ELASTIC, disk, loading="isrm", max_strain=2e-3)
+    assert result.n_broken_tension + result.n_broken_shear == 0 and result.curve[-1, LOAD] > 0
+    jaws.move(1.0)
+    jaws.state.advance(3000)
+    force = s.force
+    top, bottom = force[jaws.is_top].sum(axis=0), force[jaws.is_bottom].sum(axis=0)
+    assert top[2] > 0 and top[2] == pytest.approx(-bottom[2], rel=1e-4)
+    assert jaws.load() == pytest.approx(top[2], rel=1e-4)
+    assert abs(top[0]) < 1e-4 * top[2] and abs(bottom[0]) < 1e-4 * top[2]
+
+
 def test_a_bearing_strip_is_a_softer_column_in_series_with_the_platen():
     strip = BearingStrip(1.0, 0.2)
     r, bare = 1e-3, 62e9
@@ -178,7 +203,7 @@ def test_a_crack_through_one_layer_of_a_thick_disk_is_no_split():
 
 def test_bad_loadings_and_disks_are_refused(disk):
     with pytest.raises(InputError, match="loading"):
-        simulate_brazilian(GRANITE, disk, loading="isrm")
+        simulate_brazilian(GRANITE, disk, loading="curved")
     with pytest.raises(InputError, match="thickness_mm"):
         random_disk(20.0, 6.0, 0.8)
 

@@ -2,7 +2,7 @@
 run is keyed apart and every 2D run keeps the key it had before; the UCS kind runs the 3D test
 on a cylinder of the specimen's width and height and reads it as the 2D test's result; a
 campaign of UCS targets runs the whole procedure on a tiny cylinder, and a twin recovers its
-micro-parameters.
+micro-parameters; a campaign of the flat-jointed material runs in 3D.
 
 The cylinder is 7 x 14 mm at R_min 0.5 mm: about 300 spheres, under a second a run."""
 
@@ -15,7 +15,7 @@ from rockcal.campaign.input.config import SpecimenSettings, parse_campaign
 from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.pool import Executor, execute
-from rockcal.campaign.runs.spec import ENGINE, RunSpec, run_spec
+from rockcal.campaign.runs.spec import ENGINE, RunResult, RunSpec, run_spec
 from rockcal.campaign.runs.store import RunStore
 from rockcal.specimens3d.specimen import Specimen3D
 from rockcal.labtests.ucs import simulate_ucs
@@ -281,3 +281,57 @@ def test_the_brazilian_kind_runs_the_3d_test_on_a_disk():
     assert result.positions.shape == (disk.n_particles, 3)
     assert sum(len(c) for c in result.cracks.values()) == result.n_broken_tension + result.n_broken_shear
     assert dict(run_spec("brazilian", SpecimenSettings(**DISK), PARAMS).specimen)["dimensions"] == 3
+
+
+FLAT_JOINTED = """
+[targets.ucs]
+E_GPa = 20.0
+ucs_MPa = 40.0
+[specimen]
+dimensions = 3
+width_mm = 7
+height_mm = 14
+rmin_mm = 0.5
+[material]
+model = "flatjoint"
+[search]
+bounds = { fj_emod = [10, 30], fj_ten = [5, 15] }
+fixed = { fj_coh = 20, fj_nal = 3 }
+[surrogate]
+samples = 6
+checks = 1
+[optimizer]
+iterations = 20
+[acceptance]
+max_dem_runs = 9
+"""
+
+
+@pytest.mark.slow  # one small 3D flat-jointed run: about 4 s
+def test_a_3d_flat_jointed_campaign_runs_and_its_runs_are_3d_flat_joints(tmp_path):
+    """A campaign of the flat-jointed material in 3D on a stand-in forward model (E = fj_emod,
+    UCS = 4 fj_ten) identifies its point; the run at it, on the DEM, is the 3D flat-jointed
+    cylinder's: elements break, and the peak is reached."""
+    specs = []
+
+    class StandIn:
+        class store:
+            @staticmethod
+            def get(spec):
+                return None
+
+        def run(self, batch, progress=None):
+            specs.extend(batch)
+            return [RunResult("ok", {"E_GPa": dict(s.params)["fj_emod"], "nu": 0.2,
+                                     "ucs_MPa": 4 * dict(s.params)["fj_ten"], "n_particles": 300},
+                              None, 0.0) for s in batch]
+
+    record = calibrate(planned(parse_campaign(FLAT_JOINTED, tmp_path)), StandIn())
+    assert record.accepted
+    assert record.identified["fj_emod"] == pytest.approx(20.0, rel=0.02)
+    assert all(dict(s.specimen)["dimensions"] == 3 and dict(s.params)["fj_nal"] == 3 for s in specs)
+    lab = execute(specs[-1])
+    assert lab.status == "ok", lab.message
+    assert lab.responses["dimensions"] == 3
+    assert lab.responses["n_broken_tension"] + lab.responses["n_broken_shear"] > 0
+    assert lab.responses["ucs_MPa"] > 0 and lab.cracks.shape[1] == 4

@@ -122,7 +122,25 @@ def test_bad_versions_and_materials_are_refused():
     with pytest.raises(InputError, match="--fishtank"):
         to_fish_3d(PARAMS, SETTINGS, fishtank=4)
     with pytest.raises(InputError, match="grain_shape"):
-        to_fish_3d(PARAMS, SETTINGS.model_copy(update={"grain_shape": "two-pebble"}))
+        to_fish_3d(PARAMS, SETTINGS.model_copy(update={"grain_shape": "cloud"}))  # no 3D template
+
+
+@pytest.mark.parametrize("shape", ["two-pebble", "three-pebble"])
+def test_a_clumped_3d_material_creates_the_engines_3d_template_first(shape):
+    """PFC3D's `clump template create ... pebbles N` with each pebble's radius, x, y, z (the 3D
+    engine's template to the bit), before FISHTank's groups, which name it (cm_shape 1,
+    cm_ctName) as FISHTank's ft.fis reads them in PFC3D too."""
+    from rockcal.materials.clump_templates_3d import template_3d
+
+    text = to_fish_3d(PARAMS, SETTINGS.model_copy(update={"grain_shape": shape}))
+    values = read_fish(text)
+    assert values["cm_shape"] == 1 and values["cm_ctName"] == f"rockcal_{shape.replace('-', '_')}"
+    t, lines = template_3d(shape), text.splitlines()
+    k = lines.index(f"clump template create pebcalculate name {values['cm_ctName']} pebbles {t.n_pebbles} ...")
+    rows = np.array([lines[k + 1 + i].removesuffix(" ...").split() for i in range(t.n_pebbles)], float)
+    np.testing.assert_array_equal(rows, np.column_stack([t.radii, t.offsets]))
+    assert text.index("clump template create") < text.index("def mpSetCommonParams")
+    assert "3D: clumps of" in text and "x, y, z" in text
 
 
 def jittered_block() -> Specimen3D:
@@ -216,3 +234,34 @@ def test_a_finished_3d_campaign_exports_both_files_with_its_own_values(tmp_path,
     clash = cli("export", out, "--to", tmp_path / "pfc" / VESSEL_FILE)
     assert clash.returncode == 2 and len(clash.stderr.strip().splitlines()) == 1 and "--to" in clash.stderr
     assert read_fish((tmp_path / "pfc" / VESSEL_FILE).read_text()) == vessel
+
+
+# the flat-jointed material group's names in FISHTank's ft.fis (PFC 5's and PFC 6's alike:
+# `_mpAssignFJProps`, `_mpCheckAllParams`): fjm_Nal, its elements per ring, in PFC3D only
+FISHTANK_FLAT_JOINT_3D = {"fjm_igap", "fjm_B_frac", "fjm_G_frac", "fjm_G_m", "fjm_G_sd", "fjm_Nr",
+                          "fjm_Nal", "fjm_rmulCode", "fjm_rmulVal", "fjm_emod", "fjm_krat",
+                          "fjm_fric", "fjm_ten_m", "fjm_ten_sd", "fjm_coh_m", "fjm_coh_sd", "fjm_fa",
+                          "fjm_trackMS", "lnm_emod", "lnm_krat", "lnm_fric"}
+
+
+@pytest.mark.parametrize("fishtank", [5, 6, 7])
+def test_the_flat_jointed_parameter_file_reads_back_in_SI_with_its_elements_per_ring(fishtank):
+    from rockcal.materials.flat_joint import make_flatjoint_params
+
+    params = make_flatjoint_params({"fj_emod": 38.0, "fj_kratio": 1.9, "fj_ten": 48.4,
+                                    "fj_coh": 120.0, "fj_nr": 3, "fj_nal": 5, "fj_fa": 20.0,
+                                    "fjm_B_frac": 0.8, "fjm_G_frac": 0.1, "fjm_G_m": 0.002})
+    text = to_fish_3d(params, SETTINGS, fishtank=fishtank)
+    values = read_fish(text)
+    assert values["cm_matType"] == MATERIAL_TYPES[fishtank]["flat-jointed"]
+    assert {name for name in values if name.startswith(("fjm_", "lnm_"))} == \
+        FISHTANK_FLAT_JOINT_3D - {"fjm_trackMS"}  # a boolean, which `read_fish` skips
+    assert "  fjm_trackMS = false" in text.splitlines()
+    expected = {"fjm_Nr": 3, "fjm_Nal": 5, "fjm_emod": 38e9, "fjm_krat": 1.9, "fjm_ten_m": 48.4e6,
+                "fjm_coh_m": 120e6, "fjm_fa": 20.0, "fjm_B_frac": 0.8, "fjm_G_frac": 0.1,
+                "fjm_G_m": 2e-6, "fjm_igap": 0.4 * 0.75e-3, "lnm_emod": 38e9}
+    for name, value in expected.items():
+        assert values[name] == pytest.approx(value, rel=1e-14), name
+    assert "def mpSetFJParams" in text and "fjm_Nr: the disk's rings" in text and "pbm_" not in text
+    two_d = pfc_parameters(Calibrated(params, SETTINGS.model_copy(update={"dimensions": 2}), {}, fishtank))
+    assert "fjm_Nal" not in two_d and two_d["fjm_Nr"] == 3

@@ -14,7 +14,7 @@ from rockcal.dem3d import neighbours
 from rockcal.specimens.packing import PACKING_MODULUS_GPA, PRESSURE_TOLERANCE
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D as GENESIS
 from rockcal.specimens3d.genesis import wall_gaps
-from rockcal.specimens3d.packing import pack_cuboid
+from rockcal.specimens3d.packing import pack_vessel
 from rockcal.specimens3d.specimen import carve_cylinder, random_specimen, vessel_floaters
 
 
@@ -63,7 +63,7 @@ def test_the_same_seed_makes_the_same_packing_on_one_thread_or_two(monkeypatch):
     for threads in (1, 2):
         numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
         try:
-            packs.append(pack_cuboid([8e-3, 8e-3, 10e-3], 0.6e-3, 1.65, 5, GENESIS.cloud_porosity,
+            packs.append(pack_vessel([8e-3, 8e-3, 10e-3], 0.6e-3, 1.65, 5, GENESIS.cloud_porosity,
                                      GENESIS.pressure_mpa))
         finally:
             numba.set_num_threads(cap)

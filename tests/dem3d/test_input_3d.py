@@ -1,6 +1,7 @@
 """`[specimen] dimensions` and `rockcal simulate ucs --dimensions`: a value other than 2 or 3, a
-3D campaign with a test (bending, direct tension), material or setting the 3D engine does not
-have, and a cylinder or a Brazilian disk too small for its spheres are refused before any run, in one line naming the key, exit 2. The
+3D campaign with a test (bending, direct tension) or setting the 3D engine does not have, a
+flat-jointed material's bad fj_nal, and a cylinder or a Brazilian disk too small for its
+spheres are refused before any run, in one line naming the key, exit 2. The
 settings whose default differs in 3D take the 3D default unless given.
 
 Every case fails while the input is checked (no genesis, no run): the file is quick."""
@@ -39,7 +40,6 @@ def campaign(targets: str = "", **specimen: str) -> str:
 BRAZILIAN = "[targets.brazilian]\nsigma_t_MPa = 10.0"
 OTHER_TESTS = {  # a test with no 3D implementation, and a [targets] section of it
     "bending": "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0",
-    "direct_tension": "[targets.direct_tension]\nsigma_t_direct_MPa = 8.0",
 }
 TINY = ["--width-mm", "7", "--height-mm", "14", "--rmin-mm", "0.5"]
 
@@ -100,7 +100,6 @@ def test_a_test_runs_in_3d_where_it_says_so(name):
 
 
 @pytest.mark.parametrize("key, value, flag, words", [
-    ("brazilian_loading", '"isrm"', "--loading", ("flat or strips",)),
     ("disk_diameter_mm", "13", "--diameter-mm", ("D / 2 thick", "13.2 mm")),  # t 6.5 < 8 R_max
 ])
 def test_a_3d_brazilian_test_it_cannot_run_is_refused(cli, tmp_path, key, value, flag, words):
@@ -110,17 +109,21 @@ def test_a_3d_brazilian_test_it_cannot_run_is_refused(cli, tmp_path, key, value,
     assert calibrate(cli, tmp_path, campaign(BRAZILIAN, dimensions="2", **{key: value})).returncode == 0
 
 
-def test_the_flat_jointed_material_is_refused_in_3d(cli, tmp_path):
+def test_the_flat_jointed_material_is_accepted_in_3d_and_its_bad_values_refused(cli, tmp_path):
     flat = '[material]\nmodel = "flatjoint"'
     box = ("E_c = [15, 25], sigma_c = [30, 50]", "fj_emod = [15, 25], fj_ten = [5, 15]")
-    one_line(calibrate(cli, tmp_path, campaign(flat).replace(*box)), "material.model", "flatjoint",
-             "parallel_bond")
-    assert calibrate(cli, tmp_path, campaign(flat, dimensions="2").replace(*box)).returncode == 0
-    one_line(cli("simulate", "ucs", *TINY, "--dimensions", "3", "--model", "flatjoint"), "--model")
+    run = calibrate(cli, tmp_path, campaign(flat).replace(*box))
+    assert run.returncode == 0, run.stderr
+    for value in ("2", "65", "3.5"):
+        bad = campaign(flat).replace(*box).replace(
+            "fj_ten = [5, 15] }", f"fj_ten = [5, 15] }}\nfixed = {{ fj_nal = {value} }}")
+        one_line(calibrate(cli, tmp_path, bad), "search.fixed.fj_nal")
+        one_line(cli("simulate", "ucs", *TINY, "--dimensions", "3", "--model", "flatjoint",
+                     f"--set=fj_nal={value}"), "fj_nal")
 
 
 @pytest.mark.parametrize("key, value, flag", [
-    ("grain_shape", '"two-pebble"', "--grain-shape"),
+    ("grain_shape", '"cloud"', "--grain-shape"),  # no 3D template
     ("contact_stiffness", '"pfc4"', "--contact-stiffness"),
 ])
 def test_a_2d_only_setting_is_refused_in_3d(cli, tmp_path, key, value, flag):
@@ -157,13 +160,25 @@ def test_the_grain_limit_counts_spheres(cli, monkeypatch):
 
 def test_3d_defaults_apply_where_a_setting_is_not_given():
     assert {k: getattr(SpecimenSettings(), k) for k in DEFAULTS_3D} == {"cloud_porosity": 0.09,
-                                                                       "contact_stiffness": "pfc4"}
+                                                                       "contact_stiffness": "pfc4",
+                                                                       "confined_vessel": "prism"}
     in_3d = SpecimenSettings(dimensions=3)
     assert in_3d.cloud_porosity == DEFAULT_GENESIS_3D.cloud_porosity == 0.35
-    assert in_3d.contact_stiffness == "pfc5"
+    assert in_3d.contact_stiffness == "pfc5" and in_3d.confined_vessel == "cylinder"
     assert SpecimenSettings(dimensions=3, cloud_porosity=0.3).cloud_porosity == 0.3
     settings = specimen_settings(UCS, {"dimensions": 3, "width_mm": 7, "height_mm": 14, "rmin_mm": 0.5})
     assert settings["dimensions"] == 3 and settings["cloud_porosity"] == 0.35
     with pytest.raises(InputError, match="^contact_stiffness: "):
         specimen_settings(UCS, {"dimensions": 3, "contact_stiffness": "pfc4", "width_mm": 7,
                                 "height_mm": 14, "rmin_mm": 0.5})
+
+
+def test_clumps_are_taken_by_the_3d_ucs_and_brazilian_tests_and_refused_by_the_confined_one():
+    given = {"dimensions": 3, "width_mm": 10.0, "height_mm": 20.0, "rmin_mm": 0.6, "disk_diameter_mm": 16.0,
+             "grain_shape": "two-pebble"}
+    for name in ("ucs", "brazilian"):
+        test = LAB_TESTS[name]
+        test.check(specimen_settings(test, {k: v for k, v in given.items() if k in test.settings}))
+    confined = LAB_TESTS["biaxial"]
+    with pytest.raises(InputError, match="grain_shape"):
+        confined.check(specimen_settings(confined, {k: v for k, v in given.items() if k in confined.settings}))

@@ -10,17 +10,23 @@ from rockcal.dem3d.neighbours import near_pairs, spatial_order
 from rockcal.dem3d.simulate import advance, assemble_state
 
 
-def shaken_block():
-    """A bonded, jittered simple-cubic block of 13³ spheres (two blocks of particles: the engine
-    splits a specimen from 2 000 spheres on), set moving fast enough at random that bonds break
-    and the neighbour list is rebuilt."""
-    rng = np.random.default_rng(7)
+def jittered_block(rng):
+    """A jittered simple-cubic block of 13³ spheres (two blocks of particles: the engine splits a
+    specimen from 2 000 spheres on), its radii and touching pairs."""
     r = 1e-3
     grid = np.array([(i, j, k) for k in range(13) for j in range(13) for i in range(13)], float)
     pos = grid * 2 * r + rng.uniform(-0.03, 0.03, grid.shape) * r
     pos = pos[spatial_order(pos, 2 * r)]
     radius = rng.uniform(0.98, 1.04, len(pos)) * r
     pi, pj = near_pairs(pos, radius, 0.0)
+    return pos, radius, pi, pj
+
+
+def shaken_block():
+    """`jittered_block` bonded, set moving fast enough at random that bonds break and the
+    neighbour list is rebuilt."""
+    rng = np.random.default_rng(7)
+    pos, radius, pi, pj = jittered_block(rng)
     laws = Laws(E_c=20e9, ks_per_kn=0.5, mu=0.5, Ebar_c=20e9, ksbar_per_knbar=0.5, lam=1.0,
                 tan_phi=0.3, mcf=1.0)
     state = assemble_state(pos, radius, np.column_stack([pi, pj]), 2650.0, laws, damping=0.1,

@@ -89,9 +89,10 @@ def test_a_moving_wall_keeps_its_velocity_and_throws_a_sphere_off_at_twice_its_n
     assert np.allclose(state.spheres.vel[0], 2 * 0.02 * NORMAL, rtol=1e-4, atol=0)
 
 
-def squeezed_block(threads):
+def squeezed_block(threads, walls_of=None):
     """A bonded, jittered simple-cubic block of 16³ spheres (two blocks of the engine) in a
-    box of six walls closing in on it, on `threads` threads."""
+    box of six walls closing in on it (or the walls `walls_of(pos, radius)`), on `threads`
+    threads."""
     cap = numba.get_num_threads()
     numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     try:
@@ -101,8 +102,11 @@ def squeezed_block(threads):
         pos = pos[spatial_order(pos, 2 * R)]
         radius = rng.uniform(0.98, 1.02, len(pos)) * R
         pi, pj = near_pairs(pos, radius, 0.0)
-        walls = box_walls(pos.min(axis=0) - R, pos.max(axis=0) + R, E_WALL)
-        walls.vel[:] = walls.normal * 0.5
+        if walls_of is None:
+            walls = box_walls(pos.min(axis=0) - R, pos.max(axis=0) + R, E_WALL)
+            walls.vel[:] = walls.normal * 0.5
+        else:
+            walls = walls_of(pos, radius)
         state = assemble_state(pos, radius, np.column_stack([pi, pj]), DENSITY, LAWS,
                                damping=0.2, ten=20e6, coh=30e6, walls=walls)
         state.spheres.vel[:] = rng.normal(0, 0.5, pos.shape)

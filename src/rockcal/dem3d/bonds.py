@@ -8,6 +8,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from rockcal.dem3d.laws import INTACT, bond_springs
+
 
 class Bond(IntEnum):
     """Rows of the bonds' table, one column per bond."""
@@ -56,6 +58,21 @@ class Bonds(NamedTuple):
         """(n, 3) shear forces of the bonded pairs' linear contacts on i, N."""
         return self.table[Bond.CSX:Bond.CSZ + 1].T
 
+    REPLACES_CONTACT = False  # a bonded pair keeps its linear contact
+
+    def springs(self, rmin, length, laws):
+        """Each bond's springs (`laws.bond_springs`), zero once broken."""
+        intact = self.state == INTACT
+        return tuple(np.where(intact, k, 0.0) for k in bond_springs(rmin, length, laws))
+
+    def take_radii(self, ri, rj) -> None:
+        """The radii of the bonds' spheres (`set_radii`)."""
+        set_radii(self, ri, rj)
+
+    def breaks(self) -> tuple[np.ndarray, np.ndarray]:
+        """How each bond broke (laws.INTACT, BROKEN_TENSION, BROKEN_SHEAR) and where (m)."""
+        return self.state, self.break_xyz
+
 
 def new_bonds(ref_overlap, ten, coh, ri, rj) -> Bonds:
     """Intact bonds at zero force between spheres of radii ri, rj, with the overlap of their
@@ -68,6 +85,11 @@ def new_bonds(ref_overlap, ten, coh, ri, rj) -> Bonds:
     bonds = Bonds(table=table, state=np.zeros(n, np.int64), break_xyz=np.full((n, 3), np.nan))
     set_radii(bonds, ri, rj)
     return bonds
+
+
+def no_bonds() -> Bonds:
+    """No bonds: what the engine is given for a state of flat joints."""
+    return new_bonds(np.empty(0), np.empty(0), np.empty(0), np.empty(0), np.empty(0))
 
 
 def set_radii(bonds: Bonds, ri, rj) -> None:

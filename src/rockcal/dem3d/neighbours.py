@@ -5,6 +5,9 @@ R_i + R_j + skin, each part grouped by block of consecutive particles with the p
 block border last (`rockcal.dem.neighbours.block_layout`, shared with the 2D engine): blocks
 are summed in parallel without write races, the border pairs after them, in an order fixed by
 the specimen alone. It is rebuilt when some sphere has moved more than skin / 2.
+
+Spheres of one rigid body (the pebbles of a clump, the spheres of a rig's jaw) never touch: a
+list given their `clump_of` drops their pairs.
 """
 
 from dataclasses import dataclass
@@ -36,6 +39,7 @@ class NeighbourList:
     contact_offsets: np.ndarray  # the same for the unbonded pairs (from n_bonds on)
     pos_at_build: np.ndarray
     skin: float
+    clump_of: np.ndarray | None = None  # per sphere its rigid body, -1: none (a ball)
 
     @property
     def rebuild_distance_sq(self) -> float:
@@ -107,13 +111,18 @@ def update(nlist: NeighbourList, pos: np.ndarray, radius: np.ndarray) -> Neighbo
     order = np.argsort(old_keys)
     ci, cj, shear = _contact_pairs(pos, radius, nlist.skin, bond_keys, old_keys[order],
                                    nlist.shear[nb:][order])
+    if nlist.clump_of is not None:  # spheres of one rigid body
+        body = nlist.clump_of
+        apart = (body[ci] != body[cj]) | (body[ci] < 0)
+        ci, cj, shear = ci[apart], cj[apart], shear[apart]
     by_block, offsets = block_layout(ci, cj, nlist.block_starts)
     return NeighbourList(
         pi=np.concatenate([nlist.pi[:nb], ci[by_block]]),
         pj=np.concatenate([nlist.pj[:nb], cj[by_block]]), n_bonds=nb,
         shear=np.concatenate([nlist.shear[:nb], shear[by_block]]),
         block_starts=nlist.block_starts, bond_offsets=nlist.bond_offsets,
-        contact_offsets=nb + offsets, pos_at_build=pos.copy(), skin=nlist.skin)
+        contact_offsets=nb + offsets, pos_at_build=pos.copy(), skin=nlist.skin,
+        clump_of=nlist.clump_of)
 
 
 @njit(cache=True)

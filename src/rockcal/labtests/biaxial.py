@@ -12,10 +12,14 @@ peak sigma1, CI and CD (`rockcal.labtests.damage`, in q). At sigma3 = 0 there is
 and the side walls never touch: the test is the UCS test, to the last bit.
 
 The test is one procedure in 2D and 3D, over the rig of the specimen's dimension
-(`rig.rig_for`): with the setting `dimensions` 3 (PFC3D) its specimen is a square prism of the
-width's side between the platens and four servo-controlled side walls (a polyaxial vessel,
-sigma2 = sigma3), sigma1 the platens' force over the prism's original cross-section and the
-volumetric strain axial - 2 x lateral (the mean of the two widths' strains).
+(`rig.rig_for`). With the setting `dimensions` 3 (PFC3D) the setting `confined_vessel` picks
+the vessel: "cylinder" (the default), a cylinder of the width as diameter packed in a
+cylindrical vessel (`specimens3d.specimen.packed_cylinder`) inside the triaxial cell, a
+frictionless cylindrical wall whose radius is servo-controlled to sigma3 (`rig.cell_3d`), its
+lateral strain the diametral strain; "prism", a square prism of the width's side between four
+servo-controlled side walls (a polyaxial vessel, sigma2 = sigma3), its lateral strain the mean
+of the two widths'. sigma1 is the platens' force over the original cross-section and the
+volumetric strain axial - 2 x lateral.
 """
 
 from __future__ import annotations
@@ -209,24 +213,39 @@ def _run(params: BondedParams, specimen, s: dict, progress) -> BiaxialResult:
 
 
 def _check(s: dict) -> None:
-    ucs.TEST.check(s)  # in 3D: the prism's sides and spheres as the UCS cylinder's
+    ucs.TEST.check(s)  # in 3D: the specimen's size and spheres as the UCS cylinder's
     check_confinement(s["confinement_mpa"])
+    if not in_3d(s) and s["confined_vessel"] != "prism":
+        raise InputError("confined_vessel", f"the 2D confined test is a rectangle between two side walls "
+                                            f"(prism); {s['confined_vessel']!r} is a 3D vessel (dimensions = 3)")
+    if in_3d(s) and s.get("grain_shape", "ball") != "ball":  # its side walls' servo does not settle them yet
+        raise InputError("grain_shape", f"the 3D confined test's specimen is of balls (grain_shape = \"ball\"), got "
+                                        f"{s['grain_shape']!r} with dimensions = 3")
+
+
+def _in_cell(s: dict) -> bool:
+    return in_3d(s) and s["confined_vessel"] == "cylinder"
 
 
 def _specimen(s: dict):
-    if in_3d(s):  # a square prism: the cached cuboid packing the UCS cylinder is carved from
-        from rockcal.specimens3d.specimen import random_specimen
+    if in_3d(s):  # a cylinder packed in its cell, or the cached cuboid the UCS cylinder is carved from
+        from rockcal.specimens3d.specimen import packed_cylinder, random_specimen
 
-        return random_specimen("cuboid", s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"],
-                               s["seed"], genesis_of(s))
+        size = (s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
+        if _in_cell(s):
+            return packed_cylinder(*size)
+        return random_specimen("cuboid", *size, grain_shape=s.get("grain_shape", "ball"))
     return ucs.TEST.make(s)
 
 
 def _outline(s: dict) -> Outline:
-    shape = "confined (square prism, polyaxial walls) {0:g} x {0:g} x {1:g} mm" if in_3d(s) else \
-        "biaxial {0:g} x {1:g} mm"
+    shape = "biaxial {0:g} x {1:g} mm"
+    if in_3d(s):
+        shape = "confined cylinder Ø{0:g} x {1:g} mm (triaxial cell)" if _in_cell(s) else \
+            "confined (square prism, polyaxial walls) {0:g} x {0:g} x {1:g} mm"
     vessel = (s["width_mm"], s["width_mm"], s["height_mm"]) if in_3d(s) else None
-    return Outline(shape.format(s["width_mm"], s["height_mm"]), s["width_mm"], s["height_mm"], vessel_mm=vessel)
+    return Outline(shape.format(s["width_mm"], s["height_mm"]), s["width_mm"], s["height_mm"], vessel_mm=vessel,
+                   vessel_cylinder=_in_cell(s), share=np.pi / 4 if _in_cell(s) else 1.0)
 
 
 def envelope(runs: list[dict]) -> dict:
@@ -305,8 +324,8 @@ TEST = LabTest(
     lab_values=BiaxialValues,
     name="biaxial", title="confined compression",
     help="Confined compression at sigma3 (a list: one run each, and the strength envelope): in 2D a "
-         "rectangle between two servo side walls, with --dimensions 3 a square prism between "
-         "four servo walls (polyaxial).",
+         "rectangle between two servo side walls, with --dimensions 3 a cylinder in a triaxial cell "
+         "(servo-controlled radius) or, --confined-vessel prism, a square prism between four servo walls.",
     responses=(Response("sigma1_MPa", "MPa", label="peak axial stress sigma1"),
                Response("confinement_MPa", "MPa", target=False, label="confinement set"),
                Response("q_MPa", "MPa", target=False), Response("E_GPa", "GPa", target=False),
@@ -314,13 +333,14 @@ TEST = LabTest(
                Response("peak_axial_strain", "", target=False),
                Response("sigma3_MPa", "MPa", target=False, label="sigma3 the walls held at peak"),
                *CRACK_RESPONSES),
-    # grain_shape and dimensions last: at their defaults (kind.LATER_SETTINGS) a run's key leaves them out
+    # the later settings last: at their old values (kind.LATER_SETTINGS) a run's key leaves them out
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS, "strain",
-              "stop_fraction", "contact_stiffness", "confinement_mpa", "grain_shape", "dimensions"),
+              "stop_fraction", "contact_stiffness", "confinement_mpa", "grain_shape", "dimensions",
+              "confined_vessel"),
     check=_check, make=_specimen, run=_run,
     reading=lambda strain, q_MPa: f"strain {100 * strain:.3f} %, q {q_MPa:.1f} MPa",
     outline=_outline,
-    setting_help=(("width_mm", "Specimen width, mm (in 3D the square prism's side)."),
+    setting_help=(("width_mm", "Specimen width, mm (in 3D the cylinder's diameter, the square prism's side)."),
                   ("height_mm", "Specimen height, mm.")),
     # the full-size granite's confined runs at sigma3 0, 5, 10, 20 MPa took 1.0, 1.8, 1.7 and
     # 2.2 x its UCS run (the seating, and a higher peak further on)

@@ -16,8 +16,9 @@ centre (`central_split`) or not (crushed at a contact, or split off the centre).
 
 The test is one procedure in 2D and 3D, over the rig of the disk's dimension (`rig.rig_for`):
 with the setting `dimensions` 3 (PFC3D) the disk is D thick D / 2 (ISRM's ratio), its axis
-horizontal along y, loaded along z between the flat platens or the strips (the curved jaws
-are 2D's alone), carved from a D x t x D cuboid packing (`specimens3d.specimen.random_disk`);
+horizontal along y, loaded along z between the flat platens, the strips or the curved jaws
+(drawn out along its axis: `rig.jaws_3d`), carved from a D x t x D cuboid packing
+(`specimens3d.specimen.random_disk`);
 its load is the platens' force, reported in kN (P_max_kN; 2D's in kN per metre of thickness,
 P_max_kN_per_m), and a crack counts over the disk's thickness (`crack_share`).
 
@@ -97,7 +98,6 @@ SPLIT_SHARE = 0.5  # of the middle slices a crack crosses
 CRACK_LINK = 1.5  # grains: broken bonds nearer each other are one crack
 # the UCS test's flat platens; ISRM's curved jaws; the flat platens with a bearing strip on each
 LOADINGS = ("flat", "isrm", "strips")
-LOADINGS_3D = ("flat", "strips")  # ISRM's curved jaws are not built in 3D yet
 DEFAULT_LOADING = "flat"
 # The bearing strip: thin plywood, ASTM D3967's cushion, about 0.01 D thick. Through its
 # thickness a rotary-cut veneer is loaded along the wood's radial direction: E_R = 0.078 x
@@ -229,7 +229,7 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen=None,
     """Run the Brazilian test; defaults: granite parameters on a 50 mm disk between flat platens.
 
     specimen: a 2D disk (`brazilian_disk`) or a 3D one (`specimens3d.specimen.random_disk`);
-    loading: "flat" (the UCS test's platens), "isrm" (ISRM's curved jaws, `rig.Jaws`; 2D) or
+    loading: "flat" (the UCS test's platens), "isrm" (ISRM's curved jaws, `rig.Jaws`, `rig.Jaws3D`) or
     "strips" (the flat platens with a bearing strip of `strip_modulus_GPa` and
     `strip_thickness_mm`, None: STRIP_THICKNESS_PER_DIAMETER x D, on each; `rig.BearingStrip`);
     contact_stiffness: PFC's convention for kn ("pfc5" or "pfc4", `dem.simulate`; None: the
@@ -243,8 +243,6 @@ def simulate_brazilian(params: BondedParams | dict | None = None, specimen=None,
     check_max_strain(max_strain)
     specimen = specimen or brazilian_disk()
     rig = rig_for(specimen)
-    if loading == "isrm" and rig.jaws is None:
-        raise InputError("loading", f"must be one of {', '.join(LOADINGS_3D)} in 3D, got {loading!r}")
     disk = rig.disk(specimen)
     diameter = disk.diameter_m
     strip, squeeze = None, 0.0  # the strips, and how far they may close the platens at most
@@ -320,11 +318,8 @@ def _check(s: dict) -> None:
 
 def _check_3d(s: dict) -> None:
     """A 3D disk's settings (D x D/2, `specimens3d.specimen.random_disk`): none of the 2D engine's
-    alone, a loading the 3D test has, and a disk its spheres fill."""
+    alone, and a disk its spheres fill."""
     check_3d_settings(s)
-    if s["brazilian_loading"] not in LOADINGS_3D:
-        raise InputError("brazilian_loading", f"the 3D Brazilian test loads the disk by "
-                                              f"{' or '.join(LOADINGS_3D)}, got {s['brazilian_loading']!r}")
     d, largest = s["disk_diameter_mm"], s["rmin_mm"] * s["radius_ratio"]
     if np.isfinite(d) and d / 2 < 8 * largest:  # the thickness, 4 of the largest spheres
         raise InputError("disk_diameter_mm", f"a 3D disk is D / 2 thick: {d:g} mm leaves {d / 2:g} mm for "
@@ -338,7 +333,8 @@ def _check_3d(s: dict) -> None:
 
 def _specimen(s: dict):
     if in_3d(s):  # a disk D thick D / 2 carved from a cached D x D/2 x D packing of spheres
-        return random_disk(s["disk_diameter_mm"], None, s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s))
+        return random_disk(s["disk_diameter_mm"], None, s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s),
+                           grain_shape=s.get("grain_shape", DEFAULT_SHAPE))
     return brazilian_disk(s["disk_diameter_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"], genesis_of(s),
                           s.get("grain_shape", DEFAULT_SHAPE))
 

@@ -17,12 +17,15 @@ them, on the density-scaled specimen (`simulate.scale_density`); the speed drops
 slowest from the first broken bond on (`loading.LOCALISED_DAMAGE`: one crack decides the peak)
 and returns to full once the force has fallen well past the peak; the test stops once the
 force is below POST_PEAK_FRACTION of the peak.
+
+With the setting `dimensions` 3 (PFC3D) the specimen is the UCS test's cylinder of spheres,
+gripped at its ends as the prism (`rig.grips_3d`): sigma_t = P_max / (pi D^2 / 4), P in N.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -32,7 +35,7 @@ from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
 from rockcal.specimens.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests import ucs
-from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, Setting
+from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, Setting, in_3d
 from rockcal.labtests.loading import (LOCALISED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       check_max_strain, load_to_failure)
 from rockcal.labtests.result import LabResult, run_fields
@@ -47,13 +50,27 @@ CURVE_COLUMNS = ("axial_strain", "tensile_stress_MPa", "broken_bonds")
 
 @dataclass
 class DirectTensionResult(LabResult):
-    """Responses of a direct tension test; its curve's columns: CURVE_COLUMNS (the strain is
-    the grips' opening over the free length between them)."""
+    """Responses of a direct tension test, 2D or 3D (`DirectTensionResult2D`, `DirectTensionResult3D`
+    add the peak load); its curve's columns: CURVE_COLUMNS (the strain is the grips' opening over
+    the free length between them)."""
 
     sigma_t_direct_MPa: float
-    P_max_kN_per_m: float
     peak_axial_strain: float
     free_length_mm: float
+
+
+@dataclass
+class DirectTensionResult2D(DirectTensionResult):
+    """A 2D prism's: its peak pull per metre of the slab's unit thickness."""
+
+    P_max_kN_per_m: float
+
+
+@dataclass
+class DirectTensionResult3D(DirectTensionResult):
+    """A 3D cylinder's: its peak pull."""
+
+    P_max_kN: float
 
 
 def check_grip(grip_fraction) -> None:
@@ -82,25 +99,32 @@ def simulate_direct_tension(params: BondedParams | dict | None = None,
                             contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS,
                             progress: Callable[[float, float], None] | None = None
                             ) -> DirectTensionResult:
-    """Pull the prism apart; defaults: granite parameters on the UCS test's 50 x 100 mm prism
-    of balls (a clumped specimen's clumps are gripped whole, `rig.grips`). progress(axial
-    strain, stress MPa) is called as the test goes."""
+    """Pull the prism (or a 3D cylinder) apart; defaults: granite parameters on the UCS test's
+    50 x 100 mm prism of balls (a clumped specimen's clumps are gripped whole, `rig.grips`).
+    progress(axial strain, stress MPa) is called as the test goes."""
     started = time.perf_counter()
     params = as_params(params)
     check_grip(grip_fraction)
     check_max_strain(max_strain)
     specimen = specimen or random_packing(50.0, 100.0)
-    check_grip_rows(grip_fraction, 1e3 * specimen.height_m, 2e3 * float(grains(specimen)[1].mean()))
-    grips = Grips(specimen, params, grip_fraction, ucs.DENSITY_SCALED_SPEED * rate_factor,
-                  contact_stiffness)
+    speed = ucs.DENSITY_SCALED_SPEED * rate_factor
+    if specimen.dimensions == 3:
+        from rockcal.labtests.rig.grips_3d import Grips3D  # the 3D engine: loaded for a 3D run alone
+
+        check_grip_rows(grip_fraction, 1e3 * specimen.size_m[2], 2e3 * float(specimen.radius.mean()))
+        grips = Grips3D(specimen, params, grip_fraction, speed)
+        grips.state.scale_density()
+    else:
+        check_grip_rows(grip_fraction, 1e3 * specimen.height_m, 2e3 * float(grains(specimen)[1].mean()))
+        grips = Grips(specimen, params, grip_fraction, speed, contact_stiffness)
+        scale_density(grips.state)
     state = grips.state
-    scale_density(state)
     broken = [0]
 
     def read() -> Reading:
         broken.append(state.n_broken())
         strain = grips.strain()
-        pull = grips.load()  # N per m, tension positive
+        pull = grips.load()  # N per m (2D) or N, tension positive
         return Reading(pull, strain, (strain, pull / grips.area_m2 / 1e6))
 
     loading = Loading(RAMP_STEPS_PER_ROW * grips.rows / ucs.DENSITY_SCALED_SPEED, LOCALISED_DAMAGE)
@@ -109,14 +133,16 @@ def simulate_direct_tension(params: BondedParams | dict | None = None,
                             max_strain, full_speed_past_peak=True, progress=progress)
     curve = np.column_stack([curve, broken])
     k = int(np.argmax(curve[:, 1]))
-    return DirectTensionResult(
-        sigma_t_direct_MPa=float(curve[k, 1]), P_max_kN_per_m=float(curve[k, 1] * grips.area_m2 * 1e3),
-        peak_axial_strain=float(curve[k, 0]), free_length_mm=1e3 * grips.free_length_m, curve=curve,
-        **run_fields(state, specimen, started))
+    result = dict(sigma_t_direct_MPa=float(curve[k, 1]), peak_axial_strain=float(curve[k, 0]),
+                  free_length_mm=1e3 * grips.free_length_m, curve=curve, **run_fields(state, specimen, started))
+    P_max_kN = float(curve[k, 1] * grips.area_m2 * 1e3)
+    if specimen.dimensions == 3:
+        return DirectTensionResult3D(P_max_kN=P_max_kN, **result)
+    return DirectTensionResult2D(P_max_kN_per_m=P_max_kN, **result)
 
 
 def _check(s: dict) -> None:
-    ucs.TEST.check(s)
+    ucs.TEST.check(s)  # in 3D: the cylinder's size and spheres
     check_grip(s["grip_fraction"])
     check_grip_rows(s["grip_fraction"], s["height_mm"], s["rmin_mm"] * (1 + s["radius_ratio"]))
 
@@ -130,17 +156,30 @@ GRIP = Setting("grip_fraction", GRIP_FRACTION, "", check_grip,
                "grip length / prism height at each end (FISHTank's tt_tg / H), in (0, 0.4]; the "
                "grip reaches at least one mean grain diameter into the prism")
 
+
+def _outline(s: dict) -> Outline:
+    if in_3d(s):  # the UCS test's cylinder
+        text = f"direct tension cylinder Ø{s['width_mm']:g} x {s['height_mm']:g} mm"
+        return replace(ucs.TEST.outline(s), text=text)
+    return Outline(f"direct tension {s['width_mm']:g} x {s['height_mm']:g} mm", s["width_mm"], s["height_mm"])
+
+
+RESPONSES = (Response("sigma_t_direct_MPa", "MPa", label="direct tensile strength"),
+             Response("P_max_kN_per_m", "kN/m", target=False, label="peak load"),
+             Response("peak_axial_strain", "", target=False, label="axial strain at peak"))
+RESPONSES_3D = tuple(Response("P_max_kN", "kN", target=False, label="peak load") if r.name == "P_max_kN_per_m"
+                     else r for r in RESPONSES)
+
 TEST = LabTest(
     name="direct_tension", title="direct tension",
-    responses=(Response("sigma_t_direct_MPa", "MPa", label="direct tensile strength"),
-               Response("P_max_kN_per_m", "kN/m", target=False, label="peak load"),
-               Response("peak_axial_strain", "", target=False, label="axial strain at peak")),
+    responses=RESPONSES,
+    # the later settings last: at their old values (kind.LATER_SETTINGS) a run's key leaves them out
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS,
-              "grip_fraction", "contact_stiffness",
-              "grain_shape"),  # grain_shape last: at its default (kind.LATER_SETTINGS) out of a run's key
+              "grip_fraction", "contact_stiffness", "grain_shape", "dimensions"),
     check=_check, make=ucs.TEST.make, run=_run,
     reading=lambda strain, stress_MPa: f"strain {100 * strain:.4f} %, {stress_MPa:.2f} MPa",
-    outline=lambda s: Outline(f"direct tension {s['width_mm']:g} x {s['height_mm']:g} mm",
-                              s["width_mm"], s["height_mm"]),
-    setting_help=(("width_mm", "Prism width W, mm."), ("height_mm", "Prism height, mm, along the pull.")),
-    curve_columns=CURVE_COLUMNS, own_settings=(GRIP,), plot="tension_curve")
+    outline=_outline,
+    setting_help=(("width_mm", "Prism width W, mm (in 3D the cylinder's diameter)."),
+                  ("height_mm", "Prism height, mm, along the pull.")),
+    curve_columns=CURVE_COLUMNS, own_settings=(GRIP,), plot="tension_curve",
+    changes_3d=(("responses", RESPONSES_3D),))

@@ -9,6 +9,8 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Any, Callable
 
+import numpy as np
+
 from rockcal.materials.clump_templates import DEFAULT_SHAPE
 from rockcal.specimens.genesis import Genesis
 from rockcal.specimens.grain_limit import expected_grains
@@ -24,15 +26,16 @@ PACKING_SETTINGS = {"rmin_mm", "radius_ratio", "seed", *GENESIS}  # what a rando
 # Settings added after runs were stored, with the value the engine had before them: a run's
 # key names one only where it differs from that, so the runs stored before keep their keys.
 LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02, "brazilian_loading": "flat",
-                  "grain_shape": DEFAULT_SHAPE, "dimensions": 2, "strip_modulus_gpa": 1.0}
+                  "grain_shape": DEFAULT_SHAPE, "dimensions": 2, "strip_modulus_gpa": 1.0,
+                  "confined_vessel": "prism"}
 # A specimen's dimensions: 2, PFC2D's disks, or 3, PFC3D's spheres (the tests with the setting
 # `dimensions` alone, on a material the 3D engine has: `Material.states`).
 DIMENSIONS = (2, 3)
 
 
-# the tests with a 3D implementation, in words; the 3D confined test is a square prism between
-# four servo walls, polyaxial, not the 2D biaxial test's two
-TESTS_3D = "ucs, brazilian, biaxial: confined (square prism, polyaxial walls)"
+# the tests with a 3D implementation, in words
+TESTS_3D = ("ucs, brazilian, direct_tension, biaxial: confined (a triaxial cell, or a square prism in "
+            "polyaxial walls)")
 
 
 def in_3d(s: dict) -> bool:
@@ -41,13 +44,15 @@ def in_3d(s: dict) -> bool:
 
 
 def check_3d_settings(s: dict) -> None:
-    """None of the 2D engine's settings alone in a 3D test's settings `s` (clumped grains, PFC
-    4's contact stiffness) and R_min at least MIN_RMIN_MM, as in 2D; an InputError naming the
-    setting."""
+    """None of the 2D engine's settings alone in a 3D test's settings `s` (a grain shape with no
+    3D template, PFC 4's contact stiffness) and R_min at least MIN_RMIN_MM, as in 2D; an
+    InputError naming the setting."""
+    from rockcal.materials.clump_templates_3d import GRAIN_SHAPES_3D
+
     check_rmin(s["rmin_mm"])
-    if s.get("grain_shape", DEFAULT_SHAPE) != DEFAULT_SHAPE:
-        raise InputError("grain_shape", f"the 3D engine's grains are balls (grain_shape = "
-                                        f"\"{DEFAULT_SHAPE}\"), got {s['grain_shape']!r} with dimensions = 3")
+    if s.get("grain_shape", DEFAULT_SHAPE) not in GRAIN_SHAPES_3D:
+        raise InputError("grain_shape", f"the 3D engine's grains are {', '.join(GRAIN_SHAPES_3D)}, got "
+                                        f"{s['grain_shape']!r} with dimensions = 3")
     if s["contact_stiffness"] != CONTACT_STIFFNESS_3D:
         raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
                                               f"({CONTACT_STIFFNESS_3D!r}), got {s['contact_stiffness']!r} "
@@ -114,6 +119,12 @@ class Outline:
     height_mm: float
     share: float = 1.0
     vessel_mm: tuple[float, float, float] | None = None  # a 3D packing's cuboid, x y z
+    vessel_cylinder: bool = False  # the 3D packing fills the vertical cylinder inscribed in its cuboid
+
+    @property
+    def vessel_volume_mm3(self) -> float:
+        """The 3D packing's vessel's volume, mm³."""
+        return (np.pi / 4 if self.vessel_cylinder else 1.0) * float(np.prod(self.vessel_mm))
 
 
 @dataclass(frozen=True)
@@ -242,11 +253,11 @@ class LabTest:
         if not PACKING_SETTINGS <= set(self.settings):
             return None
         p = self.packing(specimen_settings)
-        vessel = self.outline(self.settings_of(specimen_settings)).vessel_mm
-        if vessel is None:
+        outline = self.outline(self.settings_of(specimen_settings))
+        if outline.vessel_mm is None:
             return packing_name(**p)
-        return packing_name_3d(tuple(1e-3 * v for v in vessel), 1e-3 * p["rmin_mm"], p["radius_ratio"],
-                               p["seed"], p["genesis"])
+        return packing_name_3d(tuple(1e-3 * v for v in outline.vessel_mm), 1e-3 * p["rmin_mm"], p["radius_ratio"],
+                               p["seed"], p["genesis"], outline.vessel_cylinder, p["grain_shape"])
 
     def responses_of(self, result) -> dict:
         """The declared responses of a test's result, in their declared order."""

@@ -23,8 +23,10 @@ MAX_PACKINGS = 100  # an upper bound on the packings of one specimen a campaign 
 
 
 # The specimen settings whose default differs in 3D: the 3D genesis' cloud porosity (2D's 0.09
-# would overfill a vessel of spheres) and PFC 5's contact stiffness, the 3D engine's only one.
-DEFAULTS_3D = {"cloud_porosity": DEFAULT_GENESIS_3D.cloud_porosity, "contact_stiffness": CONTACT_STIFFNESS_3D}
+# would overfill a vessel of spheres), PFC 5's contact stiffness, the 3D engine's only one, and
+# the confined test's triaxial cell (2D has side walls alone).
+DEFAULTS_3D = {"cloud_porosity": DEFAULT_GENESIS_3D.cloud_porosity, "contact_stiffness": CONTACT_STIFFNESS_3D,
+               "confined_vessel": "cylinder"}
 
 
 class SpecimenSettings(Genesis):
@@ -36,7 +38,7 @@ class SpecimenSettings(Genesis):
     radius_ratio: float = Field(1.65, ge=1, le=10, description="Largest / smallest radius; radii are uniform between.")
     seed: int = Field(1, ge=0, description="Packing seed; other packings (intervals, validation beams) take seed + 1, ...")
     width_mm: float = Field(50.0, gt=0, description="Width of the UCS, confined and direct tension specimens, mm "
-                            "(in 3D the UCS cylinder's diameter and the confined square prism's side).")
+                            "(in 3D the UCS and confined cylinders' diameter, the confined square prism's side).")
     height_mm: float = Field(100.0, gt=0, description="Height of the UCS, confined and direct tension specimens, mm.")
     beam_length_mm: float = Field(220.0, gt=0, description="Notched beam length, mm.")
     beam_height_mm: float = Field(50.0, gt=0, description="Notched beam depth W, mm.")
@@ -76,10 +78,17 @@ class SpecimenSettings(Genesis):
                     "takes them (the direct tension test's grips hold a clump whole by its centroid).")
     dimensions: int = Field(
         2, exclude_if=lambda v: v == 2,
-        description="2: PFC2D's disks; 3: PFC3D's spheres, the UCS test on a cylinder of width_mm as diameter "
-                    "and height_mm tall, the confined test on a square prism of width_mm side, the Brazilian "
-                    "test on a disk D x D/2 (parallel bonds and balls only; bending and direct tension are 2D "
-                    "only); in 3D cloud_porosity is 0.35 and contact_stiffness pfc5 unless given.")
+        description="2: PFC2D's disks; 3: PFC3D's spheres, the UCS and direct tension tests on a cylinder of "
+                    "width_mm as diameter and height_mm tall, the confined test in a triaxial cell or on a square "
+                    "prism (confined_vessel), the Brazilian test on a disk D x D/2 (parallel bonds and balls "
+                    "only; bending is 2D only); in 3D cloud_porosity is 0.35, contact_stiffness pfc5 and "
+                    "confined_vessel cylinder unless given.")
+    # in every record: a 3D record without it would read back as the cell
+    confined_vessel: Literal["cylinder", "prism"] = Field(
+        "prism",
+        description="The 3D confined test's vessel: a cylinder of width_mm diameter packed in a cylindrical cell "
+                    "whose wall is servo-controlled to sigma3 (cylinder, the lab's triaxial cell; 3D's default) or a "
+                    "square prism between four servo side walls (prism, polyaxial); 2D's is prism alone.")
 
     @model_validator(mode="before")
     @classmethod

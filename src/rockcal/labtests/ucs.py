@@ -169,7 +169,8 @@ def ucs_specimen(width_mm: float = 50.0, height_mm: float = 100.0, rmin_mm: floa
 def _specimen(s: dict) -> Specimen | Specimen3D:
     if in_3d(s):  # a cylinder of the width as diameter, carved from a cached cuboid packing
         return random_specimen("cylinder", s["width_mm"], s["height_mm"], s["rmin_mm"],
-                               s["radius_ratio"], s["seed"], genesis_of(s))
+                               s["radius_ratio"], s["seed"], genesis_of(s),
+                               grain_shape=s.get("grain_shape", DEFAULT_SHAPE))
     return ucs_specimen(s["width_mm"], s["height_mm"], s["rmin_mm"], s["radius_ratio"], s["seed"],
                         genesis_of(s), s.get("grain_shape", DEFAULT_SHAPE))
 

@@ -82,9 +82,9 @@ def new_state(params: BondedParams, specimen, pos=None, radius=None, **options) 
     """The engine state of `specimen` in the material of `params`, of the specimen's dimension
     (`Material.states`): its grains, or `pos` and `radius` (m) with the test's rig after them;
     `options` that dimension's rig options (2D: `simulate.assemble_state`'s walls,
-    wall_active, driven, skin and a parallel bond's `contact_stiffness`; 3D: the walls). A
-    clumped specimen's pebbles are made its rigid clumps (`clump_motion.clump`), the rig's
-    particles after them staying balls."""
+    wall_active, driven, skin and a parallel bond's `contact_stiffness`; 3D: the walls and
+    driven). A clumped specimen's pebbles are made its rigid clumps (`clump_motion.clump`, in 3D
+    `dem3d.clump_motion.clump`), the rig's particles after them staying balls."""
     chosen = material_of(params)
     check_dimensions(chosen, specimen.dimensions)
     clump_of = getattr(specimen, "clump_of", None)
@@ -96,5 +96,9 @@ def new_state(params: BondedParams, specimen, pos=None, radius=None, **options) 
                                                specimen, params, **options)
     if clump_of is not None:
         rig = state.n_particles - len(clump_of)
-        clump(state, np.concatenate([clump_of, np.full(rig, -1, np.int64)]), params.density)
+        if specimen.dimensions == 3:  # the 3D engine: loaded for a 3D run alone
+            from rockcal.dem3d.clump_motion import clump as clump_3d
+            clump_3d(state, np.concatenate([clump_of, np.full(rig, -1, np.int64)]), params.density)
+        else:
+            clump(state, np.concatenate([clump_of, np.full(rig, -1, np.int64)]), params.density)
     return state

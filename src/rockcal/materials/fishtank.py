@@ -72,9 +72,16 @@ def pfc_names(properties: dict[str, tuple[str, str | None]], parameters) -> dict
 
 
 def grain_template(specimen) -> ClumpTemplate | None:
-    """The clump template of the specimen's grains; None for balls."""
+    """The clump template of the specimen's grains (of its dimension: a 3D specimen's is a
+    `clump_templates_3d.ClumpTemplate3D`); None for balls."""
     shape = getattr(specimen, "grain_shape", DEFAULT_SHAPE)
-    return None if shape == DEFAULT_SHAPE else template(shape)
+    if shape == DEFAULT_SHAPE:
+        return None
+    if getattr(specimen, "dimensions", 2) == 3:
+        from rockcal.materials.clump_templates_3d import template_3d  # the 3D engine's: for 3D alone
+
+        return template_3d(shape)
+    return template(shape)
 
 
 def template_name(shape: ClumpTemplate) -> str:
@@ -82,11 +89,12 @@ def template_name(shape: ClumpTemplate) -> str:
     return "rockcal_" + shape.name.replace("-", "_")
 
 
-def template_pebbles(shape: ClumpTemplate) -> list[tuple[float, float, float]]:
-    """Each pebble of the template as PFC2D's `clump template create ... pebbles` takes it:
-    radius, then centre x, y, in the template's frame (the clump's centroid at the origin,
-    lengths in units of its equivalent radius: the template's equivalent diameter is 2)."""
-    return [(float(r), float(x), float(y)) for r, (x, y) in zip(shape.radii, shape.offsets)]
+def template_pebbles(shape) -> list[tuple[float, ...]]:
+    """Each pebble of the template as PFC's `clump template create ... pebbles` takes it:
+    radius, then centre x, y (PFC2D) or x, y, z (PFC3D), in the template's frame (the clump's
+    centroid at the origin, lengths in units of its equivalent radius: the template's
+    equivalent diameter is 2)."""
+    return [(float(r), *(float(v) for v in offset)) for r, offset in zip(shape.radii, shape.offsets)]
 
 
 def common_pfc(params, specimen, kind: str, fishtank: int | None = None) -> dict[str, float | int | str]:

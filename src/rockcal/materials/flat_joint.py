@@ -1,40 +1,43 @@
-"""The flat-jointed material: PFC's flat joints (the law: `rockcal.dem.flatjoint`) and linear
-contacts elsewhere. Its parameters with their PFC names, its genesis step, its assignment on a
-packed specimen as FISHTank makes it (`ft.fis`: `_mpAssignFJ`, `_mpAssignFJProps`,
-`_mpFJrmulReduce`, `_mpFJsetMicroStruc`), its engine state and its FISHTank parameters.
+"""The flat-jointed material: PFC's flat joints (the law: `rockcal.dem.flatjoint` in 2D,
+`rockcal.dem3d.flat_joint` in 3D) and linear contacts elsewhere. Its parameters with their PFC
+names, its genesis step, its assignment on a packed specimen as FISHTank makes it (`ft.fis`:
+`_mpAssignFJ`, `_mpAssignFJProps`, `_mpFJrmulReduce`, `_mpFJsetMicroStruc`), its engine state
+and its FISHTank parameters.
 
 1. Every grain pair whose gap is <= the installation gap (`fjm_igap`; rockcal's genesis
    `install_gap` x R_min) gets a flat joint; every other grain pair a linear contact of the
    linear-material group (`lnm_emod`, `lnm_krat`, `lnm_fric`), as do contacts that form later.
-2. Each flat joint: N_r elements (`fjm_Nr`), radius multiplier λ (`fjm_rmulVal`), friction
-   (`fjm_fric`), tensile strength and cohesion drawn per joint from normal distributions
-   truncated at zero (`fjm_ten_m/_sd`, `fjm_coh_m/_sd`: FISHTank redraws negative values; every
-   element of a joint gets the joint's draw, since `fj_ten` and `fj_coh` are properties of the
-   contact in PFC), friction angle (`fjm_fa`), the residual cohesion of elements broken in
-   shear (PFC 7+'s `fj_cohres` with `fj_resmode` 1; FISHTank has no name for it), and
-   stiffnesses from the effective modulus and stiffness ratio (`fjm_emod`, `fjm_krat`):
-   k_n = E*/(R_i + R_j), k_s = k_n/κ*, fixed then.
-3. λ is reduced where two flat-joint faces of one grain would overlap (`fjm_rmulCode`):
-   a face of joint c seen from the grain's centre spans the half-angle α = atan(R̄_c / l_c),
-   l_c the distance from the centre to the contact point (FISHTank subtracts half the initial
-   gap, which is still 0 at this point); two faces overlap when α_1 + α_2 > β, the angle
-   between their contact directions. Code 0 keeps λ; code 1 visits the grains in turn and,
-   for each pair of its joints that overlap, multiplies both joints' λ by 0.99 until they do
-   not; code 2 multiplies the one λ of all joints by 0.99 until no pair overlaps.
-4. The microstructure: of the n flat joints, round(B n) are bonded (every element bonded,
-   g_0 = 0), round(G n) gapped (unbonded, g_0 drawn from a normal distribution of mean
-   `fjm_G_m` and sd `fjm_G_sd` truncated at zero) and the rest slit (unbonded, g_0 = 0).
-   FISHTank takes them in the order of PFC's contact list; rockcal ranks the joints by a
-   uniform draw of each (seeded), so the fractions are met exactly (to rounding), the choice
-   is reproducible, and a joint keeps its rank whatever the fractions.
+2. Each flat joint: N_r elements (`fjm_Nr`; in 3D N_r rings of N_α, `fjm_Nal`), radius
+   multiplier λ (`fjm_rmulVal`), friction (`fjm_fric`), tensile strength and cohesion drawn per
+   joint from normal distributions truncated at zero (`fjm_ten_m/_sd`, `fjm_coh_m/_sd`:
+   FISHTank redraws negative values; every element of a joint gets the joint's draw, since
+   `fj_ten` and `fj_coh` are properties of the contact in PFC), friction angle (`fjm_fa`), the
+   residual cohesion of elements broken in shear (PFC 7+'s `fj_cohres` with `fj_resmode` 1;
+   FISHTank has no name for it), and stiffnesses from the effective modulus and stiffness ratio
+   (`fjm_emod`, `fjm_krat`): k_n = E*/(R_i + R_j), k_s = k_n/κ*, fixed then.
+3. λ is reduced where two flat-joint faces of one grain would overlap (`fjm_rmulCode`): a face
+   of joint c seen from the grain's centre spans the half-angle α = atan(R̄_c / l_c), l_c the
+   distance from the centre to the contact point (FISHTank subtracts half the initial gap,
+   which is still 0 at this point); two faces overlap when α_1 + α_2 > β, the angle between
+   their contact directions (disks or spheres alike). Code 0 keeps λ; code 1 visits the grains
+   in turn and, for each pair of its joints that overlap, multiplies both joints' λ by 0.99
+   until they do not; code 2 multiplies the one λ of all joints by 0.99 until no pair overlaps.
+4. The microstructure: of the n flat joints, round(B n) are bonded (every element bonded, g_0 =
+   0), round(G n) gapped (unbonded, g_0 drawn from a normal distribution of mean `fjm_G_m` and
+   sd `fjm_G_sd` truncated at zero) and the rest slit (unbonded, g_0 = 0). FISHTank takes them
+   in the order of PFC's contact list; rockcal ranks the joints by a uniform draw of each
+   (seeded), so the fractions are met exactly (to rounding), the choice is reproducible, and a
+   joint keeps its rank whatever the fractions.
 
-Every random quantity comes from uniform draws per joint (`flatjoint_draws`): strengths and
-gaps are truncated-normal at them (`strengths.truncated_normal`, as the parallel bond's), so one
-specimen and seed serve every parameter set.
+Every random quantity comes from uniform draws per joint (`flatjoint_draws`; a 3D specimen's
+seeded by its bonds' draws, `joint_draws_3d`): strengths and gaps are truncated-normal at them
+(`strengths.truncated_normal`, as the parallel bond's), so one specimen and seed serve every
+parameter set.
 """
 
 from __future__ import annotations
 
+import hashlib
 import logging
 import math
 from dataclasses import dataclass
@@ -89,7 +92,11 @@ class FlatJointParams(BaseModel):
                             description="residual mode: 0 an element broken in shear keeps friction, "
                                         "1 friction and fj_cohres (fj_resmode)")
     fj_fric: float = Field(0.5, ge=0, le=10, description="element friction coefficient (fjm_fric)")
-    fj_nr: int = Field(2, ge=1, le=64, description="elements per flat joint (fjm_Nr)")
+    fj_nr: int = Field(2, ge=1, le=64,
+                       description="elements per flat joint in 2D, rings of elements in 3D (fjm_Nr)")
+    # left out of `key()` at its default, so runs stored before it keep their keys
+    fj_nal: int = Field(4, ge=3, le=64, exclude_if=lambda v: v == 4,
+                        description="elements per ring in 3D, circumferential (fjm_Nal; PFC2D has none)")
     fj_rmul: float = Field(1.0, ge=0.1, le=10, description="radius multiplier λ, starting value (fjm_rmulVal)")
     fjm_rmulCode: int = Field(0, ge=0, le=2, json_schema_extra=CODE,
                               description="λ reduction: 0 none, 1 per joint, 2 uniform")
@@ -150,11 +157,13 @@ class FlatJointParams(BaseModel):
 NAMES = tuple(FlatJointParams.model_fields)
 
 # FISHTank's flat-jointed material group, in its order: PFC property -> (rockcal name, unit):
-# fjm_igap is the installation gap as a length, fjm_Nr the elements per joint (2D), fjm_rmulVal λ
+# fjm_igap is the installation gap as a length, fjm_Nr the elements per joint (2D) or rings (3D),
+# fjm_Nal the elements per ring (3D only: FISHTank sets it in PFC3D alone), fjm_rmulVal λ
 PFC_PROPERTIES = {
     "fjm_igap": ("install_gap_mm", "mm"), "fjm_B_frac": ("fjm_B_frac", None),
     "fjm_G_frac": ("fjm_G_frac", None), "fjm_G_m": ("fjm_G_m", "mm"), "fjm_G_sd": ("fjm_G_sd", "mm"),
-    "fjm_Nr": ("fj_nr", None), "fjm_rmulCode": ("fjm_rmulCode", None), "fjm_rmulVal": ("fj_rmul", None),
+    "fjm_Nr": ("fj_nr", None), "fjm_Nal": ("fj_nal", None), "fjm_rmulCode": ("fjm_rmulCode", None),
+    "fjm_rmulVal": ("fj_rmul", None),
     "fjm_emod": ("fj_emod", "GPa"), "fjm_krat": ("fj_kratio", None), "fjm_fric": ("fj_fric", None),
     "fjm_ten_m": ("fj_ten", "MPa"), "fjm_ten_sd": ("fj_ten_sd", "MPa"), "fjm_coh_m": ("fj_coh", "MPa"),
     "fjm_coh_sd": ("fj_coh_sd", "MPa"), "fjm_fa": ("fj_fa", None),
@@ -179,10 +188,24 @@ def _faces_overlap(rbar1, l1, rbar2, l2, beta):
     return math.atan2(rbar1, l1) + math.atan2(rbar2, l2) - beta > 0.0
 
 
+@njit(cache=True, inline="always")
+def _angle_between(v1, v2):
+    """The angle between two vectors (2 or 3 components), from their cross and dot products."""
+    if v1.shape[0] == 2:
+        across = abs(v1[0] * v2[1] - v1[1] * v2[0])
+    else:
+        c0 = v1[1] * v2[2] - v1[2] * v2[1]
+        c1 = v1[2] * v2[0] - v1[0] * v2[2]
+        c2 = v1[0] * v2[1] - v1[1] * v2[0]
+        across = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+    return math.atan2(across, np.sum(v1 * v2))
+
+
 @njit(cache=True)
 def _reduce_rmul(pos, radius, pi, pj, rmul, code):
     """FISHTank's _mpFJrmulReduce on joints (pi, pj) in place: grains in index order, each
-    grain's joints in pair order. Returns the number of reductions."""
+    grain's joints in pair order; disks (pos: n x 2) or spheres (n x 3). Returns the number of
+    reductions."""
     n = pos.shape[0]
     m = pi.shape[0]
     counts = np.zeros(n + 1, np.int64)
@@ -198,32 +221,27 @@ def _reduce_rmul(pos, radius, pi, pj, rmul, code):
         members[fill[pj[c]]] = c
         fill[pj[c]] += 1
     # each joint's contact point (mid-gap) and the smaller radius of its grains
-    cx = np.empty(m)
-    cy = np.empty(m)
+    point = np.empty((m, pos.shape[1]))
     rmin = np.empty(m)
     for c in range(m):
         i = pi[c]
         j = pj[c]
-        dx = pos[j, 0] - pos[i, 0]
-        dy = pos[j, 1] - pos[i, 1]
-        d = math.sqrt(dx * dx + dy * dy)
-        arm = radius[i] + 0.5 * (d - radius[i] - radius[j])
-        cx[c] = pos[i, 0] + dx / d * arm
-        cy[c] = pos[i, 1] + dy / d * arm
+        d = pos[j] - pos[i]
+        dist = math.sqrt(np.sum(d * d))
+        arm = radius[i] + 0.5 * (dist - radius[i] - radius[j])
+        point[c] = pos[i] + d / dist * arm
         rmin[c] = min(radius[i], radius[j])
     reductions = 0
     for b in range(n):
         for a1 in range(start[b], start[b + 1]):
             c1 = members[a1]
-            v1x = cx[c1] - pos[b, 0]
-            v1y = cy[c1] - pos[b, 1]
-            l1 = math.sqrt(v1x * v1x + v1y * v1y)
+            v1 = point[c1] - pos[b]
+            l1 = math.sqrt(np.sum(v1 * v1))
             for a2 in range(a1 + 1, start[b + 1]):
                 c2 = members[a2]
-                v2x = cx[c2] - pos[b, 0]
-                v2y = cy[c2] - pos[b, 1]
-                l2 = math.sqrt(v2x * v2x + v2y * v2y)
-                beta = math.atan2(abs(v1x * v2y - v1y * v2x), v1x * v2x + v1y * v2y)
+                v2 = point[c2] - pos[b]
+                l2 = math.sqrt(np.sum(v2 * v2))
+                beta = _angle_between(v1, v2)
                 while (_faces_overlap(rmul[c1] * rmin[c1], l1, rmul[c2] * rmin[c2], l2, beta)
                        and rmul[c1] > 1e-12 and rmul[c2] > 1e-12):
                     reductions += 1
@@ -383,9 +401,12 @@ def pfc_parameters(params: FlatJointParams, specimen,
         logger.warning("fj_cohres %g MPa: FISHTank has no name for the residual cohesion; after the genesis "
                        "set the flat joints' fj_cohres and fj_resmode 1 in PFC 7+", params.fj_cohres)
     ten_sd, coh_sd = params.strength_sds
-    values = params.key() | {"fj_ten_sd": ten_sd, "fj_coh_sd": coh_sd, "track_microstructure": False,
+    values = params.key() | {"fj_nal": params.fj_nal, "fj_ten_sd": ten_sd, "fj_coh_sd": coh_sd,
+                             "track_microstructure": False,
                              "install_gap_mm": specimen.install_gap * specimen.rmin_mm}
-    return common_pfc(params, specimen, "flat-jointed", fishtank) | pfc_values(PFC_PROPERTIES, values)
+    properties = {pfc: name for pfc, name in PFC_PROPERTIES.items()
+                  if pfc != "fjm_Nal" or getattr(specimen, "dimensions", 2) == 3}
+    return common_pfc(params, specimen, "flat-jointed", fishtank) | pfc_values(properties, values)
 
 
 def pair_properties(params: FlatJointParams, specimen) -> dict:
@@ -400,6 +421,42 @@ def _specimen_state(pos, radius, specimen, params, *, contact_stiffness=None, **
     """The material's state on `specimen`; its linear contacts are PFC 5's whatever
     `contact_stiffness` says (a parallel-bonded setting)."""
     return new_state(pos, radius, specimen.bonds, params, joint_draws=specimen.joint_draws, **options)
+
+
+def joint_draws_3d(specimen) -> np.ndarray:
+    """Each flat joint's uniform draws on a 3D specimen (`flatjoint_draws`), seeded by its
+    bonds' own draws, so a specimen always gets the same joints."""
+    digest = hashlib.sha256(np.ascontiguousarray(specimen.bond_draws, float).tobytes()).digest()
+    return flatjoint_draws(len(specimen.bonds), int.from_bytes(digest[:4], "little"))
+
+
+def new_state_3d(pos, radius, specimen, params: FlatJointParams, *, walls=((), ())):
+    """A 3D specimen at rest in the material: PFC3D's flat joints at its bonded pairs
+    (`rockcal.dem3d.flat_joint`; `fj_nr` rings of `fj_nal` sectors), PFC3D's linear contacts
+    (`lnm_*`) elsewhere, between planar `walls` (points, inward normals) of the flat joints'
+    modulus."""
+    from rockcal.dem3d import flat_joint as joints_3d  # the 3D engine: loaded for a 3D run alone
+    from rockcal.dem3d.laws import Laws
+    from rockcal.dem3d.simulate import assemble_state as assemble_3d
+    from rockcal.dem3d.vectors import norms
+    from rockcal.dem3d.walls import new_walls
+
+    material = flatjointed(pos, radius, specimen.bonds, params, joint_draws_3d(specimen))
+
+    def joints(pos, radius, pi, pj, order):
+        d = pos[pj] - pos[pi]
+        dist = norms(d)
+        m = material
+        return joints_3d.new_flatjoints_3d(
+            params.fj_nr, params.fj_nal, d / dist[:, None], radius[pi] + radius[pj] - dist,
+            m.kn[order], m.ks[order], m.rmul[order], m.fric, m.tan_fa, m.gap0[order],
+            m.kind[order] == BONDED, m.ten[order, 0], m.coh[order, 0], m.cohres)
+
+    linear = Laws(E_c=params.lnm_emod * GPa, ks_per_kn=1.0 / params.lnm_krat, mu=params.lnm_fric,
+                  Ebar_c=0.0, ksbar_per_knbar=1.0, lam=1.0, tan_phi=0.0, mcf=1.0)
+    points, normals = walls
+    return assemble_3d(pos, radius, specimen.bonds, params.density, linear, damping=params.damping,
+                       walls=new_walls(points, normals, params.fj_emod * GPa), joints=joints)
 
 
 def check_bonded(params: FlatJointParams) -> None:
@@ -424,7 +481,7 @@ MATERIAL = Material(
     name="flatjoint", title="flat-jointed (flat joints + linear contacts)",
     parameters=NAMES, make=make_flatjoint_params, params_type=FlatJointParams,
     pfc_names=pfc_names(PFC_PROPERTIES, NAMES),
-    states={2: _specimen_state},  # PFC2D's; PFC3D's flat joint is not built yet
+    states={2: _specimen_state, 3: new_state_3d},
     pfc_parameters=pfc_parameters, pfc_material_type=FLAT_JOINTED,
     pfc_group="mpSetFJParams", pair_properties=pair_properties, pairs_word="flat joints",
     breaks_word="elements", check_rock=check_bonded,

@@ -169,17 +169,18 @@ def laws_3d(params: MicroParams):
                 lam=params.lambda_, tan_phi=math.tan(math.radians(params.phi_b)), mcf=params.mcf)
 
 
-def new_state_3d(pos, radius, specimen, params: MicroParams, *, walls=((), ())):
+def new_state_3d(pos, radius, specimen, params: MicroParams, *, walls=((), ()), driven=None):
     """A 3D specimen at rest in the material: each bond's strengths drawn at its uniform draws
     (`bond_strengths`), between planar `walls` (points, inward normals) of the walls' modulus
-    (`wall_modulus_pa`)."""
+    (`wall_modulus_pa`); the `driven` spheres (a mask or indices: a rig's) keep the velocity they
+    are given."""
     from rockcal.dem3d.simulate import assemble_state as assemble_3d
     from rockcal.dem3d.walls import new_walls
 
     ten, coh = bond_strengths(params, np.asarray(specimen.bond_draws), len(specimen.bonds))
     points, normals = walls
     return assemble_3d(pos, radius, specimen.bonds, params.density, laws_3d(params), damping=params.damping,
-                       ten=ten, coh=coh, walls=new_walls(points, normals, wall_modulus_pa(params)))
+                       ten=ten, coh=coh, walls=new_walls(points, normals, wall_modulus_pa(params)), driven=driven)
 
 
 def pfc_parameters(params: MicroParams, specimen, fishtank: int | None = None) -> dict[str, float | int | str]:

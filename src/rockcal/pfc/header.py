@@ -25,6 +25,15 @@ PFC3D_NOTES = (
     ("the vessel, the UCS specimen's cylinder: mvParams.p3dat, which rockcal export --to "
      "FOLDER/mpParams.p3dat writes beside this file"),
 )
+# the flat-jointed material's lines in place of the parallel bond's (pbm_*)
+FLAT_JOINT_3D_NOTES = (
+    "PFC3D: spheres; SI units; FISHTank's names, as in PFC2D, with PFC3D's meanings:",
+    "lnm_emod: kn = E* pi min(R)^2 / (R_A + R_B) (PFC3D's deformability method)",
+    ("fjm_emod: k_n = E* / (R_A + R_B) per unit area of a joint's disk of radius "
+     "fjm_rmulVal min(R) (area pi R^2)"),
+    "fjm_Nr: the disk's rings of elements (PFC2D: its elements); fjm_Nal: the elements of each ring",
+    *PFC3D_NOTES[4:],
+)
 # Why a calibration with PFC 3.x/4.0's contacts (contact_stiffness = "pfc4") does not carry
 # over to PFC 5+: FISHTank's linear groups set kn, ks by the deformability method only
 PFC4_NOT_IN_FISHTANK = ("no FISHTank file (PFC 5+) reproduces these contacts: FISHTank sets kn only as "
@@ -47,7 +56,8 @@ def header_lines(calibrated: Calibrated) -> list[str]:
 def header_of(calibrated: Calibrated) -> list[str]:
     """The header's lines as written (not yet made safe): the origin, the dimension's notes,
     the packing seed."""
-    notes = notes_3d(fishtank_of(calibrated)) if in_3d(calibrated) else notes_2d(calibrated)
+    notes = (notes_3d(fishtank_of(calibrated), material_of(calibrated.params).pfc_group, calibrated.specimen)
+             if in_3d(calibrated) else notes_2d(calibrated))
     return origin_lines(calibrated) + notes + [seed_line(calibrated.specimen)]
 
 
@@ -121,6 +131,15 @@ def notes_2d(calibrated: Calibrated) -> list[str]:
     return lines
 
 
-def notes_3d(version: int) -> list[str]:
-    """What a PFC3D file's values mean: the target FISHTank, PFC3D's meanings (`PFC3D_NOTES`)."""
-    return [target_line(version, 3), *PFC3D_NOTES]
+def notes_3d(version: int, group: str = "mpSetPBParams", settings=None) -> list[str]:
+    """What a PFC3D file's values mean: the target FISHTank, PFC3D's meanings of its material
+    group's names (`PFC3D_NOTES`, the flat joint's `FLAT_JOINT_3D_NOTES`) and, of clumped grains
+    (`settings`' grain_shape), their template."""
+    shape = None if settings is None else grain_template(settings)
+    clumps = [] if shape is None else [
+        f"3D: clumps of {shape.n_pebbles} spheres (template {template_name(shape)}, rockcal's {shape.name!r})",
+        "the template's pebbles: radius, then centre x, y, z, in the template's frame (centroid at the origin, "
+        "lengths in equivalent radii: its equivalent diameter, of a sphere of its volume, is 2);",
+        "its mass properties computed by PFC from the pebbles (pebcalculate), overlaps counted once as rockcal's"]
+    meanings = FLAT_JOINT_3D_NOTES if group == "mpSetFJParams" else PFC3D_NOTES
+    return [target_line(version, 3), *meanings, *clumps]

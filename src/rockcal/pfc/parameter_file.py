@@ -7,6 +7,8 @@ parallel-bonded material, `mpSetFJParams` for the flat-jointed one, each with th
 material group `lnm_*`), in SI units, and FISHTank's own check `_mpCheckAllParams`. `cm_matType`
 differs between the FISHTanks of PFC 5, 6 and 7 (`--fishtank`, `rockcal.materials.fishtank`).
 
+FISHTank's flat-jointed material reads `fjm_Nal` (the elements of each ring of a joint's disk) in
+PFC3D alone, and `fjm_Nr` there counts the disk's rings (`header.FLAT_JOINT_3D_NOTES`).
 FISHTank's parallel-bonded material reads the same `cm_*`, `pk_*`, `pbm_*` and `lnm_*` names in
 PFC3D as in PFC2D (its own `mpParams.p3dat` examples), but in PFC3D they mean
 (`header.PFC3D_NOTES`, in the file's header too):
@@ -33,7 +35,8 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from rockcal.materials import material_of
-from rockcal.materials.fishtank import DEFAULT_FISHTANK, fishtank_version
+from rockcal.materials.fishtank import (DEFAULT_FISHTANK, fishtank_version, grain_template, template_name,
+                                        template_pebbles)
 from rockcal.output_files import atomic_path
 from rockcal.pfc.calibrated import Calibrated, fishtank_of, in_3d
 from rockcal.pfc.fish_value import fish_value
@@ -59,12 +62,14 @@ def to_fish_3d(params, settings, *, fishtank: int = DEFAULT_FISHTANK,
                header: Iterable[str] = ()) -> str:
     """FISHTank's parameter file for PFC3D (`mpParams.p3dat`): `header`'s lines (e.g. where
     the calibration came from), the target FISHTank, PFC3D's meanings (`header.notes_3d`) and
-    the packing seed as comments, then the 2D file's groups (`fish_groups`) and FISHTank's own
-    check."""
+    the packing seed as comments, a clumped material's template (`template_command`), then the
+    2D file's groups (`fish_groups`) and FISHTank's own check."""
     version = fishtank_version(fishtank)
     values = pfc3d_parameters(params, settings, version)
-    comments = [*header, *notes_3d(version), seed_line(settings)]
-    return fish_file(comments, values, material_of(params).pfc_group)
+    comments = [*header, *notes_3d(version, material_of(params).pfc_group, settings), seed_line(settings)]
+    shape = grain_template(settings)
+    templates = {} if shape is None else {template_name(shape): template_pebbles(shape)}
+    return fish_file(comments, values, material_of(params).pfc_group, templates)
 
 
 def write_p3dat(folder: Path, params, settings, *, fishtank: int = DEFAULT_FISHTANK,
@@ -92,7 +97,7 @@ def fish_file(comments: Iterable[str], values: dict, group: str, templates: dict
 
 
 def template_command(name: str, pebbles) -> list[str]:
-    """PFC's command creating the clump template `name` of `pebbles` (radius, x, y), its
+    """PFC's command creating the clump template `name` of `pebbles` (radius, x, y; 3D: x, y, z), its
     inertial properties computed from the pebbles as FISHTank's clumped examples do
     (`pebcalculate`): one line per pebble, each number to the last bit."""
     lines = [f"clump template create pebcalculate name {name} pebbles {len(pebbles)} ..."]

@@ -1,7 +1,7 @@
 """FISHTank's names and values (SI) of a calibrated material, which every PFC writer writes:
 the material's own (`Material.pfc_parameters`) under its name `cm_matName`, their units, the
 size-distribution arrays, a clumped material's clump template; and the checks of a PFC3D
-material (the parallel bond, on spheres)."""
+material (the parallel bond, on spheres or clumps)."""
 
 from __future__ import annotations
 
@@ -31,19 +31,21 @@ def pfc_parameters(calibrated: Calibrated) -> dict[str, float | int | bool | str
 
 def clump_templates(calibrated: Calibrated) -> dict[str, list[tuple[float, float, float]]]:
     """The clump template of a clumped material by its PFC name (`cm_ctName`): each pebble's
-    radius and centre x, y in the template's frame (`fishtank.template_pebbles`); none for
-    balls."""
+    radius and centre x, y (3D: x, y, z) in the template's frame (`fishtank.template_pebbles`);
+    none for balls."""
     shape = grain_template(calibrated.specimen)
     return {} if shape is None else {template_name(shape): template_pebbles(shape)}
 
 
 def check_3d_material(params, settings) -> None:
-    """A material the 3D engine has (`materials.check_dimensions`), on spheres (no clumps);
-    InputError naming the field."""
+    """A material the 3D engine has (`materials.check_dimensions`), on spheres or clumps of a 3D
+    template; InputError naming the field."""
+    from rockcal.materials.clump_templates_3d import GRAIN_SHAPES_3D
+
     check_dimensions(material_of(params), 3)
     shape = getattr(settings, "grain_shape", "ball")
-    if shape != "ball":
-        raise InputError("grain_shape", f"the 3D engine has spheres only, got {shape!r}")
+    if shape not in GRAIN_SHAPES_3D:
+        raise InputError("grain_shape", f"the 3D engine's grains are {', '.join(GRAIN_SHAPES_3D)}, got {shape!r}")
 
 
 def pfc3d_parameters(params, settings, fishtank: int = DEFAULT_FISHTANK) -> dict:

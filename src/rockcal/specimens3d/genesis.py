@@ -1,5 +1,6 @@
 """The geometry of PFC's material genesis in 3D (FISHTank `ft.fis`; Potyondy & Cundall 2004):
-the sphere cloud, contacts in a cuboid vessel, floaters and the bonds of an installation gap.
+the sphere cloud, contacts in a cuboid vessel (or the vertical cylinder inscribed in it, as
+FISHTank's cylindrical material vessel), floaters and the bonds of an installation gap.
 The settings are the 2D genesis' (`rockcal.specimens.genesis.Genesis`, PFC's names); the steps that
 move spheres are in `packing`.
 """
@@ -44,31 +45,36 @@ def sphere_contacts(pos: np.ndarray, radius: np.ndarray) -> np.ndarray:
     return np.bincount(np.concatenate([pi, pj]), minlength=len(radius))
 
 
-def wall_gaps(pos: np.ndarray, radius: np.ndarray, size) -> np.ndarray:
-    """Gap of each sphere to the six faces of the vessel [0, size] (m): -x, +x, -y, +y, -z, +z."""
+def wall_gaps(pos: np.ndarray, radius: np.ndarray, size, cylinder: bool = False) -> np.ndarray:
+    """Gap of each sphere to the six faces of the vessel [0, size] (m): -x, +x, -y, +y, -z, +z;
+    or of the `cylinder` inscribed in it: -z, +z, its side."""
     size = np.asarray(size, float)
     low, high = pos - radius[:, None], size - pos - radius[:, None]
+    if cylinder:
+        side = 0.5 * size[0] - np.hypot(*(pos[:, :2] - 0.5 * size[:2]).T) - radius
+        return np.column_stack([low[:, 2], high[:, 2], side])
     return np.column_stack([low[:, 0], high[:, 0], low[:, 1], high[:, 1], low[:, 2], high[:, 2]])
 
 
-def vessel_contacts(pos: np.ndarray, radius: np.ndarray, size) -> np.ndarray:
+def vessel_contacts(pos: np.ndarray, radius: np.ndarray, size, cylinder: bool = False) -> np.ndarray:
     """Contacts of each sphere in the vessel: with spheres and with the walls."""
-    touching = wall_gaps(pos, radius, size) <= CONTACT_GAP * radius.min()
+    touching = wall_gaps(pos, radius, size, cylinder) <= CONTACT_GAP * radius.min()
     return sphere_contacts(pos, radius) + touching.sum(axis=1)
 
 
-def floaters(pos: np.ndarray, radius: np.ndarray, size) -> np.ndarray:
+def floaters(pos: np.ndarray, radius: np.ndarray, size, cylinder: bool = False) -> np.ndarray:
     """True for the spheres with fewer than MIN_CONTACTS contacts in the vessel, walls counted."""
-    return vessel_contacts(pos, radius, size) < MIN_CONTACTS
+    return vessel_contacts(pos, radius, size, cylinder) < MIN_CONTACTS
 
 
-def enlarge_floaters(pos: np.ndarray, radius: np.ndarray, size, overlap: float) -> np.ndarray:
+def enlarge_floaters(pos: np.ndarray, radius: np.ndarray, size, overlap: float,
+                     cylinder: bool = False) -> np.ndarray:
     """Radii with every floater grown until it overlaps its MIN_CONTACTS-th nearest sphere or
     wall by `overlap` x its radius (Potyondy & Cundall 2004 enlarge floaters rather than delete
     them); the packing must then be cycled so that its neighbours make room."""
     grown = radius.copy()
-    walls = wall_gaps(pos, radius, size)
-    for k in np.flatnonzero(floaters(pos, radius, size)):
+    walls = wall_gaps(pos, radius, size, cylinder)
+    for k in np.flatnonzero(floaters(pos, radius, size, cylinder)):
         gaps = norms(pos - pos[k]) - radius - radius[k]
         gaps[k] = np.inf
         nearest = np.partition(np.concatenate([gaps, walls[k]]), MIN_CONTACTS - 1)

@@ -1,5 +1,6 @@
-"""Packing a sphere cloud by grain scaling in a rigid cuboid vessel (steps 1-3 of PFC's genesis,
-as the 2D `rockcal.specimens.packing`): the cloud's spheres are dropped at random with half the size
+"""Packing a sphere cloud by grain scaling in a rigid cuboid vessel, or the vertical cylinder
+inscribed in it (FISHTank's cylindrical material vessel), steps 1-3 of PFC's genesis as the 2D
+`rockcal.specimens.packing`: the cloud's spheres are dropped at random with half the size
 they have at jamming, grown in stages to it with frictionless contacts, then all radii are
 scaled by one factor until the mean wall stress is the material pressure P_m (a servo that
 measures the packing's stiffness as it goes: `RadiusServo`); floaters are enlarged and the
@@ -28,7 +29,7 @@ from rockcal.dem3d.laws import Laws
 from rockcal.dem3d.neighbours import spatial_order
 from rockcal.dem3d.simulate import advance, assemble_state, rebuild_neighbours
 from rockcal.dem3d.vectors import cubes
-from rockcal.dem3d.walls import box_walls
+from rockcal.dem3d.walls import box_walls, new_walls, with_cylinder
 from rockcal.materials.units import GPa, MPa
 
 log = logging.getLogger(__name__)
@@ -54,25 +55,29 @@ SERVO_RELAXATION = 0.8
 FLOATER_OVERLAP = 10.0
 
 
-def pack_cuboid(size, rmin: float, radius_ratio: float, seed: int, cloud_porosity: float,
-                pressure_mpa: float):
+def pack_vessel(size, rmin: float, radius_ratio: float, seed: int, cloud_porosity: float,
+                pressure_mpa: float, cylinder: bool = False):
     """Centres (in spatial order) and radii (m) of the cloud packed in the vessel [0, size]
-    (m, 3 sides) to the pressure, the mean wall stress reached (MPa) and the floaters left."""
+    (m, 3 sides), or the vertical `cylinder` inscribed in it, to the pressure, the mean wall
+    stress reached (MPa) and the floaters left."""
     size = np.asarray(size, float)
     rng = np.random.default_rng(seed)
-    radius = cloud_radii(rng, float(np.prod(size)), rmin, radius_ratio, cloud_porosity)
+    volume = np.pi / 4 * float(np.prod(size)) if cylinder else float(np.prod(size))
+    radius = cloud_radii(rng, volume, rmin, radius_ratio, cloud_porosity)
     n = len(radius)
-    fraction = float(4 / 3 * np.pi * cubes(radius).sum() / np.prod(size))
+    fraction = float(4 / 3 * np.pi * cubes(radius).sum() / volume)
     radius *= min(1.0, (JAMMING_FRACTION / fraction) ** (1 / 3))  # a float's: the C library's pow
     rmax = radius.max()
     pos = rng.uniform(rmax, size - rmax, (n, 3))
+    while cylinder and (outside := _off_cylinder(pos, size, rmax)).any():  # drawn again
+        pos[outside] = rng.uniform(rmax, size - rmax, (np.count_nonzero(outside), 3))
     order = spatial_order(pos, 4 * rmax)
     pos, radius = pos[order], radius[order]
     laws = Laws(E_c=PACKING_MODULUS_GPA * GPa, ks_per_kn=1.0, mu=0.0, Ebar_c=0.0,
                 ksbar_per_knbar=1.0, lam=1.0, tan_phi=0.0, mcf=1.0)
     state = assemble_state(pos, 0.5 * radius, np.empty((0, 2)), PACKING_DENSITY, laws,
                            damping=0.7, skin=0.5 * radius.min(),
-                           walls=box_walls(np.zeros(3), size, PACKING_MODULUS_GPA * GPa))
+                           walls=vessel_walls(size, cylinder, PACKING_MODULUS_GPA * GPa))
     if not np.isfinite(state.dt):  # no spring anywhere: a step of inf would make every centre NaN
         raise InputError("cloud_porosity", f"the {n} spheres of a cloud porosity of {cloud_porosity:g} touch "
                                            "nothing in the vessel: lower it (FISHTank's 3D examples take 0.30-0.35)")
@@ -87,15 +92,15 @@ def pack_cuboid(size, rmin: float, radius_ratio: float, seed: int, cloud_porosit
     floater_steps = int(np.clip(FLOATER_STEPS_PER_ROW * rows, MIN_ROUND_STEPS, MAX_FLOATER_STEPS))
     target = pressure_mpa * MPa
     servo = RadiusServo(target)
-    stress = settled_stress(state, size, servo_steps)
+    stress = settled_stress(state, size, servo_steps, cylinder)
     for _ in range(MAX_SERVO_ROUNDS):
         if abs(stress - target) < PRESSURE_TOLERANCE * target:
             break
         s.radius[:] = radius * servo.scale(stress)
-        stress = settled_stress(state, size, servo_steps)
+        stress = settled_stress(state, size, servo_steps, cylinder)
     overlap = FLOATER_OVERLAP * target / (PACKING_MODULUS_GPA * GPa)
     for round_ in range(FLOATER_ROUNDS):
-        grown = enlarge_floaters(s.pos, s.radius, size, overlap)
+        grown = enlarge_floaters(s.pos, s.radius, size, overlap, cylinder)
         enlarged = np.count_nonzero(grown != s.radius)
         log.debug("floater round %d: %d floaters, wall stress %.3g MPa", round_, enlarged,
                   stress / MPa)
@@ -103,8 +108,8 @@ def pack_cuboid(size, rmin: float, radius_ratio: float, seed: int, cloud_porosit
             break
         s.radius[:] = grown * servo.factor(stress)
         rebuild_neighbours(state)
-        stress = settled_stress(state, size, floater_steps)
-    left = int(np.count_nonzero(floaters(s.pos, s.radius, size)))
+        stress = settled_stress(state, size, floater_steps, cylinder)
+    left = int(np.count_nonzero(floaters(s.pos, s.radius, size, cylinder)))
     check_given_up("3D", "spheres", stress / MPa, pressure_mpa, left, n)
     if left:
         log.warning("3D genesis of %s mm, seed %d: %d of %d spheres have fewer than %d contacts",
@@ -139,16 +144,33 @@ class RadiusServo:
         return float(np.exp(self.log_scale))
 
 
-def wall_stress(state, size) -> float:
-    """Mean normal stress on the six faces of the vessel [0, size], Pa."""
-    area = np.prod(size) / np.repeat(size, 2)
+def _off_cylinder(pos, size, rmax: float) -> np.ndarray:
+    """The centres farther than its radius less `rmax` from the axis of the cylinder inscribed
+    in the vessel [0, size]."""
+    return np.hypot(*(pos[:, :2] - 0.5 * size[:2]).T) > 0.5 * size[0] - rmax
+
+
+def vessel_walls(size, cylinder: bool, modulus_pa: float):
+    """The vessel's walls: the six faces of [0, size] (`box_walls`), or the bottom, the top and
+    the side of the `cylinder` inscribed in it."""
+    if not cylinder:
+        return box_walls(np.zeros(3), size, modulus_pa)
+    x, y, z = size
+    ends = new_walls([(x / 2, y / 2, 0.0), (x / 2, y / 2, z)], [(0, 0, 1), (0, 0, -1)], modulus_pa)
+    return with_cylinder(ends, (x / 2, y / 2, z / 2), (0, 0, 1), x / 2, modulus_pa)
+
+
+def wall_stress(state, size, cylinder: bool = False) -> float:
+    """Mean normal stress on the walls of the vessel [0, size] (`vessel_walls`), Pa."""
+    x, _, z = size
+    area = [np.pi / 4 * x**2, np.pi / 4 * x**2, np.pi * x * z] if cylinder else np.prod(size) / np.repeat(size, 2)
     return float(np.mean(state.walls.normal_force() / area))
 
 
-def settled_stress(state, size, steps: int) -> float:
+def settled_stress(state, size, steps: int, cylinder: bool = False) -> float:
     """Cycle `steps` steps; the mean wall stress over their second half, Pa."""
     samples = []
     for _ in range(SAMPLES_PER_SERVO):
         advance(state, steps // SAMPLES_PER_SERVO)
-        samples.append(wall_stress(state, size))
+        samples.append(wall_stress(state, size, cylinder))
     return float(np.mean(samples[SAMPLES_PER_SERVO // 2:]))

@@ -1,9 +1,12 @@
-"""3D specimens made by PFC's material genesis: a cuboid packed in a cuboid vessel, or a
-cylinder carved out of one (a cuboid packing of the cylinder's diameter squared by its height,
-the spheres whose centres lie inside the cylinder kept, then those left without a bond dropped).
+"""3D specimens made by PFC's material genesis: a cuboid packed in a cuboid vessel, a cylinder
+carved out of one (a cuboid packing of the cylinder's diameter squared by its height, the
+spheres whose centres lie inside the cylinder kept, then those left without a bond dropped), or
+a cylinder packed in a cylindrical vessel (`packed_cylinder`: the triaxial cell's, whose
+surface is its vessel's wall).
 
 As in 2D (`rockcal.specimens.specimen`), a specimen is geometry (centres, radii, bonded pairs) plus
-one uniform draw per bond and strength; packings are kept on disk in 2D's cache folder, under
+one uniform draw per bond and strength, its grains balls or rigid clumps of pebbles (`clump_of`,
+`grain_shape`: `clump_genesis`); packings are kept on disk in 2D's cache folder, under
 a hash of what their genesis depends on, and the bonds of an installation gap are found on
 loading.
 """
@@ -20,14 +23,20 @@ from rockcal.specimens.genesis import Genesis
 from rockcal.specimens.grain_limit import check_grains
 from rockcal.specimens.packing import check_packing_pressure
 from rockcal.specimens.specimen import STRENGTH_STREAM, _one_maker, cache_dir
+from rockcal.dem.clumps import members
+from rockcal.dem3d.clumps import union_properties
+from rockcal.materials.clump_templates import DEFAULT_SHAPE
+from rockcal.materials.clump_templates_3d import template_3d
+from rockcal.specimens3d.clump_genesis import clump_bonds, clumps_for_spheres, settle_clumps
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D, floaters, install_bonds, sphere_contacts
 from rockcal.dem3d.neighbours import SpheresScattered, spatial_order
-from rockcal.specimens3d.packing import pack_cuboid
+from rockcal.specimens3d.packing import pack_vessel
 from rockcal.dem3d.vectors import cubes
 from rockcal.errors import InputError, fields_named
 from rockcal.output_files import atomic_path
 
 GENERATOR_VERSION_3D = 5
+CLUMP_GENESIS_VERSION_3D = 1  # part of a clumped packing's key: raise it when `clump_genesis` changes
 SHAPES = ("cylinder", "cuboid")
 
 
@@ -50,6 +59,8 @@ class Specimen3D:
     floaters: int = 0  # spheres the genesis left with fewer than 3 contacts in the vessel
     rmin_mm: float = float("nan")  # the cloud's R_min
     install_gap: float = float("nan")  # the bonds' installation gap / R_min
+    clump_of: np.ndarray | None = None  # per sphere its clump (None: balls), `clump_genesis`
+    grain_shape: str = DEFAULT_SHAPE
     dimensions = 3  # PFC3D's spheres: the one place a lab test, a report or a figure asks
 
     @property
@@ -66,8 +77,19 @@ class Specimen3D:
         return np.pi / 4 * x * y * z if self.shape in ("cylinder", "disk") else x * y * z
 
     @property
+    def n_grains(self) -> int:
+        """Grains: clumps, or balls."""
+        return self.n_spheres if self.clump_of is None else int(self.clump_of.max()) + 1
+
+    @property
     def porosity(self) -> float:
-        return 1.0 - float(4 / 3 * np.pi * cubes(self.radius).sum()) / self.volume_m3
+        """1 - the grains' volume over the specimen's (a clump's, its pebbles' union)."""
+        if self.clump_of is None:
+            return 1.0 - float(4 / 3 * np.pi * cubes(self.radius).sum()) / self.volume_m3
+        first, pebbles = members(self.clump_of)
+        solid = sum(union_properties(self.pos[own], self.radius[own])[0]
+                    for own in np.split(pebbles, first[1:-1]))
+        return 1.0 - solid / self.volume_m3
 
     def bonds_per_sphere(self) -> float:
         return 2.0 * len(self.bonds) / self.n_spheres
@@ -86,17 +108,19 @@ class Specimen3D:
 
 def random_specimen(shape: str, width_mm: float, height_mm: float, rmin_mm: float,
                     radius_ratio: float = 1.65, seed: int = 1, genesis: Genesis | None = None,
-                    cache: bool = True) -> Specimen3D:
+                    cache: bool = True, grain_shape: str = DEFAULT_SHAPE) -> Specimen3D:
     """A cylinder of diameter `width_mm` or a square prism of side `width_mm`, `height_mm`
-    tall, made by the 3D genesis (default settings `DEFAULT_GENESIS_3D`); its packing kept on
-    disk unless `cache` is False."""
+    tall, made by the 3D genesis (default settings `DEFAULT_GENESIS_3D`) of balls or of clumps
+    of `grain_shape` (`clump_genesis`); its packing kept on disk unless `cache` is False."""
     if shape not in SHAPES:
         raise InputError("shape", f"must be one of {', '.join(SHAPES)}, got {shape!r}")
     genesis = genesis or DEFAULT_GENESIS_3D
     check_size(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity, genesis.pressure_mpa)
-    prism = random_cuboid((width_mm, width_mm, height_mm), rmin_mm, radius_ratio, seed, genesis, cache)
+    prism = random_cuboid((width_mm, width_mm, height_mm), rmin_mm, radius_ratio, seed, genesis, cache,
+                          grain_shape)
+    clumped = "" if grain_shape == DEFAULT_SHAPE else f", {grain_shape} clumps"
     prism = replace(prism, label=f"{shape} {width_mm:g}x{height_mm:g} mm, Rmin {rmin_mm:g} mm "
-                                 f"x{radius_ratio:g}, gap {genesis.install_gap:g} Rmin, seed {seed}")
+                                 f"x{radius_ratio:g}, gap {genesis.install_gap:g} Rmin, seed {seed}{clumped}")
     return carve_cylinder(prism) if shape == "cylinder" else prism
 
 
@@ -121,7 +145,7 @@ def cloud_spheres(volume_mm3: float, rmin_mm: float, radius_ratio: float, cloud_
 
 # The loosest cloud the 3D genesis packs: a solid fraction of 0.55, the random loose packing of
 # spheres (Onoda & Liniger 1990, 0.555). The genesis drops the cloud's spheres at their own size
-# (shrunk to jamming, never grown: `packing.pack_cuboid`), so a looser cloud has no contact
+# (shrunk to jamming, never grown: `packing.pack_vessel`), so a looser cloud has no contact
 # network to carry P_m; its floater rounds then grow single spheres far past R_max, and the
 # packing goes unstable (spheres leave the vessel, the neighbour grid outgrows memory).
 MAX_CLOUD_POROSITY_3D = 0.45
@@ -167,7 +191,8 @@ def check_genesis_3d(cloud_porosity: float, pressure_mpa: float) -> None:
 
 def carve_cylinder(cuboid: Specimen3D) -> Specimen3D:
     """The spheres of a square prism whose centres lie inside its inscribed vertical cylinder,
-    less those the cut leaves without a bond, with their bonds and draws. Centres, not whole
+    less those the cut leaves without a bond, with their bonds and draws (a clump's pebbles
+    kept or dropped with its centroid: `_carved`). Centres, not whole
     spheres: the cut surface then lies on the cylinder on average, so that its nominal
     cross-section is the one that carries the load (keeping whole spheres only would lose a
     shell about a radius thick: a quarter of a 10 mm cylinder's section at R_min 0.6 mm)."""
@@ -176,21 +201,50 @@ def carve_cylinder(cuboid: Specimen3D) -> Specimen3D:
     return _carved(cuboid, inside, "cylinder", (x, x, z))
 
 
-def random_cuboid(sides_mm, rmin_mm: float, radius_ratio: float = 1.65, seed: int = 1,
-                  genesis: Genesis | None = None, cache: bool = True) -> Specimen3D:
-    """A cuboid of sides x, y, z `sides_mm` packed by the 3D genesis (as `random_specimen`'s
-    square prism, of any three sides: the Brazilian disk's block is D x t x D); its packing
-    kept on disk unless `cache` is False. The sides are checked by the caller."""
+def packed_cylinder(width_mm: float, height_mm: float, rmin_mm: float, radius_ratio: float = 1.65,
+                    seed: int = 1, genesis: Genesis | None = None, cache: bool = True) -> Specimen3D:
+    """A cylinder of diameter `width_mm`, `height_mm` tall, packed by the 3D genesis in a
+    cylindrical vessel of its size, as FISHTank's cylindrical material vessel packs it (its
+    packing kept on disk unless `cache` is False). Its side is the vessel's smooth wall, which a
+    triaxial cell's rigid wall bears on all round; a carved cylinder's side is rough by a
+    sphere's radius, and a rigid wall holding sigma3 on it touches a few outermost spheres
+    alone (4 of a 10 x 20 mm cylinder's 500), which confines it no more than no wall."""
     genesis = genesis or DEFAULT_GENESIS_3D
+    check_size(width_mm, height_mm, rmin_mm, radius_ratio, genesis.cloud_porosity, genesis.pressure_mpa)
+    return _packed("cylinder", (width_mm, width_mm, height_mm), rmin_mm, radius_ratio, seed, genesis, cache)
+
+
+def random_cuboid(sides_mm, rmin_mm: float, radius_ratio: float = 1.65, seed: int = 1,
+                  genesis: Genesis | None = None, cache: bool = True,
+                  grain_shape: str = DEFAULT_SHAPE) -> Specimen3D:
+    """A cuboid of sides x, y, z `sides_mm` packed by the 3D genesis (as `random_specimen`'s
+    square prism, of any three sides: the Brazilian disk's block is D x t x D), of balls or of
+    clumps of `grain_shape`; its packing kept on disk unless `cache` is False. The sides are
+    checked by the caller."""
+    return _packed("cuboid", sides_mm, rmin_mm, radius_ratio, seed, genesis or DEFAULT_GENESIS_3D, cache,
+                   grain_shape)
+
+
+def _packed(shape: str, sides_mm, rmin_mm: float, radius_ratio: float, seed: int, genesis: Genesis,
+            cache: bool, grain_shape: str = DEFAULT_SHAPE) -> Specimen3D:
+    """A cuboid of sides `sides_mm` (of balls or clumps of `grain_shape`), or the vertical
+    cylinder of balls inscribed in it, packed in a vessel of its own shape and bonded."""
     vessel = np.asarray(sides_mm, float) * 1e-3
     pos, radius, pressure, left = packing(vessel, rmin_mm * 1e-3, radius_ratio, seed, genesis,
-                                          cache)
-    bonds = install_bonds(pos, radius, genesis.install_gap * rmin_mm * 1e-3)
-    label = (f"cuboid {'x'.join(f'{v:g}' for v in sides_mm)} mm, Rmin {rmin_mm:g} mm "
+                                          cache, cylinder=shape == "cylinder")
+    gap = genesis.install_gap * rmin_mm * 1e-3
+    clump_of = None
+    if grain_shape != DEFAULT_SHAPE:
+        pos, radius, clump_of, pressure = clumped_packing(vessel, rmin_mm * 1e-3, radius_ratio, seed, genesis,
+                                                          grain_shape, cache, pos, radius)
+        bonds = clump_bonds(pos, radius, clump_of, gap)
+    else:
+        bonds = install_bonds(pos, radius, gap)
+    label = (f"{shape} {'x'.join(f'{v:g}' for v in sides_mm)} mm, Rmin {rmin_mm:g} mm "
              f"x{radius_ratio:g}, gap {genesis.install_gap:g} Rmin, seed {seed}")
     draws = np.random.default_rng([seed, STRENGTH_STREAM]).random((len(bonds), 2))
-    return Specimen3D(pos, radius, bonds, "cuboid", tuple(vessel), label, draws, pressure, left,
-                      rmin_mm, genesis.install_gap)
+    return Specimen3D(pos, radius, bonds, shape, tuple(vessel), label, draws, pressure, left,
+                      rmin_mm, genesis.install_gap, clump_of, grain_shape)
 
 
 def carve_disk(cuboid: Specimen3D) -> Specimen3D:
@@ -219,10 +273,10 @@ def check_disk(diameter_mm: float, thickness_mm: float, rmin_mm: float, radius_r
 
 def random_disk(diameter_mm: float = 20.0, thickness_mm: float | None = None, rmin_mm: float = 0.75,
                 radius_ratio: float = 1.65, seed: int = 1, genesis: Genesis | None = None,
-                cache: bool = True) -> Specimen3D:
+                cache: bool = True, grain_shape: str = DEFAULT_SHAPE) -> Specimen3D:
     """A disk of diameter `diameter_mm` and thickness `thickness_mm` (None: D / 2), its axis
     along y, carved from a D x t x D cuboid packed by the 3D genesis (`random_cuboid`, cached
-    unless `cache` is False): a Brazilian disk."""
+    unless `cache` is False, of balls or clumps of `grain_shape`): a Brazilian disk."""
     if thickness_mm is None:
         thickness_mm = DISK_THICKNESS_PER_DIAMETER * diameter_mm
     check_disk(diameter_mm, thickness_mm, rmin_mm, radius_ratio)
@@ -231,42 +285,81 @@ def random_disk(diameter_mm: float = 20.0, thickness_mm: float | None = None, rm
         check_vessel((diameter_mm, thickness_mm, diameter_mm), rmin_mm, radius_ratio, genesis.cloud_porosity,
                      genesis.pressure_mpa)
     cuboid = random_cuboid((diameter_mm, thickness_mm, diameter_mm), rmin_mm, radius_ratio, seed,
-                           genesis, cache)
+                           genesis, cache, grain_shape)
     disk = carve_disk(cuboid)
     return replace(disk, label=f"{cuboid.label}, disk D {diameter_mm:g} x t {thickness_mm:g} mm")
 
 
 def _carved(cuboid: Specimen3D, inside: np.ndarray, shape: str, size_m) -> Specimen3D:
     """The spheres of `cuboid` `inside` the cut, less those it leaves without a bond (twice:
-    a sphere may lose its last bond with the first ones), with their bonds and draws."""
-    keep = inside.copy()
+    a sphere may lose its last bond with the first ones), with their bonds and draws. A
+    clump's pebbles go together: a clump is inside where the mean of its pebbles' `inside` is
+    at least 1/2, kept where any of its pebbles keeps a bond."""
+    grains = _whole_clumps(cuboid.clump_of)
+    keep = grains(inside)
     bi, bj = cuboid.bonds.T
     for _ in range(2):
         bonded = np.zeros(cuboid.n_spheres, bool)
         bonded[cuboid.bonds[keep[bi] & keep[bj]].ravel()] = True
-        keep &= bonded
+        keep &= grains(bonded)
     kept = keep[bi] & keep[bj]
     index = np.full(cuboid.n_spheres, -1)
     index[keep] = np.arange(np.count_nonzero(keep))
+    clump_of = None
+    if cuboid.clump_of is not None:  # the kept clumps renumbered 0.. in order
+        clump_of = np.unique(cuboid.clump_of[keep], return_inverse=True)[1].astype(np.int64)
     return replace(cuboid, pos=cuboid.pos[keep].copy(), radius=cuboid.radius[keep].copy(),
                    bonds=index[cuboid.bonds[kept]], shape=shape, size_m=tuple(size_m),
-                   bond_draws=cuboid.bond_draws[kept])
+                   bond_draws=cuboid.bond_draws[kept], clump_of=clump_of)
 
 
-def packing(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesis, cache: bool):
-    """The packed vessel's centres and radii (m), pressure reached (MPa) and floaters left:
-    from the cache, or made (and kept if `cache`)."""
+def _whole_clumps(clump_of):
+    """A per-sphere mask made whole clump by clump: each pebble takes whether at least half its
+    clump's pebbles are marked (balls: the mask itself)."""
+    if clump_of is None:
+        return lambda mask: mask.copy()
+    counts = np.bincount(clump_of)
+    return lambda mask: (2 * np.bincount(clump_of, mask.astype(float), len(counts)) >= counts)[clump_of]
+
+
+def clumped_packing(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesis, grain_shape: str,
+                    cache: bool, pos, radius):
+    """The balls' packing (`pos`, `radius`, of `packing`'s arguments) with clumps of `grain_shape`
+    in place of its spheres, settled to the pressure (`clump_genesis`): pebble centres, radii,
+    clump numbers and the pressure reached (MPa); from the cache, or made (and kept if `cache`)."""
+    def make():
+        shape = template_3d(grain_shape)
+        centres, radii, clump_of = clumps_for_spheres(pos, radius, shape, seed)
+        centres, radii, pressure = settle_clumps(centres, radii, clump_of, vessel, genesis.pressure_mpa)
+        return centres, radii, clump_of, pressure
+
+    if not cache:
+        return make()
+    path = cache_dir() / packing_name(vessel, rmin, radius_ratio, seed, genesis, grain_shape=grain_shape)
+    with _one_maker(path):
+        if not path.exists():
+            centres, radii, clump_of, pressure = make()
+            with atomic_path(path) as tmp:
+                np.savez(tmp, pos=centres, radius=radii, clump_of=clump_of, pressure_mpa=pressure)
+    data = np.load(path)
+    return data["pos"], data["radius"], data["clump_of"], float(data["pressure_mpa"])
+
+
+def packing(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesis, cache: bool,
+            cylinder: bool = False):
+    """The packed vessel's (or the `cylinder` inscribed in it) centres and radii (m), pressure
+    reached (MPa) and floaters left: from the cache, or made (and kept if `cache`)."""
     def make():
         try:
-            return pack_cuboid(vessel, rmin, radius_ratio, seed, genesis.cloud_porosity,
-                               genesis.pressure_mpa)
+            return pack_vessel(vessel, rmin, radius_ratio, seed, genesis.cloud_porosity,
+                               genesis.pressure_mpa, cylinder)
         except SpheresScattered as exc:
             raise InputError("cloud_porosity", f"the 3D genesis went unstable ({exc}): lower the cloud "
                                                "porosity or pressure_mpa") from None
 
     if not cache:
         return _ordered(*make())
-    path = cache_dir() / packing_name(vessel, rmin, radius_ratio, seed, genesis)
+    path = cache_dir() / packing_name(vessel, rmin, radius_ratio, seed, genesis, cylinder)
     with _one_maker(path):
         if not path.exists():
             pos, radius, pressure, left = _ordered(*make())
@@ -281,13 +374,20 @@ def _ordered(pos, radius, pressure, left):
     return pos[order], radius[order], pressure, left
 
 
-def packing_name(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesis) -> str:
+def packing_name(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesis,
+                 cylinder: bool = False, grain_shape: str = DEFAULT_SHAPE) -> str:
     """The file a 3D packing is kept in: a hash of what its genesis depends on, as 2D's
-    (`rockcal.specimens.specimen.packing_name`) with the vessel's three sides."""
-    key = {"kind": "random_3d", "size_mm": [round(1e3 * float(v), 9) for v in vessel],
+    (`rockcal.specimens.specimen.packing_name`) with the vessel's three sides (and its shape
+    where it is the `cylinder` inscribed in them); a clumped packing's with its grain shape
+    (`clumped_packing`)."""
+    clumped = {} if grain_shape == DEFAULT_SHAPE else {"grain_shape": grain_shape,
+                                                       "clump_version": CLUMP_GENESIS_VERSION_3D}
+    key = clumped | {"kind": "random_3d", "size_mm": [round(1e3 * float(v), 9) for v in vessel],
            "rmin_mm": round(1e3 * rmin, 9), "radius_ratio": float(radius_ratio),
            "seed": int(seed), "version": GENERATOR_VERSION_3D,
            "cloud_porosity": genesis.cloud_porosity, "pressure_mpa": genesis.pressure_mpa}
+    if cylinder:  # a cuboid's key as it was before cylinders were packed
+        key["vessel"] = "cylinder"
     return hashlib.sha1(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16] + ".npz"
 
 

@@ -79,7 +79,7 @@ def genesis_work(test: str, s: SpecimenSettings) -> float:
     kind = lab_test(test)
     o = kind.outline(kind.settings_of(s))
     if o.vessel_mm is not None:
-        grains = cloud_spheres(float(np.prod(o.vessel_mm)), s.rmin_mm, s.radius_ratio, s.cloud_porosity)
+        grains = cloud_spheres(o.vessel_volume_mm3, s.rmin_mm, s.radius_ratio, s.cloud_porosity)
         height_mm = o.vessel_mm[2]
     else:
         grains, height_mm = grain_count(o.width_mm, o.height_mm, s), o.height_mm

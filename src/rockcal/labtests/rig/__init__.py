@@ -9,7 +9,7 @@ thickness of the 2D model live here and nowhere else in the lab tests.
 - `SideWalls`: the side walls, servo-controlled to a confining stress (confined compression);
   the seating at it, sigma3.
 - `Jaws`: ISRM's curved jaws closing on a disk (Brazilian, `brazilian_loading = "isrm"`); their
-  load and closure, as the platens'.
+  load and closure, as the platens'. In 3D (`jaws_3d`) they are drawn out along the disk's axis.
 - `Pins`: the loading pin and the two supports of three-point bending; the load, the pin's
   displacement. Jaws and pins are rigid arcs of small driven disks (`arc`).
 - `Grips`: rigid grips pulling a prism apart (direct tension); the pull, the strain between
@@ -22,8 +22,9 @@ The 2D rig holds disks in a slab of unit thickness `THICKNESS_M`, so loads are N
 thickness and an area is a width x THICKNESS_M. The 3D rig (`platens_3d`, `sides_3d`,
 `gauge_3d`) holds spheres: its `Loader`s' `load()` is in N, its platens' `area_m2` the
 specimen's cross-section (pi D^2 / 4 for a cylinder) and `thickness_m` a Brazilian disk's
-length; its side walls confine the four lateral faces of a prism; its gauge's lateral strain
-is the mean of the two widths' (or the diametral) strain. `rig_for(specimen)` gives the parts
+length; its confining vessel is four side walls about a prism (polyaxial) or a cylindrical
+wall about a cylinder (the triaxial cell, `cell_3d`); its gauge's lateral strain is the mean of
+the two widths' (or the diametral) strain. `rig_for(specimen)` gives the parts
 of the specimen's dimension (`Rig`), so a lab test is one procedure in 2D and 3D.
 """
 
@@ -68,7 +69,7 @@ class Rig:
     `lateral_strains`, the lateral strains a volumetric strain takes (2D's areal strain one, a
     3D specimen's two); `disk(specimen)` a Brazilian disk's `Disk`; `load_unit`, the unit of a
     loader's load / 1000 (kN per m of the 2D slab's thickness, kN in 3D); `jaws` ISRM's curved
-    jaws, where the dimension has them."""
+    jaws."""
 
     dimensions: int
     platens: Callable
@@ -78,7 +79,7 @@ class Rig:
     lateral_strains: int
     disk: Callable
     load_unit: str
-    jaws: Callable | None = None
+    jaws: Callable
 
 
 def rig_for(specimen) -> Rig:
@@ -89,9 +90,10 @@ def rig_for(specimen) -> Rig:
     # the 3D rig, and with it the 3D engine's kernels: loaded for a 3D run alone
     from rockcal.labtests.rig.gauge_3d import Gauge3D
     from rockcal.labtests.rig.gauge_3d import check_gauges as check_gauges_3d
+    from rockcal.labtests.rig.jaws_3d import Jaws3D
     from rockcal.labtests.rig.platens_3d import Platens3D
     from rockcal.labtests.rig.platens_3d import disk_of as disk_of_3d
-    from rockcal.labtests.rig.sides_3d import SideWalls3D
+    from rockcal.labtests.rig.cell_3d import confining_walls
 
-    return Rig(3, Platens3D, SideWalls3D, Gauge3D, check_gauges_3d, lateral_strains=2, disk=disk_of_3d,
-               load_unit="kN")
+    return Rig(3, Platens3D, confining_walls, Gauge3D, check_gauges_3d, lateral_strains=2, disk=disk_of_3d,
+               load_unit="kN", jaws=Jaws3D)

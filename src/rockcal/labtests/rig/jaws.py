@@ -51,7 +51,10 @@ class Jaws:
     made of disks of its smallest radius. The engine `state` holds the disk's grains, then the
     top jaw's disks (`is_top`) and the bottom one's (`is_bottom`); `centres` are the jaws'
     centres of curvature (top, bottom) and `jaw_radius_m` their radius; `rows` of grains
-    across the disk, `chunk` steps between readings, the disk's `thickness_m`."""
+    across the disk, `chunk` steps between readings, the disk's `thickness_m`; the jaws move
+    along the `axis` of the loaded diameter (y)."""
+
+    axis = 1
 
     def __init__(self, specimen: Specimen, params, rate_factor: float, contact_stiffness: str | None = None):
         contact_stiffness = contact_stiffness or DEFAULT_CONTACT_STIFFNESS
@@ -76,20 +79,20 @@ class Jaws:
 
     def _heights(self) -> tuple[float, float]:
         """The top and the bottom jaw's mean height, m."""
-        y = self.state.particles.pos[:, 1]
+        y = self.state.particles.pos[:, self.axis]
         return float(y[self.is_top].mean()), float(y[self.is_bottom].mean())
 
     def move(self, factor: float) -> None:
         """Close the jaws at `factor` x the full speed."""
         vel = self.state.particles.vel
-        vel[self.is_top, 1] = -self.speed * factor
-        vel[self.is_bottom, 1] = self.speed * factor
+        vel[self.is_top, self.axis] = -self.speed * factor
+        vel[self.is_bottom, self.axis] = self.speed * factor
 
     def load(self) -> float:
         """The force on the jaws along the loaded diameter (mean of the two), N per m of
-        thickness."""
+        thickness (2D), N (3D)."""
         force = self.state.particles.force
-        return 0.5 * (force[self.is_top, 1].sum() - force[self.is_bottom, 1].sum())
+        return float(0.5 * (force[self.is_top, self.axis].sum() - force[self.is_bottom, self.axis].sum()))
 
     def closure_m(self) -> float:
         """How far the jaws have closed in since the start (both together), m."""

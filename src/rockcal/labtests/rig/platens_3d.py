@@ -2,8 +2,9 @@
 specimen at the 2D rig's quasi-static speed rule (`rockcal.labtests.rig.platens`): an axial
 strain per step of STRAIN_PER_STEP_PER_ROW / (rows of spheres between them), so the number of
 wave transits to the peak is the same for every specimen size; `rockcal.labtests.loading`
-ramps them in and slows them where bonds break. Optionally four side walls at rest after them
-(a confining vessel, `sides_3d`), and a bearing strip on each platen (`BearingStrip`).
+ramps them in and slows them where bonds break. Optionally a confining vessel's walls at rest
+after them: four side walls about a prism (`sides_3d`), a cylindrical wall about a cylinder
+(`cell_3d`); and a bearing strip on each platen (`BearingStrip`).
 
 A bearing strip under a sphere of radius R is a column of its cross-section pi R^2, stiffness
 E_strip pi R^2 / thickness, in series with the bare platen's contact pi E R. The engine's walls
@@ -18,13 +19,14 @@ import numpy as np
 
 from rockcal.dem3d.laws import CONTACT_STIFFNESS
 from rockcal.dem3d.simulate import stable_time_step
-from rockcal.dem3d.walls import Wall
+from rockcal.dem3d.walls import Wall, with_cylinder
 from rockcal.errors import InputError
 from rockcal.labtests.rig.platens import STRAIN_PER_STEP_PER_ROW, BearingStrip, Disk
 from rockcal.materials import new_state
 
 BOTTOM, TOP = 0, 1
 SIDES = (2, 3, 4, 5)  # with side walls: -x, +x, -y, +y, after the platens
+CYLINDER = 2  # a cylinder's confining wall, after the platens
 
 
 def strip_modulus_pa(strip: BearingStrip, bare_modulus_pa: float, radius_m: float) -> float:
@@ -47,6 +49,13 @@ def disk_of(specimen) -> Disk:
     return Disk(diameter, thickness, centre, 2, thickness / (2 * float(radius.mean())))
 
 
+def check_contact_stiffness(contact_stiffness: str | None) -> None:
+    """The 3D engine's contacts take PFC 5's stiffness alone (None: it)."""
+    if contact_stiffness not in (None, CONTACT_STIFFNESS):
+        raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
+                                              f"({CONTACT_STIFFNESS!r}), got {contact_stiffness!r}")
+
+
 class Platens3D:
     """A specimen between a bottom and a top platen that touch it: the engine `state`, the
     platens' starting heights (m), the `rows` of spheres between them, the `chunk` of steps
@@ -55,19 +64,19 @@ class Platens3D:
     modulus under a sphere of the mean radius. With `side_walls`, the state has four more
     walls at rest (SIDES: -x, +x, -y, +y) touching the specimen's outermost spheres (a
     confining vessel, `sides_3d`). `contact_stiffness`: PFC 5's, the 3D engine's only (None:
-    it)."""
+    it). A cylinder's vessel (`side_walls`) is instead a cylindrical wall about its axis touching
+    its outermost spheres (CYLINDER: the triaxial cell, `cell_3d`)."""
 
     def __init__(self, specimen, params, rate_factor: float, contact_stiffness: str | None = None,
                  strip: BearingStrip | None = None, side_walls: bool = False):
-        if contact_stiffness not in (None, CONTACT_STIFFNESS):
-            raise InputError("contact_stiffness", f"the 3D engine's contacts take PFC 5's stiffness "
-                                                  f"({CONTACT_STIFFNESS!r}), got {contact_stiffness!r}")
+        check_contact_stiffness(contact_stiffness)
         pos, radius = specimen.pos, specimen.radius
         self.bottom, self.top = (pos[:, 2] - radius).min(), (pos[:, 2] + radius).max()
         centre = pos.mean(axis=0)
         points, normals = [(centre[0], centre[1], self.bottom), (centre[0], centre[1], self.top)], \
             [(0, 0, 1), (0, 0, -1)]
-        if side_walls:
+        cell = side_walls and specimen.shape == "cylinder"
+        if side_walls and not cell:
             low, high = (pos - radius[:, None]).min(axis=0), (pos + radius[:, None]).max(axis=0)
             for a in (0, 1):
                 for at, facing in ((low, 1.0), (high, -1.0)):
@@ -76,9 +85,16 @@ class Platens3D:
                     points.append(tuple(point))
                     normals.append(tuple(facing * np.eye(3)[a]))
         self.state = new_state(params, specimen, walls=(points, normals))
+        if cell:
+            axis = 0.5 * np.asarray(specimen.size_m[:2])  # its vessel's, as the genesis packed it
+            reach = float((np.hypot(*(pos[:, :2] - axis).T) + radius).max())
+            walls = self.state.walls
+            self.state.walls = with_cylinder(walls, (*axis, centre[2]), (0, 0, 1), reach,
+                                             float(walls.table[0, Wall.MODULUS]))
         if strip is not None:
             table = self.state.walls.table
             table[:, Wall.MODULUS] = strip_modulus_pa(strip, float(table[0, Wall.MODULUS]), float(radius.mean()))
+        if cell or strip is not None:
             self.state.dt = stable_time_step(self.state)
         height = self.top - self.bottom
         self.rows = height / (2 * radius.mean())

@@ -63,12 +63,16 @@ class WallServo3D:
             push = servo_gain(ALPHA, float(faces[w]), self.kn * max(1, int(touching[w])), self.steps,
                               self.state.dt) * (float(stress[w]) - self.target)
             speed, self.integral[w] = servo_speed(push, self.integral[w], BETA, self.limit)
-            walls.vel[w] = -speed * walls.normal[w]  # outward: against the normal, which faces in
+            self.drive(w, speed)
+
+    def drive(self, w: int, speed: float) -> None:
+        """Move wall w outward at `speed` (m/s): against its normal, which faces in."""
+        self.state.walls.vel[w] = -speed * self.state.walls.normal[w]
 
     def hold(self) -> None:
         """Stop the servo walls."""
         for w in self.walls:
-            self.state.walls.vel[w] = 0.0
+            self.drive(w, 0.0)
             self.integral[w] = 0.0
 
 
@@ -77,23 +81,29 @@ class SideWalls3D:
     `target_Pa` at speeds up to SPEED_LIMIT x the platens' full speed; `steps` time steps
     between the servo's updates."""
 
+    walls = SIDES  # the confining walls, which keep sigma3 through the loading
+
     def __init__(self, platens: Platens3D, specimen, target_Pa: float):
         self.state = platens.state
         self.limit = SPEED_LIMIT * platens.speed
         self.grain_diameter = 2 * float(specimen.radius.mean())
-        self.servo = WallServo3D(self.state, SIDES, target_Pa, self.limit)
+        self.servo = self.servo_of(self.walls, target_Pa)
         self.steps = self.servo.steps
+
+    def servo_of(self, walls: tuple[int, ...], target_Pa: float) -> WallServo3D:
+        """A servo of some of the rig's walls."""
+        return WallServo3D(self.state, walls, target_Pa, self.limit)
 
     def seat(self) -> int:
         """Servo all six walls to sigma3 until equilibrium (`rig.sides.settle`, the unbalanced
         force's scale sigma3 x the mean sphere diameter squared) and stop them; the steps it took."""
         state = self.state
-        servo = WallServo3D(state, (BOTTOM, TOP, *SIDES), self.servo.target, self.limit)
+        servo = self.servo_of((BOTTOM, TOP, *self.walls), self.servo.target)
         free = state.spheres.inv_mass > 0
         steps = settle(servo, state.advance, lambda: norms(state.spheres.force[free]),
                        servo.target * self.grain_diameter**2)
         if steps is None:
-            raise RunFailed(f"the prism did not settle at the confinement of {servo.target / MPa:g} MPa in "
+            raise RunFailed(f"the specimen did not settle at the confinement of {servo.target / MPa:g} MPa in "
                             f"{SEATING_ROUNDS * servo.steps} steps (the servo-controlled walls could not bring "
                             "it to equilibrium): a confinement near the spheres' stiffness or the bonds' "
                             "strength crushes the specimen; try another confinement, or a larger specimen")
@@ -104,9 +114,9 @@ class SideWalls3D:
         self.servo.update()
 
     def stresses_Pa(self) -> np.ndarray:
-        """Each side wall's normal stress (-x, +x, -y, +y), Pa."""
-        return self.servo.stresses()[list(SIDES)]
+        """Each confining wall's normal stress (a prism's -x, +x, -y, +y; the cell's cylinder), Pa."""
+        return self.servo.stresses()[list(self.walls)]
 
     def stress_Pa(self) -> float:
-        """sigma3: the side walls' mean normal stress, Pa."""
+        """sigma3: the confining walls' mean normal stress, Pa."""
         return float(self.stresses_Pa().mean())
