@@ -2,15 +2,19 @@
 cuboid vessel (`conftest.small_cuboid`): the walls feel the material pressure P_m, read afresh from the spheres'
 overlaps with them (π E R × overlap over each face's area); no sphere has fewer than 3
 contacts; exactly the pairs within the installation gap are bonded; the same seed makes the
-same packing bit for bit; a carved cylinder keeps the spheres centred inside it, each bonded.
+same packing bit for bit, on one thread or two; a carved cylinder keeps the spheres centred inside it, each bonded.
 """
 
+import numba
 import numpy as np
 import pytest
+
+from rockcal.dem3d import neighbours
 
 from rockcal.specimens.packing import PACKING_MODULUS_GPA, PRESSURE_TOLERANCE
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D as GENESIS
 from rockcal.specimens3d.genesis import wall_gaps
+from rockcal.specimens3d.packing import pack_vessel
 from rockcal.specimens3d.specimen import carve_cylinder, random_specimen, vessel_floaters
 
 
@@ -48,6 +52,24 @@ def test_the_same_seed_makes_the_same_packing(cuboid):
     again = random_specimen("cuboid", 1e3 * x, 1e3 * z, cuboid.rmin_mm, seed=3, cache=False)
     assert np.array_equal(again.pos, cuboid.pos) and np.array_equal(again.radius, cuboid.radius)
     assert np.array_equal(again.bond_draws, cuboid.bond_draws)
+
+
+def test_the_same_seed_makes_the_same_packing_on_one_thread_or_two(monkeypatch):
+    # a vessel of about 190 spheres, split in two blocks of the engine as a large one is
+    monkeypatch.setattr(neighbours, "SPLIT_FROM", 100)
+    monkeypatch.setattr(neighbours, "PARTICLES_PER_BLOCK", 100)
+    packs = []
+    cap = numba.get_num_threads()
+    for threads in (1, 2):
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+        try:
+            packs.append(pack_vessel([8e-3, 8e-3, 10e-3], 0.6e-3, 1.65, 5, GENESIS.cloud_porosity,
+                                     GENESIS.pressure_mpa))
+        finally:
+            numba.set_num_threads(cap)
+    (pos, radius, *_), (pos2, radius2, *_) = packs
+    assert len(neighbours.block_starts(len(radius))) == 3
+    assert np.array_equal(pos, pos2) and np.array_equal(radius, radius2)
 
 
 def test_a_carved_cylinder_keeps_the_spheres_centred_inside_it_each_bonded(cuboid):

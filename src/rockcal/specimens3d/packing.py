@@ -2,8 +2,9 @@
 inscribed in it (FISHTank's cylindrical material vessel), steps 1-3 of PFC's genesis as the 2D
 `rockcal.specimens.packing`: the cloud's spheres are dropped at random with half the size
 they have at jamming, grown in stages to it with frictionless contacts, then all radii are
-scaled by one factor until the mean wall stress is the material pressure P_m; floaters are
-enlarged and the packing cycled and scaled back to P_m until none is left.
+scaled by one factor until the mean wall stress is the material pressure P_m (a servo that
+measures the packing's stiffness as it goes: `RadiusServo`); floaters are enlarged and the
+packing cycled and scaled back to P_m until none is left.
 """
 
 from __future__ import annotations
@@ -22,7 +23,6 @@ from rockcal.specimens.packing import (
     PRESSURE_TOLERANCE,
     SAMPLES_PER_SERVO,
     STEPS_PER_STAGE,
-    servo_factor,
 )
 from rockcal.specimens3d.genesis import cloud_radii, enlarge_floaters, floaters
 from rockcal.dem3d.laws import Laws
@@ -43,6 +43,16 @@ FLOATER_STEPS_PER_ROW = 20
 MIN_ROUND_STEPS = 400
 MAX_SERVO_STEPS = 8000
 MAX_FLOATER_STEPS = 2000
+# The servo's first guess of the packing's stiffness, the mean wall stress per relative change
+# of all radii, over the contacts' modulus (a jammed frictionless packing's is about 0.5); the
+# servo then measures it within these bounds, and moves this share of the way to P_m each round
+SERVO_STIFFNESS_GUESS = 1.0
+SERVO_STIFFNESS_BOUNDS = (0.2, 2.0)
+SERVO_RELAXATION = 0.8
+# A floater is grown to overlap its third nearest neighbour by this many times a contact's
+# overlap at P_m (P_m / E of a radius): grown by just one, most are pushed off their neighbours
+# again as the packing is cycled, and float on for round after round
+FLOATER_OVERLAP = 10.0
 
 
 def pack_vessel(size, rmin: float, radius_ratio: float, seed: int, cloud_porosity: float,
@@ -81,14 +91,14 @@ def pack_vessel(size, rmin: float, radius_ratio: float, seed: int, cloud_porosit
     servo_steps = int(np.clip(SERVO_STEPS_PER_ROW * rows, MIN_ROUND_STEPS, MAX_SERVO_STEPS))
     floater_steps = int(np.clip(FLOATER_STEPS_PER_ROW * rows, MIN_ROUND_STEPS, MAX_FLOATER_STEPS))
     target = pressure_mpa * MPa
-    scale = 1.0
+    servo = RadiusServo(target)
+    stress = settled_stress(state, size, servo_steps, cylinder)
     for _ in range(MAX_SERVO_ROUNDS):
-        stress = settled_stress(state, size, servo_steps, cylinder)
         if abs(stress - target) < PRESSURE_TOLERANCE * target:
             break
-        scale *= servo_factor(stress, target)
-        s.radius[:] = radius * scale
-    overlap = target / (PACKING_MODULUS_GPA * GPa)
+        s.radius[:] = radius * servo.scale(stress)
+        stress = settled_stress(state, size, servo_steps, cylinder)
+    overlap = FLOATER_OVERLAP * target / (PACKING_MODULUS_GPA * GPa)
     for round_ in range(FLOATER_ROUNDS):
         grown = enlarge_floaters(s.pos, s.radius, size, overlap, cylinder)
         enlarged = np.count_nonzero(grown != s.radius)
@@ -96,7 +106,7 @@ def pack_vessel(size, rmin: float, radius_ratio: float, seed: int, cloud_porosit
                   stress / MPa)
         if not enlarged and abs(stress - target) < PRESSURE_TOLERANCE * target:
             break
-        s.radius[:] = grown * servo_factor(stress, target)
+        s.radius[:] = grown * servo.factor(stress)
         rebuild_neighbours(state)
         stress = settled_stress(state, size, floater_steps, cylinder)
     left = int(np.count_nonzero(floaters(s.pos, s.radius, size, cylinder)))
@@ -105,6 +115,33 @@ def pack_vessel(size, rmin: float, radius_ratio: float, seed: int, cloud_porosit
         log.warning("3D genesis of %s mm, seed %d: %d of %d spheres have fewer than %d contacts",
                     np.round(1e3 * size, 3), seed, left, n, MIN_CONTACTS)
     return s.pos.copy(), s.radius.copy(), stress / MPa, left
+
+
+class RadiusServo:
+    """The factor on all radii that brings the mean wall stress to `target` (Pa): a Newton step
+    on the stress against the radii's log scale, its slope the secant of the last two rounds
+    in which the radii changed (`SERVO_STIFFNESS_GUESS` until then)."""
+
+    def __init__(self, target: float):
+        self.target = target
+        self.stiffness = SERVO_STIFFNESS_GUESS * PACKING_MODULUS_GPA * GPa
+        self.log_scale = 0.0
+        self.last = None  # (log scale, stress) of the round before
+
+    def factor(self, stress: float) -> float:
+        """The factor for a packing at `stress` (Pa), as a change of its current radii."""
+        return float(np.exp(SERVO_RELAXATION * (self.target - stress) / self.stiffness))
+
+    def scale(self, stress: float) -> float:
+        """The radii's scale over the servo's start after a round that ended at `stress` (Pa),
+        the slope measured where the radii changed since the round before."""
+        if self.last is not None and self.log_scale != self.last[0]:
+            secant = (stress - self.last[1]) / (self.log_scale - self.last[0])
+            low, high = (b * PACKING_MODULUS_GPA * GPa for b in SERVO_STIFFNESS_BOUNDS)
+            self.stiffness = float(np.clip(secant, low, high))
+        self.last = (self.log_scale, stress)
+        self.log_scale += np.log(self.factor(stress))
+        return float(np.exp(self.log_scale))
 
 
 def _off_cylinder(pos, size, rmax: float) -> np.ndarray:

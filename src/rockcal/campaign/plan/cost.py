@@ -20,8 +20,9 @@ from rockcal.labtests.specimen_settings import SpecimenSettings
 WORK_EXPONENT = 1.1
 # A packing's genesis on one thread: its time goes with the packing's grains x rows as a run's
 # does (every step moves every grain; a taller vessel takes more steps to settle), in seconds per
-# grain-row per ms of the engine probe's step (`engine_speed`): 2D balls, 3D spheres
-GENESIS_S_PER_WORK = {2: 4.3e-4, 3: 2.2e-3}
+# grain-row per ms of the engine probe's step (`engine_speed`): 2D balls, 3D spheres (the 3D one
+# measured by `python benchmarks/genesis_3d.py --coefficient`)
+GENESIS_S_PER_WORK = {2: 4.3e-4, 3: 1.3e-3}
 GENESIS_CLUMPS = 1.3  # a clumped packing's genesis over a ball packing's of as many grains
 # What is left to compile once the probe has compiled the 2D engine on an install's first run
 # (numba's cache then holds it for every later run): the 2D tests' own loops, or the 3D engine and
