@@ -30,8 +30,7 @@ from typing import Callable
 
 import numpy as np
 
-from rockcal.specimens.carving import grains
-from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, scale_density
+from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS
 from rockcal.specimens.specimen import Specimen, random_packing
 from rockcal.errors import InputError
 from rockcal.labtests import ucs
@@ -39,7 +38,8 @@ from rockcal.labtests.kind import GENESIS, LabTest, Outline, Response, Setting, 
 from rockcal.labtests.loading import (LOCALISED_DAMAGE, RAMP_STEPS_PER_ROW, Loading, Reading,
                                       check_max_strain, load_to_failure)
 from rockcal.labtests.result import LabResult, run_fields
-from rockcal.labtests.rig import Grips
+from rockcal.labtests.rig import rig_for
+from rockcal.labtests.rig.grips import check_grip_rows
 from rockcal.materials import BondedParams, as_params
 
 GRIP_FRACTION = 0.1  # grip length / prism height at each end (FISHTank's tt_tg default, 0.1 H)
@@ -79,19 +79,6 @@ def check_grip(grip_fraction) -> None:
         raise InputError("grip_fraction", f"must be in (0, 0.4], got {grip_fraction!r}")
 
 
-def check_grip_rows(grip_fraction: float, height_mm: float, grain_diameter_mm: float) -> None:
-    """A grip reaches at least one mean grain diameter into the prism: it then holds the end
-    row of grains and the row behind it (rows lie about 0.87 diameters apart), and pulls on the
-    prism across its width; a shorter one may hold a few grains of the end row, which the
-    prism's first bonds tear out."""
-    grip_mm = grip_fraction * height_mm
-    if grip_mm < grain_diameter_mm:
-        raise InputError("grip_fraction", f"the grips ({grip_fraction:g} x {height_mm:g} mm = {grip_mm:.3g} mm) must "
-                                          f"reach at least one mean grain diameter ({grain_diameter_mm:.3g} mm) "
-                                          "into the prism, to hold two rows of grains: give at least "
-                                          f"{grain_diameter_mm / height_mm:.3g}, a taller prism or smaller grains")
-
-
 def simulate_direct_tension(params: BondedParams | dict | None = None,
                             specimen: Specimen | None = None, *,
                             grip_fraction: float = GRIP_FRACTION, rate_factor: float = 1.0,
@@ -108,17 +95,9 @@ def simulate_direct_tension(params: BondedParams | dict | None = None,
     check_max_strain(max_strain)
     specimen = specimen or random_packing(50.0, 100.0)
     speed = ucs.DENSITY_SCALED_SPEED * rate_factor
-    if specimen.dimensions == 3:
-        from rockcal.labtests.rig.grips_3d import Grips3D  # the 3D engine: loaded for a 3D run alone
-
-        check_grip_rows(grip_fraction, 1e3 * specimen.size_m[2], 2e3 * float(specimen.radius.mean()))
-        grips = Grips3D(specimen, params, grip_fraction, speed)
-        grips.state.scale_density()
-    else:
-        check_grip_rows(grip_fraction, 1e3 * specimen.height_m, 2e3 * float(grains(specimen)[1].mean()))
-        grips = Grips(specimen, params, grip_fraction, speed, contact_stiffness)
-        scale_density(grips.state)
+    grips = rig_for(specimen).grips(specimen, params, grip_fraction, speed, contact_stiffness)
     state = grips.state
+    state.scale_density()
     broken = [0]
 
     def read() -> Reading:

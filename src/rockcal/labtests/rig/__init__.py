@@ -15,7 +15,7 @@ thickness of the 2D model live here and nowhere else in the lab tests.
   disks (`arc`); the 3D pins (`pins_3d`) are cylinders along the specimen's thickness, rows
   of those arcs' spheres.
 - `Grips`: rigid grips pulling a prism apart (direct tension); the pull, the strain between
-  them, the loaded area.
+  them, the loaded area. In 3D (`grips_3d`) they grip a cylinder's ends.
 - `Gauge`: the specimen's own axial and lateral strains, from the grains along its sides.
 
 Every loading part (platens, jaws, pins, grips) is a `Loader`, which `loading.load_to_failure` drives.
@@ -72,7 +72,9 @@ class Rig:
     3D specimen's two); `disk(specimen)` a Brazilian disk's `Disk`; `load_unit`, the unit of a
     loader's load / 1000 (kN per m of the 2D slab's thickness, kN in 3D); `jaws` ISRM's curved
     jaws; `pins(specimen, params, pin_x_m, support_x_m, radius_m,
-    step_m, contact_stiffness)` three-point bending's pin and supports (a `Loader`)."""
+    step_m, contact_stiffness)` three-point bending's pin and supports (a `Loader`);
+    `grips(specimen, params, grip_fraction, rate_factor, contact_stiffness)` direct tension's
+    grips (a `Loader` with `area_m2`, `strain()`, `free_length_m`)."""
 
     dimensions: int
     platens: Callable
@@ -84,16 +86,18 @@ class Rig:
     load_unit: str
     jaws: Callable
     pins: Callable
+    grips: Callable
 
 
 def rig_for(specimen) -> Rig:
     """The rig of the specimen's dimension (`specimen.dimensions`)."""
     if specimen.dimensions == 2:
         return Rig(2, Platens, SideWalls, Gauge, check_gauges, lateral_strains=1, disk=disk_of,
-                   load_unit="kN/m", jaws=Jaws, pins=Pins)
+                   load_unit="kN/m", jaws=Jaws, pins=Pins, grips=Grips)
     # the 3D rig, and with it the 3D engine's kernels: loaded for a 3D run alone
     from rockcal.labtests.rig.gauge_3d import Gauge3D
     from rockcal.labtests.rig.gauge_3d import check_gauges as check_gauges_3d
+    from rockcal.labtests.rig.grips_3d import Grips3D
     from rockcal.labtests.rig.jaws_3d import Jaws3D
     from rockcal.labtests.rig.pins_3d import Pins3D
     from rockcal.labtests.rig.platens_3d import Platens3D
@@ -101,4 +105,4 @@ def rig_for(specimen) -> Rig:
     from rockcal.labtests.rig.cell_3d import confining_walls
 
     return Rig(3, Platens3D, confining_walls, Gauge3D, check_gauges_3d, lateral_strains=2, disk=disk_of_3d,
-               load_unit="kN", jaws=Jaws3D, pins=Pins3D)
+               load_unit="kN", jaws=Jaws3D, pins=Pins3D, grips=Grips3D)

@@ -16,11 +16,25 @@ from __future__ import annotations
 
 import numpy as np
 
+from rockcal.errors import InputError
 from rockcal.specimens.carving import grains, of_particles
 from rockcal.dem.simulate import DEFAULT_CONTACT_STIFFNESS, THICKNESS_M
 from rockcal.specimens.specimen import Specimen
 from rockcal.labtests.rig.platens import STRAIN_PER_STEP_PER_ROW
 from rockcal.materials import new_state
+
+
+def check_grip_rows(grip_fraction: float, height_mm: float, grain_diameter_mm: float) -> None:
+    """A grip reaches at least one mean grain diameter into the specimen: it then holds the end
+    row of grains and the row behind it (rows lie about 0.87 diameters apart), and pulls on the
+    specimen across its width; a shorter one may hold a few grains of the end row, which the
+    specimen's first bonds tear out."""
+    grip_mm = grip_fraction * height_mm
+    if grip_mm < grain_diameter_mm:
+        raise InputError("grip_fraction", f"the grips ({grip_fraction:g} x {height_mm:g} mm = {grip_mm:.3g} mm) must "
+                                          f"reach at least one mean grain diameter ({grain_diameter_mm:.3g} mm) "
+                                          "into the prism, to hold two rows of grains: give at least "
+                                          f"{grain_diameter_mm / height_mm:.3g}, a taller prism or smaller grains")
 
 
 def grip_grains(specimen: Specimen, grip_fraction: float) -> tuple[np.ndarray, np.ndarray]:
@@ -48,6 +62,7 @@ class Grips:
 
     def __init__(self, specimen: Specimen, params, grip_fraction: float, rate_factor: float,
                  contact_stiffness: str = DEFAULT_CONTACT_STIFFNESS):
+        check_grip_rows(grip_fraction, 1e3 * specimen.height_m, 2e3 * float(grains(specimen)[1].mean()))
         self.bottom, self.top = grip_grains(specimen, grip_fraction)
         self.bottom_particles = particles_of(specimen, self.bottom)
         self.top_particles = particles_of(specimen, self.top)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rockcal.labtests.rig.grips import check_grip_rows
 from rockcal.labtests.rig.platens import STRAIN_PER_STEP_PER_ROW
 from rockcal.materials import new_state
 
@@ -16,9 +17,11 @@ from rockcal.materials import new_state
 class Grips3D:
     """The grips of `grip_fraction` x the height at each end of the 3D `specimen`: the engine
     `state`, the spheres of the `bottom` and `top` grips, the `free_length_m` and `rows` of
-    spheres between them, the `chunk` of steps between readings and the loaded `area_m2`."""
+    spheres between them, the `chunk` of steps between readings and the loaded `area_m2`
+    (`contact_stiffness` as the 2D grips', for one signature: the 3D material has one)."""
 
-    def __init__(self, specimen, params, grip_fraction: float, rate_factor: float):
+    def __init__(self, specimen, params, grip_fraction: float, rate_factor: float, contact_stiffness: str = "pfc5"):
+        check_grip_rows(grip_fraction, 1e3 * specimen.size_m[2], 2e3 * float(specimen.radius.mean()))
         z = specimen.pos[:, 2]
         grip = grip_fraction * specimen.size_m[2]
         self.bottom, self.top = np.flatnonzero(z < z.min() + grip), np.flatnonzero(z > z.max() - grip)
