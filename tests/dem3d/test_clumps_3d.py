@@ -16,7 +16,8 @@ from rockcal.dem3d.clump_motion import clump
 from rockcal.dem3d.clumps import union_properties
 from rockcal.dem3d.laws import Laws
 from rockcal.dem3d.simulate import assemble_state
-from rockcal.materials.clump_templates_3d import GRAIN_SHAPES_3D, random_rotation, template_3d
+from rockcal.materials.clump_templates import template
+from rockcal.materials.clump_templates_3d import GRAIN_SHAPES_3D, random_rotation
 
 DENSITY = 2650.0
 LAWS = Laws(E_c=10e9, ks_per_kn=0.4, mu=0.5, Ebar_c=10e9, ksbar_per_knbar=0.4, lam=1.0, tan_phi=0.5, mcf=True)
@@ -62,7 +63,7 @@ def test_overlapping_pebbles_count_their_lens_once():
 def test_the_three_pebble_core_is_counted_once():
     """Three unit spheres on a triangle of side 1 share a core: the grid over it puts the
     union's volume within the error of a Monte Carlo count's (an independent estimate)."""
-    shape = template_3d("three-pebble")
+    shape = template("three-pebble", dimensions=3)
     volume = union_properties(shape.offsets, shape.radii)[0]
     assert volume == pytest.approx(4 / 3 * math.pi, rel=1e-12)  # unit equivalent radius
     rng = np.random.default_rng(2)
@@ -79,11 +80,11 @@ def test_the_three_pebble_core_is_counted_once():
 def test_the_3d_templates_have_the_2d_names_and_unit_equivalent_radius():
     assert GRAIN_SHAPES_3D == ("ball", "two-pebble", "three-pebble")
     for name in GRAIN_SHAPES_3D:
-        shape = template_3d(name)
+        shape = template(name, dimensions=3)
         volume, centroid, _ = union_properties(shape.offsets, shape.radii)
         assert volume == pytest.approx(4 / 3 * math.pi, rel=1e-12) and np.abs(centroid).max() < 1e-12
     with pytest.raises(Exception, match="grain_shape"):
-        template_3d("cloud")
+        template("cloud", dimensions=3)
 
 
 def free_clump(centres, radii, spin):
@@ -127,7 +128,7 @@ def test_two_clumps_colliding_keep_their_momentum():
     """Two two-pebble clumps meet off their centres' line: they bounce and spin, and their total
     linear and angular momentum (about the origin) stay what they were."""
     rng = np.random.default_rng(3)
-    shape = template_3d("two-pebble")
+    shape = template("two-pebble", dimensions=3)
     centres, radii, clump_of = [], [], []
     for c, (at, turn) in enumerate((((0.0, 0.0, 0.0), random_rotation(rng)),
                                     ((3.2e-3, 0.6e-3, 0.3e-3), random_rotation(rng)))):

@@ -130,12 +130,12 @@ def test_a_clumped_3d_material_creates_the_engines_3d_template_first(shape):
     """PFC3D's `clump template create ... pebbles N` with each pebble's radius, x, y, z (the 3D
     engine's template to the bit), before FISHTank's groups, which name it (cm_shape 1,
     cm_ctName) as FISHTank's ft.fis reads them in PFC3D too."""
-    from rockcal.materials.clump_templates_3d import template_3d
+    from rockcal.materials.clump_templates import template
 
     text = to_fish_3d(PARAMS, SETTINGS.model_copy(update={"grain_shape": shape}))
     values = read_fish(text)
     assert values["cm_shape"] == 1 and values["cm_ctName"] == f"rockcal_{shape.replace('-', '_')}"
-    t, lines = template_3d(shape), text.splitlines()
+    t, lines = template(shape, dimensions=3), text.splitlines()
     k = lines.index(f"clump template create pebcalculate name {values['cm_ctName']} pebbles {t.n_pebbles} ...")
     rows = np.array([lines[k + 1 + i].removesuffix(" ...").split() for i in range(t.n_pebbles)], float)
     np.testing.assert_array_equal(rows, np.column_stack([t.radii, t.offsets]))

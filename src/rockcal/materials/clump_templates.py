@@ -138,15 +138,27 @@ _MAKERS = {
 GRAIN_SHAPES = tuple(_MAKERS)
 
 
-def template(name: str, field: str = "grain_shape") -> ClumpTemplate:
-    """The template of that name; InputError naming `field` for a name no template has."""
-    if not isinstance(name, str) or name not in _MAKERS:
-        raise InputError(field, f"no grain shape named {name!r}; known: {', '.join(GRAIN_SHAPES)}")
-    return _made(name)
+def template(name: str, field: str = "grain_shape", dimensions: int = 2) -> ClumpTemplate:
+    """The template of that name in `dimensions` (a 3D one is a
+    `clump_templates_3d.ClumpTemplate3D`); InputError naming `field` for a name no template of
+    that dimension has."""
+    makers = _makers(dimensions)
+    if not isinstance(name, str) or name not in makers:
+        where = " in 3D" if dimensions == 3 else ""
+        raise InputError(field, f"no grain shape named {name!r}{where}; known{where}: {', '.join(makers)}")
+    return _made(name, dimensions)
+
+
+def _makers(dimensions: int) -> dict:
+    if dimensions == 3:
+        from rockcal.materials.clump_templates_3d import MAKERS_3D  # the 3D engine's: for 3D alone
+
+        return MAKERS_3D
+    return _MAKERS
 
 
 @functools.cache
-def _made(name: str) -> ClumpTemplate:
-    """A template, made when first asked for: a union's area is compiled code, which a command
-    that runs no clump need not load."""
-    return _MAKERS[name]()
+def _made(name: str, dimensions: int) -> ClumpTemplate:
+    """A template, made when first asked for: a union's area (volume) is compiled code, which a
+    command that runs no clump need not load."""
+    return _makers(dimensions)[name]()

@@ -17,14 +17,12 @@ The 2D "cloud" has no 3D template yet.
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from rockcal.dem3d.clumps import union_properties
-from rockcal.errors import InputError
 from rockcal.materials.clump_templates import PEBBLE_SPACING, ClumpTemplate
 
 
@@ -64,24 +62,12 @@ def _polygon(corners: int, spacing: float) -> np.ndarray:
     return circumradius * np.array([[math.cos(a), math.sin(a), 0.0] for a in angles])
 
 
-_MAKERS = {
+MAKERS_3D = {  # `clump_templates.template(name, dimensions=3)` makes them
     "ball": lambda: ClumpTemplate3D("ball", np.zeros((1, 3)), np.ones(1)),
     "two-pebble": lambda: from_pebbles("two-pebble", _polygon(2, PEBBLE_SPACING), np.ones(2)),
     "three-pebble": lambda: from_pebbles("three-pebble", _polygon(3, PEBBLE_SPACING), np.ones(3)),
 }
-GRAIN_SHAPES_3D = tuple(_MAKERS)
-
-
-def template_3d(name: str, field: str = "grain_shape") -> ClumpTemplate3D:
-    """The 3D template of that name; InputError naming `field` for a name no 3D template has."""
-    if not isinstance(name, str) or name not in _MAKERS:
-        raise InputError(field, f"no 3D grain shape named {name!r}; known in 3D: {', '.join(GRAIN_SHAPES_3D)}")
-    return _made(name)
-
-
-@functools.cache
-def _made(name: str) -> ClumpTemplate3D:
-    return _MAKERS[name]()
+GRAIN_SHAPES_3D = tuple(MAKERS_3D)
 
 
 def random_rotation(rng: np.random.Generator) -> np.ndarray:

@@ -77,11 +77,7 @@ def grain_template(specimen) -> ClumpTemplate | None:
     shape = getattr(specimen, "grain_shape", DEFAULT_SHAPE)
     if shape == DEFAULT_SHAPE:
         return None
-    if getattr(specimen, "dimensions", 2) == 3:
-        from rockcal.materials.clump_templates_3d import template_3d  # the 3D engine's: for 3D alone
-
-        return template_3d(shape)
-    return template(shape)
+    return template(shape, dimensions=getattr(specimen, "dimensions", 2))
 
 
 def template_name(shape: ClumpTemplate) -> str:

@@ -25,8 +25,7 @@ from rockcal.specimens.packing import check_packing_pressure
 from rockcal.specimens.specimen import STRENGTH_STREAM, _one_maker, cache_dir
 from rockcal.dem.clumps import members
 from rockcal.dem3d.clumps import union_properties
-from rockcal.materials.clump_templates import DEFAULT_SHAPE
-from rockcal.materials.clump_templates_3d import template_3d
+from rockcal.materials.clump_templates import DEFAULT_SHAPE, template
 from rockcal.specimens3d.clump_genesis import clump_bonds, clumps_for_spheres, settle_clumps
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D, floaters, install_bonds, sphere_contacts
 from rockcal.dem3d.neighbours import SpheresScattered, spatial_order
@@ -357,7 +356,7 @@ def clumped_packing(vessel, rmin: float, radius_ratio: float, seed: int, genesis
     in place of its spheres, settled to the pressure (`clump_genesis`): pebble centres, radii,
     clump numbers and the pressure reached (MPa); from the cache, or made (and kept if `cache`)."""
     def make():
-        shape = template_3d(grain_shape)
+        shape = template(grain_shape, dimensions=3)
         centres, radii, clump_of = clumps_for_spheres(pos, radius, shape, seed)
         centres, radii, pressure = settle_clumps(centres, radii, clump_of, vessel, genesis.pressure_mpa)
         return centres, radii, clump_of, pressure
