@@ -7,6 +7,7 @@ from types import SimpleNamespace
 import pytest
 
 from rockcal.cli.app import main
+from one_line import assert_one_line
 
 SMALL = ["--width-mm", "10", "--height-mm", "20"]
 
@@ -114,10 +115,7 @@ def test_a_specimen_that_cannot_be_made_names_its_flag(test, args, flag, rockcal
 
 
 def assert_one_line_error(run, field: str) -> None:
-    assert run.returncode == 2
-    lines = run.stderr.strip().splitlines()
-    assert len(lines) == 1 and field in lines[0], run.stderr
-    assert "Traceback" not in run.stderr
+    assert_one_line(run.returncode, run.stderr, "", field)
 
 
 def test_version(rockcal):
@@ -149,12 +147,7 @@ HUGE = "99999999999999999999999999"
 
 
 def one_line(run, code: int, start: str, *words: str) -> None:
-    assert run.returncode == code, run.stderr
-    assert "Traceback" not in run.stderr
-    lines = run.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith(start), run.stderr
-    for word in words:
-        assert word in lines[0], lines[0]
+    assert_one_line(run.returncode, run.stderr, start, *words, exit_code=code)
 
 
 @pytest.mark.parametrize("test, args, flag, words", [

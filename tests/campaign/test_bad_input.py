@@ -16,6 +16,7 @@ from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.campaign.runs.store import SCHEMA_VERSION, STORE_NAME, RunStore
 from rockcal.cli.app import main
+from one_line import ERROR, assert_one_line
 
 pytestmark = pytest.mark.slow  # each case runs the rockcal command in a new process
 
@@ -228,21 +229,13 @@ def sha256(path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
-def assert_one_line_error(code: int, stderr: str, names: str) -> None:
-    assert code == 2, stderr
-    assert "Traceback" not in stderr
-    lines = stderr.splitlines()
-    assert len(lines) == 1, stderr
-    assert lines[0].startswith(f"rockcal: error: {names}"), lines[0]
-
-
 @pytest.mark.parametrize("text, key", [c[1:] for c in CAMPAIGNS], ids=[c[0] for c in CAMPAIGNS])
 def test_a_bad_campaign_file(text, key, out, rockcal):
     config = out.parent / "campaign.toml"
     config.write_text(text)
     before = sha256(out / STORE_NAME)
     code, stderr = rockcal("calibrate", config, "--out", out, "--resume", cwd=out.parent)
-    assert_one_line_error(code, stderr, key)
+    assert_one_line(code, stderr, ERROR + key)
     assert sha256(out / STORE_NAME) == before
 
 
@@ -252,7 +245,7 @@ def test_a_bad_option(args, option, out, rockcal):
     config.write_text(CAMPAIGN)
     before = sha256(out / STORE_NAME)
     code, stderr = rockcal("calibrate", config, "--out", out, "--resume", *args, cwd=out.parent)
-    assert_one_line_error(code, stderr, option + ": ")
+    assert_one_line(code, stderr, ERROR + option + ": ")
     assert sha256(out / STORE_NAME) == before
 
 
@@ -268,7 +261,7 @@ def test_a_bad_store_file(command, spoil, out, rockcal):
     config.write_text(CAMPAIGN)
     args = [config, "--out", out, "--resume"] if command == "calibrate" else [out]
     code, stderr = rockcal(command, *args, cwd=out.parent)
-    assert_one_line_error(code, stderr, f"OUT: {store}")
+    assert_one_line(code, stderr, ERROR + f"OUT: {store}")
     assert sha256(store) == before
 
 
@@ -281,12 +274,12 @@ def test_a_record_that_does_not_fit(record, names, out, rockcal):
     store = RunStore(out)
     store.save_document("record.json", record)
     store.close()
-    assert_one_line_error(*rockcal("report", out, cwd=out.parent), names)
+    assert_one_line(*rockcal("report", out, cwd=out.parent), ERROR + names)
 
 
 def test_report_on_a_folder_without_a_store(tmp_path, rockcal):
     code, stderr = rockcal("report", tmp_path, cwd=tmp_path)
-    assert_one_line_error(code, stderr, f"OUT: {tmp_path} holds no run store")
+    assert_one_line(code, stderr, ERROR + f"OUT: {tmp_path} holds no run store")
     assert list(tmp_path.iterdir()) == []
 
 

@@ -8,6 +8,7 @@ import sys
 import pytest
 
 from rockcal.cli.app import main
+from one_line import ERROR, assert_one_line
 
 BASE = """[rock]
 name = "granite"
@@ -205,13 +206,6 @@ def run_cli(args, monkeypatch, capsys) -> tuple[int, str]:
     return exit.value.code, capsys.readouterr().err
 
 
-def check_refused(code: int, stderr: str, message: str) -> None:
-    assert code == 2, stderr
-    lines = stderr.splitlines()
-    assert len(lines) == 1, stderr
-    assert lines[0].startswith("rockcal: error: " + message), lines[0]
-
-
 def test_the_table_is_large():
     assert len(CASES) + len(DEFAULT_FOLDER) >= 60
 
@@ -221,7 +215,7 @@ def test_a_broken_campaign_file(text, message, tmp_path, monkeypatch, capsys):
     config = tmp_path / "campaign.toml"
     config.write_bytes(text if isinstance(text, bytes) else text.encode())
     code, stderr = run_cli(["calibrate", config, "--out", tmp_path / "out", "--workers", "1"], monkeypatch, capsys)
-    check_refused(code, stderr, message)
+    assert_one_line(code, stderr, ERROR + message)
     assert not (tmp_path / "out").exists()
 
 
@@ -230,7 +224,7 @@ def test_a_rock_name_that_is_not_a_folder_name_needs_out(rock, tmp_path, monkeyp
     (tmp_path / "campaign.toml").write_text(edit('name = "granite"', f'name = "{rock}"'))
     monkeypatch.chdir(tmp_path)
     code, stderr = run_cli(["calibrate", "campaign.toml", "--workers", "1"], monkeypatch, capsys)
-    check_refused(code, stderr, "rock.name: ")
+    assert_one_line(code, stderr, ERROR + "rock.name: ")
     assert "give --out" in stderr
     assert list(tmp_path.iterdir()) == [tmp_path / "campaign.toml"]
 
@@ -248,7 +242,7 @@ def test_a_quick_look_too_coarse_for_the_specimen_is_refused_before_any_run(tmp_
     config = tmp_path / "campaign.toml"
     config.write_text(BASE)
     code, stderr = run_cli(["calibrate", config, "--quick", "--out", tmp_path / "out"], monkeypatch, capsys)
-    check_refused(code, stderr, "--quick: at R_min 0.8 mm the UCS specimen cannot be made: specimen.width_mm")
+    assert_one_line(code, stderr, ERROR + "--quick: at R_min 0.8 mm the UCS specimen cannot be made: specimen.width_mm")
     assert not (tmp_path / "out").exists()
 
 
@@ -260,7 +254,7 @@ def test_worker_counts_are_bounded(args, message, tmp_path, monkeypatch, capsys)
     config = tmp_path / "campaign.toml"
     config.write_text(BASE)
     code, stderr = run_cli(["calibrate", config, "--out", tmp_path / "out", *args], monkeypatch, capsys)
-    check_refused(code, stderr, message)
+    assert_one_line(code, stderr, ERROR + message)
     assert not (tmp_path / "out").exists()
 
 
@@ -268,4 +262,4 @@ def test_a_pipe_as_the_campaign_file_is_refused_not_waited_on(tmp_path, monkeypa
     fifo = tmp_path / "campaign.toml"
     os.mkfifo(fifo)
     code, stderr = run_cli(["calibrate", fifo, "--dry-run"], monkeypatch, capsys)
-    check_refused(code, stderr, f"CONFIG: {fifo} is not a regular file")
+    assert_one_line(code, stderr, ERROR + f"CONFIG: {fifo} is not a regular file")

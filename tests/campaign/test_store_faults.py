@@ -19,6 +19,7 @@ from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.procedure.result import save_result
 from rockcal.campaign.runs.store import STORE_NAME, RunStore
 from tiny import tiny_campaign
+from one_line import ERROR, assert_one_line
 
 CAMPAIGN = tiny_campaign(samples=4, iterations=10, max_dem_runs=5)
 
@@ -55,12 +56,6 @@ def rockcal(cli):
         done = cli(*args)
         return done.returncode, done.stderr
     return run
-
-
-def assert_one_line(code, stderr, start):
-    assert code == 2, stderr
-    assert "Traceback" not in stderr and len(stderr.splitlines()) == 1, stderr
-    assert stderr.startswith(f"rockcal: error: {start}"), stderr
 
 
 def commands(out):
@@ -117,7 +112,7 @@ def test_a_damaged_store_is_one_line_and_left_as_it_was(spoil, says, command, ou
     spoil(store, finished[2])
     before = sha(store)
     code, stderr = rockcal(*commands(out)[command])
-    assert_one_line(code, stderr, f"OUT: {store}")
+    assert_one_line(code, stderr, ERROR + f"OUT: {store}")
     assert says in stderr
     assert sha(store) == before
 
@@ -125,14 +120,14 @@ def test_a_damaged_store_is_one_line_and_left_as_it_was(spoil, says, command, ou
 def test_a_stored_run_without_a_targeted_response_is_one_line_on_resume(out, finished, rockcal):
     spoil_run("responses", '{"E_GPa": 20.0}')(out / STORE_NAME, finished[2])
     code, stderr = rockcal(*commands(out)["resume"])
-    assert_one_line(code, stderr, "--out: a stored UCS run lacks its response ucs_MPa, a target of this campaign")
+    assert_one_line(code, stderr, ERROR + "--out: a stored UCS run lacks its response ucs_MPa, a target of this campaign")
 
 
 def test_out_below_a_file_is_one_line(tmp_path, rockcal):
     (tmp_path / "campaign.toml").write_text(CAMPAIGN)
     (tmp_path / "file").write_text("not a folder")
     code, stderr = rockcal("calibrate", tmp_path / "campaign.toml", "--out", tmp_path / "file" / "out")
-    assert_one_line(code, stderr, f"--out: {tmp_path / 'file' / 'out'}")
+    assert_one_line(code, stderr, ERROR + f"--out: {tmp_path / 'file' / 'out'}")
     assert "a part of the path is a file, not a folder" in stderr
 
 
@@ -171,7 +166,7 @@ def test_a_symbolic_link_as_the_store_is_refused(out, tmp_path, rockcal):
     real = tmp_path / "elsewhere.sqlite"
     shutil.move(out / STORE_NAME, real)
     (out / STORE_NAME).symlink_to(real)
-    assert_one_line(*rockcal(*commands(out)["resume"]), f"OUT: {out / STORE_NAME} is a symbolic link")
+    assert_one_line(*rockcal(*commands(out)["resume"]), ERROR + f"OUT: {out / STORE_NAME} is a symbolic link")
 
 
 @pytest.fixture
@@ -200,7 +195,7 @@ def test_a_full_disk_is_one_line_and_leaves_the_old_report_whole(out, small_disk
     before = (target / "report.html").read_bytes()
     fill(small_disk, 4096)
     code, stderr = rockcal("report", target)
-    assert_one_line(code, stderr, "OUT: ")
+    assert_one_line(code, stderr, ERROR + "OUT: ")
     assert "No space left on device; free some space" in stderr
     assert (target / "report.html").read_bytes() == before
     assert sorted(p.name for p in target.iterdir()) == sorted(p.name for p in out.iterdir())  # no temp files
@@ -211,7 +206,7 @@ def test_a_disk_that_fills_mid_campaign_is_one_line_and_the_store_stays_whole(sm
     fill(small_disk, 300 * 1024)
     out = small_disk / "out"
     code, stderr = rockcal("calibrate", small_disk / "campaign.toml", "--out", out, "--workers", "1", "--json")
-    assert_one_line(code, stderr, "--out: ")
+    assert_one_line(code, stderr, ERROR + "--out: ")
     assert "free some space and run again (with --resume" in stderr
     assert (out / STORE_NAME).exists()
     os.remove(small_disk / "filler")
@@ -240,7 +235,7 @@ def test_a_read_only_out_is_one_line(read_only_disk, rockcal):
     for args, start in ((commands(out)["resume"], "--out: "), (["report", out], "OUT: "),
                         (["calibrate", read_only_disk / "campaign.toml", "--out", read_only_disk / "new"], "--out: ")):
         code, stderr = rockcal(*args)
-        assert_one_line(code, stderr, start)
+        assert_one_line(code, stderr, ERROR + start)
         assert "read-only" in stderr
     code, stderr = rockcal("export", out, "--format", "json")  # reading needs no writing
     assert code == 0, stderr
