@@ -18,7 +18,9 @@ from rockcal.campaign.input.config import SpecimenSettings, parse_campaign  # no
 from rockcal.campaign.plan.planned import planned  # noqa: E402
 from rockcal.campaign.runs.dask import DaskExecutor, parse_scheduler  # noqa: E402
 from rockcal.campaign.runs.pool import Executor  # noqa: E402
-from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.packings import packing_file  # noqa: E402
+from rockcal.campaign.runs.spec import run_spec  # noqa: E402
+from rockcal.specimens.specimen import stored_packing  # noqa: E402
 from rockcal.campaign.procedure.steps import calibrate  # noqa: E402
 from rockcal.campaign.runs.store import RunStore  # noqa: E402
 from rockcal.errors import InputError  # noqa: E402
@@ -72,9 +74,10 @@ def test_campaign_on_dask_gives_the_serial_answer_bit_for_bit(tmp_path):
 
 
 @pytest.mark.slow
-def test_workers_without_the_drivers_cache_make_the_same_specimen(cluster, worker_cache, tmp_path):
-    spec = specs(TINY, 1, mu=0.35)
-    serial = Executor(RunStore(tmp_path / "serial"), workers=1).run(spec)[0]
+def test_workers_without_the_drivers_cache_get_its_packing_and_make_none(cluster, worker_cache, tmp_path):
+    spec = specs(TINY.model_copy(update={"seed": 11}), 1, mu=0.35)
+    serial = Executor(RunStore(tmp_path / "serial"), workers=1).run(spec)[0]  # packs in the driver's cache
+    name = packing_file(spec[0])
     executor = DaskExecutor(RunStore(tmp_path / "dask"), cluster.scheduler_address)
     try:
         on_cluster = executor.run(spec)[0]
@@ -82,20 +85,44 @@ def test_workers_without_the_drivers_cache_make_the_same_specimen(cluster, worke
         executor.close()
     assert on_cluster.status == serial.status == "ok"
     assert on_cluster.responses == serial.responses
-    assert list(worker_cache.glob("*.npz"))  # packed there, from the settings alone
+    assert executor.packings.made == 0
+    # the workers' cache holds the driver's packing, written there, not made (a genesis locks its file)
+    assert (worker_cache / name).read_bytes() == stored_packing(name).read_bytes()
+    assert not (worker_cache / name).with_suffix(".lock").exists()
+
+
+@pytest.mark.slow
+def test_a_packing_no_cache_holds_is_made_once_on_the_cluster(cluster, worker_cache, tmp_path):
+    batch = specs(TINY.model_copy(update={"seed": 12}), 3)  # three runs of one packing
+    name = packing_file(batch[0])
+    assert stored_packing(name) is None
+    executor = DaskExecutor(RunStore(tmp_path / "dask"), cluster.scheduler_address)
+    shown = []
+    executor.on_genesis = lambda made, total: shown.append((made, total))
+    try:
+        results = executor.run(batch)
+    finally:
+        executor.close()
+    assert [r.status for r in results] == ["ok"] * 3 and executor.packings.made == 1
+    assert shown == [(0, 1), (1, 1)]
+    assert stored_packing(name).read_bytes() == (worker_cache / name).read_bytes()  # the driver keeps it
+
+
+def running_runs(keys) -> bool:
+    return any(str(key).startswith("rockcal-run-") for key in keys)
 
 
 def kill_a_busy_worker(client, after_s: float = 0.3) -> dict:
-    """In the background, SIGKILL a worker process that is running a run; returns (filled in
-    when done) its pid and the tasks it held."""
+    """In the background, SIGKILL a worker process that is running a run (not making a
+    packing); returns (filled in when done) its pid and the tasks it held."""
     killed = {}
 
     def watch():
         deadline = time.time() + 60
         while time.time() < deadline:
-            if any(client.processing().values()):
+            if any(map(running_runs, client.processing().values())):
                 time.sleep(after_s)  # let the run get going
-                busy = {w: keys for w, keys in client.processing().items() if keys}
+                busy = {w: keys for w, keys in client.processing().items() if running_runs(keys)}
                 if busy:
                     worker, keys = next(iter(busy.items()))
                     pid = client.run(os.getpid, workers=[worker])[worker]

@@ -1,9 +1,9 @@
 """Forward runs on a Dask cluster: the same results and store as `Executor`, on many machines.
 
-Only run specs (a few hundred bytes) travel to the workers; each worker process makes or loads
-a specimen once, through forward's specimen cache, and a worker without the driver's disk
-cache regenerates it from its settings (packing is deterministic by seed). The driver alone
-writes the store, each run as soon as it finishes. A worker killed mid-run makes the scheduler
+Run specs (a few hundred bytes) travel to the workers, and with each the packing its specimen
+is cut from, made once on the cluster or read from the driver's cache (`cluster_packings`):
+a worker without the driver's disk makes no packing again. The driver alone writes the store,
+each run as soon as it finishes. A worker killed mid-run makes the scheduler
 run its tasks elsewhere; a task that still errors is a failed run, never an exception.
 
 Tasks and results are pickles: whoever reaches a scheduler can run code on its workers. A
@@ -24,8 +24,8 @@ from typing import Callable, Iterable
 
 from rockcal.campaign.runs import MAX_WORKERS
 from rockcal.campaign.runs.tls import CLEAR_TEXT, TLSFiles, security_of
-from rockcal.campaign.runs.packings import make_in_turn, new_packings
-from rockcal.campaign.runs.pool import Batch, execute, prepare
+from rockcal.campaign.runs.cluster_packings import ClusterPackings, Packing, install
+from rockcal.campaign.runs.pool import Batch, execute
 from rockcal.campaign.runs.spec import ENGINE
 from rockcal.campaign.runs.store import RunStore
 from rockcal.campaign.runs.spec import RunResult, RunSpec
@@ -55,12 +55,13 @@ def parse_scheduler(scheduler: str) -> tuple[str, int | str]:
     raise InputError(OPTION, f"expected {FORMS}, got {scheduler!r}")
 
 
-def run_on_worker(spec: RunSpec, time_limit_s: float | None) -> RunResult:
-    """The task: `execute` on one numba thread (set per thread; the cluster's processes are
-    the parallelism)."""
+def run_on_worker(spec: RunSpec, time_limit_s: float | None, packing: Packing | None = None) -> RunResult:
+    """The task: its `packing` into the worker's specimen cache, then `execute` on one numba
+    thread (set per thread; the cluster's processes are the parallelism)."""
     import numba
 
     numba.set_num_threads(1)
+    install(packing)
     return execute(spec, time_limit_s)
 
 
@@ -91,6 +92,7 @@ class DaskExecutor:
             if kind == "tcp":
                 log.warning(CLEAR_TEXT, where)
             self.client = _connect(Client, where, security)
+        self.packings = ClusterPackings(self.client)
 
     def close(self) -> None:
         self.client.close()
@@ -103,10 +105,10 @@ class DaskExecutor:
         from distributed import as_completed
 
         batch = Batch(self.store, specs, None, self.tried)
-        make_in_turn(new_packings(batch.todo), prepare, self.on_genesis)  # here, for every worker to load
+        self.packings.ready(batch.todo, self.on_genesis)
         batch.show(progress)
         submitted = time.perf_counter()
-        futures = {self.client.submit(run_on_worker, spec, self.time_limit_s,
+        futures = {self.client.submit(run_on_worker, spec, self.time_limit_s, self.packings.of(spec),
                                       key=f"rockcal-run-{spec.key}"): spec for spec in batch.todo}
         try:
             for future in as_completed(futures):
