@@ -364,11 +364,12 @@ def clumped_packing(vessel, rmin: float, radius_ratio: float, seed: int, genesis
     if not cache:
         return make()
     path = cache_dir() / packing_name(vessel, rmin, radius_ratio, seed, genesis, grain_shape=grain_shape)
-    with _one_maker(path):
-        if not path.exists():
-            centres, radii, clump_of, pressure = make()
-            with atomic_path(path) as tmp:
-                np.savez(tmp, pos=centres, radius=radii, clump_of=clump_of, pressure_mpa=pressure)
+    if not path.exists():  # read without a lock: a cache may be read-only
+        with _one_maker(path):
+            if not path.exists():
+                centres, radii, clump_of, pressure = make()
+                with atomic_path(path) as tmp:
+                    np.savez(tmp, pos=centres, radius=radii, clump_of=clump_of, pressure_mpa=pressure)
     data = np.load(path)
     return data["pos"], data["radius"], data["clump_of"], float(data["pressure_mpa"])
 
@@ -388,11 +389,12 @@ def packing(vessel, rmin: float, radius_ratio: float, seed: int, genesis: Genesi
     if not cache:
         return _ordered(*make())
     path = cache_dir() / packing_name(vessel, rmin, radius_ratio, seed, genesis, cylinder)
-    with _one_maker(path):
-        if not path.exists():
-            pos, radius, pressure, left = _ordered(*make())
-            with atomic_path(path) as tmp:
-                np.savez(tmp, pos=pos, radius=radius, pressure_mpa=pressure, floaters=left)
+    if not path.exists():  # read without a lock: a cache may be read-only
+        with _one_maker(path):
+            if not path.exists():
+                pos, radius, pressure, left = _ordered(*make())
+                with atomic_path(path) as tmp:
+                    np.savez(tmp, pos=pos, radius=radius, pressure_mpa=pressure, floaters=left)
     data = np.load(path)
     return data["pos"], data["radius"], float(data["pressure_mpa"]), int(data["floaters"])
 
