@@ -12,6 +12,7 @@ Run by hand: `python benchmarks/ucs_3d.py [--size 25 50 0.8] [--size 50 100 1.0]
 
 import argparse
 import os
+import resource
 import time
 
 import numba
@@ -46,7 +47,10 @@ def main() -> None:
               flush=True)
         for rate in args.rates:
             r = simulate_ucs(params, spec, rate_factor=rate)
-            print(f"  rate {rate:g}: {r.steps} steps, {r.wall_s:.0f} s; E {r.E_GPa:.2f} GPa, "
+            peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+            print(f"  rate {rate:g}: {r.steps} steps, {r.wall_s:.0f} s, "
+                  f"{1e6 * r.wall_s / (r.steps * spec.n_spheres):.3f} µs per sphere-step, peak memory "
+                  f"{peak_mb:.0f} MB ({1e3 * peak_mb / spec.n_spheres:.1f} kB per sphere); E {r.E_GPa:.2f} GPa, "
                   f"nu {r.nu:.3f}, UCS {r.ucs_MPa:.1f} MPa at strain {r.peak_axial_strain:.4f}; "
                   f"cracks {r.n_broken_tension} tension + {r.n_broken_shear} shear; load average "
                   f"{os.getloadavg()[0]:.2f}", flush=True)
