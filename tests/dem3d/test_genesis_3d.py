@@ -1,7 +1,8 @@
 """PFC's material genesis in 3D (`rockcal.specimens3d.packing`, `genesis`, `specimen`) on a small
 cuboid vessel (`conftest.small_cuboid`): the walls feel the material pressure P_m, read afresh from the spheres'
 overlaps with them (π E R × overlap over each face's area); no sphere has fewer than 3
-contacts; exactly the pairs within the installation gap are bonded; the same seed makes the
+contacts; a floater is grown to overlap its third nearest sphere or wall by its own overlap,
+without cycling; exactly the pairs within the installation gap are bonded; the same seed makes the
 same packing bit for bit, on one thread or two; a carved cylinder keeps the spheres centred inside it, each bonded.
 """
 
@@ -13,7 +14,7 @@ from rockcal.dem3d import neighbours
 
 from rockcal.specimens.packing import PACKING_MODULUS_GPA, PRESSURE_TOLERANCE
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D as GENESIS
-from rockcal.specimens3d.genesis import wall_gaps
+from rockcal.specimens3d.genesis import enlarge_floaters, floaters, wall_gaps
 from rockcal.specimens3d.packing import pack_vessel
 from rockcal.specimens3d.specimen import carve_cylinder, random_specimen, vessel_floaters
 
@@ -36,6 +37,22 @@ def test_the_vessel_walls_feel_the_material_pressure(cuboid):
 def test_the_genesis_leaves_no_floaters(cuboid):
     assert cuboid.floaters == 0
     assert vessel_floaters(cuboid) == 0
+
+
+def test_a_floater_grows_to_overlap_its_third_neighbour_by_its_own_overlap():
+    rng = np.random.default_rng(4)
+    size = np.full(3, 6e-3)
+    pos, radius = rng.uniform(1e-3, 5e-3, (40, 3)), rng.uniform(0.4e-3, 0.6e-3, 40)
+    overlap = rng.uniform(0.0, 0.01, 40)  # of its radius, one per sphere
+    grown = enlarge_floaters(pos, radius, size, overlap)
+    floating = floaters(pos, radius, size)
+    assert floating.any() and np.array_equal(grown != radius, floating)
+    assert not floaters(pos, grown, size).any()
+    for k in np.flatnonzero(floating):
+        gaps = np.linalg.norm(pos - pos[k], axis=1) - radius - grown[k]
+        walls = wall_gaps(pos[k:k + 1], grown[k:k + 1], size)[0]
+        third = np.sort(np.concatenate([np.delete(gaps, k), walls]))[2]
+        assert third == pytest.approx(-overlap[k] * radius[k], abs=1e-15)
 
 
 def test_exactly_the_pairs_within_the_installation_gap_are_bonded(cuboid):

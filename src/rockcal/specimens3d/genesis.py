@@ -67,18 +67,20 @@ def floaters(pos: np.ndarray, radius: np.ndarray, size, cylinder: bool = False) 
     return vessel_contacts(pos, radius, size, cylinder) < MIN_CONTACTS
 
 
-def enlarge_floaters(pos: np.ndarray, radius: np.ndarray, size, overlap: float,
+def enlarge_floaters(pos: np.ndarray, radius: np.ndarray, size, overlap,
                      cylinder: bool = False) -> np.ndarray:
     """Radii with every floater grown until it overlaps its MIN_CONTACTS-th nearest sphere or
-    wall by `overlap` x its radius (Potyondy & Cundall 2004 enlarge floaters rather than delete
-    them); the packing must then be cycled so that its neighbours make room."""
+    wall by `overlap` (one for all, or one per sphere) x its radius (Potyondy & Cundall 2004
+    enlarge floaters rather than delete them); the packing must then be cycled so that its
+    neighbours make room."""
+    overlap = np.broadcast_to(overlap, radius.shape)
     grown = radius.copy()
     walls = wall_gaps(pos, radius, size, cylinder)
     for k in np.flatnonzero(floaters(pos, radius, size, cylinder)):
         gaps = norms(pos - pos[k]) - radius - radius[k]
         gaps[k] = np.inf
         nearest = np.partition(np.concatenate([gaps, walls[k]]), MIN_CONTACTS - 1)
-        grown[k] += max(0.0, nearest[MIN_CONTACTS - 1]) + overlap * radius[k]
+        grown[k] += max(0.0, nearest[MIN_CONTACTS - 1]) + overlap[k] * radius[k]
     return grown
 
 

@@ -4,7 +4,7 @@ inscribed in it (FISHTank's cylindrical material vessel), steps 1-3 of PFC's gen
 they have at jamming, grown in stages to it with frictionless contacts, then all radii are
 scaled by one factor until the mean wall stress is the material pressure P_m (a servo that
 measures the packing's stiffness as it goes: `RadiusServo`); floaters are enlarged and the
-packing cycled and scaled back to P_m until none is left.
+packing cycled and scaled back to P_m until a few are left, which are enlarged in place.
 """
 
 from __future__ import annotations
@@ -50,9 +50,15 @@ SERVO_STIFFNESS_GUESS = 1.0
 SERVO_STIFFNESS_BOUNDS = (0.2, 2.0)
 SERVO_RELAXATION = 0.8
 # A floater is grown to overlap its third nearest neighbour by this many times a contact's
-# overlap at P_m (P_m / E of a radius): grown by just one, most are pushed off their neighbours
-# again as the packing is cycled, and float on for round after round
+# overlap at P_m (P_m / E of a radius), times one more for each round it floated before: grown
+# by just one, most are pushed off their neighbours again as the packing is cycled, and grown by
+# the same amount each round, the last few (short of a stable cage by a few per cent of their
+# radius) float on for dozens of rounds, each cycling the whole packing
 FLOATER_OVERLAP = 10.0
+# Once the wall stress is at P_m and at most this share of the spheres float, they are grown so
+# in place, the packing not cycled again: the last rounds, of a few floaters each, took half of
+# the floater rounds' steps
+FLOATERS_GROWN_IN_PLACE = 0.001
 
 
 def pack_vessel(size, rmin: float, radius_ratio: float, seed: int, cloud_porosity: float,
@@ -99,13 +105,17 @@ def pack_vessel(size, rmin: float, radius_ratio: float, seed: int, cloud_porosit
         s.radius[:] = radius * servo.scale(stress)
         stress = settled_stress(state, size, servo_steps, cylinder)
     overlap = FLOATER_OVERLAP * target / (PACKING_MODULUS_GPA * GPa)
+    floated = np.zeros(n)  # the rounds each sphere was a floater in
     for round_ in range(FLOATER_ROUNDS):
-        grown = enlarge_floaters(s.pos, s.radius, size, overlap, cylinder)
-        enlarged = np.count_nonzero(grown != s.radius)
-        log.debug("floater round %d: %d floaters, wall stress %.3g MPa", round_, enlarged,
-                  stress / MPa)
-        if not enlarged and abs(stress - target) < PRESSURE_TOLERANCE * target:
+        grown = enlarge_floaters(s.pos, s.radius, size, overlap * (1 + floated), cylinder)
+        floating = grown != s.radius
+        log.debug("floater round %d: %d floaters, wall stress %.3g MPa", round_,
+                  np.count_nonzero(floating), stress / MPa)
+        if (abs(stress - target) < PRESSURE_TOLERANCE * target
+                and np.count_nonzero(floating) <= FLOATERS_GROWN_IN_PLACE * n):
+            s.radius[:] = grown
             break
+        floated += floating
         s.radius[:] = grown * servo.factor(stress)
         rebuild_neighbours(state)
         stress = settled_stress(state, size, floater_steps, cylinder)
