@@ -142,6 +142,7 @@ def run_killing_a_worker(executor, batch):
     known without it."""
     client = executor.client
     client.wait_for_workers(2, timeout=WORKERS_BACK_S)
+    executor.packings.ready(batch)  # the packing first: the watch below waits for runs alone
     killed = kill_a_busy_worker(client)
     results = executor.run(batch)
     killed["thread"].join()
