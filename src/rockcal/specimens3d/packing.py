@@ -50,10 +50,10 @@ SERVO_STIFFNESS_GUESS = 1.0
 SERVO_STIFFNESS_BOUNDS = (0.2, 2.0)
 SERVO_RELAXATION = 0.8
 # A floater is grown to overlap its third nearest neighbour by this many times a contact's
-# overlap at P_m (P_m / E of a radius), times one more for each round at P_m it floated in before: grown
-# by just one, most are pushed off their neighbours again as the packing is cycled, and grown by
-# the same amount each round, the last few (short of a stable cage by a few per cent of their
-# radius) float on for dozens of rounds, each cycling the whole packing
+# overlap at P_m (P_m / E of a radius), times one more for each round at P_m it floated in
+# before: grown by just one, most are pushed off their neighbours again as the packing is
+# cycled, and grown by the same amount each round, the last few (short of a stable cage by a
+# few per cent of their radius) float on for dozens of rounds, each cycling the whole packing
 FLOATER_OVERLAP = 10.0
 # Once the wall stress is at P_m and at most this share of the spheres float, they are grown so
 # in place, the packing not cycled again: the last rounds, of a few floaters each, took half of
