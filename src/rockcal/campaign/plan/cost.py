@@ -22,7 +22,7 @@ WORK_EXPONENT = 1.1
 # does (every step moves every grain; a taller vessel takes more steps to settle), in seconds per
 # grain-row per ms of the engine probe's step (`engine_speed`): 2D balls, 3D spheres (the 3D one
 # measured by `python benchmarks/genesis_3d.py --coefficient`)
-GENESIS_S_PER_WORK = {2: 4.3e-4, 3: 1.3e-3}
+GENESIS_S_PER_WORK = {2: 4.3e-4, 3: 9.5e-4}
 GENESIS_CLUMPS = 1.3  # a clumped packing's genesis over a ball packing's of as many grains
 # What is left to compile once the probe has compiled the 2D engine on an install's first run
 # (numba's cache then holds it for every later run): the 2D tests' own loops, or the 3D engine and
