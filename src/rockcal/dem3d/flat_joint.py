@@ -1,7 +1,6 @@
 """PFC3D's flat joint between two spheres (the `flatjoint` contact model of PFC 5-9 in 3D;
-Potyondy 2012): the law of one joint (`update_joint`) and its force loop over the bonded pairs
-(`add_flatjoint_forces`, which the engine runs on the bonded pairs of a state whose bonds are
-`FlatJoints3D`). The 2D joint is `rockcal.dem.flatjoint`; the names and meanings are the same.
+Potyondy 2012): its force loop over the bonded pairs (`add_flatjoint_forces`, which the
+engine runs on the bonded pairs of a state whose bonds are `FlatJoints3D`). The 2D joint is `rockcal.dem.flatjoint`; the names and meanings are the same.
 
 The interface:
 - a flat disk of radius R̄ = λ min(R_i, R_j) (`fj_rmul` = λ, `fj_radius` = R̄) centred at
@@ -16,15 +15,15 @@ The interface:
   g(ρ) = g_s + ρ · (n × θ_b) (j turning relative to i closes one side and opens the other);
 - an element's normal force (tension positive) and its first moment S = ∫ σ ρ dA are the
   stress σ = k_n g integrated over it if bonded, k_n min(g, 0) if not (compression only, so an
-  unbonded element may be partly open): in closed form over an element wholly closed, and over
-  a partly open one in closed form along each ray and by 5-point Gauss-Legendre in φ between
-  the angles where the opening line crosses the element's arcs (the integrand is smooth
-  there: `closed_part`);
+  unbonded element may be partly open): in closed form, over a partly open one as sectors and
+  triangles cut by the opening line (`closed_part`);
 - its shear force (in the plane, incremental): F_s += k_s (A Δδ_s + Δθ_t n × ∫ ρ dA), the
   relative shear displacement of its points averaged, Δθ_t = (ω_j - ω_i) · n dt the twist; a
   bonded element also twists about its centroid, M_t += k_s J_c Δθ_t (J_c its polar second
   moment there), so a bonded interface twists at k_s J whatever N_r, N_α; an unbonded one
-  carries no twisting moment of its own;
+  carries no twisting moment of its own. While bonded the sums are k_s (A δ_s + θ_t n × ∫ ρ dA)
+  and k_s J_c θ_t, of the joint's shear displacement δ_s and twist θ_t since installation:
+  only an unbonded element keeps a shear force of its own;
 - a bonded element breaks in tension when σ = F_n / A > σ_c (`fj_ten`), else in shear when
   |F_s| / A > c - σ tan φ (`fj_coh`, `fj_fa`); it is then unbonded at once, in the same step:
   it carries compression only and slips at |F_s| = μ max(-F_n, 0) (`fj_fric`), one broken in
@@ -37,9 +36,15 @@ The interface:
 With every element bonded the interface is a parallel bond of the same R̄ and moduli: k_n A,
 k_s A, k_n I in bending and k_s J in twist, A = π R̄², I = π R̄⁴/4, J = 2I, whatever N_r, N_α.
 
-The element shear forces and θ_b are kept in the plane's frame (t₁, t₂): the frame turns with
-the contact plane each step (`laws.rotate`, as the parallel bond's vectors), so they turn with
-it without being rotated themselves. SI units throughout.
+The element shear forces, δ_s and θ_b are kept in the plane's frame (t₁, t₂): the frame turns
+with the contact plane each step (`laws.rotate`, as the parallel bond's vectors), so they turn
+with it without being rotated themselves.
+
+The loop works tile by tile (as the parallel bond's, `forces`): the joints' motion, then their
+elements element by element across the joints' columns, as vector loops over arrays laid out
+element by element (`FlatJoints3D`); only an element that breaks, or an unbonded one in a joint
+whose gap is neither closed nor open over the whole disk, is worked out on its own. SI units
+throughout.
 """
 
 from __future__ import annotations
@@ -171,7 +176,7 @@ def sector_moments(r0, r1, p0, p1):
             r4 * (half - mixed), r4 * (s1 * s1 - s0 * s0) / 2)
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@njit(cache=True, error_model="numpy")
 def _piece(gs, a1, a2, r, u1, u2, w1, w2, span):
     """Area, first and second moments (AREA .. J12) of the closed part of the sector ρ < r
     between the unit directions u and w, `span` apart, along each of whose rays the closed
@@ -290,16 +295,19 @@ TILE = 64  # joints whose motion, then whose elements, are worked out as vector 
 # rows of a tile, one column per joint: what is gathered of its spheres (x_j - x_i, v_j - v_i,
 # ω_i, ω_j in the parallel bonds' rows, `forces.TileRow`; R_i, R_j), then its motion
 # (`_motion`): n, t₁, t₂, lever arms, R̄, surface gap, bend-rotation, shear displacement
-# (t₁, t₂) and twist of the step; then the gap's gradient n × θ_b in (t₁, t₂) (`_bend`), the
-# interface's normal force, shear force (t₁, t₂), first moment S (t₁, t₂) and twisting moment
-# (`_sums`), how many of its elements broke this step, its shear force and bending moment
-# vectors and the force and moments on its spheres (`_forces`)
+# (t₁, t₂) and twist of the step; then (`_bend`) the gap's gradient n × θ_b in (t₁, t₂), the
+# joint's k_n, k_s, tan φ, μ, c_r, σ_c and c, its θ_b, shear displacement (t₁, t₂) and twist
+# since installation, the gradient's length and whether the gap is closed or open over the
+# whole disk; the interface's
+# normal force, shear force (t₁, t₂), first moment S (t₁, t₂) and twisting moment (`_sums`);
+# how many of its elements broke this step; its shear force and bending moment vectors and
+# the force and moments on its spheres (`_forces`)
 DX, DVX, WIX, WJX = TileRow.DX, TileRow.DVX, TileRow.WIX, TileRow.WJX
 (RI, RJ, NX, T1, T2, ARM_I, ARM_J, RB, GS, BEND1, BEND2, DS1, DS2, TWIST, A1, A2, J_KN, J_KS,
- J_TAN_FA, J_FRIC, J_COHRES, J_TEN, J_COH, J_SHEAR1, J_SHEAR2, J_TWIST_SUM, WHOLE, SUM_FN,
- SUM_FS1, SUM_FS2, SUM_S1, SUM_S2, SUM_MT, BROKE, OUT_FS, OUT_MB, OUT_F, OUT_MI, OUT_MJ) = (
-    12, 13, 14, 17, 20, *range(23, 52), 52, 55, 58, 61, 64)
-TILE_ROWS = 67
+ J_TAN_FA, J_FRIC, J_COHRES, J_TEN, J_COH, J_THETA1, J_THETA2, J_SHEAR1, J_SHEAR2, J_TWIST_SUM,
+ GRAD, WHOLE, SUM_FN, SUM_FS1, SUM_FS2, SUM_S1, SUM_S2, SUM_MT, BROKE, OUT_FS, OUT_MB, OUT_F,
+ OUT_MI, OUT_MJ) = (12, 13, 14, 17, 20, *range(23, 55), 55, 58, 61, 64, 67)
+TILE_ROWS = 70
 # a joint's gap field over its disk (row WHOLE): closed throughout, open throughout, or neither
 CLOSED, OPEN, PARTLY = 1.0, -1.0, 0.0
 # rows of an element tile (N_r N_α x rows x TILE): the element's new normal force, first
@@ -364,15 +372,18 @@ def _bend(start, count, table, tile):
                           (COHRES, J_COHRES), (TEN, J_TEN), (COH, J_COH)):
         for q in range(uint64(count)):
             tile[row, q] = table[constant, uint64(start) + q]
-    for total, step, row in ((THETA1, BEND1, A2), (THETA2, BEND2, A1), (SHEAR1, DS1, J_SHEAR1),
-                             (SHEAR2, DS2, J_SHEAR2), (TWIST_SUM, TWIST, J_TWIST_SUM)):
+    for total, step, row in ((THETA1, BEND1, J_THETA1), (THETA2, BEND2, J_THETA2),
+                             (SHEAR1, DS1, J_SHEAR1), (SHEAR2, DS2, J_SHEAR2),
+                             (TWIST_SUM, TWIST, J_TWIST_SUM)):
         for q in range(uint64(count)):
             tile[row, q] = table[total, uint64(start) + q] + tile[step, q]
     for q in range(uint64(count)):
-        th1 = tile[A2, q]
-        th2 = tile[A1, q]
+        th1 = tile[J_THETA1, q]
+        th2 = tile[J_THETA2, q]
         tile[A1, q] = -th2
-        reach = tile[RB, q] * np.sqrt(th1 * th1 + th2 * th2)
+        tile[A2, q] = th1
+        tile[GRAD, q] = np.sqrt(th1 * th1 + th2 * th2)
+        reach = tile[RB, q] * tile[GRAD, q]
         gs = tile[GS, q]
         tile[WHOLE, q] = CLOSED if gs + reach <= 0.0 else (OPEN if gs - reach > 0.0 else PARTLY)
         tile[BROKE, q] = 0.0
@@ -383,15 +394,13 @@ def _store(start, count, tile, table):
     """The joints' new state to their table, row by row (vector loops): θ_b, shear
     displacement and twist, the frame, the surface gap and the interface's force and moments
     on i (`_forces`)."""
-    for row, total in ((A2, THETA1), (J_SHEAR1, SHEAR1), (J_SHEAR2, SHEAR2),
-                       (J_TWIST_SUM, TWIST_SUM), (T1, T1X), (T1 + 1, T1Y), (T1 + 2, T1Z),
-                       (GS, GAP), (SUM_FN, FN), (OUT_FS, FSX), (OUT_FS + 1, FSY),
+    for row, total in ((J_THETA1, THETA1), (J_THETA2, THETA2), (J_SHEAR1, SHEAR1),
+                       (J_SHEAR2, SHEAR2), (J_TWIST_SUM, TWIST_SUM), (T1, T1X), (T1 + 1, T1Y),
+                       (T1 + 2, T1Z), (GS, GAP), (SUM_FN, FN), (OUT_FS, FSX), (OUT_FS + 1, FSY),
                        (OUT_FS + 2, FSZ), (OUT_MB, MBX), (OUT_MB + 1, MBY), (OUT_MB + 2, MBZ),
                        (SUM_MT, MT)):
         for q in range(uint64(count)):
             table[total, uint64(start) + q] = tile[row, q]
-    for q in range(uint64(count)):
-        table[THETA2, uint64(start) + q] = -tile[A1, q]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -400,7 +409,8 @@ def _elements(start, count, state, unit, tile, work):
     (a vector loop, as selections rather than branches, that reads the tile and the elements'
     state only): the linear field over it, its shear force and twisting moment from its joint's
     shear displacement and twist since installation, and whether it breaks. Marked for
-    `_unbonded`: those that break and those unbonded."""
+    `_unbonded`: those that break. Returns how many elements are unbonded and how many break."""
+    unbonded = breaking = 0
     for e in range(state.shape[0]):
         area_u, c1_u, c2_u = unit[AREA, e], unit[C1, e], unit[C2, e]
         j11_u, j22_u, j12_u, polar_u = unit[J11, e], unit[J22, e], unit[J12, e], unit[POLAR, e]
@@ -432,32 +442,93 @@ def _elements(start, count, state, unit, tile, work):
             work[e, W_S2, q] = kn * fma(gs, m2, fma(j12, a1, j22 * a2))
             work[e, W_FS1, q] = fs1
             work[e, W_FS2, q] = fs2
-            work[e, W_MT, q] = ks * polar_u * r4 * twist
+            work[e, W_MT, q] = ks * polar_u * r4 * twist if bonded else 0.0
             breaks = bonded & (tension | sheared)
             work[e, W_BREAK, q] = (BROKEN_TENSION if tension else BROKEN_SHEAR) if breaks else 0
-            work[e, W_FIX, q] = 0.0 if bonded & ~breaks else 1.0
+            work[e, W_FIX, q] = 1.0 if breaks else 0.0
+            unbonded += 0 if bonded else 1
+            breaking += 1 if breaks else 0
+    return unbonded, breaking
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _unbonded(p, q, e, nr, nal, state, elements, unit, tile, work):
-    """Element e of joint p (tile column q), unbonded this step (slit, gapped, or broken now,
-    its bonded state in the work tile), into the work tile and its shear force to `elements`:
-    compression only over its closed part (open or closed throughout where its joint's disk
-    is, or its field's extremes over it say so: at its corners, or on its outer arc where
-    that faces along or against the gradient; else `closed_part`), its shear force slipping at
-    μ max(-F_n, 0), plus c_r A_c once broken in shear, and no twisting moment of its own."""
+def _unbonded_elements(start, count, state, elements, unit, tile, work):
+    """The unbonded elements of the tile's joints, element by element across the joints (a
+    vector loop, as selections): each one's shear force, its own plus the step's increment
+    (into the work tile); where the gap is closed or open over the whole element (its joint's
+    disk is, or the field's extremes over the element say so: at its corners, or on its outer
+    arc where that faces along or against the gradient), its normal force, first moment and
+    shear force slipping at μ max(-F_n, 0), plus c_r A once broken in shear (into the work
+    tile, the shear force to `elements`). Those partly open are marked for `_unbonded`;
+    returns how many."""
+    partly_open = 0
+    for e in range(state.shape[0]):
+        area_u, c1_u, c2_u = unit[AREA, e], unit[C1, e], unit[C2, e]
+        r0_u, r1_u = unit[R0, e], unit[R1, e]
+        cos0, sin0, cos1, sin1 = unit[COS0, e], unit[SIN0, e], unit[COS1, e], unit[SIN1, e]
+        for q in range(uint64(count)):
+            p = uint64(start) + q
+            code = state[e, p]
+            unbonded = code != BONDED
+            rb = tile[RB, q]
+            r2 = rb * rb
+            r3 = r2 * rb
+            area = area_u * r2
+            m1 = c1_u * r3
+            m2 = c2_u * r3
+            ks = tile[J_KS, q]
+            twist = tile[TWIST, q]
+            last1 = elements[E_FS1, e, p]
+            last2 = elements[E_FS2, e, p]
+            fs1 = last1 + ks * fma(area, tile[DS1, q], -twist * m2)
+            fs2 = last2 + ks * fma(area, tile[DS2, q], twist * m1)
+            gs, a1, a2 = tile[GS, q], tile[A1, q], tile[A2, q]
+            r0 = r0_u * rb
+            r1 = r1_u * rb
+            along0 = fma(a1, cos0, a2 * sin0)
+            along1 = fma(a1, cos1, a2 * sin1)
+            high = max(max(along0 * r0, along0 * r1), max(along1 * r0, along1 * r1))
+            low = min(min(along0 * r0, along0 * r1), min(along1 * r0, along1 * r1))
+            left = fma(cos0, a2, -sin0 * a1)  # e₀ × a
+            right = fma(a1, sin1, -a2 * cos1)  # a × e₁
+            arc = r1 * tile[GRAD, q]
+            high = arc if (left >= 0.0) & (right >= 0.0) else high
+            low = -arc if (left <= 0.0) & (right <= 0.0) else low
+            whole = tile[WHOLE, q]
+            is_open = (whole == OPEN) | ((whole == PARTLY) & (gs + low > 0.0))
+            partly = (whole == PARTLY) & (gs + low <= 0.0) & (gs + high > 0.0)
+            fn = 0.0 if is_open else work[e, W_FN, q]
+            cap = tile[J_FRIC, q] * max(-fn, 0.0)
+            cohres = tile[J_COHRES, q]
+            cap += cohres * area if (cohres > 0.0) & (code == BROKEN_SHEAR) & ~is_open else 0.0
+            size_sq = fs1 * fs1 + fs2 * fs2
+            factor = cap / np.sqrt(size_sq) if size_sq > cap * cap else 1.0
+            done = unbonded & ~partly
+            work[e, W_FS1, q] = (fs1 * factor if done else fs1) if unbonded else work[e, W_FS1, q]
+            work[e, W_FS2, q] = (fs2 * factor if done else fs2) if unbonded else work[e, W_FS2, q]
+            elements[E_FS1, e, p] = fs1 * factor if done else last1
+            elements[E_FS2, e, p] = fs2 * factor if done else last2
+            opened = unbonded & is_open
+            work[e, W_FN, q] = 0.0 if opened else work[e, W_FN, q]
+            work[e, W_S1, q] = 0.0 if opened else work[e, W_S1, q]
+            work[e, W_S2, q] = 0.0 if opened else work[e, W_S2, q]
+            work[e, W_FIX, q] = 1.0 if unbonded & partly else work[e, W_FIX, q]
+            partly_open += 1 if unbonded & partly else 0
+    return partly_open
+
+
+@njit(cache=True, error_model="numpy")
+def _unbonded(p, q, e, nal, state, elements, unit, tile, work):
+    """Element e of joint p (tile column q), unbonded and partly open, or broken this step (its
+    state as bonded in the work tile), into the work tile and its shear force to
+    `elements`: compression only over its closed part (open or closed throughout where its
+    joint's disk is, or its field's extremes over it say so: at its corners, or on its outer
+    arc where that faces along or against the gradient; else `closed_part`), its shear force
+    slipping at μ max(-F_n, 0), plus c_r A_c once broken in shear, and no twisting moment of
+    its own."""
     rb = tile[RB, q]
     gs, a1, a2 = tile[GS, q], tile[A1, q], tile[A2, q]
-    area = unit[AREA, e] * (rb * rb)
-    if work[e, W_BREAK, q] == 0.0:  # unbonded before this step: its own shear force
-        ks = tile[J_KS, q]
-        twist = tile[TWIST, q]
-        r3 = rb * rb * rb
-        m1 = unit[C1, e] * r3
-        m2 = unit[C2, e] * r3
-        work[e, W_FS1, q] = elements[E_FS1, e, p] + ks * fma(area, tile[DS1, q], -twist * m2)
-        work[e, W_FS2, q] = elements[E_FS2, e, p] + ks * fma(area, tile[DS2, q], twist * m1)
-    closed = area
+    closed = unit[AREA, e] * (rb * rb)
     whole = tile[WHOLE, q]
     if whole == PARTLY:
         r0 = unit[R0, e] * rb
@@ -468,7 +539,7 @@ def _unbonded(p, q, e, nr, nal, state, elements, unit, tile, work):
         low = min(min(along0 * r0, along0 * r1), min(along1 * r0, along1 * r1))
         left = fma(unit[COS0, e], a2, -unit[SIN0, e] * a1)  # e₀ × a
         right = fma(a1, unit[SIN1, e], -a2 * unit[COS1, e])  # a × e₁
-        arc = r1 * np.sqrt(fma(a1, a1, a2 * a2))
+        arc = r1 * tile[GRAD, q]
         if left >= 0.0 and right >= 0.0:
             high = arc
         if left <= 0.0 and right <= 0.0:
@@ -500,9 +571,10 @@ def _unbonded(p, q, e, nr, nal, state, elements, unit, tile, work):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _breaks_and_unbonded(start, count, nr, nal, state, elements, unit, tile, work):
-    """The elements `_elements` marked: those that break this step (their new state, counted
-    per joint), then each as unbonded (`_unbonded`)."""
+def _breaks_and_partly_open(start, count, nal, state, elements, unit, tile, work):
+    """The marked elements: those that break this step (`_elements`: their new state, counted
+    per joint) and those unbonded and partly open (`_unbonded_elements`), each worked out as
+    unbonded (`_unbonded`)."""
     for e in range(state.shape[0]):
         for q in range(uint64(count)):
             if work[e, W_FIX, q] == 0.0:
@@ -511,7 +583,7 @@ def _breaks_and_unbonded(start, count, nr, nal, state, elements, unit, tile, wor
             if work[e, W_BREAK, q] != 0.0:
                 state[e, p] = int(work[e, W_BREAK, q])
                 tile[BROKE, q] += 1.0
-            _unbonded(p, q, e, nr, nal, state, elements, unit, tile, work)
+            _unbonded(p, q, e, nal, state, elements, unit, tile, work)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -589,8 +661,8 @@ def _scatter(start, count, nr, nal, bodies, pi, pj, state, break_xyz, loads, uni
 @njit(cache=True, error_model="numpy")
 def add_flatjoint_forces(first, last, bodies, loads, pi, pj, joints, dt, into_rows=-1):
     """Joints first..last-1 between spheres pi[p] and pj[p] (rows of `bodies`), tile by tile:
-    their motion over the step (`_motion`, `_bend`), their elements (`_elements`, then those
-    that break or are unbonded, `_breaks_and_unbonded`), the interface's force and moments
+    their motion over the step (`_motion`, `_bend`), their elements (`_elements`,
+    `_unbonded_elements`, then those that break or are partly open, `_breaks_and_partly_open`), the interface's force and moments
     (`_sums`, `_forces`), their new state (`_store`), and where each newly broken element
     broke and their forces and moments added to the spheres' `loads` in pair order, or into
     rows of their own (`pair_rows`), as `forces.add_bond_forces` (`_scatter`)."""
@@ -607,8 +679,11 @@ def add_flatjoint_forces(first, last, bodies, loads, pi, pj, joints, dt, into_ro
         _gather_radii(start, count, bodies, pi, pj, tile)
         _motion(start, count, table, dt, tile)
         _bend(start, count, table, tile)
-        _elements(start, count, state, unit, tile, work)
-        _breaks_and_unbonded(start, count, nr, nal, state, elements, unit, tile, work)
+        unbonded, marked = _elements(start, count, state, unit, tile, work)
+        if unbonded > 0:
+            marked += _unbonded_elements(start, count, state, elements, unit, tile, work)
+        if marked > 0:
+            _breaks_and_partly_open(start, count, nal, state, elements, unit, tile, work)
         _sums(count, unit, tile, work)
         _forces(count, tile)
         _store(start, count, tile, table)
