@@ -8,7 +8,7 @@ E reads fj_emod, ν fj_kratio, the Brazilian strength fj_ten and the UCS fj_coh 
 The specimens are small (a 10 x 20 mm cylinder and a 20 mm disk at R_min 0.6 mm) so that a run
 takes seconds; their responses are rough, which the tolerance allows for.
 
-Run by hand: `python benchmarks/twin_fj_3d.py [--out runs/twin-fj-3d] [--workers 1]
+Run by hand: `python benchmarks/twin_fj_3d.py [--out twin-fj-3d] [--workers 1]
 [--set fj_emod=27 ...] [--tolerance 0.03]` (a second run reuses the folder's store).
 """
 
@@ -76,7 +76,7 @@ def lab_values(campaign, true: dict) -> dict:
 
 def main() -> None:
     parser = argparse.ArgumentParser()
-    parser.add_argument("--out", type=Path, default=Path("runs/twin-fj-3d"))
+    parser.add_argument("--out", type=Path, default=Path("twin-fj-3d"))
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     parser.add_argument("--tolerance", type=float, default=0.03)
@@ -100,9 +100,9 @@ def main() -> None:
     if found is not None:  # which parameters the sheet pins, and whether each range holds the truth
         for name, r in found.ranges.items():
             holds = "holds" if r.low <= true[name] <= r.high else "misses"
+            read = "the surrogate" if r.verified_ends is None else "DEM"
             print(f"{name:9s} {'pinned' if r.pinned else 'not pinned'}: {r.low:.4g}-{r.high:.4g} "
-                  f"({100 * r.share:.0f} % of its box, {'the surrogate' if r.verified_ends is None else 'DEM'}), "
-                  f"{holds} the truth")
+                  f"({100 * r.share:.0f} % of its box, {read}), {holds} the truth")
         print("identifiability:", found.text)
 
 

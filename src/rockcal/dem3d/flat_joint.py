@@ -1,6 +1,7 @@
 """PFC3D's flat joint between two spheres (the `flatjoint` contact model of PFC 5-9 in 3D;
 Potyondy 2012): its force loop over the bonded pairs (`add_flatjoint_forces`, which the
-engine runs on the bonded pairs of a state whose bonds are `FlatJoints3D`). The 2D joint is `rockcal.dem.flatjoint`; the names and meanings are the same.
+engine runs on the bonded pairs of a state whose bonds are `FlatJoints3D`). The 2D joint is
+`rockcal.dem.flatjoint`; the names and meanings are the same.
 
 The interface:
 - a flat disk of radius R̄ = λ min(R_i, R_j) (`fj_rmul` = λ, `fj_radius` = R̄) centred at
@@ -662,10 +663,11 @@ def _scatter(start, count, nr, nal, bodies, pi, pj, state, break_xyz, loads, uni
 def add_flatjoint_forces(first, last, bodies, loads, pi, pj, joints, dt, into_rows=-1):
     """Joints first..last-1 between spheres pi[p] and pj[p] (rows of `bodies`), tile by tile:
     their motion over the step (`_motion`, `_bend`), their elements (`_elements`,
-    `_unbonded_elements`, then those that break or are partly open, `_breaks_and_partly_open`), the interface's force and moments
-    (`_sums`, `_forces`), their new state (`_store`), and where each newly broken element
-    broke and their forces and moments added to the spheres' `loads` in pair order, or into
-    rows of their own (`pair_rows`), as `forces.add_bond_forces` (`_scatter`)."""
+    `_unbonded_elements`, then those that break or are partly open,
+    `_breaks_and_partly_open`), the interface's force and moments (`_sums`, `_forces`), their
+    new state (`_store`), and where each newly broken element broke and their forces and
+    moments added to the spheres' `loads` in pair order, or into rows of their own
+    (`pair_rows`), as `forces.add_bond_forces` (`_scatter`)."""
     table, state3, elements4, break_xyz = joints
     nr, nal, n = state3.shape
     state = state3.reshape((nr * nal, n))
