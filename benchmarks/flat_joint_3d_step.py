@@ -10,11 +10,14 @@ spheres move slightly so that every law is exercised. The states are timed in tu
 `--rounds` times; the fastest of each counts.
 
 Run by hand: `python benchmarks/flat_joint_3d_step.py [--cells 14] [--steps 200] [--rounds 3]
-[--threads 1 2] [--elements 2 4] [--slit 0 0.2]`.
+[--threads 1 2] [--elements 2 4] [--slit 0 0.2]`. With `--first-step`, the processor seconds
+of a tiny flat-jointed state's first step alone: the stepping loop's compile, from scratch
+when run with an empty numba cache (`NUMBA_CACHE_DIR=$(mktemp -d)`).
 """
 
 import argparse
 import os
+import time
 
 import numba
 import numpy as np
@@ -56,7 +59,15 @@ def main() -> None:
     parser.add_argument("--slit", type=float, nargs="+", default=[0.0, 0.2],
                         help="fractions of the joints slit (unbonded)")
     parser.add_argument("--threads", type=int, nargs="+", default=[1, numba.config.NUMBA_NUM_THREADS])
+    parser.add_argument("--first-step", action="store_true",
+                        help="time a tiny state's first step (the compile) and nothing else")
     args = parser.parse_args()
+    if args.first_step:
+        state = flat_jointed_state(*perturbed_fcc(2, 1e-3), *args.elements, max(args.slit))
+        started = time.process_time()
+        simulate_3d.advance(state, 1)
+        print(f"first step: {time.process_time() - started:.1f} processor seconds")
+        return
     pos, radius, pairs = perturbed_fcc(args.cells, 1e-3)
     states = {"parallel bonds": moving_state_3d(pos, radius, pairs)}
     for slit in args.slit:

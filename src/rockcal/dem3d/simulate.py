@@ -280,7 +280,7 @@ _step = tasks.make_step(_task)
 def _bonded_forces(first, last, bodies, loads, pi, pj, bonds, joints, laws, dt, into_rows=-1):
     """The bonded pairs first..last-1: flat joints if the state has them, else parallel bonds.
     One kernel for both materials: numba compiles the stepping loop once."""
-    if joints.state.shape[0] > 0:
+    if joints.table.shape[1] > 0:
         flat_joint.add_flatjoint_forces(first, last, bodies, loads, pi, pj, joints, dt, into_rows)
     else:
         forces.add_bond_forces(first, last, bodies, loads, pi, pj, bonds.table, bonds.state,
