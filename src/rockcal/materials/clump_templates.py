@@ -23,16 +23,12 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
-
 import numpy as np
 
 from rockcal.dem.clumps import union_properties
 from rockcal.errors import InputError
+from rockcal.materials.pebbles import PEBBLE_SPACING, ClumpTemplate
 
-# centre distance of neighbouring pebbles / pebble radius: one pebble radius makes a grain half
-# again as long as it is wide (elongated grains that interlock, as Cho et al. (2007) build theirs)
-PEBBLE_SPACING = 1.0
 DEFAULT_SHAPE = "ball"
 # the "cloud": its pebbles, their radii (in units of the largest possible) and each one's centre
 # distance to the pebble it overlaps (a fraction of their radii's sum: < 1 overlaps), and its seed
@@ -41,33 +37,6 @@ CLOUD_RADII = (0.5, 1.0)
 CLOUD_SPACING = (0.4, 0.8)
 CLOUD_SEED = 2024
 MAX_EXTENT = 4.0  # equivalent radii: a specimen 4 diameters wide holds such a clump
-
-
-@dataclass(frozen=True)
-class ClumpTemplate:
-    """A clump's pebbles: `offsets` (k, 2) from its centroid and `radii` (k,), both in units of
-    its equivalent radius (module docstring)."""
-
-    name: str
-    offsets: np.ndarray
-    radii: np.ndarray
-
-    @property
-    def n_pebbles(self) -> int:
-        return len(self.radii)
-
-    @property
-    def extent(self) -> float:
-        """The farthest reach of a pebble from the centroid, in equivalent radii."""
-        return float((np.hypot(*self.offsets.T) + self.radii).max())
-
-    def pebbles(self, size_m: float, angle_rad: float) -> tuple[np.ndarray, np.ndarray]:
-        """The offsets (m) and radii (m) of a clump of equivalent radius `size_m` turned by
-        `angle_rad` counter-clockwise."""
-        c, s = math.cos(angle_rad), math.sin(angle_rad)
-        x, y = self.offsets[:, 0], self.offsets[:, 1]
-        turned = np.stack([c * x - s * y, s * x + c * y], axis=-1)  # not @: BLAS rounds by processor
-        return size_m * turned, size_m * self.radii
 
 
 def from_pebbles(name: str, centres, radii, field: str = "grain_shape") -> ClumpTemplate:

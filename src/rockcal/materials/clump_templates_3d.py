@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rockcal.dem3d.clumps import union_properties
-from rockcal.materials.clump_templates import PEBBLE_SPACING, ClumpTemplate
+from rockcal.materials.pebbles import PEBBLE_SPACING, ClumpTemplate
 
 
 @dataclass(frozen=True)
