@@ -21,13 +21,14 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from rockcal.campaign.plan.cost import relative_time
-from rockcal.campaign.procedure.points import CalibrationFailed, folded, point_specs, spec_of
+from rockcal.campaign.procedure.points import (CalibrationFailed, first_packing, folded, grouped, point_responses,
+                                              point_specs, spec_of)
 from rockcal.campaign.procedure.result import EndRun, Identifiability, ParameterRange, SpreadOfTest
 from rockcal.campaign.procedure.rounding import rounded, stand_in
 from rockcal.campaign.runs.spec import RunSpec
 from rockcal.errors import InputError
 from rockcal.inverse.identifiability import (bands, ends_of, in_bands, kept, meeting_set, meets,
-                                             parameter_ranges)
+                                             parameter_ranges, worst_errors)
 from rockcal.labtests.registry import LAB_TESTS, PRIMARY_TEST, lab_test
 from rockcal.specimens.grain_limit import check_grains, expected_grains
 from rockcal.specimens.specimen import SHIPPED_DIR
@@ -131,18 +132,20 @@ def pinning_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec],
     surrogate of every run)."""
     n = state.narrowing
     if n is None:
-        found, points = surrogate_set(state, judged(state))
+        surrogate = judged(state)
+        found, points = surrogate_set(state, surrogate)
         if _widest_unread(found) is None or not state.campaign.identifiability.runs:
             done = found.model_copy(update={"text": text_of(found, state.campaign)})
             return [], lambda results, progress: replace(state, final=state.final | {"identifiability": done})
-        state = _narrowing(state, found, points, ())
+        state = _narrowing(state, found, surrogate, points, ())
     elif all(row is None for row in n.next):
         read = _read_range(state)
         found = n.found.model_copy(update={"ranges": n.found.ranges | {n.name: read}})
         if not read.pinned or _widest_unread(found) is None:
             return _ranking_runs(replace(state, narrowing=replace(n, found=found)), read)
-        state = _narrowing(state, found, surrogate_set(state, judged(state))[1], n.keys)
-    return _end_runs(state)
+        surrogate = judged(state)
+        state = _narrowing(state, found, surrogate, surrogate_set(state, surrogate)[1], n.keys)
+    return _end_runs(state, judged)
 
 
 def _widest_unread(found: Identifiability) -> str | None:
@@ -151,12 +154,14 @@ def _widest_unread(found: Identifiability) -> str | None:
     return max(loose, key=lambda n: loose[n].share) if loose else None
 
 
-def _narrowing(state: CampaignState, found: Identifiability, points: np.ndarray, keys: tuple) -> CampaignState:
-    """The state reading the widest unread range not pinned in the DEM next: its two ends."""
+def _narrowing(state: CampaignState, found: Identifiability, surrogate, points: np.ndarray,
+               keys: tuple) -> CampaignState:
+    """The state reading the widest unread range not pinned in the DEM next: its two ends
+    (`ends_of` the set `points` of the `surrogate`)."""
     name = _widest_unread(found)
-    start = np.array([state.identified()[n] for n in state.names])
+    worst = worst_errors(surrogate.predict, state.goals.targets, points)
     ends = [dict(zip(state.names, rounded(row, state.whole)))
-            for row in ends_of(points, state.names.index(name), start, state.box)]
+            for row in ends_of(points, state.names.index(name), worst)]
     return replace(state, narrowing=Narrowing(found, name, tuple(ends), keys, first=len(found.end_runs)))
 
 
@@ -186,16 +191,15 @@ def surrogate_error(state: CampaignState) -> dict[str, float]:
             for r in state.goals.targets}
 
 
-def _end_runs(state: CampaignState) -> tuple[list[RunSpec], Callable]:
+def _end_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec], Callable]:
     """The calibrated tests' runs at each side's next point (on their packings, as a verified
-    point's), and the fold that settles a side whose runs met the sheet or pulls its point
-    halfway towards the accepted point."""
+    point's), and the fold that settles a side whose runs met the sheet or pulls it halfway
+    towards the accepted point (`_pulled_in`)."""
     n, campaign = state.narrowing, state.campaign
     pending = [(side, row) for side, row in zip(SIDES, n.next) if row is not None]
     points = [(campaign.specimen, row) for _, row in pending]
     specs = point_specs(state, points, means=True)
     sheet = bands(state.goals.targets, campaign.acceptance.tolerance, state.goals.spread, None)
-    x0 = state.identified()
 
     def fold(results, progress):
         try:
@@ -207,14 +211,51 @@ def _end_runs(state: CampaignState) -> tuple[list[RunSpec], Callable]:
         end_runs = n.found.end_runs + runs
         tried = {side: sum(r.side == side for r in end_runs[n.first:]) for side in SIDES}
         settled = {r.side: r for r in runs if r.met or tried[r.side] > BISECTIONS}
-        next_ = tuple(None if row is None or side in settled else _halfway(state, row, x0)
-                      for side, row in zip(SIDES, n.next))
+        # the runs train the surrogate: where the set it gives is off the DEM's, it learns so there
+        new = _trained(new, points, grouped(new, points, results, means=True))
+        pulled = {side: row for side, row in zip(SIDES, n.next) if row is not None and side not in settled}
+        next_ = _pulled_in(new, judged, pulled) if pulled else {}
         found_now = n.found.model_copy(update={"end_runs": end_runs})
         # the calibration's run budget (dem_runs) counts none of the stage's runs
         return replace(new, dem_runs=state.dem_runs,
-                       narrowing=replace(n, found=found_now, next=next_, keys=n.keys + tuple(s.key for s in specs)))
+                       narrowing=replace(n, found=found_now, next=tuple(next_.get(side) for side in SIDES),
+                                         keys=n.keys + tuple(s.key for s in specs)))
 
     return specs, fold
+
+
+def _trained(state: CampaignState, points: list, per_point: list[dict]) -> CampaignState:
+    """The state with the points whose runs succeeded among the surrogate's training runs
+    (their first packing's responses, as a verified point's)."""
+    rows = [(np.array([row[n] for n in state.names]), point_responses(state, first_packing(state, runs))[0])
+            for (_, row), runs in zip(points, per_point)]
+    fresh = [(x, v) for x, v in rows if v is not None and not any(np.allclose(x, seen) for seen in state.train_x)]
+    if not fresh:
+        return state
+    return replace(state, train_x=np.vstack([state.train_x, *[x for x, _ in fresh]]),
+                   train_y=state.train_y + [v for _, v in fresh])
+
+
+def _pulled_in(state: CampaignState, judged: Callable, pulled: dict[str, dict]) -> dict[str, dict]:
+    """Each side's next point after its end missed the sheet: the parameter read halfway
+    towards the accepted point, the others where the set of the surrogate its runs trained
+    lies there (its end on that side among the points no farther out), or halfway too where
+    that set has no such point. On a ridge the DEM's set curves along, a straight pull leaves it."""
+    name, x0 = state.narrowing.name, state.identified()
+    k = state.names.index(name)
+    surrogate = judged(state)
+    points = surrogate_set(state, surrogate)[1]
+    worst = worst_errors(surrogate.predict, state.goals.targets, points)
+    found = {}
+    for side, row in pulled.items():
+        halfway = _halfway(state, row, x0)
+        inward = points[:, k] >= halfway[name] if side == "low" else points[:, k] <= halfway[name]
+        if not inward.any():
+            found[side] = halfway
+            continue
+        end = ends_of(points[inward], k, worst[inward])[SIDES.index(side)]
+        found[side] = dict(zip(state.names, rounded(np.r_[end[:k], halfway[name], end[k + 1:]], state.whole)))
+    return found
 
 
 def _halfway(state: CampaignState, row: dict, x0: dict) -> dict:
