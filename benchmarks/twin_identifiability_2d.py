@@ -96,6 +96,10 @@ def phase(title: str, text: str, out: Path, resume: bool, workers: int, true: di
         print(f"{name:12s} {truth:7.4g} {value:7.4g} {100 * (value / truth - 1):+7.2f} %  "
               f"{'pinned' if r.pinned else 'NOT pinned'}, {r.low:.4g}-{r.high:.4g} ({100 * r.share:.0f} %, {read}), "
               f"{holds} the truth")
+    for run in found.end_runs:  # in the order they ran, each range read in turn
+        errors = "failed" if run.errors is None else ", ".join(f"{k} {100 * v:+.1f} %" for k, v in run.errors.items())
+        print(f"  {run.side:4s} end {', '.join(f'{k} {v:.4g}' for k, v in run.point.items())}: {errors}, "
+              f"{'met' if run.met else 'missed'}")
     for t in found.tests:
         print(f"  test {t.test} ({t.response}): {', '.join('-' if v is None else f'{v:.4g}' for v in t.values)} "
               f"at the ends, spread {100 * t.spread:.1f} %, score {t.score:.3f}")

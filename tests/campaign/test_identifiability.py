@@ -110,18 +110,20 @@ def test_a_parameter_no_target_sees_is_not_pinned_and_the_brazilian_test_would_p
         assert found.ranges[named[name]].pinned, name
         assert record.identified[named[name]] == pytest.approx(TRUE[name], rel=0.05)
         assert found.ranges[named[name]].low <= TRUE[name] <= found.ranges[named[name]].high
-    # a truly flat direction: both ends met the sheet at their first DEM runs, and the range
-    # between them, not pinned, holds the truth
+    # a truly flat direction: both ends met the sheet at their first DEM runs and, pushed out
+    # halfway towards their bounds twice, met it again; the range between them, not pinned,
+    # holds the truth
     tau = found.ranges[named["tau_c"]]
-    assert tau.verified_ends == ["low", "high"] and [r.met for r in found.end_runs] == [True, True]
+    assert tau.verified_ends == ["low", "high"] and [r.met for r in found.end_runs] == [True] * 6
+    assert [r.point[named["tau_c"]] for r in found.end_runs[4:]] == [tau.low, tau.high]
     assert not tau.pinned and tau.low <= TRUE["tau_c"] <= tau.high and tau.share > 0.8
     assert [p[named["tau_c"]] for p in found.points] == [tau.low, tau.high]  # each other test ranks there
     assert found.tests[0].test == "brazilian" and found.tests[0].spread > 0.5
     in_2d = {"sigma_t_direct_MPa", "K_IC_MPa_sqrt_m"} if route != "3D" else set()  # tests 3D lacks
     assert {t.response for t in found.tests} == {"sigma_t_MPa", "sigma1_MPa", "ci_MPa", "cd_MPa"} | in_2d
-    assert f"does not pin {named['tau_c']}" in found.text and "read in the DEM: both ends met the sheet) (2 runs in the DEM)" \
+    assert f"does not pin {named['tau_c']}" in found.text and "read in the DEM: both ends met the sheet) (6 runs in the DEM)" \
         in found.text and "Measure the Brazilian" in found.text
-    assert found.runs == 2 * (1 + 2 + len(in_2d)) and executor.kinds.count("brazilian") == 2
+    assert found.runs == 2 * (3 + 2 + len(in_2d)) and executor.kinds.count("brazilian") == 2
     told = summary(record)["identifiability"]
     assert told["ranges"][named["tau_c"]]["pinned"] is False and told["tests"][0]["test"] == "brazilian"
     json.dumps(told)

@@ -141,11 +141,16 @@ def pinning_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec],
     elif all(row is None for row in n.next):
         read = _read_range(state)
         found = n.found.model_copy(update={"ranges": n.found.ranges | {n.name: read}})
-        if not read.pinned or _widest_unread(found) is None:
+        if _loose(read) or _widest_unread(found) is None:
             return _ranking_runs(replace(state, narrowing=replace(n, found=found)), read)
         surrogate = judged(state)
         state = _narrowing(state, found, surrogate, surrogate_set(state, surrogate)[1], n.keys)
     return _end_runs(state, judged)
+
+
+def _loose(read: ParameterRange) -> bool:
+    """Whether a range read in the DEM leaves its parameter not pinned, between ends that met the sheet."""
+    return not read.pinned and bool(read.verified_ends)
 
 
 def _widest_unread(found: Identifiability) -> str | None:
@@ -193,8 +198,7 @@ def surrogate_error(state: CampaignState) -> dict[str, float]:
 
 def _end_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec], Callable]:
     """The calibrated tests' runs at each side's next point (on their packings, as a verified
-    point's), and the fold that settles a side whose runs met the sheet or pulls it halfway
-    towards the accepted point (`_pulled_in`)."""
+    point's), and the fold that moves each side on (`_next_points`)."""
     n, campaign = state.narrowing, state.campaign
     pending = [(side, row) for side, row in zip(SIDES, n.next) if row is not None]
     points = [(campaign.specimen, row) for _, row in pending]
@@ -209,12 +213,10 @@ def _end_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec], Ca
         runs = [EndRun(side=side, point=row, errors=_errors(state.goals.targets, v),
                        met=v is not None and in_bands(v, sheet)) for (side, row), v in zip(pending, found)]
         end_runs = n.found.end_runs + runs
-        tried = {side: sum(r.side == side for r in end_runs[n.first:]) for side in SIDES}
-        settled = {r.side: r for r in runs if r.met or tried[r.side] > BISECTIONS}
         # the runs train the surrogate: where the set it gives is off the DEM's, it learns so there
         new = _trained(new, points, grouped(new, points, results, means=True))
-        pulled = {side: row for side, row in zip(SIDES, n.next) if row is not None and side not in settled}
-        next_ = _pulled_in(new, judged, pulled) if pulled else {}
+        sides = {side: [r for r in end_runs[n.first:] if r.side == side] for side, _ in pending}
+        next_ = _next_points(new, judged, {side: runs for side, runs in sides.items() if len(runs) <= BISECTIONS})
         found_now = n.found.model_copy(update={"end_runs": end_runs})
         # the calibration's run budget (dem_runs) counts none of the stage's runs
         return replace(new, dem_runs=state.dem_runs,
@@ -236,61 +238,76 @@ def _trained(state: CampaignState, points: list, per_point: list[dict]) -> Campa
                    train_y=state.train_y + [v for _, v in fresh])
 
 
-def _pulled_in(state: CampaignState, judged: Callable, pulled: dict[str, dict]) -> dict[str, dict]:
-    """Each side's next point after its end missed the sheet: the parameter read halfway
-    towards the accepted point, the others where the set of the surrogate its runs trained
-    lies there (its end on that side among the points no farther out), or halfway too where
-    that set has no such point. On a ridge the DEM's set curves along, a straight pull leaves it."""
+def _next_points(state: CampaignState, judged: Callable, sides: dict[str, list[EndRun]]) -> dict[str, dict]:
+    """Each side's next point, by bisection of the parameter read between its farthest point
+    that met the sheet (the accepted point before one did) and its nearest that missed (the
+    box's bound before one did): halfway between them, the other parameters where the set of
+    the surrogate the runs trained lies there (its end on that side among its points no
+    farther out), or halfway too where no point of that set lies between them. On a ridge
+    that curves, a straight line from the accepted point leaves the DEM's set."""
     name, x0 = state.narrowing.name, state.identified()
     k = state.names.index(name)
     surrogate = judged(state)
     points = surrogate_set(state, surrogate)[1]
     worst = worst_errors(surrogate.predict, state.goals.targets, points)
     found = {}
-    for side, row in pulled.items():
-        halfway = _halfway(state, row, x0)
-        inward = points[:, k] >= halfway[name] if side == "low" else points[:, k] <= halfway[name]
-        if not inward.any():
-            found[side] = halfway
+    for side, runs in sides.items():
+        met, missed = [r.point for r in runs if r.met], [r.point for r in runs if not r.met]
+        inner = met[-1] if met else x0
+        if not missed:  # pushed out towards the box's bound, unless on it
+            bound = state.bounds[name][SIDES.index(side)]
+            if not np.isclose(inner[name], bound):
+                found[side] = _rounded(state, inner | {name: (inner[name] + bound) / 2})
             continue
-        end = ends_of(points[inward], k, worst[inward])[SIDES.index(side)]
-        found[side] = dict(zip(state.names, rounded(np.r_[end[:k], halfway[name], end[k + 1:]], state.whole)))
+        outer = missed[-1]
+        halfway = (inner[name] + outer[name]) / 2
+        between = (points[:, k] >= halfway) & (points[:, k] <= inner[name]) if side == "low" else \
+            (points[:, k] <= halfway) & (points[:, k] >= inner[name])
+        if between.any():
+            end = ends_of(points[between], k, worst[between])[SIDES.index(side)]
+            found[side] = _rounded(state, dict(zip(state.names, end)) | {name: halfway})
+        else:
+            found[side] = _rounded(state, {n: (inner[n] + outer[n]) / 2 for n in state.names})
     return found
 
 
-def _halfway(state: CampaignState, row: dict, x0: dict) -> dict:
-    return dict(zip(state.names, rounded(np.array([(row[n] + x0[n]) / 2 for n in state.names]), state.whole)))
+def _rounded(state: CampaignState, row: dict) -> dict:
+    return dict(zip(state.names, rounded(np.array([row[n] for n in state.names]), state.whole)))
 
 
 def _errors(targets: dict[str, float], responses: dict | None) -> dict | None:
     return None if responses is None else {r: responses[r] / t - 1 for r, t in targets.items()}
 
 
-def _ends_read(state: CampaignState) -> tuple[dict, list[dict]]:
-    """The sides whose end met the sheet in the DEM (their points) and the two ends kept (the
-    accepted point on a side where none did), at the parameter being read."""
+def _ends_read(state: CampaignState) -> list[dict]:
+    """The two ends kept of the parameter being read: of every point the DEM found meeting the
+    sheet (the accepted point, and each end run of the stage that met it, whichever range it
+    read), those where that parameter is lowest and highest."""
     n = state.narrowing
-    met = {r.side: r.point for r in n.found.end_runs[n.first:] if r.met}
-    return met, [met.get(side, state.identified()) for side in SIDES]
+    met = [state.identified()] + [r.point for r in n.found.end_runs if r.met]
+    return [min(met, key=lambda row: row[n.name]), max(met, key=lambda row: row[n.name])]
 
 
 def _read_range(state: CampaignState) -> ParameterRange:
-    """The range the DEM read: between the ends kept (`_ends_read`)."""
+    """The range the DEM read: between the ends kept (`_ends_read`); where no end of this
+    range met the sheet, the DEM found no point of the set to read: the surrogate's range
+    and verdict stay, marked read."""
     n = state.narrowing
-    met, ends = _ends_read(state)
-    low, high = sorted(end[n.name] for end in ends)
+    met = [side for side in SIDES if any(r.met and r.side == side for r in n.found.end_runs[n.first:])]
+    if not met:
+        return n.found.ranges[n.name].model_copy(update={"verified_ends": []})
+    low, high = (end[n.name] for end in _ends_read(state))
     box_low, box_high = state.bounds[n.name]
     share = (high - low) / (box_high - box_low)
-    return ParameterRange(low=low, high=high, share=share, pinned=share <= n.found.pinned_share,
-                          verified_ends=[side for side in SIDES if side in met])
+    return ParameterRange(low=low, high=high, share=share, pinned=share <= n.found.pinned_share, verified_ends=met)
 
 
 def _ranking_runs(state: CampaignState, read: ParameterRange) -> tuple[list[RunSpec], Callable]:
     """Each lacking test's runs at the two ends of the range the DEM `read` where it is not
     pinned, and the fold that ranks them and records the stage."""
     n, campaign = state.narrowing, state.campaign
-    ends = _ends_read(state)[1]
-    tests = [] if read.pinned else candidates(campaign)
+    ends = _ends_read(state)
+    tests = candidates(campaign) if _loose(read) else []
     asked = [(c, [spec_of(state, c.test, campaign.specimen, row, c.own) for row in ends]) for c in tests]
     specs = list({spec.key: spec for _, runs in asked for spec in runs}.values())
     keys = set(n.keys) | {spec.key for spec in specs}
@@ -371,7 +388,7 @@ def text_of(found: Identifiability, campaign) -> str:
                 f"ends; add it to [targets] and resume (--resume keeps the runs done).")
     if loose and not campaign.identifiability.runs:
         return text + ". [identifiability] runs = false: no lab test was run to name one that would pin it."
-    if not any(n in loose for n in read):
+    if not any(n in loose and found.ranges[n].verified_ends for n in read):
         return text + "."
     ran = ", ".join(dict.fromkeys(t.response for t in found.tests)) or "none"
     return (text + f". No response run at the ends ({ran}) varies more than ±{100 * tolerance:g} % between them: "
@@ -386,5 +403,5 @@ def _ends_text(read: ParameterRange) -> str:
         return "both ends met the sheet"
     if ends:
         other = "high" if ends == ["low"] else "low"
-        return f"its {ends[0]} end met the sheet, its {other} end is the accepted point"
-    return "no end met the sheet: the accepted point alone"
+        return f"its {ends[0]} end met the sheet, its {other} end is the farthest other point found meeting it"
+    return "no end met the sheet, the surrogate's range kept"
