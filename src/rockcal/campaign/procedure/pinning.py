@@ -324,26 +324,29 @@ def _ranking_runs(state: CampaignState, read: ParameterRange) -> tuple[list[RunS
 
 
 def planned_runs(state: CampaignState) -> list[RunSpec]:
-    """The stage's runs as the first screen plans them (the planning state): both ends of the
-    first searched parameter's range meet the sheet at their first runs, and each lacking test
-    runs there; none with [identifiability] runs = false."""
+    """The stage's runs as the first screen plans them (the planning state): the first
+    searched parameter's range read, each end run 1 + BISECTIONS times, and each lacking
+    test's runs at its two ends; none with [identifiability] runs = false."""
     campaign = state.campaign
     if not campaign.identifiability.runs:
         return []
     x = stand_in(state.box, state.whole)
-    ends = [dict(zip(state.names, rounded(np.r_[state.box[0, k], x[1:]], state.whole))) for k in (0, 1)]
-    specs = point_specs(state, [(campaign.specimen, row) for row in ends], means=True)
-    specs += [spec_of(state, c.test, campaign.specimen, row, c.own) for c in candidates(campaign) for row in ends]
+    ends = [rounded(np.r_[x[0] + (state.box[0, k] - x[0]) / 2 ** j, x[1:]], state.whole)
+            for k in (0, 1) for j in range(1 + BISECTIONS)]
+    specs = point_specs(state, [(campaign.specimen, dict(zip(state.names, row))) for row in ends], means=True)
+    specs += [spec_of(state, c.test, campaign.specimen, dict(zip(state.names, row)), c.own)
+              for c in candidates(campaign) for row in ends[::1 + BISECTIONS]]
     return list({spec.key: spec for spec in specs}.values())
 
 
-def bisection_tests(campaign) -> list[str]:
-    """The test of each run the ends' bisections may add to the planned runs, at most."""
+def further_reads_tests(campaign, searched: int) -> list[str]:
+    """The test of each run the stage may add to the planned runs, at most: every other
+    searched parameter's range read too (the DEM pins each read before it)."""
     if not campaign.identifiability.runs:
         return []
     per_point = [test for test, s in campaign.target_sections().items()
                  for _ in range(max(1, len(s.series())) * s.packings)]
-    return len(SIDES) * BISECTIONS * per_point
+    return (searched - 1) * len(SIDES) * (1 + BISECTIONS) * per_point
 
 
 def _spread(candidate: Candidate, results: list) -> SpreadOfTest:
