@@ -279,34 +279,36 @@ def _errors(targets: dict[str, float], responses: dict | None) -> dict | None:
     return None if responses is None else {r: responses[r] / t - 1 for r, t in targets.items()}
 
 
-def _ends_read(state: CampaignState) -> list[dict]:
-    """The two ends kept of the parameter being read: of every point the DEM found meeting the
-    sheet (the accepted point, and each end run of the stage that met it, whichever range it
-    read), those where that parameter is lowest and highest."""
-    n = state.narrowing
-    met = [state.identified()] + [r.point for r in n.found.end_runs if r.met]
-    return [min(met, key=lambda row: row[n.name]), max(met, key=lambda row: row[n.name])]
+def _ends_read(state: CampaignState, name: str) -> list[dict]:
+    """The two ends kept of a parameter's range read in the DEM: of every point the DEM found
+    meeting the sheet (the accepted point, and each end run of the stage that met it, whichever
+    range it read), those where that parameter is lowest and highest."""
+    met = [state.identified()] + [r.point for r in state.narrowing.found.end_runs if r.met]
+    return [min(met, key=lambda row: row[name]), max(met, key=lambda row: row[name])]
+
+
+def _spanning(state: CampaignState, name: str, verified_ends: list[str]) -> ParameterRange:
+    """A parameter's range between its ends kept (`_ends_read`) and its verdict."""
+    low, high = (end[name] for end in _ends_read(state, name))
+    box_low, box_high = state.bounds[name]
+    share = (high - low) / (box_high - box_low)
+    return ParameterRange(low=low, high=high, share=share, pinned=share <= state.narrowing.found.pinned_share,
+                          verified_ends=verified_ends)
 
 
 def _read_range(state: CampaignState) -> ParameterRange:
-    """The range the DEM read: between the ends kept (`_ends_read`); where no end of this
-    range met the sheet, the DEM found no point of the set to read: the surrogate's range
-    and verdict stay, marked read."""
+    """The range the DEM read (`_spanning`); where no end of this range met the sheet, the DEM
+    found no point of the set to read: the surrogate's range and verdict stay, marked read."""
     n = state.narrowing
     met = [side for side in SIDES if any(r.met and r.side == side for r in n.found.end_runs[n.first:])]
-    if not met:
-        return n.found.ranges[n.name].model_copy(update={"verified_ends": []})
-    low, high = (end[n.name] for end in _ends_read(state))
-    box_low, box_high = state.bounds[n.name]
-    share = (high - low) / (box_high - box_low)
-    return ParameterRange(low=low, high=high, share=share, pinned=share <= n.found.pinned_share, verified_ends=met)
+    return _spanning(state, n.name, met) if met else n.found.ranges[n.name].model_copy(update={"verified_ends": []})
 
 
 def _ranking_runs(state: CampaignState, read: ParameterRange) -> tuple[list[RunSpec], Callable]:
     """Each lacking test's runs at the two ends of the range the DEM `read` where it is not
     pinned, and the fold that ranks them and records the stage."""
     n, campaign = state.narrowing, state.campaign
-    ends = _ends_read(state)
+    ends = _ends_read(state, n.name)
     tests = candidates(campaign) if _loose(read) else []
     asked = [(c, [spec_of(state, c.test, campaign.specimen, row, c.own) for row in ends]) for c in tests]
     specs = list({spec.key: spec for _, runs in asked for spec in runs}.values())
@@ -315,7 +317,10 @@ def _ranking_runs(state: CampaignState, read: ParameterRange) -> tuple[list[RunS
     def fold(results, progress):
         done = dict(zip((spec.key for spec in specs), results))
         ranked = sorted((_spread(c, [done[spec.key] for spec in runs]) for c, runs in asked), key=lambda t: -t.score)
-        found = n.found.model_copy(update={"ranges": n.found.ranges | {n.name: read}, "points": ends if tests else [],
+        # each range read between ends that met the sheet spans every point later reads found meeting it too
+        ranges = {name: _spanning(state, name, r.verified_ends) if r.verified_ends else r
+                  for name, r in (n.found.ranges | {n.name: read}).items()}
+        found = n.found.model_copy(update={"ranges": ranges, "points": ends if tests else [],
                                            "tests": ranked, "runs": len(keys - set(state.dem_runs))})
         found = found.model_copy(update={"text": text_of(found, campaign)})
         return replace(state, narrowing=None, final=state.final | {"identifiability": found})
