@@ -357,7 +357,7 @@ def _stages_text(campaign: Campaign) -> str:
     """The stages and their runs as planned, and what may add to them: a verification round
     plans the search's optimum (the point it always verifies); it verifies up to [acceptance]
     candidates - 1 more where the surrogate has other distinct optima, and more rounds follow
-    while no verified point passes; the identifiability stage's ends may be pulled in."""
+    while no verified point passes; the identifiability stage may read more ranges."""
     runs, candidates = stage_runs(campaign), verified_at_most(campaign)
     listed = ", ".join(f"{name} {n}" + _resolution(campaign, name)
                        + (" a round" + _other_optima(n, candidates) if name == VERIFICATION else "")

@@ -4,11 +4,12 @@ parameters the lab sheet pins, and which lab test it lacks would pin the others.
 On the surrogate of every run, the points whose predicted responses meet every target
 (`rockcal.inverse.identifiability`: each within the tolerance, or the lab's spread where wider,
 plus the surrogate's error at the verified points) give each parameter's range. That set is an
-outer bound, so the ranges it does not pin are read in the DEM, widest first: the calibrated
-tests run at a range's two ends; an end whose runs miss the sheet (the bands without the
-surrogate's error) is pulled halfway towards the accepted point and run again, at most
-BISECTIONS times. The range kept lies between the ends that met the sheet (the accepted point
-on a side where none did), and decides that parameter's verdict; where the DEM pins it, the
+outer bound only as far as the surrogate is right, so the ranges it does not pin are read in
+the DEM, widest first: the calibrated tests run at a range's two ends, then each side is
+bisected BISECTIONS times between its farthest point that met the sheet (the bands without the
+surrogate's error) and its nearest that missed, each run training the surrogate. The range
+kept spans every point the DEM found meeting the sheet, and decides that parameter's verdict
+(a range none of whose ends met the sheet keeps the surrogate's); where the DEM pins it, the
 next range not pinned is read. Each lab test the sheet lacks runs at the two ends of the first
 range the DEM leaves not pinned, ranked by how much its response varies between them per run
 of lab work: the test that would pin the parameter."""
@@ -38,7 +39,7 @@ if TYPE_CHECKING:
 
 IDENTIFIABILITY = "identifiability"  # the stage's name
 SIDES = ("low", "high")  # the two ends of the range the DEM reads
-BISECTIONS = 2  # times an end that misses the sheet is pulled halfway towards the accepted point
+BISECTIONS = 2  # runs a side of a range read adds after its end's, each halfway in or out
 CONFINEMENT_MPA = 10.0  # a confined test the sheet lacks runs at this confinement
 # a test not named in [identifiability] tests runs only where its two runs cost at most this
 # many UCS runs and rockcal ships its packing (a genesis takes longer than the runs): the stage
@@ -116,7 +117,7 @@ def _runs_here(kind, campaign, own: dict) -> bool:
 class Narrowing:
     """The stage between its batches of runs: the record as the surrogate's set gives it, the
     parameter whose range the DEM reads, the DEM runs at its ends so far and each side's point
-    to run next (None: settled, by a run that met the sheet or by its last bisection)."""
+    to run next (None: settled, by its last bisection or on its bound of the box)."""
 
     found: Identifiability
     name: str
