@@ -217,7 +217,7 @@ def _end_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec], Ca
         # the runs train the surrogate: where the set it gives is off the DEM's, it learns so there
         new = _trained(new, points, grouped(new, points, results, means=True))
         sides = {side: [r for r in end_runs[n.first:] if r.side == side] for side, _ in pending}
-        next_ = _next_points(new, judged, {side: runs for side, runs in sides.items() if len(runs) <= BISECTIONS})
+        next_ = _next_points(new, judged, {side: runs for side, runs in sides.items() if not _settled(runs)})
         found_now = n.found.model_copy(update={"end_runs": end_runs})
         # the calibration's run budget (dem_runs) counts none of the stage's runs
         return replace(new, dem_runs=state.dem_runs,
@@ -239,18 +239,26 @@ def _trained(state: CampaignState, points: list, per_point: list[dict]) -> Campa
                    train_y=state.train_y + [v for _, v in fresh])
 
 
+def _settled(runs: list[EndRun]) -> bool:
+    """Whether a side's runs so far settle it: its bisections done, or a run that met the sheet
+    after one that missed (the set's edge found between them)."""
+    met = [r.met for r in runs]
+    return len(runs) > BISECTIONS or (met[-1] and not all(met))
+
+
 def _next_points(state: CampaignState, judged: Callable, sides: dict[str, list[EndRun]]) -> dict[str, dict]:
     """Each side's next point, by bisection of the parameter read between its farthest point
     that met the sheet (the accepted point before one did) and its nearest that missed (the
-    box's bound before one did): halfway between them, the other parameters where the set of
+    box's bound before one did; `_settled` once it met after a miss): halfway between them, the other parameters where the set of
     the surrogate the runs trained lies there (its end on that side among its points no
     farther out), or halfway too where no point of that set lies between them. On a ridge
     that curves, a straight line from the accepted point leaves the DEM's set."""
     name, x0 = state.narrowing.name, state.identified()
     k = state.names.index(name)
-    surrogate = judged(state)
-    points = surrogate_set(state, surrogate)[1]
-    worst = worst_errors(surrogate.predict, state.goals.targets, points)
+    if any(not r.met for runs in sides.values() for r in runs):  # a point to pull in: the retrained set
+        surrogate = judged(state)
+        points = surrogate_set(state, surrogate)[1]
+        worst = worst_errors(surrogate.predict, state.goals.targets, points)
     found = {}
     for side, runs in sides.items():
         met, missed = [r.point for r in runs if r.met], [r.point for r in runs if not r.met]
