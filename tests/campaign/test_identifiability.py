@@ -110,18 +110,20 @@ def test_a_parameter_no_target_sees_is_not_pinned_and_the_brazilian_test_would_p
         assert found.ranges[named[name]].pinned, name
         assert record.identified[named[name]] == pytest.approx(TRUE[name], rel=0.05)
         assert found.ranges[named[name]].low <= TRUE[name] <= found.ranges[named[name]].high
-    # a truly flat direction: both ends met the sheet at their first DEM runs, and the range
-    # between them, not pinned, holds the truth
+    # a truly flat direction: both ends met the sheet at their first DEM runs and, pushed out
+    # halfway towards their bounds twice, met it again; the range between them, not pinned,
+    # holds the truth
     tau = found.ranges[named["tau_c"]]
-    assert tau.verified_ends == ["low", "high"] and [r.met for r in found.end_runs] == [True, True]
+    assert tau.verified_ends == ["low", "high"] and [r.met for r in found.end_runs] == [True] * 6
+    assert [r.point[named["tau_c"]] for r in found.end_runs[4:]] == [tau.low, tau.high]
     assert not tau.pinned and tau.low <= TRUE["tau_c"] <= tau.high and tau.share > 0.8
     assert [p[named["tau_c"]] for p in found.points] == [tau.low, tau.high]  # each other test ranks there
     assert found.tests[0].test == "brazilian" and found.tests[0].spread > 0.5
     in_2d = {"sigma_t_direct_MPa", "K_IC_MPa_sqrt_m"} if route != "3D" else set()  # tests 3D lacks
     assert {t.response for t in found.tests} == {"sigma_t_MPa", "sigma1_MPa", "ci_MPa", "cd_MPa"} | in_2d
-    assert f"does not pin {named['tau_c']}" in found.text and "read in the DEM: both ends met the sheet) (2 runs in the DEM)" \
+    assert f"does not pin {named['tau_c']}" in found.text and "read in the DEM: both ends met the sheet) (6 runs in the DEM)" \
         in found.text and "Measure the Brazilian" in found.text
-    assert found.runs == 2 * (1 + 2 + len(in_2d)) and executor.kinds.count("brazilian") == 2
+    assert found.runs == 2 * (3 + 2 + len(in_2d)) and executor.kinds.count("brazilian") == 2
     told = summary(record)["identifiability"]
     assert told["ranges"][named["tau_c"]]["pinned"] is False and told["tests"][0]["test"] == "brazilian"
     json.dumps(told)
@@ -174,19 +176,20 @@ def test_a_surrogate_set_too_wide_is_narrowed_by_the_dem_to_ends_that_meet_the_s
     assert found.text.endswith("both ends met the sheet) (6 runs in the DEM).")
 
 
-def test_the_first_screen_plans_the_stage_with_both_ends_meeting_the_sheet_at_once(tmp_path):
-    """The plan: the UCS runs at the two ends (CI and CD read there) and each lacking test's,
-    none dearer than MOST_UCS_RUNS unless named; at most, each end pulled in BISECTIONS times;
-    none with runs = false."""
+def test_the_first_screen_plans_one_range_read_and_every_searched_parameter_s_at_most(tmp_path):
+    """The plan: the UCS runs at the two ends of one range, each run 1 + BISECTIONS times (CI
+    and CD read there), and each lacking test's at the ends, none dearer than MOST_UCS_RUNS
+    unless named; at most, each of the three searched parameters' ranges read alike; none with
+    runs = false."""
     campaign = planned(parse_campaign(campaign_text(), tmp_path))
-    assert [(test, n) for stage, test, n in stages(campaign) if stage == "identifiability"] == [("ucs", 2)]
-    most = 2 + 2 * pinning.BISECTIONS
-    assert identifiability_cost(campaign) == ((2, most), (pytest.approx(2.0), pytest.approx(most)))
+    read = 2 * (1 + pinning.BISECTIONS)
+    assert [(test, n) for stage, test, n in stages(campaign) if stage == "identifiability"] == [("ucs", read)]
+    assert identifiability_cost(campaign) == ((read, 3 * read), (pytest.approx(read), pytest.approx(3 * read)))
     store = RunStore(tmp_path / "out")
-    assert f"identifiability 2 to {most} a range it reads in the DEM (about 2 to {most} UCS runs' time; " \
-           "the widest range not pinned first" in describe(campaign, store, workers=None)[1]
+    assert f"identifiability {read} to {3 * read} (about {read} to {3 * read} UCS runs' time: each range it reads in " \
+           "the DEM runs each end 3 times, the widest range not pinned first" in describe(campaign, store, workers=None)[1]
     named = planned(parse_campaign(campaign_text() + NAMED, tmp_path))
-    assert identifiability_cost(named)[0] == (2 + 2 * 4, most + 2 * 4)  # and the four other tests at each end
+    assert identifiability_cost(named)[0] == (read + 2 * 4, 3 * read + 2 * 4)  # and the four other tests at each end
     off = planned(parse_campaign(campaign_text() + "[identifiability]\nruns = false\n", tmp_path))
     assert "identifiability" not in describe(off, store, workers=None)[1]
 

@@ -85,7 +85,7 @@ def test_the_first_screen_counts_every_packing(tmp_path):
     """Three packings make a verified point dear: one is verified a round (`plan.route`)."""
     campaign = planned(parse_campaign(campaign_text(packings=3), tmp_path))
     assert stages(campaign) == [("samples and checks", "ucs", 14), ("verification", "ucs", 3),
-                                ("packings and validation", "ucs", 3), ("identifiability", "ucs", 6)]
+                                ("packings and validation", "ucs", 3), ("identifiability", "ucs", 18)]
     assert sorted(s.seed for _, s in specimens(campaign)) == [1, 2, 3, 4, 5, 6]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=None)
     assert lines[1].endswith("each parameter set runs UCS (verified on 3 packings, their mean; "

@@ -126,7 +126,7 @@ def test_the_first_screen_counts_a_run_per_confinement(tmp_path):
                                 ("verification", "ucs", 1), ("verification", "biaxial", 3),
                                 ("packings and validation", "ucs", 1),
                                 ("packings and validation", "biaxial", 3),
-                                ("identifiability", "ucs", 2), ("identifiability", "biaxial", 6)]
+                                ("identifiability", "ucs", 6), ("identifiability", "biaxial", 18)]
     lines = describe(campaign, RunStore(tmp_path / "out"), workers=None)
     assert lines[1].endswith("each parameter set runs UCS and confined compression at 3 values of "
                              "confinement_mpa (0, 5, 10 MPa)")

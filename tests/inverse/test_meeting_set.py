@@ -1,11 +1,12 @@
 """The set of points that meet a sheet, on a known forward model: a parameter no target sees
 spans its box and is not pinned, the others are pinned to the tolerance's band; the ends of
-the free one are the set's points at its bounds nearest the start in the others."""
+the free one are the set's points at its bounds predicted nearest the targets."""
 
 import numpy as np
 import pytest
 
-from rockcal.inverse.identifiability import END_SLAB, bands, ends_of, meeting_set, meets, parameter_ranges
+from rockcal.inverse.identifiability import (END_SLAB, bands, ends_of, meeting_set, meets, parameter_ranges,
+                                             worst_errors)
 
 BOX = np.array([[0.0, 1.0], [0.0, 1.0], [10.0, 30.0]])
 TARGETS = {"a": 1.5, "b": 1.5}
@@ -26,11 +27,12 @@ def test_a_parameter_no_target_sees_spans_its_box_and_the_others_are_pinned():
         assert 0.47 - 1e-9 <= ranges[name]["low"] < 0.48 and 0.52 < ranges[name]["high"] <= 0.53 + 1e-9
         assert ranges[name]["share"] == pytest.approx(0.06, abs=0.01) and ranges[name]["pinned"]
     assert ranges["x2"]["share"] > 0.95 and not ranges["x2"]["pinned"]
-    start = np.array([0.51, 0.49, 20.0])
-    low, high = ends_of(points, 2, start, BOX)
+    worst = worst_errors(predict, TARGETS, points)  # 0 at x0 = x1 = 0.5, the set's middle
+    assert worst.max() <= 0.02 + 1e-9
+    low, high = ends_of(points, 2, worst)
     slab = END_SLAB * (ranges["x2"]["high"] - ranges["x2"]["low"])
     assert low[2] <= ranges["x2"]["low"] + slab and high[2] >= ranges["x2"]["high"] - slab
-    assert np.abs(low[:2] - start[:2]).max() < 0.01 and np.abs(high[:2] - start[:2]).max() < 0.01
+    assert np.abs(low[:2] - 0.5).max() < 0.01 and np.abs(high[:2] - 0.5).max() < 0.01
     assert inside(np.array([low, high])).all()
 
 

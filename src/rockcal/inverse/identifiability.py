@@ -103,17 +103,23 @@ def in_bands(responses: dict, band: dict[str, tuple[float, float]]) -> bool:
     return all(low <= responses[r] <= high for r, (low, high) in band.items())
 
 
-def ends_of(points: np.ndarray, k: int, start: np.ndarray, box: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def ends_of(points: np.ndarray, k: int, worst: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The points of the set at the low and the high end of parameter k's range over it: of
-    those within END_SLAB of the range from each extreme, the one nearest `start` in the
-    other parameters (box-normalised), so that an end differs from it in k most of all."""
+    those within END_SLAB of the range from each extreme, the one predicted nearest the targets
+    (`worst`: each point's largest predicted relative error, `worst_errors`), in the middle of
+    the set in the other parameters, where a DEM run most likely meets the sheet too."""
     span = np.ptp(points[:, k])
-    others = np.linalg.norm(np.delete((points - start) / (box[:, 1] - box[:, 0]), k, axis=1), axis=1)
     ends = []
     for extreme in (points[:, k].min(), points[:, k].max()):
         near = np.flatnonzero(np.abs(points[:, k] - extreme) <= END_SLAB * span)
-        ends.append(points[near[np.argmin(others[near])]])
+        ends.append(points[near[np.argmin(worst[near])]])
     return ends[0], ends[1]
+
+
+def worst_errors(predict: Predict, targets: dict[str, float], points: np.ndarray) -> np.ndarray:
+    """Each point's largest relative error of the predicted responses against the targets."""
+    predicted = predict(points)
+    return np.max([np.abs(np.asarray(predicted[r]) / t - 1) for r, t in targets.items()], axis=0)
 
 
 def kept(points: np.ndarray, seed: int = 0) -> np.ndarray:

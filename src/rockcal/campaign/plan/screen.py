@@ -29,7 +29,7 @@ from rockcal.campaign.plan.cost import (FIRST_RUN_COMPILE_S, WORK_EXPONENT, gene
 from rockcal.campaign.plan.engine_speed import busy_cores, probe, probe_ms_per_step
 from rockcal.campaign.plan.route import route_of
 from rockcal.campaign.runs.retries import holds, retry_line
-from rockcal.campaign.procedure.pinning import IDENTIFIABILITY, bisection_tests
+from rockcal.campaign.procedure.pinning import BISECTIONS, IDENTIFIABILITY, further_reads_tests
 from rockcal.campaign.procedure.points import packings_of
 from rockcal.campaign.procedure.steps import (STEPS, VERIFICATION, planning_state, series_values,
                                               verified_at_most)
@@ -357,7 +357,7 @@ def _stages_text(campaign: Campaign) -> str:
     """The stages and their runs as planned, and what may add to them: a verification round
     plans the search's optimum (the point it always verifies); it verifies up to [acceptance]
     candidates - 1 more where the surrogate has other distinct optima, and more rounds follow
-    while no verified point passes; the identifiability stage's ends may be pulled in."""
+    while no verified point passes; the identifiability stage may read more ranges."""
     runs, candidates = stage_runs(campaign), verified_at_most(campaign)
     listed = ", ".join(f"{name} {n}" + _resolution(campaign, name)
                        + (" a round" + _other_optima(n, candidates) if name == VERIFICATION else "")
@@ -371,11 +371,11 @@ def _stages_text(campaign: Campaign) -> str:
 
 
 def identifiability_cost(campaign: Campaign) -> tuple[tuple[int, int], tuple[float, float]]:
-    """The identifiability stage's DEM runs, as planned (both ends meet the sheet at their
-    first runs) and at most (each end pulled in `pinning.BISECTIONS` times), and their time
-    in UCS runs' (`cost.relative_time`); a sheet that pins every parameter runs none."""
+    """The identifiability stage's DEM runs, as planned (one range read: each end run
+    1 + `pinning.BISECTIONS` times) and at most (every searched parameter's range read), and
+    their time in UCS runs' (`cost.relative_time`); a sheet that pins every parameter runs none."""
     planned = [spec.kind for stage, spec in planned_runs(campaign) if stage == IDENTIFIABILITY]
-    most = planned + bisection_tests(campaign) if planned else []
+    most = planned + further_reads_tests(campaign, len(planning_state(campaign).names)) if planned else []
     return (len(planned), len(most)), tuple(sum(relative_time(campaign, t) for t in tests)
                                             for tests in (planned, most))
 
@@ -383,9 +383,9 @@ def identifiability_cost(campaign: Campaign) -> tuple[tuple[int, int], tuple[flo
 def _identifiability_text(campaign: Campaign) -> str:
     """The identifiability stage's runs as a range, in words."""
     (planned, most), (planned_time, most_time) = identifiability_cost(campaign)
-    return (f" to {most} a range it reads in the DEM (about {planned_time:.0f} to {most_time:.0f} UCS runs' time; "
-            "the widest range not pinned first, the next where the DEM pins it; none where the sheet pins "
-            "every parameter)")
+    return (f" to {most} (about {planned_time:.0f} to {most_time:.0f} UCS runs' time: each range it reads in the "
+            f"DEM runs each end {1 + BISECTIONS} times, the widest range not pinned first, the next where the DEM "
+            "pins it, every searched parameter's at most; none where the sheet pins every parameter)")
 
 
 def _other_optima(point_runs: int, candidates: int) -> str:

@@ -4,11 +4,12 @@ parameters the lab sheet pins, and which lab test it lacks would pin the others.
 On the surrogate of every run, the points whose predicted responses meet every target
 (`rockcal.inverse.identifiability`: each within the tolerance, or the lab's spread where wider,
 plus the surrogate's error at the verified points) give each parameter's range. That set is an
-outer bound, so the ranges it does not pin are read in the DEM, widest first: the calibrated
-tests run at a range's two ends; an end whose runs miss the sheet (the bands without the
-surrogate's error) is pulled halfway towards the accepted point and run again, at most
-BISECTIONS times. The range kept lies between the ends that met the sheet (the accepted point
-on a side where none did), and decides that parameter's verdict; where the DEM pins it, the
+outer bound only as far as the surrogate is right, so the ranges it does not pin are read in
+the DEM, widest first: the calibrated tests run at a range's two ends, then each side is
+bisected BISECTIONS times between its farthest point that met the sheet (the bands without the
+surrogate's error) and its nearest that missed, each run training the surrogate. The range
+kept spans every point the DEM found meeting the sheet, and decides that parameter's verdict
+(a range none of whose ends met the sheet keeps the surrogate's); where the DEM pins it, the
 next range not pinned is read. Each lab test the sheet lacks runs at the two ends of the first
 range the DEM leaves not pinned, ranked by how much its response varies between them per run
 of lab work: the test that would pin the parameter."""
@@ -21,13 +22,14 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from rockcal.campaign.plan.cost import relative_time
-from rockcal.campaign.procedure.points import CalibrationFailed, folded, point_specs, spec_of
+from rockcal.campaign.procedure.points import (CalibrationFailed, first_packing, folded, grouped, point_responses,
+                                              point_specs, spec_of)
 from rockcal.campaign.procedure.result import EndRun, Identifiability, ParameterRange, SpreadOfTest
 from rockcal.campaign.procedure.rounding import rounded, stand_in
 from rockcal.campaign.runs.spec import RunSpec
 from rockcal.errors import InputError
 from rockcal.inverse.identifiability import (bands, ends_of, in_bands, kept, meeting_set, meets,
-                                             parameter_ranges)
+                                             parameter_ranges, worst_errors)
 from rockcal.labtests.registry import LAB_TESTS, PRIMARY_TEST, lab_test
 from rockcal.specimens.grain_limit import check_grains, expected_grains
 from rockcal.specimens.specimen import SHIPPED_DIR
@@ -37,7 +39,7 @@ if TYPE_CHECKING:
 
 IDENTIFIABILITY = "identifiability"  # the stage's name
 SIDES = ("low", "high")  # the two ends of the range the DEM reads
-BISECTIONS = 2  # times an end that misses the sheet is pulled halfway towards the accepted point
+BISECTIONS = 2  # runs a side of a range read adds after its end's, each halfway in or out
 CONFINEMENT_MPA = 10.0  # a confined test the sheet lacks runs at this confinement
 # a test not named in [identifiability] tests runs only where its two runs cost at most this
 # many UCS runs and rockcal ships its packing (a genesis takes longer than the runs): the stage
@@ -115,7 +117,7 @@ def _runs_here(kind, campaign, own: dict) -> bool:
 class Narrowing:
     """The stage between its batches of runs: the record as the surrogate's set gives it, the
     parameter whose range the DEM reads, the DEM runs at its ends so far and each side's point
-    to run next (None: settled, by a run that met the sheet or by its last bisection)."""
+    to run next (None: settled, by its last bisection or on its bound of the box)."""
 
     found: Identifiability
     name: str
@@ -131,18 +133,25 @@ def pinning_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec],
     surrogate of every run)."""
     n = state.narrowing
     if n is None:
-        found, points = surrogate_set(state, judged(state))
+        surrogate = judged(state)
+        found, points = surrogate_set(state, surrogate)
         if _widest_unread(found) is None or not state.campaign.identifiability.runs:
             done = found.model_copy(update={"text": text_of(found, state.campaign)})
             return [], lambda results, progress: replace(state, final=state.final | {"identifiability": done})
-        state = _narrowing(state, found, points, ())
+        state = _narrowing(state, found, surrogate, points, ())
     elif all(row is None for row in n.next):
         read = _read_range(state)
         found = n.found.model_copy(update={"ranges": n.found.ranges | {n.name: read}})
-        if not read.pinned or _widest_unread(found) is None:
+        if _loose(read) or _widest_unread(found) is None:
             return _ranking_runs(replace(state, narrowing=replace(n, found=found)), read)
-        state = _narrowing(state, found, surrogate_set(state, judged(state))[1], n.keys)
-    return _end_runs(state)
+        surrogate = judged(state)
+        state = _narrowing(state, found, surrogate, surrogate_set(state, surrogate)[1], n.keys)
+    return _end_runs(state, judged)
+
+
+def _loose(read: ParameterRange) -> bool:
+    """Whether a range read in the DEM leaves its parameter not pinned, between ends that met the sheet."""
+    return not read.pinned and bool(read.verified_ends)
 
 
 def _widest_unread(found: Identifiability) -> str | None:
@@ -151,12 +160,14 @@ def _widest_unread(found: Identifiability) -> str | None:
     return max(loose, key=lambda n: loose[n].share) if loose else None
 
 
-def _narrowing(state: CampaignState, found: Identifiability, points: np.ndarray, keys: tuple) -> CampaignState:
-    """The state reading the widest unread range not pinned in the DEM next: its two ends."""
+def _narrowing(state: CampaignState, found: Identifiability, surrogate, points: np.ndarray,
+               keys: tuple) -> CampaignState:
+    """The state reading the widest unread range not pinned in the DEM next: its two ends
+    (`ends_of` the set `points` of the `surrogate`)."""
     name = _widest_unread(found)
-    start = np.array([state.identified()[n] for n in state.names])
+    worst = worst_errors(surrogate.predict, state.goals.targets, points)
     ends = [dict(zip(state.names, rounded(row, state.whole)))
-            for row in ends_of(points, state.names.index(name), start, state.box)]
+            for row in ends_of(points, state.names.index(name), worst)]
     return replace(state, narrowing=Narrowing(found, name, tuple(ends), keys, first=len(found.end_runs)))
 
 
@@ -186,16 +197,14 @@ def surrogate_error(state: CampaignState) -> dict[str, float]:
             for r in state.goals.targets}
 
 
-def _end_runs(state: CampaignState) -> tuple[list[RunSpec], Callable]:
+def _end_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec], Callable]:
     """The calibrated tests' runs at each side's next point (on their packings, as a verified
-    point's), and the fold that settles a side whose runs met the sheet or pulls its point
-    halfway towards the accepted point."""
+    point's), and the fold that moves each side on (`_next_points`)."""
     n, campaign = state.narrowing, state.campaign
     pending = [(side, row) for side, row in zip(SIDES, n.next) if row is not None]
     points = [(campaign.specimen, row) for _, row in pending]
     specs = point_specs(state, points, means=True)
     sheet = bands(state.goals.targets, campaign.acceptance.tolerance, state.goals.spread, None)
-    x0 = state.identified()
 
     def fold(results, progress):
         try:
@@ -205,51 +214,111 @@ def _end_runs(state: CampaignState) -> tuple[list[RunSpec], Callable]:
         runs = [EndRun(side=side, point=row, errors=_errors(state.goals.targets, v),
                        met=v is not None and in_bands(v, sheet)) for (side, row), v in zip(pending, found)]
         end_runs = n.found.end_runs + runs
-        tried = {side: sum(r.side == side for r in end_runs[n.first:]) for side in SIDES}
-        settled = {r.side: r for r in runs if r.met or tried[r.side] > BISECTIONS}
-        next_ = tuple(None if row is None or side in settled else _halfway(state, row, x0)
-                      for side, row in zip(SIDES, n.next))
+        # the runs train the surrogate: where the set it gives is off the DEM's, it learns so there
+        new = _trained(new, points, grouped(new, points, results, means=True))
+        sides = {side: [r for r in end_runs[n.first:] if r.side == side] for side, _ in pending}
+        next_ = _next_points(new, judged, {side: runs for side, runs in sides.items() if not _settled(runs)})
         found_now = n.found.model_copy(update={"end_runs": end_runs})
         # the calibration's run budget (dem_runs) counts none of the stage's runs
         return replace(new, dem_runs=state.dem_runs,
-                       narrowing=replace(n, found=found_now, next=next_, keys=n.keys + tuple(s.key for s in specs)))
+                       narrowing=replace(n, found=found_now, next=tuple(next_.get(side) for side in SIDES),
+                                         keys=n.keys + tuple(s.key for s in specs)))
 
     return specs, fold
 
 
-def _halfway(state: CampaignState, row: dict, x0: dict) -> dict:
-    return dict(zip(state.names, rounded(np.array([(row[n] + x0[n]) / 2 for n in state.names]), state.whole)))
+def _trained(state: CampaignState, points: list, per_point: list[dict]) -> CampaignState:
+    """The state with the points whose runs succeeded among the surrogate's training runs
+    (their first packing's responses, as a verified point's)."""
+    rows = [(np.array([row[n] for n in state.names]), point_responses(state, first_packing(state, runs))[0])
+            for (_, row), runs in zip(points, per_point)]
+    fresh = [(x, v) for x, v in rows if v is not None and not any(np.allclose(x, seen) for seen in state.train_x)]
+    if not fresh:
+        return state
+    return replace(state, train_x=np.vstack([state.train_x, *[x for x, _ in fresh]]),
+                   train_y=state.train_y + [v for _, v in fresh])
+
+
+def _settled(runs: list[EndRun]) -> bool:
+    """Whether a side's runs so far settle it: its bisections done, or a run that met the sheet
+    after one that missed (the set's edge found between them)."""
+    met = [r.met for r in runs]
+    return len(runs) > BISECTIONS or (met[-1] and not all(met))
+
+
+def _next_points(state: CampaignState, judged: Callable, sides: dict[str, list[EndRun]]) -> dict[str, dict]:
+    """Each side's next point, by bisection of the parameter read between its farthest point
+    that met the sheet (the accepted point before one did) and its nearest that missed (the
+    box's bound before one did; `_settled` once it met after a miss): halfway between them, the other parameters where the set of
+    the surrogate the runs trained lies there (its end on that side among its points no
+    farther out), or halfway too where no point of that set lies between them. On a ridge
+    that curves, a straight line from the accepted point leaves the DEM's set."""
+    name, x0 = state.narrowing.name, state.identified()
+    k = state.names.index(name)
+    if any(not r.met for runs in sides.values() for r in runs):  # a point to pull in: the retrained set
+        surrogate = judged(state)
+        points = surrogate_set(state, surrogate)[1]
+        worst = worst_errors(surrogate.predict, state.goals.targets, points)
+    found = {}
+    for side, runs in sides.items():
+        met, missed = [r.point for r in runs if r.met], [r.point for r in runs if not r.met]
+        inner = met[-1] if met else x0
+        if not missed:  # pushed out towards the box's bound, unless on it
+            bound = state.bounds[name][SIDES.index(side)]
+            if not np.isclose(inner[name], bound):
+                found[side] = _rounded(state, inner | {name: (inner[name] + bound) / 2})
+            continue
+        outer = missed[-1]
+        halfway = (inner[name] + outer[name]) / 2
+        between = (points[:, k] >= halfway) & (points[:, k] <= inner[name]) if side == "low" else \
+            (points[:, k] <= halfway) & (points[:, k] >= inner[name])
+        if between.any():
+            end = ends_of(points[between], k, worst[between])[SIDES.index(side)]
+            found[side] = _rounded(state, dict(zip(state.names, end)) | {name: halfway})
+        else:
+            found[side] = _rounded(state, {n: (inner[n] + outer[n]) / 2 for n in state.names})
+    return found
+
+
+def _rounded(state: CampaignState, row: dict) -> dict:
+    return dict(zip(state.names, rounded(np.array([row[n] for n in state.names]), state.whole)))
 
 
 def _errors(targets: dict[str, float], responses: dict | None) -> dict | None:
     return None if responses is None else {r: responses[r] / t - 1 for r, t in targets.items()}
 
 
-def _ends_read(state: CampaignState) -> tuple[dict, list[dict]]:
-    """The sides whose end met the sheet in the DEM (their points) and the two ends kept (the
-    accepted point on a side where none did), at the parameter being read."""
-    n = state.narrowing
-    met = {r.side: r.point for r in n.found.end_runs[n.first:] if r.met}
-    return met, [met.get(side, state.identified()) for side in SIDES]
+def _ends_read(state: CampaignState, name: str) -> list[dict]:
+    """The two ends kept of a parameter's range read in the DEM: of every point the DEM found
+    meeting the sheet (the accepted point, and each end run of the stage that met it, whichever
+    range it read), those where that parameter is lowest and highest."""
+    met = [state.identified()] + [r.point for r in state.narrowing.found.end_runs if r.met]
+    return [min(met, key=lambda row: row[name]), max(met, key=lambda row: row[name])]
+
+
+def _spanning(state: CampaignState, name: str, verified_ends: list[str]) -> ParameterRange:
+    """A parameter's range between its ends kept (`_ends_read`) and its verdict."""
+    low, high = (end[name] for end in _ends_read(state, name))
+    box_low, box_high = state.bounds[name]
+    share = (high - low) / (box_high - box_low)
+    return ParameterRange(low=low, high=high, share=share, pinned=share <= state.narrowing.found.pinned_share,
+                          verified_ends=verified_ends)
 
 
 def _read_range(state: CampaignState) -> ParameterRange:
-    """The range the DEM read: between the ends kept (`_ends_read`)."""
+    """The range the DEM read (`_spanning`); where no end of this range met the sheet, the DEM
+    found no point of the set to read: the surrogate's range and verdict stay, marked read."""
     n = state.narrowing
-    met, ends = _ends_read(state)
-    low, high = sorted(end[n.name] for end in ends)
-    box_low, box_high = state.bounds[n.name]
-    share = (high - low) / (box_high - box_low)
-    return ParameterRange(low=low, high=high, share=share, pinned=share <= n.found.pinned_share,
-                          verified_ends=[side for side in SIDES if side in met])
+    met = [side for side in SIDES if any(r.met and r.side == side for r in n.found.end_runs[n.first:])]
+    return _spanning(state, n.name, met) if met else n.found.ranges[n.name].model_copy(update={"verified_ends": []})
 
 
 def _ranking_runs(state: CampaignState, read: ParameterRange) -> tuple[list[RunSpec], Callable]:
     """Each lacking test's runs at the two ends of the range the DEM `read` where it is not
     pinned, and the fold that ranks them and records the stage."""
     n, campaign = state.narrowing, state.campaign
-    ends = _ends_read(state)[1]
-    tests = [] if read.pinned else candidates(campaign)
+    ends = _ends_read(state, n.name)
+    tests = candidates(campaign) if _loose(read) else []
     asked = [(c, [spec_of(state, c.test, campaign.specimen, row, c.own) for row in ends]) for c in tests]
     specs = list({spec.key: spec for _, runs in asked for spec in runs}.values())
     keys = set(n.keys) | {spec.key for spec in specs}
@@ -257,7 +326,10 @@ def _ranking_runs(state: CampaignState, read: ParameterRange) -> tuple[list[RunS
     def fold(results, progress):
         done = dict(zip((spec.key for spec in specs), results))
         ranked = sorted((_spread(c, [done[spec.key] for spec in runs]) for c, runs in asked), key=lambda t: -t.score)
-        found = n.found.model_copy(update={"ranges": n.found.ranges | {n.name: read}, "points": ends if tests else [],
+        # each range read between ends that met the sheet spans every point later reads found meeting it too
+        ranges = {name: _spanning(state, name, r.verified_ends) if r.verified_ends else r
+                  for name, r in (n.found.ranges | {n.name: read}).items()}
+        found = n.found.model_copy(update={"ranges": ranges, "points": ends if tests else [],
                                            "tests": ranked, "runs": len(keys - set(state.dem_runs))})
         found = found.model_copy(update={"text": text_of(found, campaign)})
         return replace(state, narrowing=None, final=state.final | {"identifiability": found})
@@ -266,26 +338,29 @@ def _ranking_runs(state: CampaignState, read: ParameterRange) -> tuple[list[RunS
 
 
 def planned_runs(state: CampaignState) -> list[RunSpec]:
-    """The stage's runs as the first screen plans them (the planning state): both ends of the
-    first searched parameter's range meet the sheet at their first runs, and each lacking test
-    runs there; none with [identifiability] runs = false."""
+    """The stage's runs as the first screen plans them (the planning state): the first
+    searched parameter's range read, each end run 1 + BISECTIONS times, and each lacking
+    test's runs at its two ends; none with [identifiability] runs = false."""
     campaign = state.campaign
     if not campaign.identifiability.runs:
         return []
     x = stand_in(state.box, state.whole)
-    ends = [dict(zip(state.names, rounded(np.r_[state.box[0, k], x[1:]], state.whole))) for k in (0, 1)]
-    specs = point_specs(state, [(campaign.specimen, row) for row in ends], means=True)
-    specs += [spec_of(state, c.test, campaign.specimen, row, c.own) for c in candidates(campaign) for row in ends]
+    ends = [rounded(np.r_[x[0] + (state.box[0, k] - x[0]) / 2 ** j, x[1:]], state.whole)
+            for k in (0, 1) for j in range(1 + BISECTIONS)]
+    specs = point_specs(state, [(campaign.specimen, dict(zip(state.names, row))) for row in ends], means=True)
+    specs += [spec_of(state, c.test, campaign.specimen, dict(zip(state.names, row)), c.own)
+              for c in candidates(campaign) for row in ends[::1 + BISECTIONS]]
     return list({spec.key: spec for spec in specs}.values())
 
 
-def bisection_tests(campaign) -> list[str]:
-    """The test of each run the ends' bisections may add to the planned runs, at most."""
+def further_reads_tests(campaign, searched: int) -> list[str]:
+    """The test of each run the stage may add to the planned runs, at most: every other
+    searched parameter's range read too (the DEM pins each read before it)."""
     if not campaign.identifiability.runs:
         return []
     per_point = [test for test, s in campaign.target_sections().items()
                  for _ in range(max(1, len(s.series())) * s.packings)]
-    return len(SIDES) * BISECTIONS * per_point
+    return (searched - 1) * len(SIDES) * (1 + BISECTIONS) * per_point
 
 
 def _spread(candidate: Candidate, results: list) -> SpreadOfTest:
@@ -330,7 +405,7 @@ def text_of(found: Identifiability, campaign) -> str:
                 f"ends; add it to [targets] and resume (--resume keeps the runs done).")
     if loose and not campaign.identifiability.runs:
         return text + ". [identifiability] runs = false: no lab test was run to name one that would pin it."
-    if not any(n in loose for n in read):
+    if not any(n in loose and found.ranges[n].verified_ends for n in read):
         return text + "."
     ran = ", ".join(dict.fromkeys(t.response for t in found.tests)) or "none"
     return (text + f". No response run at the ends ({ran}) varies more than ±{100 * tolerance:g} % between them: "
@@ -345,5 +420,5 @@ def _ends_text(read: ParameterRange) -> str:
         return "both ends met the sheet"
     if ends:
         other = "high" if ends == ["low"] else "low"
-        return f"its {ends[0]} end met the sheet, its {other} end is the accepted point"
-    return "no end met the sheet: the accepted point alone"
+        return f"its {ends[0]} end met the sheet, its {other} end is the farthest other point found meeting it"
+    return "no end met the sheet, the surrogate's range kept"
