@@ -98,6 +98,23 @@ def test_a_3d_brazilian_test_it_cannot_run_is_refused(cli, tmp_path, key, value,
     assert calibrate(cli, tmp_path, campaign(BRAZILIAN, dimensions="2", **{key: value})).returncode == 0
 
 
+BENDING = "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0"
+
+
+def test_a_beams_thickness_is_a_3d_beams_alone_and_defaults_to_eight_of_its_largest_spheres(cli, tmp_path):
+    """A 2D beam is a slab of unit thickness: a thickness is refused there, naming the key; in 3D
+    one thinner than 4 of the largest spheres (6.6 mm at R_min 0.5 mm) is refused, none given is
+    16 R_min x radius_ratio."""
+    for text, flag, words in (("10", "--thickness-mm", ["dimensions = 3"]), ("5", "--thickness-mm", ["4 diameters"])):
+        dimensions = "2" if words == ["dimensions = 3"] else "3"
+        one_line(calibrate(cli, tmp_path, campaign(BENDING, dimensions=dimensions, beam_thickness_mm=text)),
+                 "specimen.beam_thickness_mm", *words)
+        one_line(cli("simulate", "bending", "--rmin-mm", "0.5", "--dimensions", dimensions, flag, text), flag, *words)
+    bending = LAB_TESTS["bending"]
+    s = specimen_settings(bending, {"dimensions": 3, "rmin_mm": 0.5})
+    assert s["beam_thickness_mm"] is None and bending.outline(s).vessel_mm == (220.0, 16 * 0.5 * 1.65, 50.0)
+
+
 def test_the_flat_jointed_material_is_accepted_in_3d_and_its_bad_values_refused(cli, tmp_path):
     flat = '[material]\nmodel = "flatjoint"'
     box = ("E_c = [15, 25], sigma_c = [30, 50]", "fj_emod = [15, 25], fj_ten = [5, 15]")
