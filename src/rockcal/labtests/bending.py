@@ -377,8 +377,8 @@ BEAM_SETTINGS = {"length_mm": "beam_length_mm", "height_mm": "beam_height_mm", "
 
 
 def beam_of(settings: dict) -> Beam:
-    """The beam of a test's specimen settings."""
-    return Beam(**{field: settings[name] for field, name in BEAM_SETTINGS.items()})
+    """The beam of a test's specimen settings (a run's key leaves out the thickness at its default)."""
+    return Beam(**{field: settings[name] for field, name in BEAM_SETTINGS.items() if name in settings})
 
 
 def _check(s: dict) -> None:
@@ -386,7 +386,7 @@ def _check(s: dict) -> None:
         check_3d_settings(s)
         with fields_named(BEAM_SETTINGS):
             return check_beam_3d(beam_of(s), s["rmin_mm"], s["radius_ratio"], genesis_of(s))
-    if s["beam_thickness_mm"] is not None:
+    if s.get("beam_thickness_mm") is not None:
         raise InputError("beam_thickness_mm", "a 2D beam is PFC2D's slab of unit thickness (its load per metre); "
                                               "a thickness is a 3D beam's, with dimensions = 3")
     with fields_named(BEAM_SETTINGS):
