@@ -8,6 +8,7 @@ Every case fails while the input is checked (no genesis, no run): the file is qu
 
 import pytest
 
+from rockcal.campaign.plan.cost import specimen_size
 from rockcal.labtests.specimen_settings import DEFAULTS_3D, SpecimenSettings
 from rockcal.specimens.grain_limit import DEFAULT_MAX_GRAINS, ENV
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D
@@ -73,7 +74,8 @@ def test_dimensions_other_than_2_or_3_are_refused(cli, tmp_path, value):
 @pytest.mark.parametrize("name", list(LAB_TESTS))
 def test_a_test_runs_in_3d_where_it_says_so(name):
     """A test accepts 3D exactly where it has the setting `dimensions`, and there its specimen
-    is one of spheres; elsewhere 3D is refused naming the test."""
+    is one of spheres, as many as the first screen counts (within 15 %: carved by the spheres'
+    centres); elsewhere 3D is refused naming the test."""
     test = LAB_TESTS[name]
     if "dimensions" not in test.settings:
         with pytest.raises(InputError, match=f"{name}: .*no 3D implementation"):
@@ -85,7 +87,9 @@ def test_a_test_runs_in_3d_where_it_says_so(name):
              "scb_radius_mm": 8.5, "scb_notch_mm": 4.25, "scb_notch_width_mm": 1.0}
     s = specimen_settings(test, {k: v for k, v in given.items() if k in test.settings})
     test.check(s)
-    assert test.make(s).dimensions == 3
+    made = test.make(s)
+    assert made.dimensions == 3
+    assert specimen_size(name, SpecimenSettings(**given))[1] == pytest.approx(made.n_particles, rel=0.15)
 
 
 @pytest.mark.parametrize("key, value, flag, words", [
