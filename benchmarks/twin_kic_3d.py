@@ -1,8 +1,9 @@
 """A 3D twin of all four lab values: E, nu, UCS and K_IC made by the 3D engine at known E_c,
 kn/ks, sigma_c and installation gap (on a 15 x 30 mm cylinder and a 0.3-scale notched beam,
 66 x 15 mm at its default thickness, both at R_min 0.75 mm), then a campaign searching those
-four on them; how close it comes to the parameters that made them, and which of them its lab
-sheet pins (the identifiability stage).
+four on them, multi-fidelity as `docs/campaigns/granite-3d-all-targets.toml` (coarse runs at
+R_min 1.125 mm); how close it comes to the parameters that made them, and which of them its
+lab sheet pins (the identifiability stage).
 
 Run by hand: `python benchmarks/twin_kic_3d.py [--out runs/twin-kic-3d] [--workers 2]
 [--set E_c=28 --set kn_ks=3.2 --set sigma_c=45 --set install_gap=0.8]` (a second run reuses
@@ -58,12 +59,16 @@ bounds = {{ E_c = [18, 40], kn_ks = [1.5, 5], sigma_c = [20, 90], install_gap = 
 fixed = {{ tau_c = 90, mu = 0.5 }}
 
 [surrogate]
-samples = 12
-checks = 2
+coarse_samples = 16
+coarse_factor = 1.5
+samples = 4
+samples_every_test = 2
+checks = 1
 
 [acceptance]
 tolerance = {tolerance!r}
 max_dem_runs = 40
+candidates = 1
 """
 
 
