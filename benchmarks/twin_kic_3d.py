@@ -22,6 +22,7 @@ from rockcal.campaign.runs.pool import Executor, execute
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.campaign.runs.store import RunStore
 from rockcal.params import parse_assignments
+from twin_3d import report
 
 TRUE = {"E_c": 28.0, "kn_ks": 3.2, "sigma_c": 45.0, "install_gap": 0.8}
 TARGETS = {"ucs": ("E_GPa", "nu", "ucs_MPa"), "bending": ("K_IC_MPa_sqrt_m",)}
@@ -96,21 +97,8 @@ def main() -> None:
     text = CAMPAIGN.format(**targets, install_gap=0.6, tolerance=args.tolerance)
     campaign = planned(parse_campaign(text, Path.cwd()))
     record = calibrate(campaign, Executor(RunStore(args.out), workers=args.workers))
-    print(f"accepted {record.accepted}, {record.dem_runs} parameter sets, "
-          f"{(time.perf_counter() - started) / 60:.1f} min, load average {os.getloadavg()[0]:.2f}")
-    for name, value in true.items():
-        found = record.identified[name]
-        print(f"{name:12s} true {value:8.4g}  found {found:8.4g}  {100 * (found / value - 1):+6.2f} %")
-    print("errors at the identified point:",
-          ", ".join(f"{k} {100 * v:+.2f} %" for k, v in record.errors.items()))
-    found = record.identifiability
-    if found is not None:
-        for name, r in found.ranges.items():
-            holds = "holds" if r.low <= true[name] <= r.high else "misses"
-            print(f"{name:12s} {'pinned' if r.pinned else 'not pinned'}: {r.low:.4g}-{r.high:.4g} "
-                  f"({100 * r.share:.0f} % of its box, {'the surrogate' if r.verified_ends is None else 'DEM'}), "
-                  f"{holds} the truth")
-        print("identifiability:", found.text)
+    report(record, true, started)
+    print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
 
 if __name__ == "__main__":
