@@ -7,11 +7,11 @@ pin moves down at a quasi-static speed on the density-scaled beam. Loads are per
 thickness (PFC2D convention).
 
 The test is one procedure in 2D and 3D, over the rig of the beam's dimension (`rig.rig_for`):
-with the setting `dimensions` 3 (PFC3D) the beam is a prism `Beam.thickness_mm` thick (by default
-eight of its largest spheres across, `thickness_3d_mm`), carved from a cuboid packing of spheres with a straight-through notch
-(`notched_beam_3d`), between cylindrical pins along its thickness (`rig.pins_3d`); its load is
-in N over the whole thickness, reported in kN (P_max_kN), and K_IC is the same beam formula
-with that thickness.
+with the setting `dimensions` 3 (PFC3D) the beam is a prism `Beam.thickness_mm` thick (by
+default eight of its largest spheres across, `thickness_3d_mm`), carved from a cuboid packing
+of spheres with a straight-through notch (`notched_beam_3d`), between cylindrical pins along
+its thickness (`rig.pins_3d`); its load is in N over the whole thickness, reported in kN
+(P_max_kN), and K_IC is the same beam formula with that thickness.
 """
 
 from __future__ import annotations
@@ -434,8 +434,8 @@ RESPONSES_3D = tuple(Response("P_max_kN", "kN", target=False, label="peak load")
 
 TEST = LabTest(
     lab_values=BendingValues,
-    # its steps grow with span² / height, not with its rows; in 3D it runs 1.4 times longer still
-    # beside a UCS run of the same work (measured on a 66 x 15 x 19.8 mm beam and a 10 x 20 mm cylinder)
+    # its steps grow with span² / height, not with its rows; in 3D a run takes 1.4 times longer
+    # still beside a UCS run of the same work
     time_factor=lambda s: 2.4 if in_3d(s) else 1.75,
     name="bending", title="bending",
     help="Three-point bending of a notched beam: peak load, load-displacement curve, K_IC.",
@@ -444,8 +444,9 @@ TEST = LabTest(
     flags=(("beam_length_mm", "length_mm"), ("beam_height_mm", "height_mm"), ("beam_thickness_mm", "thickness_mm")),
     defaults=(("stop_fraction", POST_PEAK_FRACTION),),
     # grain_shape, dimensions and the thickness last: at their defaults (kind.LATER_SETTINGS) out of a run's key
-    settings=(*list(BEAM_SETTINGS.values())[:-1], "rmin_mm", "radius_ratio", "seed", *GENESIS,
-              "stop_fraction", "contact_stiffness", "grain_shape", "dimensions", "beam_thickness_mm"),
+    settings=("beam_length_mm", "beam_height_mm", "notch_mm", "notch_width_mm", "span_mm", "rmin_mm",
+              "radius_ratio", "seed", *GENESIS, "stop_fraction", "contact_stiffness", "grain_shape", "dimensions",
+              "beam_thickness_mm"),
     check=_check, make=_specimen, run=_run, reading=load_reading("kN/m"), outline=_outline,
     # a 3D beam has a thickness: its load in kN
     changes_3d=(("responses", RESPONSES_3D), ("curve_columns", ("displacement_mm", "load_kN")),
