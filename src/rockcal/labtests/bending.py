@@ -97,9 +97,9 @@ CONFIRM_FLEXURAL_PERIODS = 1.0
 DENSITY_SCALED_SPEED = 1.15
 
 # A 3D beam is by default this many of its largest spheres thick, twice the thinnest prism the
-# 3D genesis packs (`specimens3d.specimen.check_vessel`): at the thinnest the crack front crosses
-# so few grains that K_IC reads higher; from here on it is a rock's, per metre of thickness
-# (docs/validation/kic.md).
+# 3D genesis packs (`specimens3d.specimen.check_vessel`): K_IC moves by a few per cent a doubling
+# of the thickness from four across on, within the packings' spread (docs/validation/kic.md),
+# and the source's beam holds less than half the spheres it holds as thick as it is deep.
 DEFAULT_THICKNESS_DIAMETERS = 8
 
 
