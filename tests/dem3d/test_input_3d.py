@@ -83,7 +83,8 @@ def test_a_test_runs_in_3d_where_it_says_so(name):
         return
     test.check_dimensions(3, "parallel_bond")
     given = {"dimensions": 3, "width_mm": 7.0, "height_mm": 14.0, "rmin_mm": 0.5, "disk_diameter_mm": 16.0,
-             "beam_length_mm": 16.0, "beam_height_mm": 7.0, "notch_mm": 2.1, "notch_width_mm": 1.0, "span_mm": 12.0,
+             "beam_length_mm": 16.0, "beam_height_mm": 7.0, "beam_thickness_mm": 7.0, "notch_mm": 2.1,
+             "notch_width_mm": 1.0, "span_mm": 12.0,
              "scb_radius_mm": 8.5, "scb_notch_mm": 4.25, "scb_notch_width_mm": 1.0}
     s = specimen_settings(test, {k: v for k, v in given.items() if k in test.settings})
     test.check(s)
