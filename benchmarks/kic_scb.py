@@ -25,9 +25,9 @@ from rockcal.params import make_params, parse_assignments
 
 
 def specimens(scale: float) -> tuple[Beam, HalfDisk]:
-    """The beam and the half disk at `scale` x the full size."""
+    """The beam (in 3D as thick as it is deep) and the half disk at `scale` x the full size."""
     depth = 50.0 * scale
-    beam = Beam(220.0 * scale, depth, 18.0 * scale, 2.0 * scale, 160.0 * scale)
+    beam = Beam(220.0 * scale, depth, 18.0 * scale, 2.0 * scale, 160.0 * scale, thickness_mm=depth)
     return beam, HalfDisk(depth, 0.5 * depth, 0.8, 2.0 * scale)
 
 

@@ -58,18 +58,25 @@ def main() -> None:
           f"({lab.responses['n_particles']:.0f} spheres)")
     campaign = planned(parse_campaign(with_targets(text, targets, args.tolerance), CAMPAIGN.parent))
     record = calibrate(campaign, Executor(RunStore(args.out), workers=args.workers))
+    report(record, true, started)
+
+
+def report(record, true: dict, started: float) -> None:
+    """A twin's campaign against its truth: each parameter found and its error, the errors at
+    the identified point, and which parameters the twin's sheet pins and whether each range
+    holds the truth."""
     print(f"accepted {record.accepted}, {record.dem_runs} parameter sets, "
           f"{(time.perf_counter() - started) / 60:.1f} min")
     for name, value in true.items():
         found = record.identified[name]
-        print(f"{name:8s} true {value:8.4g}  found {found:8.4g}  {100 * (found / value - 1):+6.2f} %")
+        print(f"{name:12s} true {value:8.4g}  found {found:8.4g}  {100 * (found / value - 1):+6.2f} %")
     print("errors at the identified point:",
           ", ".join(f"{k} {100 * v:+.2f} %" for k, v in record.errors.items()))
     found = record.identifiability
-    if found is not None:  # which parameters the twin's sheet pins, and whether each range holds the truth
+    if found is not None:
         for name, r in found.ranges.items():
             holds = "holds" if r.low <= true[name] <= r.high else "misses"
-            print(f"{name:8s} {'pinned' if r.pinned else 'not pinned'}: {r.low:.4g}-{r.high:.4g} "
+            print(f"{name:12s} {'pinned' if r.pinned else 'not pinned'}: {r.low:.4g}-{r.high:.4g} "
                   f"({100 * r.share:.0f} % of its box, {'the surrogate' if r.verified_ends is None else 'DEM'}), "
                   f"{holds} the truth")
         print("identifiability:", found.text)

@@ -113,6 +113,26 @@ def test_the_all_targets_granite_fits_k_ic_and_searches_the_installation_gap():
     assert every.targets.bending == granite.targets.bending
 
 
+def test_the_3d_all_targets_granite_fits_the_2d_ones_lab_values_on_spheres_and_plans_its_first_screen(cli, tmp_path):
+    """The 2D all-targets granite's four lab values (their spread left out, as the 3D granite's:
+    no uncertainty stage) on the 3D granite's cylinder and a 3D beam
+    at its default thickness, the gap searched; the beam dear, so multi-fidelity with the beam
+    on only some of the full-resolution samples. Its dry run plans without a run."""
+    every, _ = load_campaign(str(DOCS / "granite-3d-all-targets.toml"))
+    two_d, _ = load_campaign(str(DOCS / "granite-all-targets.toml"))
+    three_d, _ = load_campaign(str(DOCS / "granite-3d.toml"))
+    assert every.targets.bending == two_d.targets.bending and every.validation_tests() == []
+    assert every.targets.ucs == two_d.targets.ucs.model_copy(update={"spread": three_d.targets.ucs.spread})
+    assert every.specimen.dimensions == 3 and every.specimen.beam_thickness_mm is None
+    assert {k: getattr(every.specimen, k) for k in ("width_mm", "height_mm", "rmin_mm")} == \
+        {k: getattr(three_d.specimen, k) for k in ("width_mm", "height_mm", "rmin_mm")}
+    assert "install_gap" in every.search.bounds and every.surrogate.coarse_samples > 0
+    assert 0 < every.surrogate.samples_every_test < every.surrogate.samples
+    run = cli("calibrate", DOCS / "granite-3d-all-targets.toml", "--dry-run", "--out", tmp_path / "out")
+    assert run.returncode == 0, run.stderr
+    assert "21.12 mm thick" in run.stdout and not (tmp_path / "out").exists()
+
+
 def test_the_flat_jointed_granite_has_the_embedded_granites_rock_targets_and_specimen():
     """So the rock lab can set the two materials side by side at calibrated points."""
     granite, _ = load_campaign(None)

@@ -8,6 +8,7 @@ Every case fails while the input is checked (no genesis, no run): the file is qu
 
 import pytest
 
+from rockcal.campaign.plan.cost import specimen_size
 from rockcal.labtests.specimen_settings import DEFAULTS_3D, SpecimenSettings
 from rockcal.specimens.grain_limit import DEFAULT_MAX_GRAINS, ENV
 from rockcal.specimens3d.genesis import DEFAULT_GENESIS_3D
@@ -73,7 +74,8 @@ def test_dimensions_other_than_2_or_3_are_refused(cli, tmp_path, value):
 @pytest.mark.parametrize("name", list(LAB_TESTS))
 def test_a_test_runs_in_3d_where_it_says_so(name):
     """A test accepts 3D exactly where it has the setting `dimensions`, and there its specimen
-    is one of spheres; elsewhere 3D is refused naming the test."""
+    is one of spheres, as many as the first screen counts (within 15 %: carved by the spheres'
+    centres); elsewhere 3D is refused naming the test."""
     test = LAB_TESTS[name]
     if "dimensions" not in test.settings:
         with pytest.raises(InputError, match=f"{name}: .*no 3D implementation"):
@@ -81,11 +83,14 @@ def test_a_test_runs_in_3d_where_it_says_so(name):
         return
     test.check_dimensions(3, "parallel_bond")
     given = {"dimensions": 3, "width_mm": 7.0, "height_mm": 14.0, "rmin_mm": 0.5, "disk_diameter_mm": 16.0,
-             "beam_length_mm": 16.0, "beam_height_mm": 7.0, "notch_mm": 2.1, "notch_width_mm": 1.0, "span_mm": 12.0,
+             "beam_length_mm": 16.0, "beam_height_mm": 7.0, "beam_thickness_mm": 7.0, "notch_mm": 2.1,
+             "notch_width_mm": 1.0, "span_mm": 12.0,
              "scb_radius_mm": 8.5, "scb_notch_mm": 4.25, "scb_notch_width_mm": 1.0}
     s = specimen_settings(test, {k: v for k, v in given.items() if k in test.settings})
     test.check(s)
-    assert test.make(s).dimensions == 3
+    made = test.make(s)
+    assert made.dimensions == 3
+    assert specimen_size(name, SpecimenSettings(**given))[1] == pytest.approx(made.n_particles, rel=0.15)
 
 
 @pytest.mark.parametrize("key, value, flag, words", [
@@ -96,6 +101,23 @@ def test_a_3d_brazilian_test_it_cannot_run_is_refused(cli, tmp_path, key, value,
     one_line(cli("simulate", "brazilian", "--rmin-mm", "0.5", "--dimensions", "3", flag, value.strip('"')),
              flag, *words)
     assert calibrate(cli, tmp_path, campaign(BRAZILIAN, dimensions="2", **{key: value})).returncode == 0
+
+
+BENDING = "[targets.bending]\nK_IC_MPa_sqrt_m = 1.0"
+
+
+def test_a_beams_thickness_is_a_3d_beams_alone_and_defaults_to_eight_of_its_largest_spheres(cli, tmp_path):
+    """A 2D beam is a slab of unit thickness: a thickness is refused there, naming the key; in 3D
+    one thinner than 4 of the largest spheres (6.6 mm at R_min 0.5 mm) is refused, none given is
+    16 R_min x radius_ratio."""
+    for text, flag, words in (("10", "--thickness-mm", ["dimensions = 3"]), ("5", "--thickness-mm", ["4 diameters"])):
+        dimensions = "2" if words == ["dimensions = 3"] else "3"
+        one_line(calibrate(cli, tmp_path, campaign(BENDING, dimensions=dimensions, beam_thickness_mm=text)),
+                 "specimen.beam_thickness_mm", *words)
+        one_line(cli("simulate", "bending", "--rmin-mm", "0.5", "--dimensions", dimensions, flag, text), flag, *words)
+    bending = LAB_TESTS["bending"]
+    s = specimen_settings(bending, {"dimensions": 3, "rmin_mm": 0.5})
+    assert s["beam_thickness_mm"] is None and bending.outline(s).vessel_mm == (220.0, 16 * 0.5 * 1.65, 50.0)
 
 
 def test_the_flat_jointed_material_is_accepted_in_3d_and_its_bad_values_refused(cli, tmp_path):

@@ -27,7 +27,7 @@ PACKING_SETTINGS = {"rmin_mm", "radius_ratio", "seed", *GENESIS}  # what a rando
 # key names one only where it differs from that, so the runs stored before keep their keys.
 LATER_SETTINGS = {"contact_stiffness": "pfc5", "max_axial_strain": 0.02, "brazilian_loading": "flat",
                   "grain_shape": DEFAULT_SHAPE, "dimensions": 2, "strip_modulus_gpa": 1.0,
-                  "confined_vessel": "prism"}
+                  "confined_vessel": "prism", "beam_thickness_mm": None}
 # A specimen's dimensions: 2, PFC2D's disks, or 3, PFC3D's spheres (the tests with the setting
 # `dimensions` alone, on a material the 3D engine has: `Material.states`).
 DIMENSIONS = (2, 3)
@@ -112,7 +112,8 @@ class SeriesFigure:
 @dataclass(frozen=True)
 class Outline:
     """A test's specimen as a plan sees it: in words, and the packing it is cut from (width and
-    height, mm; in 3D its vessel's three sides) with the share of that packing's grains it keeps."""
+    height, mm; in 3D its vessel's three sides) with the share of that packing's grains it keeps
+    (in 3D: of a width x width x height cuboid's, as `plan.cost` counts them)."""
 
     text: str
     width_mm: float

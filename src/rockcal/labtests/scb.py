@@ -235,7 +235,8 @@ def _outline(s: dict) -> Outline:
     r = s["scb_radius_mm"]
     if in_3d(s):
         b = half_disk_of(s).thickness_3d_mm
-        return Outline(f"half disk R {r:g} x B {b:g} mm", 2 * r, r, share=np.pi / 4, vessel_mm=(2 * r, b, r))
+        return Outline(f"half disk R {r:g} x B {b:g} mm", 2 * r, r, share=np.pi / 4 * b / (2 * r),
+                       vessel_mm=(2 * r, b, r))
     return Outline(f"half disk R {r:g} mm", 2 * r, r, share=np.pi / 4)
 
 

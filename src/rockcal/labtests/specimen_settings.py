@@ -46,6 +46,11 @@ class SpecimenSettings(Genesis):
     notch_width_mm: float = Field(2.0, ge=0, description="Notch width, mm; 0 is a cut: the bonds across the notch line "
                                   "are removed (a sharp crack).")
     span_mm: float = Field(160.0, gt=0, description="Distance S between the beam's supports, mm.")
+    # left out of a record at its default, as out of a run's key (`kind.LATER_SETTINGS`)
+    beam_thickness_mm: float | None = Field(None, gt=0, exclude_if=lambda v: v is None,
+                                            description="Notched beam thickness, mm, in 3D (default: eight of its "
+                                                        "largest spheres across, 16 x R_min x radius_ratio); a 2D "
+                                                        "beam is a slab of unit thickness.")
     disk_diameter_mm: float = Field(50.0, gt=0, description="Diameter of the Brazilian test's disk, mm.")
     # the semi-circular bend's (ISRM 2014), left out of a record at their defaults as LATER_SETTINGS are
     scb_radius_mm: float = Field(50.0, gt=0, exclude_if=lambda v: v == 50.0,
@@ -91,8 +96,8 @@ class SpecimenSettings(Genesis):
         2, exclude_if=lambda v: v == 2,
         description="2: PFC2D's disks; 3: PFC3D's spheres, the UCS and direct tension tests on a cylinder of "
                     "width_mm as diameter and height_mm tall, the confined test in a triaxial cell or on a square "
-                    "prism (confined_vessel), the Brazilian test on a disk D x D/2, the notched beam as "
-                    "thick as it is deep; in 3D cloud_porosity is 0.35, contact_stiffness pfc5 and "
+                    "prism (confined_vessel), the Brazilian test on a disk D x D/2, the notched beam "
+                    "beam_thickness_mm thick; in 3D cloud_porosity is 0.35, contact_stiffness pfc5 and "
                     "confined_vessel cylinder unless given.")
     # in every record: a 3D record without it would read back as the cell
     confined_vessel: Literal["cylinder", "prism"] = Field(
