@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import logging
 
+import math
+
 import numpy as np
 
 from rockcal.errors import InputError
@@ -140,7 +142,8 @@ class RadiusServo:
 
     def factor(self, stress: float) -> float:
         """The factor for a packing at `stress` (Pa), as a change of its current radii."""
-        return float(np.exp(SERVO_RELAXATION * (self.target - stress) / self.stiffness))
+        # the C library's exp and log: numpy's SIMD ones round by processor
+        return math.exp(SERVO_RELAXATION * (self.target - stress) / self.stiffness)
 
     def scale(self, stress: float) -> float:
         """The radii's scale over the servo's start after a round that ended at `stress` (Pa),
@@ -150,8 +153,8 @@ class RadiusServo:
             low, high = (b * PACKING_MODULUS_GPA * GPa for b in SERVO_STIFFNESS_BOUNDS)
             self.stiffness = float(np.clip(secant, low, high))
         self.last = (self.log_scale, stress)
-        self.log_scale += np.log(self.factor(stress))
-        return float(np.exp(self.log_scale))
+        self.log_scale += math.log(self.factor(stress))
+        return math.exp(self.log_scale)
 
 
 def _off_cylinder(pos, size, rmax: float) -> np.ndarray:

@@ -34,7 +34,7 @@ from rockcal.dem3d.vectors import cubes
 from rockcal.errors import InputError, fields_named
 from rockcal.output_files import atomic_path
 
-GENERATOR_VERSION_3D = 7
+GENERATOR_VERSION_3D = 8
 CLUMP_GENESIS_VERSION_3D = 1  # part of a clumped packing's key: raise it when `clump_genesis` changes
 SHAPES = ("cylinder", "cuboid")
 ROUND = ("cylinder", "disk", "half_disk")  # pi/4 of their box: a half disk's is D x t x D/2
