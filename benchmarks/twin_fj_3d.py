@@ -23,6 +23,7 @@ from rockcal.campaign.runs.pool import Executor, execute
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.campaign.runs.store import RunStore
 from rockcal.params import parse_assignments
+from twin_3d import report
 
 TRUE = {"fj_emod": 27.0, "fj_kratio": 2.3, "fj_ten": 14.0, "fj_coh": 33.0}
 BOUNDS = {"fj_emod": (15, 45), "fj_kratio": (1.2, 4.0), "fj_ten": (6, 25), "fj_coh": (15, 60)}
@@ -89,21 +90,7 @@ def main() -> None:
     print("twin's lab values:", ", ".join(f"{k} {v:.4g}" for k, v in targets.items()))
     campaign = planned(parse_campaign(campaign_text(targets, args.tolerance), Path.cwd()))
     record = calibrate(campaign, Executor(RunStore(args.out), workers=args.workers))
-    print(f"accepted {record.accepted}, {record.dem_runs} parameter sets, "
-          f"{(time.perf_counter() - started) / 60:.1f} min")
-    for name, value in true.items():
-        found = record.identified[name]
-        print(f"{name:9s} true {value:8.4g}  found {found:8.4g}  {100 * (found / value - 1):+6.2f} %")
-    print("errors at the identified point:",
-          ", ".join(f"{k} {100 * v:+.2f} %" for k, v in record.errors.items()))
-    found = record.identifiability
-    if found is not None:  # which parameters the sheet pins, and whether each range holds the truth
-        for name, r in found.ranges.items():
-            holds = "holds" if r.low <= true[name] <= r.high else "misses"
-            read = "the surrogate" if r.verified_ends is None else "DEM"
-            print(f"{name:9s} {'pinned' if r.pinned else 'not pinned'}: {r.low:.4g}-{r.high:.4g} "
-                  f"({100 * r.share:.0f} % of its box, {read}), {holds} the truth")
-        print("identifiability:", found.text)
+    report(record, true, started)
 
 
 if __name__ == "__main__":
