@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from typing import Callable, Iterable
 
-from rockcal.campaign.runs.packings import packing_file
+from rockcal.campaign.runs.packings import new_packings, packing_file
 from rockcal.campaign.runs.pool import prepare
 from rockcal.campaign.runs.spec import RunSpec
 from rockcal.output_files import atomic_path
@@ -64,18 +64,12 @@ class ClusterPackings:
         show(made, to make) as they are made."""
         from distributed import as_completed
 
-        wanted: dict[str, RunSpec] = {}
-        for spec in specs:
-            name = packing_file(spec)
-            if name is not None and name not in self._scattered:
-                wanted.setdefault(name, spec)
-        to_make = []
-        for name, spec in wanted.items():
+        specs = list(specs)
+        for name in {packing_file(spec) for spec in specs} - {None} - set(self._scattered):
             path = stored_packing(name)
-            if path is None:
-                to_make.append(spec)
-            elif path.parent == cache_dir():  # a shipped packing is on every worker already
+            if path is not None and path.parent == cache_dir():  # a shipped one is on every worker
                 self._scatter((name, path.read_bytes()))
+        to_make = [spec for spec in new_packings(specs) if packing_file(spec) not in self._scattered]
         if not to_make:
             return
         show = show or (lambda done, total: None)
