@@ -6,11 +6,13 @@ On the surrogate of every run, the points whose predicted responses meet every t
 plus the surrogate's error at the verified points) give each parameter's range. That set is an
 outer bound only as far as the surrogate is right, so the ranges it does not pin are read in
 the DEM, widest first: the calibrated tests run at a range's two ends, then each side is
-bisected BISECTIONS times between its farthest point that met the sheet (the bands without the
-surrogate's error) and its nearest that missed, each run training the surrogate. The range
-kept spans every point the DEM found meeting the sheet, and decides that parameter's verdict
-(a range none of whose ends met the sheet keeps the surrogate's); where the DEM pins it, the
-next range not pinned is read. Each lab test the sheet lacks runs at the two ends of the first
+bisected, at most BISECTIONS times, between its farthest point that met the sheet (the bands
+without the surrogate's error) and its nearest beyond that missed, while they lie more than
+EDGE_GAP of the box apart, each run training the surrogate. The range kept reaches from the
+points the DEM found meeting the sheet out to the nearest runs of its read that missed it (or
+the box's bounds): the set's edges along the read lie between, so it holds every point of the
+set the read came by. It decides that parameter's verdict (a range none of whose ends met the
+sheet keeps the surrogate's); where the DEM pins it, the next range not pinned is read. Each lab test the sheet lacks runs at the two ends of the first
 range the DEM leaves not pinned, ranked by how much its response varies between them per run
 of lab work: the test that would pin the parameter."""
 
@@ -39,7 +41,10 @@ if TYPE_CHECKING:
 
 IDENTIFIABILITY = "identifiability"  # the stage's name
 SIDES = ("low", "high")  # the two ends of the range the DEM reads
-BISECTIONS = 2  # runs a side of a range read adds after its end's, each halfway in or out
+BISECTIONS = 2  # runs a side of a range read adds at most after its end's, each halfway in or out
+# of the box: a side whose farthest run that met the sheet and nearest beyond that missed lie
+# this near each other is settled, its edge of the set found closely enough for a verdict
+EDGE_GAP = 0.05
 CONFINEMENT_MPA = 10.0  # a confined test the sheet lacks runs at this confinement
 # a test not named in [identifiability] tests runs only where its two runs cost at most this
 # many UCS runs and rockcal ships its packing (a genesis takes longer than the runs): the stage
@@ -117,7 +122,7 @@ def _runs_here(kind, campaign, own: dict) -> bool:
 class Narrowing:
     """The stage between its batches of runs: the record as the surrogate's set gives it, the
     parameter whose range the DEM reads, the DEM runs at its ends so far and each side's point
-    to run next (None: settled, by its last bisection or on its bound of the box)."""
+    to run next (None: settled, `_settled`)."""
 
     found: Identifiability
     name: str
@@ -212,12 +217,14 @@ def _end_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec], Ca
         except CalibrationFailed:  # every run failed: the sides' next points
             new, found = state, [None] * len(points)
         runs = [EndRun(side=side, point=row, errors=_errors(state.goals.targets, v),
-                       met=v is not None and in_bands(v, sheet)) for (side, row), v in zip(pending, found)]
+                       met=v is not None and in_bands(v, sheet), parameter=n.name)
+                for (side, row), v in zip(pending, found)]
         end_runs = n.found.end_runs + runs
         # the runs train the surrogate: where the set it gives is off the DEM's, it learns so there
         new = _trained(new, points, grouped(new, points, results, means=True))
         sides = {side: [r for r in end_runs[n.first:] if r.side == side] for side, _ in pending}
-        next_ = _next_points(new, judged, {side: runs for side, runs in sides.items() if not _settled(runs)})
+        next_ = _next_points(new, judged, {side: runs for side, runs in sides.items()
+                                           if not _settled(new, side, runs)})
         found_now = n.found.model_copy(update={"end_runs": end_runs})
         # the calibration's run budget (dem_runs) counts none of the stage's runs
         return replace(new, dem_runs=state.dem_runs,
@@ -239,21 +246,34 @@ def _trained(state: CampaignState, points: list, per_point: list[dict]) -> Campa
                    train_y=state.train_y + [v for _, v in fresh])
 
 
-def _settled(runs: list[EndRun]) -> bool:
-    """Whether a side's runs so far settle it: its bisections done, or a run that met the sheet
-    after one that missed (the set's edge found between them)."""
-    met = [r.met for r in runs]
-    return len(runs) > BISECTIONS or (met[-1] and not all(met))
+def _settled(state: CampaignState, side: str, runs: list[EndRun]) -> bool:
+    """Whether a side's runs so far settle it: its bisections done, or its edge (`_edge`)
+    found within EDGE_GAP of the box."""
+    name = state.narrowing.name
+    inner, outer = _edge(state, side, runs)
+    reach = (outer or {name: state.bounds[name][SIDES.index(side)]})[name]
+    box_low, box_high = state.bounds[name]
+    return len(runs) > BISECTIONS or abs(reach - inner[name]) <= EDGE_GAP * (box_high - box_low)
+
+
+def _edge(state: CampaignState, side: str, runs: list[EndRun]) -> tuple[dict, dict | None]:
+    """A side's farthest point that met the sheet (the accepted point before one did) and its
+    nearest run farther out that missed it (None: none did, the box's bound stands for it)."""
+    name, out = state.narrowing.name, 1 if side == "high" else -1
+    met = [r.point for r in runs if r.met]
+    inner = max(met, key=lambda row: out * row[name]) if met else state.identified()
+    missed = [r.point for r in runs if not r.met and out * (r.point[name] - inner[name]) > 0]
+    return inner, min(missed, key=lambda row: out * row[name]) if missed else None
 
 
 def _next_points(state: CampaignState, judged: Callable, sides: dict[str, list[EndRun]]) -> dict[str, dict]:
-    """Each side's next point, by bisection of the parameter read between its farthest point
-    that met the sheet (the accepted point before one did) and its nearest that missed (the
-    box's bound before one did; `_settled` once it met after a miss): halfway between them, the other parameters where the set of
-    the surrogate the runs trained lies there (its end on that side among its points no
-    farther out), or halfway too where no point of that set lies between them. On a ridge
-    that curves, a straight line from the accepted point leaves the DEM's set."""
-    name, x0 = state.narrowing.name, state.identified()
+    """Each side's next point, by bisection of the parameter read across its edge (`_edge`):
+    halfway between its farthest point that met the sheet and its nearest beyond that missed,
+    the other parameters where the set of the surrogate the runs trained lies there (its end on
+    that side among its points no farther out), or halfway too where no point of that set lies
+    between them; halfway to the box's bound where no run beyond missed. On a ridge that curves,
+    a straight line from the accepted point leaves the DEM's set."""
+    name = state.narrowing.name
     k = state.names.index(name)
     if any(not r.met for runs in sides.values() for r in runs):  # a point to pull in: the retrained set
         surrogate = judged(state)
@@ -261,14 +281,12 @@ def _next_points(state: CampaignState, judged: Callable, sides: dict[str, list[E
         worst = worst_errors(surrogate.predict, state.goals.targets, points)
     found = {}
     for side, runs in sides.items():
-        met, missed = [r.point for r in runs if r.met], [r.point for r in runs if not r.met]
-        inner = met[-1] if met else x0
-        if not missed:  # pushed out towards the box's bound, unless on it
+        inner, outer = _edge(state, side, runs)
+        if outer is None:  # pushed out towards the box's bound, unless on it
             bound = state.bounds[name][SIDES.index(side)]
             if not np.isclose(inner[name], bound):
                 found[side] = _rounded(state, inner | {name: (inner[name] + bound) / 2})
             continue
-        outer = missed[-1]
         halfway = (inner[name] + outer[name]) / 2
         between = (points[:, k] >= halfway) & (points[:, k] <= inner[name]) if side == "low" else \
             (points[:, k] <= halfway) & (points[:, k] >= inner[name])
@@ -297,12 +315,19 @@ def _ends_read(state: CampaignState, name: str) -> list[dict]:
 
 
 def _spanning(state: CampaignState, name: str, verified_ends: list[str]) -> ParameterRange:
-    """A parameter's range between its ends kept (`_ends_read`) and its verdict."""
-    low, high = (end[name] for end in _ends_read(state, name))
+    """A parameter's range read in the DEM and its verdict: from the span of its ends kept
+    (`_ends_read`) out to the nearest runs of its read beyond that missed the sheet, or to the
+    box's bounds where none did. The set's edges along the read lie between the two: the range
+    holds every point of the set the read came by, and pins the parameter only where they all
+    lie close."""
+    met_low, met_high = (end[name] for end in _ends_read(state, name))
+    missed = [r.point[name] for r in state.narrowing.found.end_runs if r.parameter == name and not r.met]
     box_low, box_high = state.bounds[name]
+    low = max((x for x in missed if x < met_low), default=box_low)
+    high = min((x for x in missed if x > met_high), default=box_high)
     share = (high - low) / (box_high - box_low)
     return ParameterRange(low=low, high=high, share=share, pinned=share <= state.narrowing.found.pinned_share,
-                          verified_ends=verified_ends)
+                          verified_ends=verified_ends, met_low=met_low, met_high=met_high)
 
 
 def _read_range(state: CampaignState) -> ParameterRange:
@@ -386,11 +411,15 @@ def text_of(found: Identifiability, campaign) -> str:
         listed = ", ".join(f"{n} {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box, "
                            + ("on the surrogate" if r.verified_ends is None else
                               f"read in the DEM: {_ends_text(r)}") + ")" for n, r in loose.items())
-        text = f"the sheet does not pin {' and '.join(loose)}: the points that meet it range over {listed}"
+        text = f"the sheet does not pin {' and '.join(loose)}: the points that meet it lie within {listed}"
     else:
         widest = max(r.share for r in found.ranges.values())
         text = (f"the sheet pins every searched parameter: among the points that meet it, each ranges over at most "
                 f"{100 * widest:.0f} % of its search box")
+    unbounded = [n for n, r in loose.items() if r.met_low is not None and _met_share(r) <= found.pinned_share]
+    if unbounded:
+        text += (f"; the DEM found the points meeting it over at most {100 * found.pinned_share:g} % of the box in "
+                 f"{' and '.join(unbounded)}, but its runs did not bound them that closely")
     pinned_read = [n for n in read if n not in loose]
     if pinned_read:
         text += "; read in the DEM, " + "; ".join(
@@ -413,12 +442,17 @@ def text_of(found: Identifiability, campaign) -> str:
             "parameter.")
 
 
+def _met_share(read: ParameterRange) -> float:
+    """The share of its box the points a range read in the DEM found meeting the sheet span."""
+    return read.share * (read.met_high - read.met_low) / (read.high - read.low)
+
+
 def _ends_text(read: ParameterRange) -> str:
-    """Which ends of a range read in the DEM met the sheet there, in words."""
+    """Which ends of a range read in the DEM met the sheet there and over what span, in words."""
     ends = read.verified_ends
-    if len(ends) == 2:
-        return "both ends met the sheet"
-    if ends:
-        other = "high" if ends == ["low"] else "low"
-        return f"its {ends[0]} end met the sheet, its {other} end is the farthest other point found meeting it"
-    return "no end met the sheet, the surrogate's range kept"
+    if not ends:
+        return "no end met the sheet, the surrogate's range kept"
+    other = "high" if ends == ["low"] else "low"
+    which = "both ends met the sheet" if len(ends) == 2 else \
+        f"its {ends[0]} end met the sheet, its {other} end is the farthest other point found meeting it"
+    return f"{which}; met over {read.met_low:.4g}–{read.met_high:.4g}, missed or the box's bound beyond"

@@ -183,7 +183,10 @@ class Verdict(_Part):
 
 class ParameterRange(_Part):
     """A searched parameter's range over the points that meet the sheet, the share of its
-    search box it spans, and whether the sheet pins it (that share at most `pinned_share`)."""
+    search box it spans, and whether the sheet pins it (that share at most `pinned_share`).
+    Read in the DEM, the range reaches out to the nearest runs of its read that missed the
+    sheet beyond the points found meeting it (`met_low`, `met_high`), or to the box's bounds:
+    the set's edges along the read lie between."""
 
     low: float
     high: float
@@ -192,6 +195,8 @@ class ParameterRange(_Part):
     # read in the DEM: the sides ("low", "high") whose end met the sheet there, the accepted
     # point standing for a side whose runs all missed it (None: read on the surrogate)
     verified_ends: list[str] | None = None
+    met_low: float | None = _absent()  # read in the DEM: the span of the points found meeting the sheet
+    met_high: float | None = _absent()
 
 
 class EndRun(_Part):
@@ -203,6 +208,7 @@ class EndRun(_Part):
     point: Values
     errors: Values | None
     met: bool
+    parameter: str | None = _absent()  # whose range the run read
 
 
 class SpreadOfTest(_Part):
