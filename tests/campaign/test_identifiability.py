@@ -274,7 +274,7 @@ def test_the_summary_the_notebook_and_the_report_say_which_parameter_is_not_pinn
     tau = record.identifiability.ranges["tau_c"]
     assert section.startswith("<h3>Identifiability</h3><p>The sheet does not pin tau_c")
     assert f"<td>tau_c</td><td>{tau.low:.4g}</td><td>{tau.high:.4g}</td><td>{100 * tau.share:.0f} %</td><td>no</td>" \
-           "<td>ends met: low, high</td>" in section
+           f"<td>ends met: low, high; met over {tau.met_low:.4g}–{tau.met_high:.4g}</td>" in section
     assert "<td>low</td><td>" in section and "</td><td>yes</td></tr>" in section  # the ends' runs
     assert "<td>1</td><td>measure the Brazilian (indirect tensile) strength</td><td>sigma_t_MPa</td>" in section
     assert _meeting_set(record, None, tmp_path / "meeting_set.png") is None and (tmp_path / "meeting_set.png").exists()

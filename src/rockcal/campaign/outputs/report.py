@@ -152,12 +152,14 @@ def _identifiability(result: CalibrationResult) -> str:
              + ", ".join(f"{r} {_num(low)}–{_num(high)}" for r, (low, high) in found.bands.items())
              + " (each target's tolerance, or the lab's spread where wider, plus the surrogate's error at the "
              "verified points: " + ", ".join(f"{r} {100 * e:.1f} %" for r, e in found.surrogate_error.items())
-             + "); a range read in the DEM lies between the ends whose runs met the sheet.")
+             + "); a range read in the DEM reaches from the points its runs found meeting the sheet out to the "
+             "nearest runs beyond that missed it, or the box's bounds: the set's edges along the read lie between.")
     text = f"<h3>Identifiability</h3><p>{html.escape(found.text[0].upper() + found.text[1:])}</p>"
     text += _table(["parameter", "low", "high", "share of its box", f"pinned (≤ {100 * found.pinned_share:g} %)",
                     "read in the DEM"],
                    [[n, _num(r.low), _num(r.high), f"{100 * r.share:.0f} %", "yes" if r.pinned else "no",
-                     "—" if r.verified_ends is None else f"ends met: {', '.join(r.verified_ends) or 'none'}"]
+                     "—" if r.verified_ends is None else f"ends met: {', '.join(r.verified_ends) or 'none'}"
+                     + ("" if r.met_low is None else f"; met over {_num(r.met_low)}–{_num(r.met_high)}")]
                     for n, r in found.ranges.items()])
     text += f"<p>{html.escape(basis)}</p>"
     if found.end_runs:
