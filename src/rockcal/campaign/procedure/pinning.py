@@ -316,18 +316,29 @@ def _ends_read(state: CampaignState, name: str) -> list[dict]:
 
 def _spanning(state: CampaignState, name: str, verified_ends: list[str]) -> ParameterRange:
     """A parameter's range read in the DEM and its verdict: from the span of its ends kept
-    (`_ends_read`) out to the nearest runs of its read beyond that missed the sheet, or to the
-    box's bounds where none did. The set's edges along the read lie between the two: the range
-    holds every point of the set the read came by, and pins the parameter only where they all
-    lie close."""
+    (`_ends_read`) and of its read's runs that miss the sheet by no more than the DEM's scatter
+    (`_beyond_scatter`) out to the nearest runs beyond that miss it by more, or to the box's
+    bounds where none did. The set's edges along the read lie between; it pins the parameter
+    only where they all lie close."""
     met_low, met_high = (end[name] for end in _ends_read(state, name))
-    missed = [r.point[name] for r in state.narrowing.found.end_runs if r.parameter == name and not r.met]
+    runs = [r for r in state.narrowing.found.end_runs if r.parameter == name and r.errors is not None]
+    missed = [r.point[name] for r in runs if _beyond_scatter(state, r)]
+    maybe = [met_low, met_high] + [r.point[name] for r in runs if not _beyond_scatter(state, r)]
     box_low, box_high = state.bounds[name]
-    low = max((x for x in missed if x < met_low), default=box_low)
-    high = min((x for x in missed if x > met_high), default=box_high)
+    low = max((x for x in missed if x < min(maybe)), default=box_low)
+    high = min((x for x in missed if x > max(maybe)), default=box_high)
     share = (high - low) / (box_high - box_low)
     return ParameterRange(low=low, high=high, share=share, pinned=share <= state.narrowing.found.pinned_share,
                           verified_ends=verified_ends, met_low=met_low, met_high=met_high)
+
+
+def _beyond_scatter(state: CampaignState, run: EndRun) -> bool:
+    """Whether a run misses a target by more than the tolerance (or the lab's spread) and the
+    surrogate's error at the verified points: outside the band the surrogate's set uses. The
+    surrogate's error there is mostly the DEM's scatter between nearby points, so a run that
+    misses by less may lie beside points of the set that meet it."""
+    responses = {r: t * (1 + run.errors[r]) for r, t in state.goals.targets.items()}
+    return not in_bands(responses, state.narrowing.found.bands)
 
 
 def _read_range(state: CampaignState) -> ParameterRange:
