@@ -306,27 +306,29 @@ def _errors(targets: dict[str, float], responses: dict | None) -> dict | None:
     return None if responses is None else {r: responses[r] / t - 1 for r, t in targets.items()}
 
 
-def _ends_read(state: CampaignState, name: str) -> list[dict]:
+def _ends_read(state: CampaignState, name: str, within_scatter: bool = False) -> list[dict]:
     """The two ends kept of a parameter's range read in the DEM: of every point the DEM found
     meeting the sheet (the accepted point, and each end run of the stage that met it, whichever
-    range it read), those where that parameter is lowest and highest."""
-    met = [state.identified()] + [r.point for r in state.narrowing.found.end_runs if r.met]
+    range it read) and, `within_scatter`, each run of that parameter's read that misses it by
+    no more than the DEM's scatter (`_beyond_scatter`), those where it is lowest and highest."""
+    met = [state.identified()] + [r.point for r in state.narrowing.found.end_runs if r.met or (
+        within_scatter and r.parameter == name and r.errors is not None and not _beyond_scatter(state, r))]
     return [min(met, key=lambda row: row[name]), max(met, key=lambda row: row[name])]
 
 
 def _spanning(state: CampaignState, name: str, verified_ends: list[str]) -> ParameterRange:
-    """A parameter's range read in the DEM and its verdict: from the span of its ends kept
-    (`_ends_read`) and of its read's runs that miss the sheet by no more than the DEM's scatter
-    (`_beyond_scatter`) out to the nearest runs beyond that miss it by more, or to the box's
-    bounds where none did. The set's edges along the read lie between; it pins the parameter
-    only where they all lie close."""
+    """A parameter's range read in the DEM and its verdict: from its ends kept within the DEM's
+    scatter (`_ends_read`) out to the nearest runs of its read beyond that miss the sheet by
+    more (`_beyond_scatter`), or to the box's bounds where none did. The set's edges along the
+    read lie between; it pins the parameter only where they all lie close. `met_low` and
+    `met_high` span the points found meeting the sheet."""
     met_low, met_high = (end[name] for end in _ends_read(state, name))
-    runs = [r for r in state.narrowing.found.end_runs if r.parameter == name and r.errors is not None]
-    missed = [r.point[name] for r in runs if _beyond_scatter(state, r)]
-    maybe = [met_low, met_high] + [r.point[name] for r in runs if not _beyond_scatter(state, r)]
+    maybe_low, maybe_high = (end[name] for end in _ends_read(state, name, within_scatter=True))
+    missed = [r.point[name] for r in state.narrowing.found.end_runs
+              if r.parameter == name and r.errors is not None and _beyond_scatter(state, r)]
     box_low, box_high = state.bounds[name]
-    low = max((x for x in missed if x < min(maybe)), default=box_low)
-    high = min((x for x in missed if x > max(maybe)), default=box_high)
+    low = max((x for x in missed if x < maybe_low), default=box_low)
+    high = min((x for x in missed if x > maybe_high), default=box_high)
     share = (high - low) / (box_high - box_low)
     return ParameterRange(low=low, high=high, share=share, pinned=share <= state.narrowing.found.pinned_share,
                           verified_ends=verified_ends, met_low=met_low, met_high=met_high)
@@ -350,10 +352,11 @@ def _read_range(state: CampaignState) -> ParameterRange:
 
 
 def _ranking_runs(state: CampaignState, read: ParameterRange) -> tuple[list[RunSpec], Callable]:
-    """Each lacking test's runs at the two ends of the range the DEM `read` where it is not
-    pinned, and the fold that ranks them and records the stage."""
+    """Each lacking test's runs at the two ends kept within the DEM's scatter (`_ends_read`) of
+    the range the DEM `read` where it is not pinned: points the sheet cannot tell apart, as far
+    as the DEM's scatter lets it; and the fold that ranks them and records the stage."""
     n, campaign = state.narrowing, state.campaign
-    ends = _ends_read(state, n.name)
+    ends = _ends_read(state, n.name, within_scatter=True)
     tests = candidates(campaign) if _loose(read) else []
     asked = [(c, [spec_of(state, c.test, campaign.specimen, row, c.own) for row in ends]) for c in tests]
     specs = list({spec.key: spec for _, runs in asked for spec in runs}.values())
