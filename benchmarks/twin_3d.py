@@ -76,9 +76,10 @@ def report(record, true: dict, started: float) -> None:
     if found is not None:
         for name, r in found.ranges.items():
             holds = "holds" if r.low <= true[name] <= r.high else "misses"
+            read = "the surrogate" if r.verified_ends is None else "DEM" + (
+                "" if r.met_low is None else f", met over {r.met_low:.4g}-{r.met_high:.4g}")
             print(f"{name:12s} {'pinned' if r.pinned else 'not pinned'}: {r.low:.4g}-{r.high:.4g} "
-                  f"({100 * r.share:.0f} % of its box, {'the surrogate' if r.verified_ends is None else 'DEM'}), "
-                  f"{holds} the truth")
+                  f"({100 * r.share:.0f} % of its box, {read}), {holds} the truth")
         print("identifiability:", found.text)
 
 

@@ -175,8 +175,8 @@ def test_runs_that_miss_the_sheet_within_the_surrogate_s_error_do_not_bound_the_
     assert (sigma.low, sigma.high) == (8, 25) and 0.95 * 15 <= sigma.met_low < sigma.met_high <= 1.05 * 15
     assert sigma.verified_ends == ["low", "high"] and not sigma.pinned
     assert "sigma_c 8–25 (100 % of its box, read in the DEM: both ends met the sheet; met over " \
-           f"{sigma.met_low:.4g}–{sigma.met_high:.4g}, missed or the box's bound beyond); the DEM found the points " \
-           "meeting it over at most 25 % of the box in sigma_c, but its runs did not bound them that closely" in found.text
+           f"{sigma.met_low:.4g}–{sigma.met_high:.4g}, missed or the box's bound beyond); in sigma_c the points found " \
+           "meeting it span at most 25 % of the box, but the runs did not bound the set that closely" in found.text
 
 
 class Cliff(Executor):

@@ -432,8 +432,8 @@ def text_of(found: Identifiability, campaign) -> str:
                 f"{100 * widest:.0f} % of its search box")
     unbounded = [n for n, r in loose.items() if r.met_low is not None and _met_share(r) <= found.pinned_share]
     if unbounded:
-        text += (f"; the DEM found the points meeting it over at most {100 * found.pinned_share:g} % of the box in "
-                 f"{' and '.join(unbounded)}, but its runs did not bound them that closely")
+        text += (f"; in {' and '.join(unbounded)} the points found meeting it span at most "
+                 f"{100 * found.pinned_share:g} % of the box, but the runs did not bound the set that closely")
     pinned_read = [n for n in read if n not in loose]
     if pinned_read:
         text += "; read in the DEM, " + "; ".join(
