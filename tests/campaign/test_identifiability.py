@@ -125,8 +125,9 @@ def test_a_parameter_no_target_sees_is_not_pinned_and_the_brazilian_test_would_p
     in_2d = {"sigma_t_direct_MPa", "K_IC_MPa_sqrt_m"} if route != "3D" else set()  # tests 3D lacks
     assert {t.response for t in found.tests} == {"sigma_t_MPa", "sigma1_MPa", "ci_MPa", "cd_MPa"} | in_2d
     assert f"does not pin {named['tau_c']}: the points that meet it lie within {named['tau_c']} 20–100 (100 % of its " \
-        f"box, read in the DEM: both ends met the sheet; met over {tau.met_low:.4g}–{tau.met_high:.4g}, missed or " \
-        f"the box's bound beyond) ({len(found.end_runs)} runs in the DEM). Measure the Brazilian" in found.text
+        f"box, read in the DEM: both ends met the sheet; met over {tau.met_low:.4g}–{tau.met_high:.4g}, bounded by " \
+        f"runs that miss it beyond the surrogate's error or by the box) ({len(found.end_runs)} runs in the DEM). " \
+        "Measure the Brazilian" in found.text
     assert found.runs == len(found.end_runs) + 2 * (2 + len(in_2d)) and executor.kinds.count("brazilian") == 2
     told = summary(record)["identifiability"]
     assert told["ranges"][named["tau_c"]]["pinned"] is False and told["tests"][0]["test"] == "brazilian"
@@ -175,7 +176,8 @@ def test_runs_that_miss_the_sheet_within_the_surrogate_s_error_do_not_bound_the_
     assert (sigma.low, sigma.high) == (8, 25) and 0.95 * 15 <= sigma.met_low < sigma.met_high <= 1.05 * 15
     assert sigma.verified_ends == ["low", "high"] and not sigma.pinned
     assert "sigma_c 8–25 (100 % of its box, read in the DEM: both ends met the sheet; met over " \
-           f"{sigma.met_low:.4g}–{sigma.met_high:.4g}, missed or the box's bound beyond); in sigma_c the points found " \
+           f"{sigma.met_low:.4g}–{sigma.met_high:.4g}, bounded by runs that miss it beyond the surrogate's error or by the " \
+           "box); in sigma_c the points found " \
            "meeting it span at most 25 % of the box, but the runs did not bound the set that closely" in found.text
 
 

@@ -152,8 +152,9 @@ def _identifiability(result: CalibrationResult) -> str:
              + ", ".join(f"{r} {_num(low)}–{_num(high)}" for r, (low, high) in found.bands.items())
              + " (each target's tolerance, or the lab's spread where wider, plus the surrogate's error at the "
              "verified points: " + ", ".join(f"{r} {100 * e:.1f} %" for r, e in found.surrogate_error.items())
-             + "); a range read in the DEM reaches from the points its runs found meeting the sheet out to the "
-             "nearest runs beyond that missed it, or the box's bounds: the set's edges along the read lie between.")
+             + "); a range read in the DEM reaches from the points its runs found meeting the sheet, and those "
+             "missing it within the surrogate's error, out to the nearest runs beyond that miss it by more, or the "
+             "box's bounds: the set's edges along the read lie between.")
     text = f"<h3>Identifiability</h3><p>{html.escape(found.text[0].upper() + found.text[1:])}</p>"
     text += _table(["parameter", "low", "high", "share of its box", f"pinned (≤ {100 * found.pinned_share:g} %)",
                     "read in the DEM"],

@@ -9,12 +9,13 @@ the DEM, widest first: the calibrated tests run at a range's two ends, then each
 bisected, at most BISECTIONS times, between its farthest point that met the sheet (the bands
 without the surrogate's error) and its nearest beyond that missed, while they lie more than
 EDGE_GAP of the box apart, each run training the surrogate. The range kept reaches from the
-points the DEM found meeting the sheet out to the nearest runs of its read that missed it (or
-the box's bounds): the set's edges along the read lie between, so it holds every point of the
-set the read came by. It decides that parameter's verdict (a range none of whose ends met the
-sheet keeps the surrogate's); where the DEM pins it, the next range not pinned is read. Each lab test the sheet lacks runs at the two ends of the first
-range the DEM leaves not pinned, ranked by how much its response varies between them per run
-of lab work: the test that would pin the parameter."""
+points the DEM found meeting the sheet, and the read's runs that miss it by no more than the
+surrogate's error (the DEM's scatter), out to the nearest runs of the read beyond that miss it
+by more, or to the box's bounds: the set's edges along the read lie between. It decides that
+parameter's verdict (a range none of whose ends met the sheet keeps the surrogate's); where the
+DEM pins it, the next range not pinned is read. Each lab test the sheet lacks runs at the two
+ends kept of the first range the DEM leaves not pinned, ranked by how much its response varies
+between them per run of lab work: the test that would pin the parameter."""
 
 from __future__ import annotations
 
@@ -469,4 +470,5 @@ def _ends_text(read: ParameterRange) -> str:
     other = "high" if ends == ["low"] else "low"
     which = "both ends met the sheet" if len(ends) == 2 else \
         f"its {ends[0]} end met the sheet, its {other} end is the farthest other point found meeting it"
-    return f"{which}; met over {read.met_low:.4g}–{read.met_high:.4g}, missed or the box's bound beyond"
+    return (f"{which}; met over {read.met_low:.4g}–{read.met_high:.4g}, bounded by runs that miss it beyond the "
+            "surrogate's error or by the box")

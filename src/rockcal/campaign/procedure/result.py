@@ -184,9 +184,10 @@ class Verdict(_Part):
 class ParameterRange(_Part):
     """A searched parameter's range over the points that meet the sheet, the share of its
     search box it spans, and whether the sheet pins it (that share at most `pinned_share`).
-    Read in the DEM, the range reaches out to the nearest runs of its read that missed the
-    sheet beyond the points found meeting it (`met_low`, `met_high`), or to the box's bounds:
-    the set's edges along the read lie between."""
+    Read in the DEM, the range reaches from the points found meeting the sheet (`met_low`
+    to `met_high`) and the runs of its read that miss it within the surrogate's error, out to
+    the nearest runs beyond that miss it by more, or to the box's bounds: the set's edges along
+    the read lie between."""
 
     low: float
     high: float
