@@ -2,9 +2,9 @@
 the UCS targets, so the accepted point leaves it free; the record marks it not pinned with a
 range, read in the DEM, that holds the truth, and names the Brazilian test (its strength sees
 tau_c most per run of lab work); with the Brazilian strength of the truth added to the targets,
-the campaign recovers tau_c. A surrogate's set too wide is narrowed by the DEM runs at its
-ends to ends that meet the sheet. A searched parameter the sensitivity runs show no target
-sees is warned of as soon as they are done."""
+the campaign recovers tau_c. A range read in the DEM reaches out to the runs that miss the
+sheet by more than the surrogate's error, and holds the set. A searched parameter the
+sensitivity runs show no target sees is warned of as soon as they are done."""
 
 import json
 
