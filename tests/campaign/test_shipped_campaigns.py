@@ -133,6 +133,22 @@ def test_the_3d_all_targets_granite_fits_the_2d_ones_lab_values_on_spheres_and_p
     assert "21.12 mm thick" in run.stdout and not (tmp_path / "out").exists()
 
 
+def test_the_3d_lac_du_bonnet_fits_the_embedded_ones_sheet_and_search_on_spheres_and_plans_its_first_screen(cli, tmp_path):
+    """The embedded ldb campaign's targets, material, search and optimizer on 3D cylinders and
+    a disk small enough for about an hour on 2 cores (coarse runs at 1.5 R_min, the coarsest the
+    disk allows), no DEM runs after the search; its dry run plans without a run."""
+    ldb, _ = load_campaign("ldb")
+    three_d, _ = load_campaign(str(DOCS / "ldb-3d.toml"))
+    same = {"targets", "material", "search", "optimizer", "validation"}
+    assert three_d.model_dump(include=same) == ldb.model_dump(include=same)
+    assert three_d.specimen.dimensions == 3 and three_d.surrogate.coarse_factor == 1.5
+    assert three_d.uncertainty.packings == 1 and not three_d.identifiability.runs
+    assert (three_d.specimen.width_mm, three_d.specimen.height_mm, three_d.specimen.rmin_mm) == (10, 20, 0.5)
+    run = cli("calibrate", DOCS / "ldb-3d.toml", "--dry-run", "--out", tmp_path / "out")
+    assert run.returncode == 0, run.stderr
+    assert "disk D 20 x t 10 mm" in run.stdout and not (tmp_path / "out").exists()
+
+
 def test_the_flat_jointed_granite_has_the_embedded_granites_rock_targets_and_specimen():
     """So the rock lab can set the two materials side by side at calibrated points."""
     granite, _ = load_campaign(None)

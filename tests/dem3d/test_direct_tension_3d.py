@@ -5,6 +5,8 @@
   spheres part at once): its modulus is pi Ebar_c / 4, the UCS test's pi (E_c + Ebar_c) / 4 times
   Ebar_c / (E_c + Ebar_c); every column's bond breaks at F = sigma_c pi R^2, so its strength is
   sigma_c pi R^2 / (2R)^2 = pi sigma_c / 4;
+- so does a flat-jointed one: its joints' modulus pi E* / 4 (its joints k_n A = pi E* R / 2
+  each, as in the UCS test) and every joint's elements break at sigma_c A: pi sigma_c / 4;
 - a genesis cylinder's direct tensile strength is positive, below its UCS, its peak load that
   strength over pi D^2 / 4, and it moves by less than 2 % when the pull is halved;
 - a grip that does not fit is refused in one line naming the key, exit 2.
@@ -36,6 +38,16 @@ def test_a_cubic_lattice_pulls_on_its_bonds_alone_and_breaks_at_pi_sigma_c_over_
     pressed = simulate_ucs(LATTICE, lattice, max_axial_strain=5e-3)
     # measured: the modulus within 0.3 % and the strength 0.6 % under (read between steps)
     assert secant_at_half_peak_GPa(pulled.curve) == pytest.approx(pressed.E_GPa * EBAR_C / (E_C + EBAR_C), rel=0.01)
+    assert pulled.sigma_t_direct_MPa == pytest.approx(np.pi * SIGMA_C / 4, rel=0.02)
+
+
+def test_a_flat_jointed_cubic_lattice_pulls_on_its_joints_and_breaks_at_pi_fj_ten_over_4():
+    from rockcal.materials.flat_joint import make_flatjoint_params
+
+    params = make_flatjoint_params({"fj_emod": 30, "lnm_emod": 10, "fj_kratio": 2.5, "fj_ten": SIGMA_C,
+                                    "fj_coh": 1e5})
+    pulled = simulate_direct_tension(params, cubic_prism(5, 1e-3), grip_fraction=0.15)
+    assert secant_at_half_peak_GPa(pulled.curve) == pytest.approx(np.pi * 30 / 4, rel=0.01)
     assert pulled.sigma_t_direct_MPa == pytest.approx(np.pi * SIGMA_C / 4, rel=0.02)
 
 

@@ -430,11 +430,11 @@ def joint_draws_3d(specimen) -> np.ndarray:
     return flatjoint_draws(len(specimen.bonds), int.from_bytes(digest[:4], "little"))
 
 
-def new_state_3d(pos, radius, specimen, params: FlatJointParams, *, walls=((), ())):
+def new_state_3d(pos, radius, specimen, params: FlatJointParams, *, walls=((), ()), driven=None):
     """A 3D specimen at rest in the material: PFC3D's flat joints at its bonded pairs
     (`rockcal.dem3d.flat_joint`; `fj_nr` rings of `fj_nal` sectors), PFC3D's linear contacts
     (`lnm_*`) elsewhere, between planar `walls` (points, inward normals) of the flat joints'
-    modulus."""
+    modulus; the `driven` spheres (a mask or indices: a rig's) keep the velocity they are given."""
     from rockcal.dem3d import flat_joint as joints_3d  # the 3D engine: loaded for a 3D run alone
     from rockcal.dem3d.laws import Laws
     from rockcal.dem3d.simulate import assemble_state as assemble_3d
@@ -456,7 +456,7 @@ def new_state_3d(pos, radius, specimen, params: FlatJointParams, *, walls=((), (
                   Ebar_c=0.0, ksbar_per_knbar=1.0, lam=1.0, tan_phi=0.0, mcf=1.0)
     points, normals = walls
     return assemble_3d(pos, radius, specimen.bonds, params.density, linear, damping=params.damping,
-                       walls=new_walls(points, normals, params.fj_emod * GPa), joints=joints)
+                       walls=new_walls(points, normals, params.fj_emod * GPa), joints=joints, driven=driven)
 
 
 def check_bonded(params: FlatJointParams) -> None:
