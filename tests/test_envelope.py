@@ -78,3 +78,13 @@ def test_the_figure_is_written(tmp_path):
     path = tmp_path / "envelope.png"
     plot_envelope(SIGMA3, hoek_brown_peaks(200.0, 32.0), path)
     assert path.stat().st_size > 10_000
+
+
+def test_peaks_without_an_intact_hoek_brown_envelope_still_draw_their_mohr_coulomb_line(tmp_path):
+    # (σ1 - σ3)² growing faster than linearly in σ3: Hoek's regression has σ_ci² < 0
+    peaks = np.array([98.0, 162.0, 261.0, 460.0])
+    with pytest.raises(InputError):
+        fit_hoek_brown(SIGMA3, peaks)
+    path = tmp_path / "envelope.png"
+    plot_envelope(SIGMA3, peaks, path)
+    assert path.stat().st_size > 10_000

@@ -15,6 +15,7 @@ from matplotlib.patches import Wedge  # noqa: E402
 from rockcal.labtests.damage import VOLUMETRIC_NAME, crack_strain, crack_stresses, volumetric_strain  # noqa: E402
 from rockcal.labtests.envelope import check_peaks, fit_hoek_brown, fit_mohr_coulomb  # noqa: E402
 from rockcal.output_files import save_figure  # noqa: E402
+from rockcal.errors import InputError  # noqa: E402
 
 
 def crack_pattern(positions, radius, cracks: dict, path: Path, title: str, rig=(),
@@ -315,10 +316,11 @@ def loop_errors(errors: dict[str, list], tolerance: float, path: Path) -> None:
             "Verified responses against the targets", path)
 
 
-def trade_off(errors, pareto: list[int], best: list[float], responses: list[str], tolerance: float,
+def trade_off(errors, pareto: list[int], best: list[float] | None, responses: list[str], tolerance: float,
               path: Path) -> None:
     """Two responses' relative errors (%) at every DEM run of the search, their Pareto front
-    (the runs no other beats in both) and the best compromise, with the tolerance box."""
+    (the runs no other beats in both) and the best compromise (None: not verified in both), with
+    the tolerance box."""
     fig, ax = plt.subplots(figsize=(6, 4.5))
     e = 100 * np.asarray(errors, float).reshape(-1, 2)
     t = 100 * tolerance
@@ -326,7 +328,8 @@ def trade_off(errors, pareto: list[int], best: list[float], responses: list[str]
                                label=f"both within ±{tolerance * 100:g} %"))
     ax.plot(e[:, 0], e[:, 1], "o", color="0.6", label="DEM runs of the search")
     ax.plot(e[pareto, 0], e[pareto, 1], "o-", color="tab:red", label="Pareto front (|errors|)")
-    ax.plot(100 * best[0], 100 * best[1], "k*", ms=12, label="best compromise")
+    if best is not None:
+        ax.plot(100 * best[0], 100 * best[1], "k*", ms=12, label="best compromise")
     ax.axhline(0, color="black", lw=0.8)
     ax.axvline(0, color="black", lw=0.8)
     first, second = (_label(r, RESPONSE_LABELS).split(" (")[0] for r in responses)
@@ -380,16 +383,24 @@ def parameter_draws(samples, names: list[str], bounds: dict, identified: dict, p
 
 
 def plot_envelope(sigma3_MPa, sigma1_MPa, path: Path, title: str = "Strength envelope") -> None:
-    """The peaks (sigma3, sigma1) with the Mohr-Coulomb line and the Hoek-Brown curve."""
+    """The peaks (sigma3, sigma1) with the Mohr-Coulomb line and the Hoek-Brown curve (said
+    absent where Hoek's regression gives no intact envelope through the peaks)."""
     s3, s1 = check_peaks(sigma3_MPa, sigma1_MPa)
-    mc, hb = fit_mohr_coulomb(s3, s1), fit_hoek_brown(s3, s1)
+    mc = fit_mohr_coulomb(s3, s1)
+    try:
+        hb = fit_hoek_brown(s3, s1)
+    except InputError as exc:
+        hb, no_hb = None, exc.problem.split(":")[0]
     x = np.linspace(0.0, 1.1 * s3.max(), 100)
     fig, ax = plt.subplots(figsize=(6, 4.5))
     ax.plot(s3, s1, "o", color="k", label="peaks")
     ax.plot(x, mc.sigma1(x), label=f"Mohr-Coulomb: φ {mc.phi_deg:.1f}°, c {mc.c_MPa:.1f} MPa "
                                    f"(R² {mc.r2:.3f})")
-    ax.plot(x, hb.sigma1(x), "--", label=f"Hoek-Brown: m_i {hb.m_i:.1f}, σ_ci {hb.sigma_ci_MPa:.0f} "
-                                         f"MPa (r² {hb.r2:.3f})")
+    if hb is None:
+        ax.plot([], [], " ", label=f"Hoek-Brown: none ({no_hb})")
+    else:
+        ax.plot(x, hb.sigma1(x), "--", label=f"Hoek-Brown: m_i {hb.m_i:.1f}, σ_ci {hb.sigma_ci_MPa:.0f} "
+                                             f"MPa (r² {hb.r2:.3f})")
     ax.set_xlabel("confinement σ3 (MPa)")
     ax.set_ylabel("peak σ1 (MPa)")
     ax.set_title(title)

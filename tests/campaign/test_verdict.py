@@ -2,9 +2,12 @@
 responses, the targets out of reach, the pairs that conflict and how close they come, and
 the Pareto front of the runs seen."""
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
+from rockcal.campaign.outputs.figures import _trade_off
 from rockcal.campaign.procedure.verdict import trade_off, verdict_of
 
 BOX = np.array([[0.0, 1.0], [0.0, 1.0]])
@@ -75,3 +78,14 @@ def test_a_verified_point_closer_than_the_surrogate_sets_how_close_the_targets_c
     within = verdict_of(targets, 0.05, BOX, _predict, seen=[], best_errors=closer,
                         verified=[{"a": 0.04, "b": -0.03}])
     assert within.conflicts == [] and within.least_error_all == pytest.approx(0.04)
+
+
+def test_the_trade_off_figure_draws_a_response_the_verification_did_not_run(tmp_path):
+    # a campaign whose verification ran the UCS test alone (ucs_first) has no Brazilian error
+    # at the identified point: the figure shows the search's runs without the best compromise
+    runs = [[0.3, 0.5], [0.1, 0.9], [0.4, 0.2]]
+    result = SimpleNamespace(verdict=SimpleNamespace(trade_off=SimpleNamespace(
+        errors=runs, pareto=[1, 2], responses=["ucs_MPa", "sigma_t_MPa"])),
+        errors={"ucs_MPa": 0.2}, tolerance=0.1)
+    assert _trade_off(result, None, tmp_path / "trade_off.png") is None
+    assert (tmp_path / "trade_off.png").stat().st_size > 10_000

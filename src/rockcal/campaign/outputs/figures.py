@@ -88,8 +88,8 @@ def _trade_off(result: CalibrationResult, store: RunStore, path: Path) -> str | 
     if result.verdict is None:
         return "Every target met: no trade-off to show."
     t = result.verdict.trade_off
-    plots.trade_off(t.errors, t.pareto, [result.errors[r] for r in t.responses], t.responses,
-                    result.tolerance, path)
+    best = [result.errors.get(r) for r in t.responses]  # a response the verification did not run: none
+    plots.trade_off(t.errors, t.pareto, None if None in best else best, t.responses, result.tolerance, path)
     return None
 
 
@@ -143,7 +143,10 @@ def _series(keys: list[str], figure: SeriesFigure, title: str, result: Calibrati
             return why
     if len(runs) < figure.min_runs:
         return f"{figure.title}: needs {figure.min_runs} runs or more, the campaign has {len(runs)}."
-    getattr(plots, figure.draw)([(run.responses, run.curve) for run in runs], path, title)
+    try:
+        getattr(plots, figure.draw)([(run.responses, run.curve) for run in runs], path, title)
+    except InputError as exc:  # the runs' peaks give no envelope: the figure's note, not the report's end
+        return f"{figure.title}: no envelope through these runs ({exc.problem})."
     return None
 
 
