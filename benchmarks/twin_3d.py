@@ -64,7 +64,7 @@ def main() -> None:
 
 def report(record, true: dict, started: float) -> None:
     """A twin's campaign against its truth: each parameter found, its error and its verdict
-    (recovered within 5 %, else not pinned by the sheet with a range that holds the truth, else
+    (recovered within 5 %, else whether the sheet pins it and its range holds the truth, else
     missed), the errors at the identified point, and which parameters the twin's sheet pins
     and whether each range holds the truth."""
     print(f"accepted {record.accepted}, {record.dem_runs} parameter sets, "
@@ -72,9 +72,8 @@ def report(record, true: dict, started: float) -> None:
     ranges = record.identifiability.ranges if record.identifiability is not None else {}
     for name, value in true.items():
         found, r = record.identified[name], ranges.get(name)
-        verdict = ("recovered" if abs(found / value - 1) <= RECOVERED else
-                   "not pinned, its range holds the truth" if r is not None and not r.pinned
-                   and r.low <= value <= r.high else "MISSED")
+        verdict = ("recovered" if abs(found / value - 1) <= RECOVERED else "MISSED" if r is None or
+                   not r.low <= value <= r.high else f"{'' if r.pinned else 'not '}pinned, its range holds the truth")
         print(f"{name:12s} true {value:8.4g}  found {found:8.4g}  {100 * (found / value - 1):+6.2f} %  {verdict}")
     print("errors at the identified point:",
           ", ".join(f"{k} {100 * v:+.2f} %" for k, v in record.errors.items()))
