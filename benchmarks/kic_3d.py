@@ -1,8 +1,8 @@
 """Is the 3D notched beam's K_IC a property of the rock, not of the loading or the beam's
 thickness? At the granite's 3D point: one packing at the pin's speed and at half of it (the
 rate), then each of two thicknesses on packings 1..N (the thickness), each run's K_IC, peak
-load, spheres, bonds broken, steps and seconds; each thickness' mean and sd, and the changes;
-the machine's load.
+load, spheres, bonds broken, steps and seconds; each thickness' mean and sd, and the changes
+(the thickness' with the standard error of the difference of the means); the machine's load.
 
 The beam is the source's 220 x 50 mm beam (notch 18 x 2 mm, span 160 mm) times `--scale`; the
 thicknesses default to the 3D beam's default (`bending.thickness_3d_mm`, eight of its
@@ -57,16 +57,19 @@ def main() -> None:
     first = replace(beam, thickness_mm=thicknesses[0])
     full, half = (run(params, first, args.rmin_mm, 1, rate) for rate in (1.0, 0.5))
     print(f"rate: half the pin's speed moves packing 1's K_IC by {100 * (half / full - 1):+.1f} %")
-    means = []
+    means, standard_errors = [], []
     for thickness in thicknesses:
         k_ic = [full] if thickness == thicknesses[0] else []
         k_ic += [run(params, replace(beam, thickness_mm=thickness), args.rmin_mm, seed, 1.0)
                  for seed in range(len(k_ic) + 1, args.packings + 1)]
         means.append(float(np.mean(k_ic)))
         sd = float(np.std(k_ic, ddof=1)) if len(k_ic) > 1 else 0.0
+        standard_errors.append(sd / len(k_ic) ** 0.5)
         print(f"thickness {thickness:g} mm: K_IC {means[-1]:.3f} ± {sd:.3f} MPa·m^0.5 over {len(k_ic)} packings")
+    difference = means[1] - means[0]
+    standard_error = float(np.hypot(*standard_errors))  # of the difference of two independent means
     print(f"thickness: {thicknesses[1]:g} mm against {thicknesses[0]:g} mm moves the mean K_IC by "
-          f"{100 * (means[1] / means[0] - 1):+.1f} %")
+          f"{difference:+.3f} ({100 * difference / means[0]:+.1f} %), its standard error {standard_error:.3f}")
     print(f"load average {os.getloadavg()[0]:.2f} at the end")
 
 

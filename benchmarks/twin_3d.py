@@ -28,6 +28,7 @@ from rockcal.params import parse_assignments
 CAMPAIGN = Path(__file__).resolve().parents[1] / "docs" / "campaigns" / "granite-3d.toml"
 TRUE = {"E_c": 28.0, "kn_ks": 3.2, "sigma_c": 45.0}
 TARGETS = ("E_GPa", "nu", "ucs_MPa")
+RECOVERED = 0.05  # a parameter found within this share of its truth is recovered
 
 
 def with_targets(text: str, targets: dict, tolerance: float) -> str:
@@ -62,14 +63,18 @@ def main() -> None:
 
 
 def report(record, true: dict, started: float) -> None:
-    """A twin's campaign against its truth: each parameter found and its error, the errors at
-    the identified point, and which parameters the twin's sheet pins and whether each range
-    holds the truth."""
+    """A twin's campaign against its truth: each parameter found, its error and its verdict
+    (recovered within 5 %, else whether the sheet pins it and its range holds the truth, else
+    missed), the errors at the identified point, and which parameters the twin's sheet pins
+    and whether each range holds the truth."""
     print(f"accepted {record.accepted}, {record.dem_runs} parameter sets, "
           f"{(time.perf_counter() - started) / 60:.1f} min")
+    ranges = record.identifiability.ranges if record.identifiability is not None else {}
     for name, value in true.items():
-        found = record.identified[name]
-        print(f"{name:12s} true {value:8.4g}  found {found:8.4g}  {100 * (found / value - 1):+6.2f} %")
+        found, r = record.identified[name], ranges.get(name)
+        verdict = ("recovered" if abs(found / value - 1) <= RECOVERED else "MISSED" if r is None or
+                   not r.low <= value <= r.high else f"{'' if r.pinned else 'not '}pinned, its range holds the truth")
+        print(f"{name:12s} true {value:8.4g}  found {found:8.4g}  {100 * (found / value - 1):+6.2f} %  {verdict}")
     print("errors at the identified point:",
           ", ".join(f"{k} {100 * v:+.2f} %" for k, v in record.errors.items()))
     found = record.identifiability
