@@ -22,6 +22,7 @@ from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.procedure.steps import calibrate
 from rockcal.campaign.runs.pool import Executor, execute
 from rockcal.campaign.runs.spec import run_spec
+from rockcal.materials import DEFAULT_MATERIAL
 from rockcal.campaign.runs.store import RunStore
 from rockcal.params import parse_assignments
 
@@ -41,22 +42,38 @@ def with_targets(text: str, targets: dict, tolerance: float) -> str:
     return text
 
 
-def main() -> None:
+def twin_arguments(out: str, workers: int, tolerance: float) -> argparse.ArgumentParser:
+    """The twins' common options: the store's folder, the workers, changes to the truth
+    (`--set`) and the campaign's tolerance."""
     parser = argparse.ArgumentParser()
-    parser.add_argument("--out", type=Path, default=Path("runs/twin-3d"))
-    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--out", type=Path, default=Path(out))
+    parser.add_argument("--workers", type=int, default=workers)
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
-    parser.add_argument("--tolerance", type=float, default=0.02)
-    args = parser.parse_args()
+    parser.add_argument("--tolerance", type=float, default=tolerance)
+    return parser
+
+
+def lab_values(specimen, params: dict, targets: dict[str, tuple[str, ...]],
+               model: str = DEFAULT_MATERIAL) -> tuple[dict, dict]:
+    """The twin's lab values: each test of `targets` run at `params` as a campaign runs it, its
+    named responses; and each test's run."""
+    values, runs = {}, {}
+    for test, names in targets.items():
+        run = runs[test] = execute(run_spec(test, specimen, params, model))
+        assert run.status == "ok", run.message
+        values |= {name: float(run.responses[name]) for name in names}
+    return values, runs
+
+
+def main() -> None:
+    args = twin_arguments("runs/twin-3d", workers=2, tolerance=0.02).parse_args()
     true = TRUE | parse_assignments(args.set)
     text = CAMPAIGN.read_text()
     started = time.perf_counter()
     stand_in = planned(parse_campaign(text, CAMPAIGN.parent))
-    lab = execute(run_spec("ucs", stand_in.specimen, stand_in.fixed_params() | true))
-    assert lab.status == "ok", lab.message
-    targets = {name: float(lab.responses[name]) for name in TARGETS}
+    targets, runs = lab_values(stand_in.specimen, stand_in.fixed_params() | true, {"ucs": TARGETS})
     print("twin's lab values:", ", ".join(f"{k} {v:.4g}" for k, v in targets.items()),
-          f"({lab.responses['n_particles']:.0f} spheres)")
+          f"({runs['ucs'].responses['n_particles']:.0f} spheres)")
     campaign = planned(parse_campaign(with_targets(text, targets, args.tolerance), CAMPAIGN.parent))
     record = calibrate(campaign, Executor(RunStore(args.out), workers=args.workers))
     report(record, true, started)

@@ -12,18 +12,16 @@ Run by hand: `python benchmarks/twin_fj_3d.py [--out twin-fj-3d] [--workers 1]
 [--set fj_emod=27 ...] [--tolerance 0.03]` (a second run reuses the folder's store).
 """
 
-import argparse
 import time
 from pathlib import Path
 
 from rockcal.campaign.input.config import parse_campaign
 from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.procedure.steps import calibrate
-from rockcal.campaign.runs.pool import Executor, execute
-from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.runs.store import RunStore
 from rockcal.params import parse_assignments
-from twin_3d import report
+from twin_3d import lab_values, report, twin_arguments
 
 TRUE = {"fj_emod": 27.0, "fj_kratio": 2.3, "fj_ten": 14.0, "fj_coh": 33.0}
 BOUNDS = {"fj_emod": (15, 45), "fj_kratio": (1.2, 4.0), "fj_ten": (6, 25), "fj_coh": (15, 60)}
@@ -65,28 +63,14 @@ def campaign_text(targets: dict, tolerance: float) -> str:
     return CAMPAIGN.format(**targets, bounds=bounds, fixed=fixed, tolerance=tolerance)
 
 
-def lab_values(campaign, true: dict) -> dict:
-    """The targets' responses at the true parameters, run as the campaign runs them."""
-    values = {}
-    for kind, names in TARGETS.items():
-        run = execute(run_spec(kind, campaign.specimen, campaign.fixed_params() | true, "flatjoint"))
-        assert run.status == "ok", run.message
-        values |= {name: float(run.responses[name]) for name in names}
-    return values
-
-
 def main() -> None:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--out", type=Path, default=Path("twin-fj-3d"))
-    parser.add_argument("--workers", type=int, default=1)
-    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
-    parser.add_argument("--tolerance", type=float, default=0.03)
-    args = parser.parse_args()
+    args = twin_arguments("twin-fj-3d", workers=1, tolerance=0.03).parse_args()
     true = TRUE | parse_assignments(args.set)
     started = time.perf_counter()
     stand_in = {"E_GPa": 30.0, "nu": 0.2, "ucs_MPa": 100.0, "sigma_t_MPa": 10.0}
-    targets = lab_values(planned(parse_campaign(campaign_text(stand_in, args.tolerance), Path.cwd())),
-                         true)
+    stand_in_campaign = planned(parse_campaign(campaign_text(stand_in, args.tolerance), Path.cwd()))
+    targets, _ = lab_values(stand_in_campaign.specimen, stand_in_campaign.fixed_params() | true, TARGETS,
+                            "flatjoint")
     print("twin's lab values:", ", ".join(f"{k} {v:.4g}" for k, v in targets.items()))
     campaign = planned(parse_campaign(campaign_text(targets, args.tolerance), Path.cwd()))
     record = calibrate(campaign, Executor(RunStore(args.out), workers=args.workers))

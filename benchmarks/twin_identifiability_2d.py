@@ -19,7 +19,6 @@ Run by hand: `python benchmarks/twin_identifiability_2d.py [--out runs/twin-iden
 folder must not hold a store, or pass --resume to reuse it).
 """
 
-import argparse
 import time
 from pathlib import Path
 
@@ -30,6 +29,7 @@ from rockcal.campaign.runs.pool import execute
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
 from rockcal.params import parse_assignments
+from twin_3d import twin_arguments
 
 # the secret point: the granite's box, each value a few % to 20 % off its middle or its fixed gap (0.6)
 TRUE = {"E_c": 23.0, "kn_ks": 2.3, "sigma_c": 36.0, "install_gap": 0.7}
@@ -117,11 +117,7 @@ def phase(title: str, text: str, out: Path, resume: bool, workers: int, true: di
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--out", type=Path, default=Path("runs/twin-identifiability-2d"))
-    parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
-    parser.add_argument("--tolerance", type=float, default=0.03)
+    parser = twin_arguments("runs/twin-identifiability-2d", workers=2, tolerance=0.03)
     parser.add_argument("--packings", type=int, default=1)
     parser.add_argument("--resume", action="store_true", help="reuse the runs in --out")
     args = parser.parse_args()

@@ -10,7 +10,6 @@ Run by hand: `python benchmarks/twin_kic_3d.py [--out runs/twin-kic-3d] [--worke
 (about half an hour on 2 busy cores at a 5 % tolerance; a second run reuses the folder's store).
 """
 
-import argparse
 import os
 import time
 from pathlib import Path
@@ -18,11 +17,10 @@ from pathlib import Path
 from rockcal.campaign.input.config import parse_campaign
 from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.procedure.steps import calibrate
-from rockcal.campaign.runs.pool import Executor, execute
-from rockcal.campaign.runs.spec import run_spec
+from rockcal.campaign.runs.pool import Executor
 from rockcal.campaign.runs.store import RunStore
 from rockcal.params import parse_assignments
-from twin_3d import report
+from twin_3d import lab_values, report, twin_arguments
 
 TRUE = {"E_c": 28.0, "kn_ks": 3.2, "sigma_c": 45.0, "install_gap": 0.8}
 TARGETS = {"ucs": ("E_GPa", "nu", "ucs_MPa"), "bending": ("K_IC_MPa_sqrt_m",)}
@@ -74,12 +72,7 @@ candidates = 1
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--out", type=Path, default=Path("runs/twin-kic-3d"))
-    parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
-    parser.add_argument("--tolerance", type=float, default=0.02)
-    args = parser.parse_args()
+    args = twin_arguments("runs/twin-kic-3d", workers=2, tolerance=0.02).parse_args()
     true = TRUE | parse_assignments(args.set)
     started = time.perf_counter()
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
@@ -87,13 +80,10 @@ def main() -> None:
                                                       install_gap=true["install_gap"], tolerance=args.tolerance),
                                       Path.cwd()))
     params = stand_in.fixed_params() | {k: v for k, v in true.items() if k != "install_gap"}
-    targets = {}
+    targets, runs = lab_values(stand_in.specimen, params, TARGETS)
     for test, names in TARGETS.items():
-        lab = execute(run_spec(test, stand_in.specimen, params))
-        assert lab.status == "ok", lab.message
-        targets |= {name: float(lab.responses[name]) for name in names}
         print(f"twin's {test}: " + ", ".join(f"{k} {targets[k]:.4g}" for k in names) +
-              f" ({lab.responses['n_particles']:.0f} spheres)", flush=True)
+              f" ({runs[test].responses['n_particles']:.0f} spheres)", flush=True)
     text = CAMPAIGN.format(**targets, install_gap=0.6, tolerance=args.tolerance)
     campaign = planned(parse_campaign(text, Path.cwd()))
     record = calibrate(campaign, Executor(RunStore(args.out), workers=args.workers))
