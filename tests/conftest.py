@@ -1,3 +1,4 @@
+import faulthandler
 import os
 import sys
 from types import SimpleNamespace
@@ -19,6 +20,26 @@ def _specimen_cache(tmp_path_factory):
     mp.setenv("ROCKCAL_CACHE", str(root / "specimens"))
     yield
     mp.undo()
+
+
+TEST_LIMIT_S = 900  # no test takes two minutes with its fixtures; one past this is stuck
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_protocol(item):
+    """A test stuck past TEST_LIMIT_S (its fixtures' setup included) prints every thread's stack
+    and ends its process (under pytest-xdist, its worker: the test is reported as crashed and
+    the run goes on). faulthandler's watchdog is a C thread, so it ends a test stuck in compiled
+    code too, where a Python timer (a signal handler, pytest-timeout) never gets the interpreter
+    back. The stacks go where pytest's own faulthandler writes (stderr before pytest captured it)."""
+    from _pytest.faulthandler import fault_handler_stderr_fd_key
+
+    stderr = item.config.stash.get(fault_handler_stderr_fd_key, None)
+    faulthandler.dump_traceback_later(TEST_LIMIT_S, exit=True, file=sys.stderr if stderr is None else stderr)
+    try:
+        return (yield)
+    finally:
+        faulthandler.cancel_dump_traceback_later()
 
 
 @pytest.fixture(autouse=True, scope="session")

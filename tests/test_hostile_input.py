@@ -623,6 +623,8 @@ FOUND_CAMPAIGN_FILES = [
     pytest.param(BASE_TEXT + hs._deep("dotted", 100_000), id="dotted-key-100000-deep", marks=pytest.mark.slow),
     # an unknown key of white space is named by nothing: "rockcal: error: : Extra inputs are not permitted"
     pytest.param('" " = 1\n' + BASE_TEXT, id="blank-unknown-key"),
+    # an empty key's nan, refused before the schema, is named by nothing: "rockcal: error: : must be a finite number"
+    pytest.param('"" = nan\n' + BASE_TEXT, id="empty-key-nan"),
 ]
 
 

@@ -59,7 +59,12 @@ def from_validation_error(exc, model=None) -> InputError:
             path, problem = path + [key], rest
         else:
             problem = str(cause)
-    return InputError(".".join(p if re.fullmatch(r"[^\s'\"]+", p) else repr(p) for p in path) or "input", problem)
+    return InputError(".".join(map(key_text, path)) or "input", problem)
+
+
+def key_text(name: str) -> str:
+    """A key as an error names it: quoted where it is empty or holds a space or a quote."""
+    return name if re.fullmatch(r"[^\s'\"]+", name) else repr(name)
 
 
 def _fields_at(model, path: list[str]) -> list[str]:

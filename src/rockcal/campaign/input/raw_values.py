@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 
-from rockcal.errors import InputError
+from rockcal.errors import InputError, key_text
 
 INT_LIMIT = 2**63  # TOML integers are 64-bit signed
 
@@ -16,7 +16,7 @@ def check_numbers(data, key: str = "") -> None:
     nan or an integer beyond 64 bits."""
     if isinstance(data, dict):
         for name, value in data.items():
-            check_numbers(value, f"{key}.{name}" if key else str(name))
+            check_numbers(value, f"{key}.{key_text(str(name))}" if key else key_text(str(name)))
     elif isinstance(data, list):
         for i, value in enumerate(data):
             check_numbers(value, f"{key}[{i}]")
