@@ -343,9 +343,8 @@ TEST = LabTest(
     setting_help=(("width_mm", "Specimen width, mm (in 3D the cylinder's diameter, the square prism's side)."),
                   ("height_mm", "Specimen height, mm.")),
     # the full-size granite's confined runs at sigma3 0, 5, 10, 20 MPa took 1.0, 1.8, 1.7 and
-    # 2.2 x its UCS run (the seating, and a higher peak further on); in 3D the Lac du Bonnet
-    # cylinder's (flat joints), 2.0-2.1 x at R_min 0.5 and 0.75 mm (`benchmarks/plan_3d.py`)
-    time_factor=lambda s: 2.0 if in_3d(s) else 1.7,
+    # 2.2 x its UCS run (the seating, and a higher peak further on)
+    time_factor=lambda s: 1.7,
     curve_columns=CURVE_COLUMNS, own_settings=(CONFINEMENT,), combine=envelope,
     plot="deviatoric_stress_strain", series_figures=SERIES_FIGURES,
     combined_responses=(

@@ -151,9 +151,6 @@ RESPONSES_3D = tuple(Response("P_max_kN", "kN", target=False, label="peak load")
 
 TEST = LabTest(
     name="direct_tension", title="direct tension",
-    # a 3D cylinder breaks at a twentieth of its UCS run's steps (the Lac du Bonnet cylinder's,
-    # flat joints, 0.03-0.07 x its UCS run at R_min 0.5 and 0.75 mm: `benchmarks/plan_3d.py`)
-    time_factor=lambda s: 0.05 if in_3d(s) else 1.0,
     responses=RESPONSES,
     # the later settings last: at their old values (kind.LATER_SETTINGS) a run's key leaves them out
     settings=("width_mm", "height_mm", "rmin_mm", "radius_ratio", "seed", *GENESIS,
