@@ -20,15 +20,17 @@ from rockcal.labtests.specimen_settings import SpecimenSettings
 # run time ~ work^WORK_EXPONENT[dimensions]: in 2D a half-resolution UCS run (1/8 of the work)
 # takes about 1/10 of the full-size one at the same point on one thread (a small specimen stays
 # in the caches); in 3D a coarse run's steps fall faster than its rows (R_min x 1.4-1.5: the
-# granite's and the Lac du Bonnet cylinder's UCS runs 0.18 and 0.11 of the full-size ones, their
-# confined runs 0.11: `NUMBA_NUM_THREADS=1 python benchmarks/plan_3d.py STORE` on the stores of
-# docs/campaigns/granite-3d-all-targets.toml and ldb-3d.toml)
-WORK_EXPONENT = {2: 1.1, 3: 1.3}
+# granite's and the Lac du Bonnet cylinder's UCS runs 0.17 and 0.11 of the full-size ones, for
+# exponents 1.34 and 1.40, the latter's confined runs 1.38: `NUMBA_NUM_THREADS=1 python
+# benchmarks/plan_3d.py STORE` on the stores of docs/campaigns/granite-3d-all-targets.toml and
+# ldb-3d.toml)
+WORK_EXPONENT = {2: 1.1, 3: 1.35}
 # The rows of a 3D UCS cylinder whose steps a 3D beam's or Brazilian disk's run takes (tests
 # whose steps do not follow their rows: `LabTest.steps_follow_rows`): its pin's or platens'
 # travel to the peak, at a step set by the grain size (the same benchmark: the granite's beam
-# 36 and 45 rows at R_min 0.8 and 1.12 mm, the Lac du Bonnet disk 30 and 36 at 0.5 and 0.75 mm)
-TRAVEL_ROWS_3D = 35.0
+# 33 and 52 rows at R_min 0.8 and 1.12 mm, the Lac du Bonnet disk 28 and 39 at 0.5 and 0.75 mm;
+# their geometric mean)
+TRAVEL_ROWS_3D = 37.0
 # A packing's genesis on one thread: its time goes with the packing's grains x rows as a run's
 # does (every step moves every grain; a taller vessel takes more steps to settle), in seconds per
 # grain-row per ms of the engine probe's step (`engine_speed`): 2D balls, 3D spheres (the 3D one

@@ -5,10 +5,10 @@ without any, it is scaled from a granite UCS run of the campaign's dimension (2D
 specimen, 3D's 25 x 50 mm cylinder) on a reference machine by this machine's speed against the
 reference machine's (`engine_speed`: a one-second probe). Work per step grows with the grains,
 and the steps of a test with its rows of grains (the loading speed is set per row), so a run's
-time goes about as (grains x rows)^1.1, in 3D ^1.3 (`cost`); a full-size 2D bending run about
+time goes about as (grains x rows)^1.1, in 3D ^1.35 (`cost`); a full-size 2D bending run about
 2.7 times slower than that (its steps grow with span² / height; a 3D beam's and disk's with
 neither), a Brazilian disk between bearing strips about six times, and a flat-jointed
-material's runs twice a parallel-bonded one's in 2D, 14 times in 3D
+material's runs twice a parallel-bonded one's in 2D, 16 times in 3D
 (`Material.slower_than_parallel_bond`).
 A stage runs in rounds of one run per worker; the runs of a last, short round share the
 cores (a run alone on two cores goes LONE_RUN_SPEED_UP times faster than one of two at once).
@@ -53,7 +53,7 @@ REFERENCE_WORK = {2: 12933 * 151, 3: 3016 * 23.58}
 # run (docs/campaigns/granite-3d-all-targets.toml's cylinder, one thread, processor time) per
 # ms of the probe's step in the same process, times REFERENCE_PROBE_MS
 # (`NUMBA_NUM_THREADS=1 python benchmarks/plan_3d.py STORE --rmin-mm 0.8` on that campaign's store)
-REFERENCE_RUN_S = {2: 86.8, 3: 25.4}
+REFERENCE_RUN_S = {2: 86.8, 3: 25.5}
 REFERENCE_PROBE_MS = 0.66
 LONE_RUN_SPEED_UP = 1.4  # a run alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
 # the main process's own work, on one core of a machine of the project's kind (numpy and
