@@ -24,6 +24,7 @@ from rockcal.campaign.runs.pool import Executor, execute
 from rockcal.campaign.runs.spec import run_spec
 from rockcal.materials import DEFAULT_MATERIAL
 from rockcal.campaign.runs.store import RunStore
+from rockcal.inverse.identifiability import largest_error
 from rockcal.params import parse_assignments
 
 CAMPAIGN = Path(__file__).resolve().parents[1] / "docs" / "campaigns" / "granite-3d.toml"
@@ -100,8 +101,9 @@ def report(record, true: dict, started: float) -> None:
             holds = "holds" if r.low <= true[name] <= r.high else "misses"
             read = "the surrogate" if r.verified_ends is None else "DEM" + (
                 "" if r.met_low is None else f", met over {r.met_low:.4g}-{r.met_high:.4g}")
-            print(f"{name:12s} {'pinned' if r.pinned else 'not pinned'}: {r.low:.4g}-{r.high:.4g} "
-                  f"({100 * r.share:.0f} % of its box, {read}), {holds} the truth")
+            error = largest_error(r.low, r.high, record.identified[name])
+            print(f"{name:12s} {'pinned' if r.pinned else 'not pinned'}: {r.low:.4g}-{r.high:.4g} (the value found "
+                  f"within {100 * error:.1f} % of it, {100 * r.share:.0f} % of its box, {read}), {holds} the truth")
         print("identifiability:", found.text)
 
 

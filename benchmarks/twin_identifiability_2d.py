@@ -27,6 +27,7 @@ from rockcal.campaign.job import run_in_folder
 from rockcal.campaign.plan.planned import planned
 from rockcal.campaign.runs.pool import execute
 from rockcal.campaign.runs.spec import run_spec
+from rockcal.inverse.identifiability import largest_error
 from rockcal.labtests.seeds import mean_over_seeds, seed_list
 from rockcal.params import parse_assignments
 from twin_3d import twin_arguments
@@ -96,14 +97,15 @@ def phase(title: str, text: str, out: Path, resume: bool, workers: int, true: di
           f"({record.dem_runs} parameter sets in the calibration's budget), {time.perf_counter() - started:.0f} s")
     print("errors at the identified point:", ", ".join(f"{k} {100 * v:+.2f} %" for k, v in record.errors.items()))
     found = record.identifiability
-    print(f"{'parameter':12s} {'truth':>7s} {'found':>7s} {'error':>8s}  verdict, range (share of its box, read by)")
+    print(f"{'parameter':12s} {'truth':>7s} {'found':>7s} {'error':>8s}  verdict, range (its largest error, share of its box, read by)")
     for name, truth in true.items():
         value, r = record.identified[name], found.ranges[name]
         holds = "holds" if r.low <= truth <= r.high else "MISSES"
         read = "surrogate" if r.verified_ends is None else f"DEM, ends met: {', '.join(r.verified_ends) or 'none'}" + (
             "" if r.met_low is None else f", met over {r.met_low:.4g}-{r.met_high:.4g}")
         print(f"{name:12s} {truth:7.4g} {value:7.4g} {100 * (value / truth - 1):+7.2f} %  "
-              f"{'pinned' if r.pinned else 'NOT pinned'}, {r.low:.4g}-{r.high:.4g} ({100 * r.share:.0f} %, {read}), "
+              f"{'pinned' if r.pinned else 'NOT pinned'}, {r.low:.4g}-{r.high:.4g} (±{100 * largest_error(r.low, r.high, value):.1f} "
+              f"% of the value found, {100 * r.share:.0f} % of the box, {read}), "
               f"{holds} the truth")
     for run in found.end_runs:  # in the order they ran, each range read in turn
         errors = "failed" if run.errors is None else ", ".join(f"{k} {100 * v:+.1f} %" for k, v in run.errors.items())

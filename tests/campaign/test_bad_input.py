@@ -147,6 +147,8 @@ CAMPAIGNS = [  # (case, campaign text, the key the error must name)
      "specimen.disk_diameter_mm"),
     ("too few draws", CAMPAIGN + "[uncertainty]\ndraws = 2\n", "uncertainty.draws"),
     ("no packings", CAMPAIGN + "[uncertainty]\npackings = 0\n", "uncertainty.packings"),
+    ("pinned within 0", CAMPAIGN + "[identifiability]\npinned_within = 0\n", "identifiability.pinned_within"),
+    ("pinned within inf", CAMPAIGN + "[identifiability]\npinned_within = inf\n", "identifiability.pinned_within"),
     ("pinned share 0", CAMPAIGN + "[identifiability]\npinned_share = 0\n", "identifiability.pinned_share"),
     ("pinned share over 1", CAMPAIGN + "[identifiability]\npinned_share = 1.5\n", "identifiability.pinned_share"),
     ("runs not a bool", CAMPAIGN + "[identifiability]\nruns = 3\n", "identifiability.runs"),

@@ -233,11 +233,12 @@ def test_two_candidates_on_a_single_optimum_make_the_planned_runs(tmp_path):
     """[acceptance] candidates = 2 plans the search's optimum only: where the surrogate has no
     second optimum, the campaign makes the runs the first screen counts, and the campaign's bar
     ends at that count without lowering its total while it runs; the identifiability stage's
-    planned runs leave it at the end, the sheet pinning both parameters."""
+    planned runs leave it at the end, the sheet pinning both parameters (within 10 %: the 5 %
+    tolerance leaves each up to 5.3 % from the value found)."""
     from rockcal.cli.calibrate import _stage_progress
 
-    campaign = planned(parse_campaign(tiny_campaign().replace("max_dem_runs = 9", "max_dem_runs = 9\ncandidates = 2"),
-                                      tmp_path))
+    text = tiny_campaign().replace("max_dem_runs = 9", "max_dem_runs = 9\ncandidates = 2")
+    campaign = planned(parse_campaign(text + "[identifiability]\npinned_within = 0.1\n", tmp_path))
     counted = sum(stage_runs(campaign).values())
     assert counted == 6 + 1 + 1 + 6  # samples, check, the search's optimum, the identifiability stage's ends
     progress = _stage_progress(True, stage_runs(campaign), {stage: (n, 10.0 * n)

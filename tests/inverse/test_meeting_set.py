@@ -22,7 +22,8 @@ def test_a_parameter_no_target_sees_spans_its_box_and_the_others_are_pinned():
     inside = meets(predict, bands(TARGETS, 0.02, {}, None))  # a within 1.5 ± 0.03: x0 within 0.5 ± 0.03
     points = meeting_set(inside, BOX, np.array([0.5, 0.5, 20.0]))
     assert len(points) > 100 and inside(points).all()
-    ranges = parameter_ranges(points, BOX, ["x0", "x1", "x2"], 0.25)
+    # 0.5 found lies within 0.03 / 0.47 = 6.4 % of every point of x0's and x1's ranges: pinned within 10 %
+    ranges = parameter_ranges(points, BOX, ["x0", "x1", "x2"], np.array([0.5, 0.5, 20.0]), 0.1, 1.0)
     for name in ("x0", "x1"):
         assert 0.47 - 1e-9 <= ranges[name]["low"] < 0.48 and 0.52 < ranges[name]["high"] <= 0.53 + 1e-9
         assert ranges[name]["share"] == pytest.approx(0.06, abs=0.01) and ranges[name]["pinned"]
@@ -56,5 +57,5 @@ def test_a_thin_ridge_is_walked_from_its_one_known_point():
 
     inside = meets(along, {"a": (1.497, 1.503), "b": (0.99, 1.01)})
     points = meeting_set(inside, BOX[:2], np.array([0.5, 0.5]))
-    ranges = parameter_ranges(points, BOX[:2], ["x0", "x1"], 0.25)
+    ranges = parameter_ranges(points, BOX[:2], ["x0", "x1"], np.array([0.5, 0.5]), 0.1, 1.0)
     assert ranges["x0"]["low"] < 0.05 and ranges["x0"]["high"] > 0.95 and not ranges["x0"]["pinned"]

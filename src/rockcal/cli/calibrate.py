@@ -356,7 +356,8 @@ def identifiability_summary(found) -> dict | None:
     the tests ranked and the sentence (None: not accepted, so not judged)."""
     if found is None:
         return None
-    return {"bands": found.bands, "surrogate_error": found.surrogate_error, "pinned_share": found.pinned_share,
+    return {"bands": found.bands, "surrogate_error": found.surrogate_error, "pinned_within": found.pinned_within,
+            "pinned_share": found.pinned_share,
             "ranges": {n: r.model_dump() for n, r in found.ranges.items()},
             "end_runs": [r.model_dump() for r in found.end_runs],
             "tests": [{"test": t.test, "response": t.response, "spread": t.spread, "label": t.label}

@@ -3,9 +3,10 @@ responses all lie in their targets' bands (the acceptance tolerance, or the lab'
 wider, with the surrogate's own error near the accepted point added), sampled by hit-and-run
 walks, and each parameter's range over it against its box.
 
-A parameter whose range over the set spans at most `pinned_share` of its box is pinned by the
-sheet; one whose range spans more is not: points that far apart meet every target alike, and
-the sheet cannot tell them apart.
+A parameter is pinned by the sheet where the value found lies within `pinned_within` (relative)
+of every point of its range over the set (and the range spans at most `pinned_share` of its
+box): the range holds the truth, so the value found lies that near it. Elsewhere it is not:
+points that far apart meet every target alike, and the sheet cannot tell them apart.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from typing import Callable
 
 import numpy as np
 
-PINNED_SHARE = 0.25  # a range over at most this share of its box pins the parameter
+PINNED_WITHIN = 0.05  # the value found within this of every point of its range pins the parameter
 PROBES = 2048  # Latin hypercube points over the box that seed the walks
 CHAINS = 32  # walks at once, each a batch of LINE_POINTS surrogate points a step
 STEPS = 120
@@ -87,14 +88,32 @@ def meeting_set(inside: Callable, box: np.ndarray, start: np.ndarray, seed: int 
     return np.vstack([seeds, low + width * np.vstack(walked)])
 
 
-def parameter_ranges(points: np.ndarray, box: np.ndarray, names: list[str], pinned_share: float) -> dict[str, dict]:
-    """Each parameter's range over `points`, the share of its box that range spans and whether
-    that pins it."""
+def largest_error(low: float, high: float, found: float) -> float:
+    """The largest relative error of the value `found` against a truth anywhere in [low, high]
+    (a range holding both): its distance to the range's farther end over the end nearest zero,
+    than which no truth there is nearer zero (inf where the range reaches zero)."""
+    nearest_zero = 0.0 if low <= 0 <= high else min(abs(low), abs(high))
+    reach = max(found - low, high - found)
+    return reach / nearest_zero if nearest_zero > 0 else (0.0 if reach == 0 else np.inf)
+
+
+def pins(low: float, high: float, found: float, share: float, pinned_within: float, pinned_share: float) -> bool:
+    """Whether a range [low, high] holding the value `found` and spanning `share` of its box
+    pins its parameter: that value within `pinned_within` of every point of it (`largest_error`),
+    the range within `pinned_share` of the box."""
+    return largest_error(low, high, found) <= pinned_within and share <= pinned_share
+
+
+def parameter_ranges(points: np.ndarray, box: np.ndarray, names: list[str], found: np.ndarray,
+                     pinned_within: float, pinned_share: float) -> dict[str, dict]:
+    """Each parameter's range over `points` (and the value `found`), the share of its box that
+    range spans and whether that pins it (`pins`)."""
     ranges = {}
     for k, name in enumerate(names):
-        low, high = float(points[:, k].min()), float(points[:, k].max())
+        low, high = float(min(points[:, k].min(), found[k])), float(max(points[:, k].max(), found[k]))
         share = float((high - low) / (box[k, 1] - box[k, 0]))
-        ranges[name] = {"low": low, "high": high, "share": share, "pinned": share <= pinned_share}
+        ranges[name] = {"low": low, "high": high, "share": share,
+                        "pinned": pins(low, high, found[k], share, pinned_within, pinned_share)}
     return ranges
 
 

@@ -434,9 +434,8 @@ RESPONSES_3D = tuple(Response("P_max_kN", "kN", target=False, label="peak load")
 
 TEST = LabTest(
     lab_values=BendingValues,
-    # its steps grow with span² / height, not with its rows; in 3D a run takes 1.4 times longer
-    # still beside a UCS run of the same work
-    time_factor=lambda s: 2.4 if in_3d(s) else 1.75,
+    # its steps grow with span² / height, not with its rows (in 3D: `plan.cost.TRAVEL_ROWS_3D`)
+    time_factor=lambda s: 1.0 if in_3d(s) else 1.75, steps_follow_rows=lambda s: not in_3d(s),
     name="bending", title="bending",
     help="Three-point bending of a notched beam: peak load, load-displacement curve, K_IC.",
     responses=RESPONSES,

@@ -375,6 +375,7 @@ STRIPS_SLOWER = 6.0
 TEST = LabTest(
     lab_values=BrazilianValues,
     time_factor=lambda s: STRIPS_SLOWER if s.get("brazilian_loading") == "strips" else 1.0,
+    steps_follow_rows=lambda s: not in_3d(s),  # a 3D disk's: `plan.cost.TRAVEL_ROWS_3D`
     name="brazilian", title="Brazilian",
     help="Brazilian test of a disk between flat platens, flat platens with bearing strips or ISRM's "
          "curved jaws (--loading): "

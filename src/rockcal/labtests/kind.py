@@ -156,6 +156,9 @@ class LabTest:
     lab_values: type | None = None  # its [targets.<name>] section (LabValues); None: made from `targets`
     # its run time over a UCS run's of the same work (grains x rows), with these specimen settings
     time_factor: Callable[[dict], float] = lambda settings: 1.0
+    # whether its steps grow with its rows of grains (its loading speed set per row), with these
+    # settings; where not, its steps are its pin's or platens' travel to the peak (`plan.cost`)
+    steps_follow_rows: Callable[[dict], bool] = lambda settings: True
     curve_columns: tuple[str, ...] = ()  # the columns of its result's curve, with units
     plot: str | None = None  # the `rockcal.plots` function of (curve, path, title, rig) that draws it
     flags: tuple[tuple[str, str], ...] = ()  # (setting, its CLI flag's name) where they differ

@@ -485,6 +485,10 @@ MATERIAL = Material(
     pfc_parameters=pfc_parameters, pfc_material_type=FLAT_JOINTED,
     pfc_group="mpSetFJParams", pair_properties=pair_properties, pairs_word="flat joints",
     breaks_word="elements", check_rock=check_bonded,
-    # a step costs 1.4 x a parallel bond's (each joint sums its elements), and joints that break
-    # element by element take more steps to the peak
-    slower_than_parallel_bond=2.0)
+    # 2D: a step costs 1.4 x a parallel bond's (each joint sums its elements), and joints that
+    # break element by element take more steps to the peak. 3D: a sphere-step 5-8 x (a slit
+    # joint's partly open elements are worked out one by one) and 2-3 x the steps at the Lac du
+    # Bonnet point: its Ø10 x 20 mm cylinder's UCS run 16.7 and 16.1 x the 3D granite point's at
+    # R_min 0.5 and 0.75 mm (`NUMBA_NUM_THREADS=1 python benchmarks/plan_3d.py STORE
+    # --parallel-bond` on a store of docs/campaigns/ldb-3d.toml's runs)
+    slower_than_parallel_bond=((2, 2.0), (3, 16.0)))

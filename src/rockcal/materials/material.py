@@ -66,9 +66,13 @@ class Material:
     pairs_word: str = "bonds"  # its bonded pairs, in words
     breaks_word: str = "bonds"  # what breaks, each a crack
     check_rock: Callable[[BondedParams], None] | None = None
-    # a UCS run's time over the parallel-bonded material's on the same specimen (the first
-    # screen's estimate, before the store holds a run)
-    slower_than_parallel_bond: float = 1.0
+    # a UCS run's time over the parallel-bonded material's on the same specimen, per dimension
+    # (the first screen's estimate, before the store holds a run); a dimension left out: 1
+    slower_than_parallel_bond: tuple[tuple[int, float], ...] = ()
+
+    def slower_in(self, dimensions: int) -> float:
+        """`slower_than_parallel_bond` in `dimensions` (2 or 3)."""
+        return dict(self.slower_than_parallel_bond).get(dimensions, 1.0)
 
 
 

@@ -28,7 +28,7 @@ from rockcal.user_files import read_user_text
 from rockcal.specimens.genesis import make_genesis
 from rockcal.errors import InputError, fields_named, from_validation_error
 from rockcal.inverse.arrays import design
-from rockcal.inverse.identifiability import PINNED_SHARE
+from rockcal.inverse.identifiability import PINNED_WITHIN
 from rockcal.labtests.registry import LAB_TESTS, PRIMARY_TEST, lab_test
 from rockcal.materials import DEFAULT_MATERIAL, MATERIALS, material, parameters
 
@@ -218,9 +218,12 @@ class UncertaintySettings(Section):
 class IdentifiabilitySettings(Section):
     """Which parameters the lab sheet pins, and which lab test it lacks would pin the others."""
 
-    pinned_share: float = Field(PINNED_SHARE, gt=0, le=1, description="A searched parameter is pinned by the sheet "
-                                "when its range over the points that meet every target (within the tolerance, or "
-                                "the lab's spread where wider) spans at most this share of its search box.")
+    pinned_within: float = Field(PINNED_WITHIN, gt=0, description="A searched parameter is pinned by the sheet "
+                                 "when the value found lies within this relative error of every point of its range "
+                                 "over the points that meet every target (within the tolerance, or the lab's spread "
+                                 "where wider): the range holds the truth, so the value found lies that near it.")
+    pinned_share: float = Field(1.0, gt=0, le=1, description="A further condition: a pinned parameter's range spans "
+                                "at most this share of its search box (default 1: none).")
     runs: bool = Field(True, description="Read the widest range not pinned in the DEM (the calibrated tests at "
                        "its two ends) and run the lab tests the sheet lacks there, to name the test that would pin "
                        "it.")

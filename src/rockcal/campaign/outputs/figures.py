@@ -254,8 +254,8 @@ FIGURES: tuple[tuple[str, str, str, Figure], ...] = (
     ("Identifiability", "meeting_set.png",
      "The points whose predicted responses meet every target (within its tolerance, or the lab's spread "
      "where wider, plus the surrogate's error at the verified points), pair by pair; +: the identified point. "
-     "A parameter they spread over more than its pinned share of the box is not pinned by the sheet, unless "
-     "its range read in the DEM is narrower.", _meeting_set),
+     "A parameter whose range over them reaches farther from the value found than [identifiability] "
+     "pinned_within is not pinned by the sheet, unless its range read in the DEM is narrower.", _meeting_set),
     ("Stress–strain curve", "stress_strain.png",
      "UCS test at the identified parameters; the measured curve when one was given; CI (onset of "
      "cracking) and CD (reversal of the volumetric strain) dotted.", _stress_strain),

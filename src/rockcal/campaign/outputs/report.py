@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import base64
 import html
+import math
 from pathlib import Path
 
 from rockcal.campaign.input.config import SpecimenSettings
@@ -17,6 +18,7 @@ from rockcal.campaign.outputs.figures import draw, figures_of
 from rockcal.campaign.procedure.result import CalibrationResult, SurrogateCheck
 from rockcal.campaign.runs.store import RunStore
 from rockcal.campaign.procedure.pinning import LAB_WORK
+from rockcal.inverse.identifiability import largest_error
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.output_files import write_atomic
 
@@ -141,6 +143,19 @@ def _parameters(result: CalibrationResult) -> str:
     return table
 
 
+def _largest_error(low: float, high: float, found: float) -> str:
+    """The value found's largest relative error against a point of its range, in per cent."""
+    error = largest_error(low, high, found)
+    return f"{100 * error:.1f} %" if math.isfinite(error) else "the range reaches 0"
+
+
+def _pinned_rule(found) -> str:
+    """The verdict's rule in a column's head: the value found's largest error, and the share of
+    the box where that is a condition (a record made before the error's: the share alone)."""
+    rule = [] if found.pinned_within is None else [f"within {100 * found.pinned_within:g} %"]
+    return ", ".join(rule + ([f"≤ {100 * found.pinned_share:g} % of the box"] if found.pinned_share < 1 else []))
+
+
 def _identifiability(result: CalibrationResult) -> str:
     """Which parameters the sheet pins, the DEM runs at the ends of the range read there, and
     the tests it lacks ranked by how much they vary between the ends kept (none when the
@@ -156,9 +171,10 @@ def _identifiability(result: CalibrationResult) -> str:
              "missing it within the surrogate's error, out to the nearest runs beyond that miss it by more, or the "
              "box's bounds: the set's edges along the read lie between.")
     text = f"<h3>Identifiability</h3><p>{html.escape(found.text[0].upper() + found.text[1:])}</p>"
-    text += _table(["parameter", "low", "high", "share of its box", f"pinned (≤ {100 * found.pinned_share:g} %)",
-                    "read in the DEM"],
-                   [[n, _num(r.low), _num(r.high), f"{100 * r.share:.0f} %", "yes" if r.pinned else "no",
+    text += _table(["parameter", "low", "high", "largest error of the value found", "share of its box",
+                    f"pinned ({_pinned_rule(found)})", "read in the DEM"],
+                   [[n, _num(r.low), _num(r.high), _largest_error(r.low, r.high, result.identified[n]),
+                     f"{100 * r.share:.0f} %", "yes" if r.pinned else "no",
                      "—" if r.verified_ends is None else f"ends met: {', '.join(r.verified_ends) or 'none'}"
                      + ("" if r.met_low is None else f"; met over {_num(r.met_low)}–{_num(r.met_high)}")]
                     for n, r in found.ranges.items()])

@@ -4,6 +4,8 @@
 Work per step grows with the grains, and the steps of a test with its rows of grains (the
 loading speed is set per row), so a run's time goes about as (grains x rows)^WORK_EXPONENT; a
 test's own `time_factor` (a bending run's span, a Brazilian disk's bearing strips) scales it.
+A 3D beam's or disk's steps are its pin's or platens' travel to the peak instead, at a step set
+by the grain size: about as many at any resolution (`TRAVEL_ROWS_3D`).
 """
 
 from __future__ import annotations
@@ -15,9 +17,20 @@ from rockcal.specimens3d.specimen import cloud_spheres, expected_spheres
 from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.labtests.specimen_settings import SpecimenSettings
 
-# run time ~ work^WORK_EXPONENT: a half-resolution UCS run (1/8 of the work) takes about 1/10 of
-# the full-size one at the same point on one thread (a small specimen stays in the caches)
-WORK_EXPONENT = 1.1
+# run time ~ work^WORK_EXPONENT[dimensions]: in 2D a half-resolution UCS run (1/8 of the work)
+# takes about 1/10 of the full-size one at the same point on one thread (a small specimen stays
+# in the caches); in 3D a coarse run's steps fall faster than its rows (R_min x 1.4-1.5: the
+# granite's and the Lac du Bonnet cylinder's UCS runs 0.17 and 0.11 of the full-size ones, for
+# exponents 1.34 and 1.40, the latter's confined runs 1.38: `NUMBA_NUM_THREADS=1 python
+# benchmarks/plan_3d.py STORE` on the stores of docs/campaigns/granite-3d-all-targets.toml and
+# ldb-3d.toml)
+WORK_EXPONENT = {2: 1.1, 3: 1.35}
+# The rows of a 3D UCS cylinder whose steps a 3D beam's or Brazilian disk's run takes (tests
+# whose steps do not follow their rows: `LabTest.steps_follow_rows`): its pin's or platens'
+# travel to the peak, at a step set by the grain size (the same benchmark: the granite's beam
+# 33 and 52 rows at R_min 0.8 and 1.12 mm, the Lac du Bonnet disk 28 and 39 at 0.5 and 0.75 mm;
+# their geometric mean)
+TRAVEL_ROWS_3D = 37.0
 # A packing's genesis on one thread: its time goes with the packing's grains x rows as a run's
 # does (every step moves every grain; a taller vessel takes more steps to settle), in seconds per
 # grain-row per ms of the engine probe's step (`engine_speed`): 2D balls, 3D spheres (the 3D one
@@ -28,12 +41,6 @@ GENESIS_CLUMPS = 1.3  # a clumped packing's genesis over a ball packing's of as 
 # (numba's cache then holds it for every later run): the 2D tests' own loops, or the 3D engine and
 # its genesis, s per ms of the probe's step
 FIRST_RUN_COMPILE_S = {2: 20.0, 3: 190.0}
-
-# a 3D UCS run's time per sphere and row over a 2D run's per disk and row on one machine, from
-# the 3D granite campaign's runs at the default installation gap (docs/concepts/pfc3d.md): a
-# sphere-step costs about three disk-steps, and the cylinder takes more steps per row than the
-# 2D specimen
-RUN_COST_3D = 5.4
 
 
 def grain_count(width_mm: float, height_mm: float, s: SpecimenSettings) -> int:
@@ -46,19 +53,20 @@ def grain_count(width_mm: float, height_mm: float, s: SpecimenSettings) -> int:
     return int(round((1 - s.cloud_porosity) * width_mm * height_mm / mean_area))
 
 
-def work(width_mm: float, height_mm: float, s: SpecimenSettings) -> float:
-    """Grains x rows of a specimen: what a test's run time is proportional to (a sphere
-    counting RUN_COST_3D disks)."""
-    rows = height_mm / (s.rmin_mm * (1 + s.radius_ratio))
-    return grain_count(width_mm, height_mm, s) * rows * (RUN_COST_3D if s.dimensions == 3 else 1.0)
+def work(width_mm: float, height_mm: float, s: SpecimenSettings, follow_rows: bool = True) -> float:
+    """Grains x rows of a specimen: what a test's run time goes with (to the power
+    WORK_EXPONENT); TRAVEL_ROWS_3D rows where its steps do not follow its rows."""
+    rows = height_mm / (s.rmin_mm * (1 + s.radius_ratio)) if follow_rows else TRAVEL_ROWS_3D
+    return grain_count(width_mm, height_mm, s) * rows
 
 
 def specimen_size(test: str, s: SpecimenSettings) -> tuple[str, int, float]:
     """A test's specimen in words, its grains and its work (grains x rows)."""
     kind = lab_test(test)
-    o = kind.outline(kind.settings_of(s))
+    settings = kind.settings_of(s)
+    o = kind.outline(settings)
     grains = round(o.share * grain_count(o.width_mm, o.height_mm, s))
-    return o.text, grains, o.share * work(o.width_mm, o.height_mm, s)
+    return o.text, grains, o.share * work(o.width_mm, o.height_mm, s, kind.steps_follow_rows(settings))
 
 
 def time_factor(test: str, s: SpecimenSettings) -> float:
@@ -70,8 +78,9 @@ def time_factor(test: str, s: SpecimenSettings) -> float:
 def relative_time(campaign, test: str) -> float:
     """One run of `test` over one UCS run, on the campaign's specimen: their works' ratio to
     the power WORK_EXPONENT, by the test's `time_factor`."""
-    work = specimen_size(test, campaign.specimen)[2] / specimen_size(PRIMARY_TEST, campaign.specimen)[2]
-    return work ** WORK_EXPONENT * time_factor(test, campaign.specimen)
+    s = campaign.specimen
+    work = specimen_size(test, s)[2] / specimen_size(PRIMARY_TEST, s)[2]
+    return work ** WORK_EXPONENT[s.dimensions] * time_factor(test, s)
 
 
 def genesis_work(test: str, s: SpecimenSettings) -> float:

@@ -1,13 +1,15 @@
 """What a campaign will run and about how long it will take: shown before it starts.
 
 A run's time is the mean of the test's runs on the same specimen that the store already holds;
-without any, it is scaled from a full-size granite UCS run on a reference machine by this
-machine's speed against the reference machine's (`engine_speed`: a one-second probe). Work per
-step grows with the grains, and the steps of a test with its rows of grains (the loading speed
-is set per row), so a run's time goes about as (grains x rows)^1.1 (measured on idle cores: `cost`); a
-full-size bending run about 2.7 times slower than that (its steps grow with span² / height), a
-Brazilian disk between bearing strips about six times, and a flat-jointed material's runs about
-twice a parallel-bonded one's (`Material.slower_than_parallel_bond`).
+without any, it is scaled from a granite UCS run of the campaign's dimension (2D's full-size
+specimen, 3D's 25 x 50 mm cylinder) on a reference machine by this machine's speed against the
+reference machine's (`engine_speed`: a one-second probe). Work per step grows with the grains,
+and the steps of a test with its rows of grains (the loading speed is set per row), so a run's
+time goes about as (grains x rows)^1.1, in 3D ^1.35 (`cost`); a full-size 2D bending run about
+2.7 times slower than that (its steps grow with span² / height; a 3D beam's and disk's with
+neither), a Brazilian disk between bearing strips about six times, and a flat-jointed
+material's runs twice a parallel-bonded one's in 2D, 16 times in 3D
+(`Material.slower_than_parallel_bond`).
 A stage runs in rounds of one run per worker; the runs of a last, short round share the
 cores (a run alone on two cores goes LONE_RUN_SPEED_UP times faster than one of two at once).
 Beside other work (the cores it asks for during the probe, past the cores if need be) the runs
@@ -40,13 +42,18 @@ from rockcal.labtests.registry import PRIMARY_TEST, lab_test
 from rockcal.materials import material
 from rockcal.pfc.header import PFC4_NOT_IN_FISHTANK, takes_pfc4_contacts
 
-REFERENCE_WORK = 12933 * 151  # grains x rows of the full-size granite UCS specimen
-# the embedded granite campaign's mean full-size UCS run (one thread, two at a time on idle
+# grains x rows of each dimension's reference UCS specimen (`cost.work`): 2D the full-size
+# granite's 50 x 100 mm, 3D the 3D granite's Ø25 x 50 mm cylinder at R_min 0.8 mm
+REFERENCE_WORK = {2: 12933 * 151, 3: 3016 * 23.58}
+# 2D: the embedded granite campaign's mean full-size UCS run (one thread, two at a time on idle
 # cores) where engine_speed.probe_ms_per_step() gives REFERENCE_PROBE_MS: scaled by this
 # machine's probe, it gives this machine's run time before the store holds a run. That run's
 # time per probe-ms differs between machines of the project's kind (an AMD EPYC's 117 s, an
-# Intel Xeon's 148 s): this is their geometric mean, 12 % from either
-REFERENCE_RUN_S = 86.8
+# Intel Xeon's 148 s): this is their geometric mean, 12 % from either. 3D: the 3D granite's UCS
+# run (docs/campaigns/granite-3d-all-targets.toml's cylinder, one thread, processor time) per
+# ms of the probe's step in the same process, times REFERENCE_PROBE_MS
+# (`NUMBA_NUM_THREADS=1 python benchmarks/plan_3d.py STORE --rmin-mm 0.8` on that campaign's store)
+REFERENCE_RUN_S = {2: 86.8, 3: 25.5}
 REFERENCE_PROBE_MS = 0.66
 LONE_RUN_SPEED_UP = 1.4  # a run alone on 2 threads against two at a time: a UCS run 1.6x, a beam 1.4x
 # the main process's own work, on one core of a machine of the project's kind (numpy and
@@ -140,14 +147,14 @@ def stored_runs_s(store, test: str, specimen: SpecimenSettings) -> list[float]:
 def run_times(campaign: Campaign, store, sizes: dict) -> tuple[dict[str, float], bool]:
     """Expected time of one run of each test on one worker, and whether the UCS run's is
     measured (the mean of this store's runs) rather than scaled from the reference run."""
-    s = campaign.specimen
+    s, d = campaign.specimen, campaign.specimen.dimensions
     measured = {test: stored_runs_s(store, test, s) for test in sizes}
     ucs_work = sizes[PRIMARY_TEST][2]
     ucs_s = float(np.mean(measured[PRIMARY_TEST])) if measured[PRIMARY_TEST] else \
-        reference_run_s() * (ucs_work / REFERENCE_WORK) ** WORK_EXPONENT * \
-        material(campaign.material.model).slower_than_parallel_bond
+        reference_run_s(d) * (ucs_work / REFERENCE_WORK[d]) ** WORK_EXPONENT[d] * \
+        material(campaign.material.model).slower_in(d)
     times = {test: float(np.mean(measured[test])) if measured[test] else
-             ucs_s * (size[2] / ucs_work) ** WORK_EXPONENT * time_factor(test, s)
+             ucs_s * (size[2] / ucs_work) ** WORK_EXPONENT[d] * time_factor(test, s)
              for test, size in sizes.items()}
     return times, bool(measured[PRIMARY_TEST])
 
@@ -157,9 +164,9 @@ def machine_speed() -> float:
     return REFERENCE_PROBE_MS / probe_ms_per_step()
 
 
-def reference_run_s() -> float:
-    """The full-size granite UCS run's expected time on this machine (s)."""
-    return REFERENCE_RUN_S / machine_speed()
+def reference_run_s(dimensions: int = 2) -> float:
+    """The reference UCS run's expected time on this machine in `dimensions` (s)."""
+    return REFERENCE_RUN_S[dimensions] / machine_speed()
 
 
 def stage_rounds(runs: int, workers: int, cores: int | None = None) -> float:
@@ -182,7 +189,7 @@ def test_times(campaign: Campaign, store) -> dict[tuple[str, str], tuple[int, fl
     times, _ = run_times(campaign, store, sizes)
     specimen = {step.stage: step.specimen(campaign) for step in STEPS}
     return {(stage, test): (n, n * times[test] * (specimen_size(test, specimen[stage])[2] / sizes[test][2])
-                            ** WORK_EXPONENT)
+                            ** WORK_EXPONENT[campaign.specimen.dimensions])
             for stage, test, n in planned}
 
 
@@ -336,8 +343,9 @@ def describe(campaign: Campaign, store, workers: int | None) -> list[str]:
                      + PFC4_NOT_IN_FISHTANK)
     if workers:
         times, measured = run_times(campaign, store, sizes)
+        reference = "3D" if s.dimensions == 3 else "full-size"
         basis = ("the mean of this store's UCS runs" if measured else
-                 f"scaled from the full-size granite run by this machine's engine speed, "
+                 f"scaled from the {reference} granite run by this machine's engine speed, "
                  f"{machine_speed():.2g}x the reference machine's")
         cores, busy = busy_cores()
         if busy >= 0.5:

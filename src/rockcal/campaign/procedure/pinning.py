@@ -32,7 +32,7 @@ from rockcal.campaign.procedure.rounding import rounded, stand_in
 from rockcal.campaign.runs.spec import RunSpec
 from rockcal.errors import InputError
 from rockcal.inverse.identifiability import (bands, ends_of, in_bands, kept, meeting_set, meets,
-                                             parameter_ranges, worst_errors)
+                                             largest_error, parameter_ranges, pins, worst_errors)
 from rockcal.labtests.registry import LAB_TESTS, PRIMARY_TEST, lab_test
 from rockcal.specimens.grain_limit import check_grains, expected_grains
 from rockcal.specimens.specimen import SHIPPED_DIR
@@ -141,14 +141,14 @@ def pinning_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec],
     if n is None:
         surrogate = judged(state)
         found, points = surrogate_set(state, surrogate)
-        if _widest_unread(found) is None or not state.campaign.identifiability.runs:
-            done = found.model_copy(update={"text": text_of(found, state.campaign)})
+        if _widest_unread(found, state.identified()) is None or not state.campaign.identifiability.runs:
+            done = found.model_copy(update={"text": text_of(found, state.campaign, state.identified())})
             return [], lambda results, progress: replace(state, final=state.final | {"identifiability": done})
         state = _narrowing(state, found, surrogate, points, ())
     elif all(row is None for row in n.next):
         read = _read_range(state)
         found = n.found.model_copy(update={"ranges": n.found.ranges | {n.name: read}})
-        if _loose(read) or _widest_unread(found) is None:
+        if _loose(read) or _widest_unread(found, state.identified()) is None:
             return _ranking_runs(replace(state, narrowing=replace(n, found=found)), read)
         surrogate = judged(state)
         state = _narrowing(state, found, surrogate, surrogate_set(state, surrogate)[1], n.keys)
@@ -160,17 +160,19 @@ def _loose(read: ParameterRange) -> bool:
     return not read.pinned and bool(read.verified_ends)
 
 
-def _widest_unread(found: Identifiability) -> str | None:
-    """The parameter of the widest range not pinned that the DEM has not read (None: none)."""
+def _widest_unread(found: Identifiability, identified: dict) -> str | None:
+    """The parameter not pinned whose value `identified` may lie farthest from the truth
+    (`largest_error`; then the widest share of its box) that the DEM has not read (None: none)."""
     loose = {n: r for n, r in found.ranges.items() if not r.pinned and r.verified_ends is None}
-    return max(loose, key=lambda n: loose[n].share) if loose else None
+    return max(loose, key=lambda n: (largest_error(loose[n].low, loose[n].high, identified[n]), loose[n].share)) \
+        if loose else None
 
 
 def _narrowing(state: CampaignState, found: Identifiability, surrogate, points: np.ndarray,
                keys: tuple) -> CampaignState:
     """The state reading the widest unread range not pinned in the DEM next: its two ends
     (`ends_of` the set `points` of the `surrogate`)."""
-    name = _widest_unread(found)
+    name = _widest_unread(found, state.identified())
     worst = worst_errors(surrogate.predict, state.goals.targets, points)
     ends = [dict(zip(state.names, rounded(row, state.whole)))
             for row in ends_of(points, state.names.index(name), worst)]
@@ -187,9 +189,9 @@ def surrogate_set(state: CampaignState, surrogate) -> tuple[Identifiability, np.
     start = np.array([state.identified()[n] for n in names])
     points = meeting_set(meets(surrogate.predict, band), box, start, seed=campaign.surrogate.seed)
     points = points if len(points) else start[None]  # the surrogate misses the sheet: the verified point
-    share = campaign.identifiability.pinned_share
-    ranges = {n: ParameterRange(**r) for n, r in parameter_ranges(points, box, names, share).items()}
-    return Identifiability(bands=band, surrogate_error=error, pinned_share=share, ranges=ranges,
+    within, share = campaign.identifiability.pinned_within, campaign.identifiability.pinned_share
+    ranges = {n: ParameterRange(**r) for n, r in parameter_ranges(points, box, names, start, within, share).items()}
+    return Identifiability(bands=band, surrogate_error=error, pinned_within=within, pinned_share=share, ranges=ranges,
                            set_points=kept(points).tolist(), end_runs=[], points=[], tests=[], runs=0,
                            text=""), points
 
@@ -330,8 +332,9 @@ def _spanning(state: CampaignState, name: str, verified_ends: list[str]) -> Para
     box_low, box_high = state.bounds[name]
     low = max((x for x in missed if x < maybe_low), default=box_low)
     high = min((x for x in missed if x > maybe_high), default=box_high)
-    share = (high - low) / (box_high - box_low)
-    return ParameterRange(low=low, high=high, share=share, pinned=share <= state.narrowing.found.pinned_share,
+    share, found = (high - low) / (box_high - box_low), state.narrowing.found
+    pinned = pins(low, high, state.identified()[name], share, found.pinned_within, found.pinned_share)
+    return ParameterRange(low=low, high=high, share=share, pinned=pinned,
                           verified_ends=verified_ends, met_low=met_low, met_high=met_high)
 
 
@@ -371,7 +374,7 @@ def _ranking_runs(state: CampaignState, read: ParameterRange) -> tuple[list[RunS
                   for name, r in (n.found.ranges | {n.name: read}).items()}
         found = n.found.model_copy(update={"ranges": ranges, "points": ends if tests else [],
                                            "tests": ranked, "runs": len(keys - set(state.dem_runs))})
-        found = found.model_copy(update={"text": text_of(found, campaign)})
+        found = found.model_copy(update={"text": text_of(found, campaign, state.identified())})
         return replace(state, narrowing=None, final=state.final | {"identifiability": found})
 
     return specs, fold
@@ -417,28 +420,29 @@ def _number(value) -> float | None:
     return float(value) if isinstance(value, (int, float)) and np.isfinite(value) else None
 
 
-def text_of(found: Identifiability, campaign) -> str:
-    """What the stage found, in a sentence or two."""
+def text_of(found: Identifiability, campaign, identified: dict) -> str:
+    """What the stage found at the `identified` point, in a sentence or two."""
     tolerance = campaign.acceptance.tolerance
     loose = {n: r for n, r in found.ranges.items() if not r.pinned}
     read = [n for n, r in found.ranges.items() if r.verified_ends is not None]
     if loose:
-        listed = ", ".join(f"{n} {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box, "
+        listed = ", ".join(f"{n} {r.low:.4g}–{r.high:.4g} ({_error_text(r, identified[n])}, "
                            + ("on the surrogate" if r.verified_ends is None else
                               f"read in the DEM: {_ends_text(r)}") + ")" for n, r in loose.items())
         text = f"the sheet does not pin {' and '.join(loose)}: the points that meet it lie within {listed}"
     else:
-        widest = max(r.share for r in found.ranges.values())
-        text = (f"the sheet pins every searched parameter: among the points that meet it, each ranges over at most "
-                f"{100 * widest:.0f} % of its search box")
-    unbounded = [n for n, r in loose.items() if r.met_low is not None and _met_share(r) <= found.pinned_share]
+        most = max(largest_error(r.low, r.high, identified[n]) for n, r in found.ranges.items())
+        text = (f"the sheet pins every searched parameter: each value found lies within {100 * most:.1f} % of every "
+                "point that meets it in that parameter, so of the truth")
+    unbounded = [n for n, r in loose.items() if r.met_low is not None
+                 and pins(r.met_low, r.met_high, identified[n], _met_share(r), found.pinned_within, found.pinned_share)]
     if unbounded:
-        text += (f"; in {' and '.join(unbounded)} the points found meeting it span at most "
-                 f"{100 * found.pinned_share:g} % of the box, but the runs did not bound the set that closely")
+        text += (f"; in {' and '.join(unbounded)} the points found meeting it lie within "
+                 f"{100 * found.pinned_within:g} % of the value found, but the runs did not bound the set that closely")
     pinned_read = [n for n in read if n not in loose]
     if pinned_read:
         text += "; read in the DEM, " + "; ".join(
-            f"{n}'s range is {r.low:.4g}–{r.high:.4g} ({100 * r.share:.0f} % of its box: {_ends_text(r)})"
+            f"{n}'s range is {r.low:.4g}–{r.high:.4g} ({_error_text(r, identified[n])}: {_ends_text(r)})"
             for n, r in ((n, found.ranges[n]) for n in pinned_read))
     if read:
         text += f" ({len(found.end_runs)} runs in the DEM)"
@@ -455,6 +459,13 @@ def text_of(found: Identifiability, campaign) -> str:
     return (text + f". No response run at the ends ({ran}) varies more than ±{100 * tolerance:g} % between them: "
             "name dearer tests in [identifiability] tests, or narrow the search box with what you know of the "
             "parameter.")
+
+
+def _error_text(r: ParameterRange, found: float) -> str:
+    """How far from the value found a range reaches (`largest_error`) and its share of the box, in words."""
+    error = largest_error(r.low, r.high, found)
+    return (f"±{100 * error:.1f} % of the value found" if np.isfinite(error) else "reaching zero") \
+        + f", {100 * r.share:.0f} % of its box"
 
 
 def _met_share(read: ParameterRange) -> float:

@@ -183,7 +183,9 @@ class Verdict(_Part):
 
 class ParameterRange(_Part):
     """A searched parameter's range over the points that meet the sheet, the share of its
-    search box it spans, and whether the sheet pins it (that share at most `pinned_share`).
+    search box it spans, and whether the sheet pins it (`rockcal.inverse.identifiability.pins`:
+    the value found within `pinned_within` of every point of it, the range within `pinned_share`
+    of its box).
     Read in the DEM, the range reaches from the points found meeting the sheet (`met_low`
     to `met_high`) and the runs of its read that miss it within the surrogate's error, out to
     the nearest runs beyond that miss it by more, or to the box's bounds: the set's edges along
@@ -234,6 +236,7 @@ class Identifiability(_Part):
     bands: dict[str, tuple[float, float]]  # each target's: the tolerance or spread, with `surrogate_error`
     surrogate_error: Values  # the surrogate's relative error at the verified points, near the accepted one
     pinned_share: float
+    pinned_within: float | None = _absent()  # None: a record whose verdicts took the share of the box alone
     ranges: dict[str, ParameterRange]
     set_points: list[list[float]]  # a sample of the set (the figure)
     end_runs: list[EndRun]  # in the order they ran
