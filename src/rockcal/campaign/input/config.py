@@ -224,7 +224,7 @@ class IdentifiabilitySettings(Section):
                                  "where wider): the range holds the truth, so the value found lies that near it.")
     pinned_share: float = Field(1.0, gt=0, le=1, description="A further condition: a pinned parameter's range spans "
                                 "at most this share of its search box (default 1: none).")
-    runs: bool = Field(True, description="Read the widest range not pinned in the DEM (the calibrated tests at "
+    runs: bool = Field(True, description="Read the loosest range not pinned in the DEM (the calibrated tests at "
                        "its two ends) and run the lab tests the sheet lacks there, to name the test that would pin "
                        "it.")
     tests: list[str] | None = Field(None, description="The lab tests the ranking runs at the ends, whatever "

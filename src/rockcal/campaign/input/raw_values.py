@@ -16,7 +16,8 @@ def check_numbers(data, key: str = "") -> None:
     nan or an integer beyond 64 bits."""
     if isinstance(data, dict):
         for name, value in data.items():
-            check_numbers(value, f"{key}.{key_text(str(name))}" if key else key_text(str(name)))
+            part = key_text(str(name))
+            check_numbers(value, f"{key}.{part}" if key else part)
     elif isinstance(data, list):
         for i, value in enumerate(data):
             check_numbers(value, f"{key}[{i}]")

@@ -4,18 +4,18 @@ parameters the lab sheet pins, and which lab test it lacks would pin the others.
 On the surrogate of every run, the points whose predicted responses meet every target
 (`rockcal.inverse.identifiability`: each within the tolerance, or the lab's spread where wider,
 plus the surrogate's error at the verified points) give each parameter's range. That set is an
-outer bound only as far as the surrogate is right, so the ranges it does not pin are read in
-the DEM, widest first: the calibrated tests run at a range's two ends, then each side is
-bisected, at most BISECTIONS times, between its farthest point that met the sheet (the bands
-without the surrogate's error) and its nearest beyond that missed, while they lie more than
-EDGE_GAP of the box apart, each run training the surrogate. The range kept reaches from the
-points the DEM found meeting the sheet, and the read's runs that miss it by no more than the
-surrogate's error (the DEM's scatter), out to the nearest runs of the read beyond that miss it
-by more, or to the box's bounds: the set's edges along the read lie between. It decides that
-parameter's verdict (a range none of whose ends met the sheet keeps the surrogate's); where the
-DEM pins it, the next range not pinned is read. Each lab test the sheet lacks runs at the two
-ends kept of the first range the DEM leaves not pinned, ranked by how much its response varies
-between them per run of lab work: the test that would pin the parameter."""
+outer bound only as far as the surrogate is right, so the ranges it does not pin are read in the
+DEM, loosest first (the value found farthest from a point of it): the calibrated tests run at a
+range's two ends, then each side is bisected, at most BISECTIONS times, between its farthest
+point that met the sheet (the bands without the surrogate's error) and its nearest beyond that
+missed, while they lie more than EDGE_GAP of the box apart, each run training the surrogate. The
+range kept reaches from the points the DEM found meeting the sheet, and the read's runs that
+miss it by no more than the surrogate's error (the DEM's scatter), out to the nearest runs of
+the read beyond that miss it by more, or to the box's bounds: the set's edges along the read lie
+between. It decides that parameter's verdict (a range none of whose ends met the sheet keeps the
+surrogate's); where the DEM pins it, the next range not pinned is read. Each lab test the sheet
+lacks runs at the two ends kept of the first range the DEM leaves not pinned, ranked by how much
+its response varies between them per run of lab work: the test that would pin the parameter."""
 
 from __future__ import annotations
 
@@ -141,14 +141,14 @@ def pinning_runs(state: CampaignState, judged: Callable) -> tuple[list[RunSpec],
     if n is None:
         surrogate = judged(state)
         found, points = surrogate_set(state, surrogate)
-        if _widest_unread(found, state.identified()) is None or not state.campaign.identifiability.runs:
+        if _loosest_unread(found, state.identified()) is None or not state.campaign.identifiability.runs:
             done = found.model_copy(update={"text": text_of(found, state.campaign, state.identified())})
             return [], lambda results, progress: replace(state, final=state.final | {"identifiability": done})
         state = _narrowing(state, found, surrogate, points, ())
     elif all(row is None for row in n.next):
         read = _read_range(state)
         found = n.found.model_copy(update={"ranges": n.found.ranges | {n.name: read}})
-        if _loose(read) or _widest_unread(found, state.identified()) is None:
+        if _loose(read) or _loosest_unread(found, state.identified()) is None:
             return _ranking_runs(replace(state, narrowing=replace(n, found=found)), read)
         surrogate = judged(state)
         state = _narrowing(state, found, surrogate, surrogate_set(state, surrogate)[1], n.keys)
@@ -160,7 +160,7 @@ def _loose(read: ParameterRange) -> bool:
     return not read.pinned and bool(read.verified_ends)
 
 
-def _widest_unread(found: Identifiability, identified: dict) -> str | None:
+def _loosest_unread(found: Identifiability, identified: dict) -> str | None:
     """The parameter not pinned whose value `identified` may lie farthest from the truth
     (`largest_error`; then the widest share of its box) that the DEM has not read (None: none)."""
     loose = {n: r for n, r in found.ranges.items() if not r.pinned and r.verified_ends is None}
@@ -170,9 +170,9 @@ def _widest_unread(found: Identifiability, identified: dict) -> str | None:
 
 def _narrowing(state: CampaignState, found: Identifiability, surrogate, points: np.ndarray,
                keys: tuple) -> CampaignState:
-    """The state reading the widest unread range not pinned in the DEM next: its two ends
-    (`ends_of` the set `points` of the `surrogate`)."""
-    name = _widest_unread(found, state.identified())
+    """The state reading the loosest unread range not pinned (`_loosest_unread`) in the DEM
+    next: its two ends (`ends_of` the set `points` of the `surrogate`)."""
+    name = _loosest_unread(found, state.identified())
     worst = worst_errors(surrogate.predict, state.goals.targets, points)
     ends = [dict(zip(state.names, rounded(row, state.whole)))
             for row in ends_of(points, state.names.index(name), worst)]
